@@ -1,0 +1,98 @@
+// The air model as pure functions plus a small interface the world calls
+// once per step for every aero body. No Bullet, no ROS, no state.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "flapsim/types.h"
+
+namespace flapsim {
+
+/// Air parameters of a world (per-link overrides live in AeroSettings).
+struct AirParams {
+  double density = 1.204;          // kg/m^3 (1000 for water)
+  double drag_coefficient = 1.15;  // Cd of the paper's method
+  Vec3 wind = Vec3::Zero();        // uniform wind, world frame, m/s
+  bool buoyancy = true;
+  int subdivisions_u = 4;  // cells per face along its first edge
+  int subdivisions_v = 4;  // ... and along its second edge
+  bool enabled = true;
+};
+
+/// One sub-surface: centre and outward unit normal in the body (COM) frame.
+struct SurfaceCell {
+  Vec3 centre = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();
+  double area = 0.0;
+};
+
+/// The aero description of one rigid body, in its COM frame.
+struct AeroSurface {
+  std::vector<SurfaceCell> cells;
+  double drag_coefficient = 1.15;
+  double volume = 0.0;  // for buoyancy
+};
+
+/// World-frame kinematics of a rigid body at its centre of mass.
+struct BodyKinematics {
+  Quat orientation = Quat::Identity();  // body (COM) frame -> world
+  Vec3 com = Vec3::Zero();
+  Vec3 linear_velocity = Vec3::Zero();
+  Vec3 angular_velocity = Vec3::Zero();
+};
+
+/// Force and torque about the body's centre of mass, world frame.
+struct Wrench {
+  Vec3 force = Vec3::Zero();
+  Vec3 torque = Vec3::Zero();
+  Wrench& operator+=(const Wrench& o) {
+    force += o.force;
+    torque += o.torque;
+    return *this;
+  }
+};
+
+/// Splits each of the 6 faces of a box (size, pose in the body frame) into an
+/// nu x nv grid of cells.
+std::vector<SurfaceCell> boxSurfaceCells(const Vec3& size, const Pose& origin, int nu, int nv);
+
+/// Velocity of the air relative to a point at offset r (world) from the COM:
+/// u = v + w x r - wind.
+inline Vec3 relativeAirVelocity(const Vec3& v, const Vec3& w, const Vec3& r, const Vec3& wind) {
+  return v + w.cross(r) - wind;
+}
+
+/// The paper's pressure on one cell (world frame): zero unless the face
+/// advances into the air (u.n > 0), then -1/2 rho Cd s |u| (u.n) n.
+inline Vec3 pressureForce(const Vec3& u, const Vec3& n, double area, double density, double cd) {
+  const double un = u.dot(n);
+  if (un <= 0.0) return Vec3::Zero();
+  return (-0.5 * density * cd * area * u.norm() * un) * n;
+}
+
+/// Buoyancy rho V g opposite to gravity (gravity is a vector, e.g. (0,0,-9.81)).
+inline Vec3 buoyancyForce(double volume, double density, const Vec3& gravity) {
+  return -density * volume * gravity;
+}
+
+/// An air model maps a body's motion to the wrench the air exerts on it.
+/// Implementations must be pure: same inputs, same output.
+class AirModel {
+ public:
+  virtual ~AirModel() = default;
+  /// `cell_forces`, if given, receives one world-frame force per cell.
+  virtual Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
+                            const AirParams& air, std::vector<Vec3>* cell_forces) const = 0;
+};
+
+/// The paper's model (IEEE SMC 2010, eq. 3): pressure on advancing sub-surfaces.
+class PressureAirModel : public AirModel {
+ public:
+  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
+                    std::vector<Vec3>* cell_forces) const override;
+};
+
+using AirModelPtr = std::shared_ptr<const AirModel>;
+
+}  // namespace flapsim

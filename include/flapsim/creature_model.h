@@ -1,0 +1,81 @@
+// CreatureModel: an immutable description of a creature, read from URDF.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flapsim/types.h"
+
+namespace flapsim {
+
+/// Per-link air settings from `<aero link=... drag_coefficient=... subdivisions="nu nv"
+/// enabled=.../>`. Unset values fall back to the world's AirParams.
+struct AeroSettings {
+  bool enabled = true;
+  std::optional<double> drag_coefficient;
+  int subdivisions_u = 0;  // 0: world default
+  int subdivisions_v = 0;
+};
+
+/// A box of the link's geometry, in the link frame.
+struct Box {
+  Vec3 size = Vec3::Zero();
+  Pose origin;
+};
+
+struct LinkModel {
+  std::string name;
+  double mass = 0.0;
+  Vec3 com = Vec3::Zero();  // centre of mass in the link frame
+  Vec3 inertia = Vec3::Zero();  // principal moments about the COM, link axes
+  std::vector<Box> boxes;       // collision boxes (visual boxes if there are none)
+  AeroSettings aero;
+  int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
+};
+
+enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
+
+struct JointModel {
+  std::string name;
+  JointType type = JointType::kFixed;
+  int parent_link = -1;
+  int child_link = -1;
+  Pose origin;  // child link frame in the parent link frame at zero position
+  Vec3 axis = Vec3::UnitX();  // unit axis in the child frame
+  bool limited = false;
+  double lower = 0.0, upper = 0.0;
+  double effort = 0.0;    // torque/force limit (0: unlimited in URDF terms)
+  double velocity = 0.0;  // speed limit (0: none)
+  double damping = 0.0;
+  double friction = 0.0;
+  bool wing = false;  // marked by <wing joint="..."/>
+
+  bool movable() const { return type != JointType::kFixed; }
+};
+
+/// Links are stored parent-before-child, the root first; joints in URDF order.
+struct CreatureModel {
+  std::string name;    // the URDF robot name
+  std::string source;  // file name or "<string>", for messages
+  std::vector<LinkModel> links;
+  std::vector<JointModel> joints;
+  std::vector<int> wing_joints;  // indices into joints, in URDF order
+
+  int findLink(const std::string& link_name) const;
+  int findJoint(const std::string& joint_name) const;
+  double totalMass() const;
+};
+
+using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
+
+/// Parses URDF text; `source` names it in errors. Throws ModelError naming the
+/// source and the link or joint at fault.
+CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
+                                    const std::string& source = "<string>");
+
+/// Reads and parses a URDF file. Throws ModelError naming the file.
+CreatureModelPtr loadCreatureModel(const std::string& path);
+
+}  // namespace flapsim

@@ -1,0 +1,33 @@
+// Generator of flapping creatures: N flap units chained by passive joints.
+#pragma once
+
+#include <string>
+
+namespace flapsim {
+
+/// Dimensions and masses of one flapping unit (body + two wing plates).
+struct FlapUnitParams {
+  double body_length = 0.08;  // along x (forward)
+  double body_width = 0.06;   // along y
+  double body_height = 0.03;  // along z
+  double body_mass = 0.02;
+  double wing_span = 0.30;   // along y, from the hinge to the tip
+  double wing_chord = 0.20;  // along x
+  double wing_thickness = 0.002;
+  double wing_mass = 0.005;
+  double wing_effort = 2.0;      // N m, hinge motor torque limit
+  double wing_limit = 1.4;       // rad, hinge range +-limit
+  double unit_spacing = 0.24;    // m between unit bodies along x
+  double link_damping = 0.002;   // N m s/rad on the passive joints between units
+  double link_limit = 0.35;      // rad, passive joint range +-limit
+};
+
+/// URDF text of a creature of `pairs` flap units (pairs >= 1) named
+/// `<name>`. Unit k has body `unit<k>_body`, wings `unit<k>_wing_left/right`
+/// on joints `unit<k>_wing_left/right_joint` (marked <wing>); units are
+/// chained nose-to-tail by passive pitch joints `unit<k>_link_joint`.
+/// Throws std::invalid_argument for pairs < 1.
+std::string makeCreatureUrdf(int pairs, const std::string& name = "afc",
+                             const FlapUnitParams& params = FlapUnitParams());
+
+}  // namespace flapsim

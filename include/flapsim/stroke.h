@@ -1,0 +1,37 @@
+// The flapping stroke: a wing-rate command turned into a joint-velocity target.
+#pragma once
+
+#include <string>
+
+namespace flapsim {
+
+/// Downstroke rate w1 and upstroke rate w2 (rad/s, >= 0), amplitude theta0 (rad, > 0).
+struct StrokeCommand {
+  double downstroke_rate = 0.0;
+  double upstroke_rate = 0.0;
+  double amplitude = 0.0;
+};
+
+/// Empty string if valid, else a message naming the bad field.
+std::string validateStroke(const StrokeCommand& command);
+
+/// Swings down at w1 to -theta0, then up at w2 to +theta0, and repeats.
+/// Starts with a downstroke. Pure state machine: no clock, no physics.
+class StrokeGenerator {
+ public:
+  enum class Phase { kDown, kUp };
+
+  void setCommand(const StrokeCommand& command) { command_ = command; }
+  const StrokeCommand& command() const { return command_; }
+  Phase phase() const { return phase_; }
+  void reset() { phase_ = Phase::kDown; }
+
+  /// Joint-velocity target for the current joint angle (updates the phase).
+  double target(double joint_position);
+
+ private:
+  StrokeCommand command_;
+  Phase phase_ = Phase::kDown;
+};
+
+}  // namespace flapsim

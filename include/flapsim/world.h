@@ -1,0 +1,106 @@
+// World: a Bullet multibody world of creatures with the air model applied
+// once per fixed step. Owns sim time; never reads a clock.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "flapsim/air_model.h"
+#include "flapsim/creature_model.h"
+#include "flapsim/stroke.h"
+#include "flapsim/types.h"
+
+namespace flapsim {
+
+struct WorldParams {
+  double step_size = 0.001;  // s, fixed
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+  bool ground = true;  // plane z = 0 with contact
+  double ground_friction = 0.8;
+  AirParams air;
+  int solver_iterations = 10;
+  double default_wing_effort = 5.0;  // N m, when a wing joint has no URDF effort limit
+};
+
+/// Empty string if valid, else a message naming the bad parameter.
+std::string validateWorldParams(const WorldParams& params);
+
+/// State of one creature. Vectors follow the model's links / joints.
+struct CreatureState {
+  std::vector<Pose> link_poses;     // link frames in the world
+  std::vector<Twist> link_twists;   // velocity of each link frame's origin, world frame
+  std::vector<double> joint_positions;   // per model joint (0 for fixed joints)
+  std::vector<double> joint_velocities;  // per model joint (0 for fixed joints)
+};
+
+/// Last air wrench on each link (about its COM), and optionally per cell.
+struct LinkAero {
+  int link = -1;
+  Vec3 com = Vec3::Zero();
+  Wrench wrench;
+  std::vector<Vec3> cell_centres;  // world, only if cell output is enabled
+  std::vector<Vec3> cell_forces;
+};
+
+class World {
+ public:
+  /// Throws InputError if the parameters are invalid.
+  explicit World(const WorldParams& params = WorldParams());
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  /// Adds a creature at `pose` (root link frame) moving with `twist`. Throws
+  /// InputError for a taken or empty name or a non-finite pose.
+  void spawn(const std::string& name, CreatureModelPtr model, const Pose& pose,
+             const Twist& twist = Twist());
+  /// Removes a creature; InputError if unknown.
+  void remove(const std::string& name);
+  bool has(const std::string& name) const;
+  std::vector<std::string> creatureNames() const;  // in spawn order
+  CreatureModelPtr model(const std::string& name) const;
+
+  /// Puts every creature back to its spawn pose and twist, clears commands
+  /// and sets time to zero: bit-identical to a freshly built world.
+  void reset();
+  /// Advances `steps` fixed steps.
+  void step(int steps = 1);
+  double time() const;
+  std::uint64_t stepCount() const;
+  const WorldParams& params() const;
+
+  /// Replaces the air parameters (validated first) or the air model.
+  void setAirParams(const AirParams& air);
+  void setAirModel(AirModelPtr model);
+
+  /// Commands wing joints. `joints` empty = all wing joints in URDF order.
+  /// All-or-nothing: on any bad joint name, length or value, throws
+  /// InputError naming it and changes nothing.
+  void setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
+                       const std::vector<StrokeCommand>& commands);
+  /// Raw joint-velocity target on a movable joint (replaces a stroke there).
+  void setJointVelocityTarget(const std::string& creature, const std::string& joint,
+                              double velocity);
+  /// Stops driving a joint: it becomes passive.
+  void clearJointCommand(const std::string& creature, const std::string& joint);
+  /// Current stroke command of a wing joint (zero if none).
+  StrokeCommand wingCommand(const std::string& creature, const std::string& joint) const;
+
+  CreatureState state(const std::string& creature) const;
+  /// Pose of the root link frame and the twist of its centre of mass.
+  Pose rootPose(const std::string& creature) const;
+  Twist rootTwist(const std::string& creature) const;
+
+  /// Records per-cell forces for aeroForces() (costs time; off by default).
+  void setRecordCellForces(bool on);
+  /// Air wrenches applied in the last step, one entry per aero link.
+  std::vector<LinkAero> aeroForces(const std::string& creature) const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace flapsim

@@ -1,0 +1,298 @@
+#include "flapsim/creature_model.h"
+
+#include <console_bridge/console.h>
+#include <tinyxml2.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <queue>
+#include <sstream>
+#include <urdf_parser/urdf_parser.h>
+
+namespace flapsim {
+
+Pose poseFromXyzRpy(const Vec3& xyz, const Vec3& rpy) {
+  Quat q = Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+           Eigen::AngleAxisd(rpy.x(), Vec3::UnitX());
+  return Pose{xyz, q.normalized()};
+}
+
+int CreatureModel::findLink(const std::string& link_name) const {
+  for (size_t i = 0; i < links.size(); ++i) {
+    if (links[i].name == link_name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int CreatureModel::findJoint(const std::string& joint_name) const {
+  for (size_t i = 0; i < joints.size(); ++i) {
+    if (joints[i].name == joint_name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+double CreatureModel::totalMass() const {
+  double m = 0.0;
+  for (const auto& l : links) m += l.mass;
+  return m;
+}
+
+namespace {
+
+// Collects what urdfdom reports through console_bridge while it parses, so
+// that its reasons (which link, which joint) reach our exception message.
+class CapturingHandler : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) {
+      if (!text_.empty()) text_ += "; ";
+      text_ += text;
+    }
+  }
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+std::mutex& parserMutex() {
+  static std::mutex m;
+  return m;
+}
+
+Pose toPose(const urdf::Pose& p) {
+  return Pose{Vec3(p.position.x, p.position.y, p.position.z),
+              Quat(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized()};
+}
+
+bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+
+[[noreturn]] void fail(const std::string& source, const std::string& what) {
+  throw ModelError(source + ": " + what);
+}
+
+void addBoxes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
+  auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin) {
+    if (!g || g->type != urdf::Geometry::BOX) return;
+    auto box = std::static_pointer_cast<urdf::Box>(g);
+    out.boxes.push_back(Box{Vec3(box->dim.x, box->dim.y, box->dim.z), toPose(origin)});
+  };
+  for (const auto& c : link->collision_array) add(c->geometry, c->origin);
+  if (out.boxes.empty()) {
+    for (const auto& v : link->visual_array) add(v->geometry, v->origin);
+  }
+}
+
+double parseDoubleAttr(const tinyxml2::XMLElement* e, const char* attr, const std::string& where,
+                       const std::string& source) {
+  double value = 0.0;
+  if (e->QueryDoubleAttribute(attr, &value) != tinyxml2::XML_SUCCESS || !std::isfinite(value)) {
+    fail(source, where + ": attribute '" + attr + "' is not a number");
+  }
+  return value;
+}
+
+// Reads <wing joint=.../> and <aero link=.../> and the document order of joints.
+struct Annotations {
+  std::vector<std::string> joint_order;
+  std::vector<std::string> wings;
+  std::map<std::string, AeroSettings> aero;
+};
+
+Annotations readAnnotations(const std::string& xml, const std::string& source) {
+  tinyxml2::XMLDocument doc;
+  if (doc.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
+    fail(source, std::string("malformed XML: ") + (doc.ErrorStr() ? doc.ErrorStr() : "?"));
+  }
+  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  if (!robot) fail(source, "no <robot> element");
+  Annotations a;
+  for (auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    if (const char* n = j->Attribute("name")) a.joint_order.push_back(n);
+  }
+  for (auto* w = robot->FirstChildElement("wing"); w; w = w->NextSiblingElement("wing")) {
+    const char* joint = w->Attribute("joint");
+    if (!joint || !*joint) fail(source, "<wing> without a joint attribute");
+    a.wings.push_back(joint);
+  }
+  for (auto* e = robot->FirstChildElement("aero"); e; e = e->NextSiblingElement("aero")) {
+    const char* link = e->Attribute("link");
+    if (!link || !*link) fail(source, "<aero> without a link attribute");
+    const std::string where = std::string("<aero link='") + link + "'>";
+    AeroSettings s;
+    if (e->Attribute("drag_coefficient")) {
+      double cd = parseDoubleAttr(e, "drag_coefficient", where, source);
+      if (cd < 0.0) fail(source, where + ": drag_coefficient must be >= 0");
+      s.drag_coefficient = cd;
+    }
+    if (const char* sub = e->Attribute("subdivisions")) {
+      std::istringstream in(sub);
+      int nu = 0, nv = 0;
+      std::string rest;
+      if (!(in >> nu >> nv) || (in >> rest) || nu < 1 || nv < 1 || nu > 1000 || nv > 1000) {
+        fail(source, where + ": subdivisions must be two integers in 1..1000, got '" + sub + "'");
+      }
+      s.subdivisions_u = nu;
+      s.subdivisions_v = nv;
+    }
+    if (const char* en = e->Attribute("enabled")) {
+      std::string v(en);
+      if (v == "true" || v == "1") {
+        s.enabled = true;
+      } else if (v == "false" || v == "0") {
+        s.enabled = false;
+      } else {
+        fail(source, where + ": enabled must be true or false, got '" + v + "'");
+      }
+    }
+    if (!a.aero.emplace(link, s).second) fail(source, "two <aero> elements for link '" + std::string(link) + "'");
+  }
+  return a;
+}
+
+}  // namespace
+
+CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::string& source) {
+  Annotations notes = readAnnotations(urdf_xml, source);
+
+  urdf::ModelInterfaceSharedPtr urdf;
+  std::string urdf_messages;
+  {
+    std::lock_guard<std::mutex> lock(parserMutex());
+    CapturingHandler handler;
+    console_bridge::useOutputHandler(&handler);
+    try {
+      urdf = urdf::parseURDF(urdf_xml);
+    } catch (const std::exception& e) {
+      handler.log(e.what(), console_bridge::CONSOLE_BRIDGE_LOG_ERROR, "", 0);
+    }
+    console_bridge::restorePreviousOutputHandler();
+    urdf_messages = handler.text();
+  }
+  if (!urdf) {
+    fail(source, "invalid URDF" + (urdf_messages.empty() ? std::string() : ": " + urdf_messages));
+  }
+
+  auto model = std::make_shared<CreatureModel>();
+  model->name = urdf->getName();
+  model->source = source;
+
+  // Links parent-before-child (breadth first from the root).
+  std::map<std::string, int> link_index;
+  std::queue<urdf::LinkConstSharedPtr> todo;
+  todo.push(urdf->getRoot());
+  while (!todo.empty()) {
+    urdf::LinkConstSharedPtr l = todo.front();
+    todo.pop();
+    LinkModel lm;
+    lm.name = l->name;
+    const std::string where = "link '" + l->name + "'";
+    if (!l->inertial || !(l->inertial->mass > 0.0)) {
+      fail(source, where + " has no positive mass (<inertial><mass value=.../>)");
+    }
+    const auto& in = *l->inertial;
+    lm.mass = in.mass;
+    Pose com = toPose(in.origin);
+    lm.com = com.position;
+    if (!com.orientation.isApprox(Quat::Identity(), 1e-12) &&
+        !com.orientation.isApprox(Quat(-1, 0, 0, 0), 1e-12)) {
+      fail(source, where + ": rotated <inertial><origin rpy> is not supported");
+    }
+    if (in.ixy != 0.0 || in.ixz != 0.0 || in.iyz != 0.0) {
+      fail(source, where + ": off-diagonal inertia (ixy, ixz, iyz) is not supported");
+    }
+    lm.inertia = Vec3(in.ixx, in.iyy, in.izz);
+    if (!finite(lm.inertia) || !finite(lm.com) || !std::isfinite(lm.mass) ||
+        lm.inertia.minCoeff() <= 0.0) {
+      fail(source, where + ": inertia must be finite and positive");
+    }
+    addBoxes(l, lm);
+    for (const Box& b : lm.boxes) {
+      if (!finite(b.size) || b.size.minCoeff() <= 0.0) {
+        fail(source, where + ": box size must be positive");
+      }
+    }
+    auto aero = notes.aero.find(l->name);
+    if (aero != notes.aero.end()) {
+      lm.aero = aero->second;
+      notes.aero.erase(aero);
+    }
+    link_index[l->name] = static_cast<int>(model->links.size());
+    model->links.push_back(lm);
+    for (const auto& c : l->child_links) todo.push(c);
+  }
+  if (!notes.aero.empty()) {
+    fail(source, "<aero> names unknown link '" + notes.aero.begin()->first + "'");
+  }
+
+  // Joints in document order.
+  for (const std::string& jname : notes.joint_order) {
+    urdf::JointConstSharedPtr j = urdf->getJoint(jname);
+    if (!j) continue;
+    const std::string where = "joint '" + jname + "'";
+    JointModel jm;
+    jm.name = jname;
+    switch (j->type) {
+      case urdf::Joint::FIXED: jm.type = JointType::kFixed; break;
+      case urdf::Joint::REVOLUTE: jm.type = JointType::kRevolute; break;
+      case urdf::Joint::CONTINUOUS: jm.type = JointType::kContinuous; break;
+      case urdf::Joint::PRISMATIC: jm.type = JointType::kPrismatic; break;
+      default:
+        fail(source, where + ": type not supported (use fixed, revolute, continuous or prismatic)");
+    }
+    jm.parent_link = link_index.at(j->parent_link_name);
+    jm.child_link = link_index.at(j->child_link_name);
+    jm.origin = toPose(j->parent_to_joint_origin_transform);
+    jm.axis = Vec3(j->axis.x, j->axis.y, j->axis.z);
+    if (jm.movable()) {
+      if (!finite(jm.axis) || jm.axis.norm() < 1e-9) fail(source, where + ": axis is zero");
+      jm.axis.normalize();
+    }
+    if (j->limits) {
+      jm.effort = j->limits->effort;
+      jm.velocity = j->limits->velocity;
+      if (jm.type == JointType::kRevolute || jm.type == JointType::kPrismatic) {
+        jm.limited = true;
+        jm.lower = j->limits->lower;
+        jm.upper = j->limits->upper;
+        if (!(jm.lower <= jm.upper)) fail(source, where + ": lower limit above upper limit");
+      }
+    }
+    if (j->dynamics) {
+      jm.damping = j->dynamics->damping;
+      jm.friction = j->dynamics->friction;
+      if (jm.damping < 0.0 || jm.friction < 0.0) {
+        fail(source, where + ": damping and friction must be >= 0");
+      }
+    }
+    model->links[jm.child_link].parent_joint = static_cast<int>(model->joints.size());
+    model->joints.push_back(jm);
+  }
+
+  for (const std::string& w : notes.wings) {
+    int idx = model->findJoint(w);
+    if (idx < 0) fail(source, "<wing> names unknown joint '" + w + "'");
+    JointModel& jm = model->joints[idx];
+    if (jm.type != JointType::kRevolute && jm.type != JointType::kContinuous) {
+      fail(source, "<wing joint='" + w + "'>: a wing joint must be revolute or continuous");
+    }
+    if (jm.wing) fail(source, "joint '" + w + "' is marked <wing> twice");
+    jm.wing = true;
+  }
+  for (size_t i = 0; i < model->joints.size(); ++i) {
+    if (model->joints[i].wing) model->wing_joints.push_back(static_cast<int>(i));
+  }
+  return model;
+}
+
+CreatureModelPtr loadCreatureModel(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ModelError(path + ": cannot open file");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return parseCreatureModel(buffer.str(), path);
+}
+
+}  // namespace flapsim

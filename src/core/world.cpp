@@ -1,0 +1,589 @@
+#include "flapsim/world.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
+#include <BulletDynamics/Featherstone/btMultiBodyMLCPConstraintSolver.h>
+#include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
+#include <cmath>
+#include <limits>
+
+namespace flapsim {
+
+namespace {
+
+btVector3 toBt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
+btQuaternion toBt(const Quat& q) { return btQuaternion(q.x(), q.y(), q.z(), q.w()); }
+btTransform toBt(const Pose& p) { return btTransform(toBt(p.orientation), toBt(p.position)); }
+Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+Quat fromBt(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+
+bool finite(const Vec3& v) { return v.allFinite(); }
+bool finite(const Pose& p) { return p.position.allFinite() && p.orientation.coeffs().allFinite(); }
+
+std::string checkAir(const AirParams& a) {
+  if (!std::isfinite(a.density) || a.density < 0.0) return "air density must be finite and >= 0";
+  if (!std::isfinite(a.drag_coefficient) || a.drag_coefficient < 0.0) {
+    return "air drag_coefficient must be finite and >= 0";
+  }
+  if (!finite(a.wind)) return "air wind must be finite";
+  if (a.subdivisions_u < 1 || a.subdivisions_v < 1 || a.subdivisions_u > 1000 ||
+      a.subdivisions_v > 1000) {
+    return "air subdivisions must be in 1..1000";
+  }
+  return "";
+}
+
+// Cells (in the COM frame), drag coefficient and volume of a link's boxes.
+AeroSurface linkSurface(const LinkModel& l, const AirParams& air) {
+  AeroSurface surface;
+  const int nu = l.aero.subdivisions_u > 0 ? l.aero.subdivisions_u : air.subdivisions_u;
+  const int nv = l.aero.subdivisions_v > 0 ? l.aero.subdivisions_v : air.subdivisions_v;
+  const Pose com_inv{-l.com, Quat::Identity()};
+  for (const Box& b : l.boxes) {
+    auto cells = boxSurfaceCells(b.size, com_inv * b.origin, nu, nv);
+    surface.cells.insert(surface.cells.end(), cells.begin(), cells.end());
+    surface.volume += b.size.prod();
+  }
+  surface.drag_coefficient = l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
+  return surface;
+}
+
+// How a movable joint is driven this step.
+struct JointDrive {
+  enum class Mode { kPassive, kStroke, kVelocity };
+  Mode mode = Mode::kPassive;
+  StrokeGenerator stroke;
+  double velocity = 0.0;
+};
+
+struct AeroBody {
+  int link = 0;  // model link index (0 = root = Bullet base)
+  AeroSurface surface;
+  bool enabled = true;
+  LinkAero last;
+};
+
+// What the user asked for: enough to rebuild a creature bit-for-bit.
+struct CreatureRecord {
+  std::string name;
+  CreatureModelPtr model;
+  Pose pose;
+  Twist twist;
+  std::vector<JointDrive> drives;  // per model joint
+};
+
+// The Bullet side of a creature.
+struct CreatureBody {
+  std::unique_ptr<btMultiBody> mb;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
+  std::vector<std::unique_ptr<btMultiBodyJointMotor>> motors;  // per model joint, null if fixed
+  std::vector<double> max_effort;                               // per model joint
+  std::vector<AeroBody> aero;
+  btAlignedObjectArray<btQuaternion> world_to_local;
+  btAlignedObjectArray<btVector3> local_origin;
+  std::vector<btVector3> omega, vel;
+};
+
+}  // namespace
+
+std::string validateWorldParams(const WorldParams& p) {
+  if (!std::isfinite(p.step_size) || p.step_size <= 0.0 || p.step_size > 0.1) {
+    return "step_size must be in (0, 0.1] s";
+  }
+  if (!finite(p.gravity)) return "gravity must be finite";
+  if (!std::isfinite(p.ground_friction) || p.ground_friction < 0.0) {
+    return "ground_friction must be >= 0";
+  }
+  if (p.solver_iterations < 1) return "solver_iterations must be >= 1";
+  if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0) {
+    return "default_wing_effort must be > 0";
+  }
+  return checkAir(p.air);
+}
+
+class World::Impl {
+ public:
+  explicit Impl(const WorldParams& p) : params_(p), air_model_(std::make_shared<PressureAirModel>()) {
+    build();
+  }
+  ~Impl() { teardown(); }
+
+  // ---- Bullet world lifetime ---------------------------------------------------
+  void build() {
+    config_ = std::make_unique<btDefaultCollisionConfiguration>();
+    dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
+    broadphase_ = std::make_unique<btDbvtBroadphase>();
+    // A direct (Dantzig) LCP solve of all joint motors and limits at once:
+    // sequential impulses would serve the first wing's motor before the
+    // second's and break the left/right symmetry of a flapping unit.
+    lcp_ = std::make_unique<btDantzigSolver>();
+    solver_ = std::make_unique<btMultiBodyMLCPConstraintSolver>(lcp_.get());
+    world_ = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(),
+                                                         solver_.get(), config_.get());
+    world_->setGravity(toBt(params_.gravity));
+    world_->getSolverInfo().m_numIterations = params_.solver_iterations;
+    world_->getDispatchInfo().m_deterministicOverlappingPairs = true;
+    if (params_.ground) {
+      ground_shape_ = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0);
+      ground_ = std::make_unique<btCollisionObject>();
+      ground_->setCollisionShape(ground_shape_.get());
+      ground_->setFriction(params_.ground_friction);
+      world_->addCollisionObject(ground_.get());
+    }
+    bodies_.clear();
+    for (const auto& r : records_) bodies_.push_back(makeBody(r));
+    time_steps_ = 0;
+  }
+
+  void teardown() {
+    for (auto& b : bodies_) removeBody(*b);
+    bodies_.clear();
+    if (ground_) world_->removeCollisionObject(ground_.get());
+    world_.reset();
+    ground_.reset();
+    ground_shape_.reset();
+    solver_.reset();
+    broadphase_.reset();
+    dispatcher_.reset();
+    config_.reset();
+    lcp_.reset();
+  }
+
+  std::unique_ptr<CreatureBody> makeBody(const CreatureRecord& r) {
+    const CreatureModel& m = *r.model;
+    auto body = std::make_unique<CreatureBody>();
+    const int n = static_cast<int>(m.links.size()) - 1;
+    const LinkModel& root = m.links[0];
+    body->mb = std::make_unique<btMultiBody>(n, root.mass, toBt(root.inertia), false, false);
+    btMultiBody* mb = body->mb.get();
+    for (int k = 1; k <= n; ++k) {
+      const LinkModel& l = m.links[k];
+      const JointModel& j = m.joints[l.parent_joint];
+      const LinkModel& p = m.links[j.parent_link];
+      const btQuaternion rot = toBt(j.origin.orientation.conjugate());
+      const btVector3 parent_com_to_pivot = toBt(j.origin.position - p.com);
+      const btVector3 pivot_to_com = toBt(l.com);
+      const int parent = j.parent_link - 1;
+      switch (j.type) {
+        case JointType::kRevolute:
+        case JointType::kContinuous:
+          mb->setupRevolute(k - 1, l.mass, toBt(l.inertia), parent, rot, toBt(j.axis),
+                            parent_com_to_pivot, pivot_to_com, true);
+          break;
+        case JointType::kPrismatic:
+          mb->setupPrismatic(k - 1, l.mass, toBt(l.inertia), parent, rot, toBt(j.axis),
+                             parent_com_to_pivot, pivot_to_com, true);
+          break;
+        case JointType::kFixed:
+          mb->setupFixed(k - 1, l.mass, toBt(l.inertia), parent, rot, parent_com_to_pivot,
+                         pivot_to_com);
+          break;
+      }
+    }
+    mb->finalizeMultiDof();
+    mb->setLinearDamping(0);
+    mb->setAngularDamping(0);
+    mb->setMaxCoordinateVelocity(1e6);
+    mb->setMaxAppliedImpulse(1e6);
+    mb->setHasSelfCollision(false);
+    mb->setUseGyroTerm(true);
+    mb->setCanSleep(false);
+    const Pose com_pose = r.pose * Pose{root.com, Quat::Identity()};
+    mb->setBaseWorldTransform(toBt(com_pose));
+    mb->setBaseVel(toBt(r.twist.linear));
+    mb->setBaseOmega(toBt(r.twist.angular));
+    world_->addMultiBody(mb);
+
+    body->world_to_local.resize(n + 1);
+    body->local_origin.resize(n + 1);
+    body->omega.resize(n + 1);
+    body->vel.resize(n + 1);
+    mb->forwardKinematics(body->world_to_local, body->local_origin);
+
+    // Collision shapes (boxes, in the COM frame) and aero surfaces.
+    for (int k = 0; k <= n; ++k) {
+      const LinkModel& l = m.links[k];
+      const Pose com_inv{-l.com, Quat::Identity()};
+      if (!l.boxes.empty()) {
+        btCollisionShape* shape = nullptr;
+        auto compound = std::make_unique<btCompoundShape>(false, static_cast<int>(l.boxes.size()));
+        for (const Box& b : l.boxes) {
+          auto box = std::make_unique<btBoxShape>(toBt(0.5 * b.size));
+          compound->addChildShape(toBt(com_inv * b.origin), box.get());
+          body->shapes.push_back(std::move(box));
+        }
+        shape = compound.get();
+        body->shapes.push_back(std::move(compound));
+        auto col = std::make_unique<btMultiBodyLinkCollider>(mb, k - 1);
+        col->setCollisionShape(shape);
+        col->setFriction(params_.ground_friction);
+        col->setActivationState(DISABLE_DEACTIVATION);
+        btTransform tr(body->world_to_local[k].inverse(), body->local_origin[k]);
+        col->setWorldTransform(tr);
+        world_->addCollisionObject(col.get(), btBroadphaseProxy::DefaultFilter,
+                                   btBroadphaseProxy::AllFilter);
+        if (k == 0) {
+          mb->setBaseCollider(col.get());
+        } else {
+          mb->getLink(k - 1).m_collider = col.get();
+        }
+        body->colliders.push_back(std::move(col));
+      }
+      AeroBody aero;
+      aero.link = k;
+      aero.enabled = l.aero.enabled && !l.boxes.empty();
+      aero.last.link = k;
+      if (aero.enabled) {
+        aero.surface = linkSurface(l, params_.air);
+        body->aero.push_back(std::move(aero));
+      }
+    }
+
+    // Joint limits and motors (a motor per movable joint: wings, velocity
+    // targets, and Coulomb friction of passive joints).
+    body->motors.resize(m.joints.size());
+    body->max_effort.assign(m.joints.size(), 0.0);
+    for (size_t ji = 0; ji < m.joints.size(); ++ji) {
+      const JointModel& j = m.joints[ji];
+      if (!j.movable()) continue;
+      const int link = j.child_link - 1;
+      if (j.limited && j.lower < j.upper) {
+        auto lim = std::make_unique<btMultiBodyJointLimitConstraint>(mb, link, j.lower, j.upper);
+        world_->addMultiBodyConstraint(lim.get());
+        body->limits.push_back(std::move(lim));
+      }
+      auto motor = std::make_unique<btMultiBodyJointMotor>(mb, link, 0.0, 0.0);
+      world_->addMultiBodyConstraint(motor.get());
+      body->motors[ji] = std::move(motor);
+      body->max_effort[ji] = j.effort > 0.0 ? j.effort : params_.default_wing_effort;
+    }
+    return body;
+  }
+
+  void removeBody(CreatureBody& b) {
+    for (auto& m : b.motors) {
+      if (m) world_->removeMultiBodyConstraint(m.get());
+    }
+    for (auto& l : b.limits) world_->removeMultiBodyConstraint(l.get());
+    for (auto& c : b.colliders) world_->removeCollisionObject(c.get());
+    world_->removeMultiBody(b.mb.get());
+  }
+
+  // ---- stepping ------------------------------------------------------------------
+  void applyDrives(CreatureRecord& r, CreatureBody& b) {
+    const CreatureModel& m = *r.model;
+    btMultiBody* mb = b.mb.get();
+    const double dt = params_.step_size;
+    for (size_t ji = 0; ji < m.joints.size(); ++ji) {
+      const JointModel& j = m.joints[ji];
+      if (!j.movable()) continue;
+      const int link = j.child_link - 1;
+      JointDrive& d = r.drives[ji];
+      btMultiBodyJointMotor* motor = b.motors[ji].get();
+      switch (d.mode) {
+        case JointDrive::Mode::kStroke:
+          motor->setVelocityTarget(d.stroke.target(mb->getJointPos(link)));
+          motor->setMaxAppliedImpulse(b.max_effort[ji] * dt);
+          break;
+        case JointDrive::Mode::kVelocity:
+          motor->setVelocityTarget(d.velocity);
+          motor->setMaxAppliedImpulse(b.max_effort[ji] * dt);
+          break;
+        case JointDrive::Mode::kPassive:
+          motor->setVelocityTarget(0.0);
+          motor->setMaxAppliedImpulse(j.friction * dt);
+          if (j.damping > 0.0) mb->addJointTorque(link, -j.damping * mb->getJointVel(link));
+          break;
+      }
+    }
+  }
+
+  void applyAir(CreatureBody& b) {
+    btMultiBody* mb = b.mb.get();
+    mb->forwardKinematics(b.world_to_local, b.local_origin);
+    mb->compTreeLinkVelocities(b.omega.data(), b.vel.data());
+    const AirParams& air = params_.air;
+    for (AeroBody& a : b.aero) {
+      const int k = a.link;
+      const btQuaternion to_world = b.world_to_local[k].inverse();
+      BodyKinematics kin;
+      kin.orientation = fromBt(to_world);
+      kin.com = fromBt(b.local_origin[k]);
+      kin.linear_velocity = fromBt(quatRotate(to_world, b.vel[k]));
+      kin.angular_velocity = fromBt(quatRotate(to_world, b.omega[k]));
+      Wrench w = air_model_->bodyWrench(kin, a.surface, air,
+                                        record_cells_ ? &a.last.cell_forces : nullptr);
+      if (air.buoyancy) w.force += buoyancyForce(a.surface.volume, air.density, params_.gravity);
+      a.last.com = kin.com;
+      a.last.wrench = w;
+      if (record_cells_) {
+        a.last.cell_centres.resize(a.surface.cells.size());
+        for (size_t i = 0; i < a.surface.cells.size(); ++i) {
+          a.last.cell_centres[i] = kin.com + kin.orientation * a.surface.cells[i].centre;
+        }
+      }
+      if (k == 0) {
+        mb->addBaseForce(toBt(w.force));
+        mb->addBaseTorque(toBt(w.torque));
+      } else {
+        mb->addLinkForce(k - 1, toBt(w.force));
+        mb->addLinkTorque(k - 1, toBt(w.torque));
+      }
+    }
+  }
+
+  void step(int steps) {
+    for (int s = 0; s < steps; ++s) {
+      for (size_t i = 0; i < records_.size(); ++i) {
+        applyDrives(records_[i], *bodies_[i]);
+        if (params_.air.enabled) applyAir(*bodies_[i]);
+      }
+      world_->stepSimulation(params_.step_size, 0, params_.step_size);
+      ++time_steps_;
+    }
+  }
+
+  // ---- lookups -------------------------------------------------------------------
+  size_t index(const std::string& name) const {
+    for (size_t i = 0; i < records_.size(); ++i) {
+      if (records_[i].name == name) return i;
+    }
+    throw InputError("unknown creature '" + name + "'");
+  }
+
+  int jointIndex(size_t c, const std::string& joint) const {
+    const CreatureModel& m = *records_[c].model;
+    int j = m.findJoint(joint);
+    if (j < 0) throw InputError("creature '" + records_[c].name + "' has no joint '" + joint + "'");
+    return j;
+  }
+
+  WorldParams params_;
+  AirModelPtr air_model_;
+  bool record_cells_ = false;
+  std::vector<CreatureRecord> records_;
+  std::vector<std::unique_ptr<CreatureBody>> bodies_;
+  std::uint64_t time_steps_ = 0;
+
+  std::unique_ptr<btDefaultCollisionConfiguration> config_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btBroadphaseInterface> broadphase_;
+  std::unique_ptr<btDantzigSolver> lcp_;
+  std::unique_ptr<btMultiBodyConstraintSolver> solver_;
+  std::unique_ptr<btMultiBodyDynamicsWorld> world_;
+  std::unique_ptr<btCollisionShape> ground_shape_;
+  std::unique_ptr<btCollisionObject> ground_;
+};
+
+// ---- World ---------------------------------------------------------------------------
+
+namespace {
+WorldParams checked(const WorldParams& p) {
+  std::string err = validateWorldParams(p);
+  if (!err.empty()) throw InputError(err);
+  return p;
+}
+}  // namespace
+
+World::World(const WorldParams& params) : impl_(std::make_unique<Impl>(checked(params))) {}
+World::~World() = default;
+
+void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& pose,
+                  const Twist& twist) {
+  if (name.empty()) throw InputError("creature name is empty");
+  if (!model) throw InputError("creature '" + name + "': no model");
+  if (has(name)) throw InputError("creature name '" + name + "' is taken");
+  if (!finite(pose) || pose.orientation.norm() < 1e-9) {
+    throw InputError("creature '" + name + "': pose is not finite");
+  }
+  if (!finite(twist.linear) || !finite(twist.angular)) {
+    throw InputError("creature '" + name + "': twist is not finite");
+  }
+  CreatureRecord r;
+  r.name = name;
+  r.model = model;
+  r.pose = Pose{pose.position, pose.orientation.normalized()};
+  r.twist = twist;
+  r.drives.resize(model->joints.size());
+  auto body = impl_->makeBody(r);
+  impl_->records_.push_back(std::move(r));
+  impl_->bodies_.push_back(std::move(body));
+}
+
+void World::remove(const std::string& name) {
+  size_t i = impl_->index(name);
+  impl_->removeBody(*impl_->bodies_[i]);
+  impl_->bodies_.erase(impl_->bodies_.begin() + static_cast<long>(i));
+  impl_->records_.erase(impl_->records_.begin() + static_cast<long>(i));
+}
+
+bool World::has(const std::string& name) const {
+  for (const auto& r : impl_->records_) {
+    if (r.name == name) return true;
+  }
+  return false;
+}
+
+std::vector<std::string> World::creatureNames() const {
+  std::vector<std::string> names;
+  for (const auto& r : impl_->records_) names.push_back(r.name);
+  return names;
+}
+
+CreatureModelPtr World::model(const std::string& name) const {
+  return impl_->records_[impl_->index(name)].model;
+}
+
+void World::reset() {
+  for (auto& r : impl_->records_) {
+    for (auto& d : r.drives) d.stroke.reset();
+  }
+  impl_->teardown();
+  impl_->build();
+}
+
+void World::step(int steps) {
+  if (steps < 0) throw InputError("step count must be >= 0");
+  impl_->step(steps);
+}
+
+double World::time() const { return static_cast<double>(impl_->time_steps_) * impl_->params_.step_size; }
+std::uint64_t World::stepCount() const { return impl_->time_steps_; }
+const WorldParams& World::params() const { return impl_->params_; }
+
+void World::setAirParams(const AirParams& air) {
+  std::string err = checkAir(air);
+  if (!err.empty()) throw InputError(err);
+  const bool grid_changed = air.subdivisions_u != impl_->params_.air.subdivisions_u ||
+                            air.subdivisions_v != impl_->params_.air.subdivisions_v ||
+                            air.drag_coefficient != impl_->params_.air.drag_coefficient;
+  impl_->params_.air = air;
+  if (grid_changed) {
+    // Rebuild the aero surfaces of every creature, keeping its motion state.
+    for (size_t i = 0; i < impl_->records_.size(); ++i) {
+      const CreatureModel& m = *impl_->records_[i].model;
+      for (AeroBody& a : impl_->bodies_[i]->aero) a.surface = linkSurface(m.links[a.link], air);
+    }
+  }
+}
+
+void World::setAirModel(AirModelPtr model) {
+  if (!model) throw InputError("air model is null");
+  impl_->air_model_ = std::move(model);
+}
+
+void World::setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
+                            const std::vector<StrokeCommand>& commands) {
+  const size_t c = impl_->index(creature);
+  CreatureRecord& r = impl_->records_[c];
+  std::vector<int> targets;
+  if (joints.empty()) {
+    targets = r.model->wing_joints;
+  } else {
+    for (const auto& name : joints) {
+      int j = impl_->jointIndex(c, name);
+      if (!r.model->joints[j].wing) {
+        throw InputError("joint '" + name + "' of creature '" + creature + "' is not a wing joint");
+      }
+      targets.push_back(j);
+    }
+  }
+  if (targets.size() != commands.size()) {
+    throw InputError("creature '" + creature + "': " + std::to_string(commands.size()) +
+                     " commands for " + std::to_string(targets.size()) + " wing joints");
+  }
+  for (size_t i = 0; i < commands.size(); ++i) {
+    std::string err = validateStroke(commands[i]);
+    if (!err.empty()) {
+      throw InputError("joint '" + r.model->joints[targets[i]].name + "': " + err);
+    }
+  }
+  for (size_t i = 0; i < commands.size(); ++i) {
+    JointDrive& d = r.drives[targets[i]];
+    if (d.mode != JointDrive::Mode::kStroke) {
+      d.stroke.reset();
+      d.mode = JointDrive::Mode::kStroke;
+    }
+    d.stroke.setCommand(commands[i]);
+  }
+}
+
+void World::setJointVelocityTarget(const std::string& creature, const std::string& joint,
+                                   double velocity) {
+  const size_t c = impl_->index(creature);
+  const int j = impl_->jointIndex(c, joint);
+  if (!impl_->records_[c].model->joints[j].movable()) {
+    throw InputError("joint '" + joint + "' of creature '" + creature + "' is fixed");
+  }
+  if (!std::isfinite(velocity)) throw InputError("joint '" + joint + "': velocity is not finite");
+  JointDrive& d = impl_->records_[c].drives[j];
+  d.mode = JointDrive::Mode::kVelocity;
+  d.velocity = velocity;
+}
+
+void World::clearJointCommand(const std::string& creature, const std::string& joint) {
+  const size_t c = impl_->index(creature);
+  const int j = impl_->jointIndex(c, joint);
+  impl_->records_[c].drives[j] = JointDrive();
+}
+
+StrokeCommand World::wingCommand(const std::string& creature, const std::string& joint) const {
+  const size_t c = impl_->index(creature);
+  const JointDrive& d = impl_->records_[c].drives[impl_->jointIndex(c, joint)];
+  return d.mode == JointDrive::Mode::kStroke ? d.stroke.command() : StrokeCommand();
+}
+
+CreatureState World::state(const std::string& creature) const {
+  const size_t c = impl_->index(creature);
+  const CreatureModel& m = *impl_->records_[c].model;
+  CreatureBody& b = *impl_->bodies_[c];
+  btMultiBody* mb = b.mb.get();
+  mb->forwardKinematics(b.world_to_local, b.local_origin);
+  mb->compTreeLinkVelocities(b.omega.data(), b.vel.data());
+  CreatureState s;
+  const size_t n = m.links.size();
+  s.link_poses.resize(n);
+  s.link_twists.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const btQuaternion to_world = b.world_to_local[k].inverse();
+    const Quat q = fromBt(to_world).normalized();
+    const Vec3 com = fromBt(b.local_origin[k]);
+    const Vec3 origin = com - q * m.links[k].com;
+    const Vec3 w = fromBt(quatRotate(to_world, b.omega[k]));
+    const Vec3 v = fromBt(quatRotate(to_world, b.vel[k]));
+    s.link_poses[k] = Pose{origin, q};
+    s.link_twists[k] = Twist{v + w.cross(origin - com), w};
+  }
+  s.joint_positions.assign(m.joints.size(), 0.0);
+  s.joint_velocities.assign(m.joints.size(), 0.0);
+  for (size_t j = 0; j < m.joints.size(); ++j) {
+    if (!m.joints[j].movable()) continue;
+    s.joint_positions[j] = mb->getJointPos(m.joints[j].child_link - 1);
+    s.joint_velocities[j] = mb->getJointVel(m.joints[j].child_link - 1);
+  }
+  return s;
+}
+
+Pose World::rootPose(const std::string& creature) const { return state(creature).link_poses[0]; }
+Twist World::rootTwist(const std::string& creature) const {
+  return state(creature).link_twists[0];
+}
+
+void World::setRecordCellForces(bool on) { impl_->record_cells_ = on; }
+
+std::vector<LinkAero> World::aeroForces(const std::string& creature) const {
+  const size_t c = impl_->index(creature);
+  std::vector<LinkAero> out;
+  for (const AeroBody& a : impl_->bodies_[c]->aero) out.push_back(a.last);
+  return out;
+}
+
+}  // namespace flapsim
