@@ -62,6 +62,9 @@ struct CreatureModel {
   std::vector<LinkModel> links;
   std::vector<JointModel> joints;
   std::vector<int> wing_joints;  // indices into joints, in URDF order
+  /// The root link is named "world" (the gazebo_ros convention): the creature is anchored
+  /// at its spawn pose. The "world" link needs no inertia.
+  bool fixed_base = false;
 
   int findLink(const std::string& link_name) const;
   int findJoint(const std::string& joint_name) const;

@@ -10,11 +10,11 @@ struct FlapUnitParams {
   double body_length = 0.08;  // along x (forward)
   double body_width = 0.06;   // along y
   double body_height = 0.03;  // along z
-  double body_mass = 0.02;
-  double wing_span = 0.30;   // along y, from the hinge to the tip
-  double wing_chord = 0.20;  // along x
+  double body_mass = 0.015;
+  double wing_span = 0.35;   // along y, from the hinge to the tip
+  double wing_chord = 0.22;  // along x
   double wing_thickness = 0.002;
-  double wing_mass = 0.005;
+  double wing_mass = 0.004;
   double wing_effort = 2.0;      // N m, hinge motor torque limit
   double wing_limit = 1.4;       // rad, hinge range +-limit
   double unit_spacing = 0.24;    // m between unit bodies along x

@@ -189,6 +189,13 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
     LinkModel lm;
     lm.name = l->name;
     const std::string where = "link '" + l->name + "'";
+    if (l == urdf->getRoot() && l->name == "world") {
+      model->fixed_base = true;
+      link_index[l->name] = 0;
+      model->links.push_back(lm);
+      for (const auto& c : l->child_links) todo.push(c);
+      continue;
+    }
     if (!l->inertial || !(l->inertial->mass > 0.0)) {
       fail(source, where + " has no positive mass (<inertial><mass value=.../>)");
     }

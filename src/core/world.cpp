@@ -162,7 +162,7 @@ class World::Impl {
     auto body = std::make_unique<CreatureBody>();
     const int n = static_cast<int>(m.links.size()) - 1;
     const LinkModel& root = m.links[0];
-    body->mb = std::make_unique<btMultiBody>(n, root.mass, toBt(root.inertia), false, false);
+    body->mb = std::make_unique<btMultiBody>(n, root.mass, toBt(root.inertia), m.fixed_base, false);
     btMultiBody* mb = body->mb.get();
     for (int k = 1; k <= n; ++k) {
       const LinkModel& l = m.links[k];

@@ -1,0 +1,147 @@
+// The paper's experiments on whole creatures: gliding plates (Fig. 2, eq. 7), the
+// bamboo-copter (Fig. 3-4) and the flapping unit (Fig. 5, eq. 19).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "flapsim/make_creature.h"
+#include "flapsim/world.h"
+#include "test_util.h"
+
+namespace flapsim {
+namespace {
+
+using test::at;
+using test::loadUrdf;
+using test::openSky;
+
+// A plate pitched by phi about +y has its lower face's normal tilted towards -x, so eq. 7's
+// moving force F_d cos(phi) sin(phi) pushes it towards +x while it falls.
+double glideDrift(double deg, double seconds) {
+  World w(openSky());
+  const double phi = deg * M_PI / 180.0;
+  w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 50, Quat(Eigen::AngleAxisd(phi, Vec3::UnitY()))));
+  w.step(static_cast<int>(seconds / w.params().step_size));
+  const Pose p = w.rootPose("plate");
+  EXPECT_NEAR(p.position.y(), 0.0, 1e-9) << deg;
+  EXPECT_LT(p.position.z(), 50.0) << deg;
+  return p.position.x();
+}
+
+TEST(Glide, TiltedPlatesDriftTheWayEquation7Says) {
+  double last = 0.0;
+  for (double deg : {10.0, 20.0, 30.0, 45.0}) {
+    const double x = glideDrift(deg, 0.4);
+    EXPECT_GT(x, last) << deg << " deg: more tilt (up to 45) drifts further";
+    last = x;
+  }
+  EXPECT_LT(glideDrift(-20.0, 0.4), 0.0);  // mirror tilt, mirror drift
+}
+
+TEST(BambooCopter, RisesSlowsThenFallsSpinningTheOtherWay) {
+  World w(openSky());
+  Twist spin;
+  spin.angular = Vec3(0, 0, 150.0);
+  w.spawn("bc", loadUrdf("bamboo_copter.urdf"), at(0, 0, 10), spin);
+  double max_z = 10.0, min_wz = 150.0;
+  double wz_at_top = 0.0;
+  for (int i = 0; i < 300; ++i) {
+    w.step(10);
+    const double z = w.rootPose("bc").position.z();
+    const double wz = w.rootTwist("bc").angular.z();
+    if (z > max_z) {
+      max_z = z;
+      wz_at_top = wz;
+    }
+    min_wz = std::min(min_wz, wz);
+  }
+  EXPECT_GT(max_z, 10.3);                // it rose
+  EXPECT_LT(wz_at_top, 0.5 * 150.0);     // its spin decayed on the way up
+  EXPECT_GT(wz_at_top, 0.0);
+  EXPECT_LT(min_wz, -20.0);              // and reversed while falling
+  EXPECT_LT(w.rootPose("bc").position.z(), max_z - 1.0);
+  EXPECT_GT((w.rootPose("bc").orientation * Vec3::UnitZ()).z(), 0.99);  // stayed upright
+}
+
+double climb(double w1, double w2, double amplitude, double seconds) {
+  World w(openSky());
+  w.spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 20));
+  w.setWingCommands("u", {}, {StrokeCommand{w1, w2, amplitude}, StrokeCommand{w1, w2, amplitude}});
+  w.step(static_cast<int>(seconds / w.params().step_size));
+  EXPECT_GT((w.rootPose("u").orientation * Vec3::UnitZ()).z(), 0.99) << w1 << "/" << w2;
+  return w.rootPose("u").position.z() - 20.0;
+}
+
+TEST(FlapUnit, ClimbsOnlyWhenTheDownstrokeIsFaster) {
+  EXPECT_LT(climb(10, 10, 0.8, 10), -1.0);
+  EXPECT_LT(climb(10, 20, 0.8, 10), -1.0);
+  double last = 0.0;
+  for (double w1 : {30.0, 40.0, 50.0}) {  // w1^2 - w2^2 = 800, 1500, 2400
+    const double h = climb(w1, 10, 0.8, 10);
+    EXPECT_GT(h, last) << "w1 = " << w1;
+    last = h;
+  }
+}
+
+// Eq. 17-19: with the body held still (anchored to "world"), the left side of eq. 17,
+// the vertical air force integrated over the wing angle, int F_L d(theta) per stroke cycle,
+// is proportional to (w1^2 - w2^2) sin(theta0).
+double liftWorkPerCycle(double w1, double w2, double amplitude) {
+  std::string urdf = makeCreatureUrdf(1, "anchored");
+  urdf.insert(urdf.rfind("</robot>"),
+              "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
+              "link=\"world\"/><child link=\"unit0_body\"/></joint>\n");
+  WorldParams p = openSky();
+  p.gravity = Vec3::Zero();
+  World w(p);
+  w.spawn("u", parseCreatureModel(urdf), at(0, 0, 0));
+  w.setWingCommands("u", {}, {StrokeCommand{w1, w2, amplitude}, StrokeCommand{w1, w2, amplitude}});
+  const int left = w.model("u")->findJoint("unit0_wing_left_joint");
+  // Integrate over whole cycles: from one top reversal (velocity turns from up to down) to
+  // the 20th after it; the first cycle is left out.
+  const int cycles = 20;
+  int tops = 0;
+  double work = 0.0, last_velocity = 0.0;
+  while (tops <= cycles + 1) {
+    w.step(1);
+    const double velocity = w.state("u").joint_velocities[left];
+    if (last_velocity > 0.0 && velocity <= 0.0) ++tops;
+    last_velocity = velocity;
+    if (tops >= 2 && tops <= cycles + 1) {
+      double fz = 0.0;
+      for (const LinkAero& a : w.aeroForces("u")) fz += a.wrench.force.z();
+      work += fz * std::abs(velocity) * p.step_size;
+    }
+  }
+  EXPECT_EQ(w.rootPose("u").position, Vec3::Zero());  // anchored indeed
+  return work / cycles;
+}
+
+TEST(FlapUnit, Equation19SignAndProportionality) {
+  EXPECT_GT(liftWorkPerCycle(30, 10, 0.8), 0.0);
+  EXPECT_LT(liftWorkPerCycle(10, 30, 0.8), 0.0);
+  EXPECT_NEAR(liftWorkPerCycle(20, 20, 0.8), 0.0, 1e-3 * liftWorkPerCycle(30, 10, 0.8));
+  struct Setting {
+    double w1, w2, amplitude;
+  };
+  std::vector<double> ratio;
+  double last = 0.0;
+  for (const Setting& s : {Setting{20, 10, 0.8}, Setting{30, 10, 0.8}, Setting{40, 10, 0.8}}) {
+    const double work = liftWorkPerCycle(s.w1, s.w2, s.amplitude);
+    EXPECT_GT(work, last) << "grows with w1^2 - w2^2, w1 = " << s.w1;
+    last = work;
+    ratio.push_back(work / ((s.w1 * s.w1 - s.w2 * s.w2) * std::sin(s.amplitude)));
+  }
+  last = 0.0;
+  for (double amplitude : {0.3, 0.5, 0.8, 1.1}) {
+    const double work = liftWorkPerCycle(30, 10, amplitude);
+    EXPECT_GT(work, last) << "grows with theta0 = " << amplitude;
+    last = work;
+    ratio.push_back(work / (800.0 * std::sin(amplitude)));
+  }
+  // One constant K M r^4 / I^2 for every setting (eq. 19), up to the stroke reversals.
+  for (double r : ratio) EXPECT_NEAR(r / ratio[0], 1.0, 0.1);
+}
+
+}  // namespace
+}  // namespace flapsim

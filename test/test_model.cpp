@@ -1,0 +1,164 @@
+// URDF -> CreatureModel: contents of the shipped creatures, the generator, and errors that
+// name the file and the link or joint at fault.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "flapsim/creature_model.h"
+#include "flapsim/make_creature.h"
+#include "test_util.h"
+
+namespace flapsim {
+namespace {
+
+using test::loadUrdf;
+using test::sourcePath;
+
+TEST(Model, PlateIsOneBoxOfTenGrams) {
+  auto m = loadUrdf("plate.urdf");
+  ASSERT_EQ(m->links.size(), 1u);
+  EXPECT_EQ(m->name, "plate");
+  EXPECT_DOUBLE_EQ(m->links[0].mass, 0.01);
+  ASSERT_EQ(m->links[0].boxes.size(), 1u);
+  EXPECT_TRUE(m->links[0].boxes[0].size.isApprox(Vec3(0.2, 0.2, 0.002)));
+  EXPECT_EQ(m->links[0].aero.subdivisions_u, 4);
+  EXPECT_TRUE(m->wing_joints.empty());
+}
+
+TEST(Model, FlapUnitHasTwoWingHinges) {
+  auto m = loadUrdf("flap_unit.urdf");
+  ASSERT_EQ(m->links.size(), 3u);
+  EXPECT_EQ(m->links[0].name, "unit0_body");  // root first
+  ASSERT_EQ(m->wing_joints.size(), 2u);
+  const JointModel& left = m->joints[m->wing_joints[0]];
+  const JointModel& right = m->joints[m->wing_joints[1]];
+  EXPECT_EQ(left.name, "unit0_wing_left_joint");
+  EXPECT_EQ(right.name, "unit0_wing_right_joint");
+  EXPECT_EQ(left.type, JointType::kRevolute);
+  EXPECT_TRUE(left.axis.isApprox(Vec3(1, 0, 0)));
+  EXPECT_TRUE(right.axis.isApprox(Vec3(-1, 0, 0)));
+  EXPECT_DOUBLE_EQ(left.upper, 1.4);
+  EXPECT_DOUBLE_EQ(left.effort, 2.0);
+  EXPECT_NEAR(m->totalMass(), 0.023, 1e-12);
+  EXPECT_TRUE(m->links[m->findLink("unit0_wing_left")].com.isApprox(Vec3(0, 0.175, 0)));
+}
+
+TEST(Model, BambooCopterBladesAreFixedAndTiltedOpposite) {
+  auto m = loadUrdf("bamboo_copter.urdf");
+  ASSERT_EQ(m->links.size(), 3u);
+  const JointModel& l = m->joints[m->findJoint("blade_left_joint")];
+  const JointModel& r = m->joints[m->findJoint("blade_right_joint")];
+  EXPECT_EQ(l.type, JointType::kFixed);
+  const Vec3 nl = l.origin.orientation * Vec3::UnitZ();
+  const Vec3 nr = r.origin.orientation * Vec3::UnitZ();
+  EXPECT_NEAR(nl.x(), std::sin(M_PI / 6), 1e-9);
+  EXPECT_NEAR(nr.x(), -std::sin(M_PI / 6), 1e-9);
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(Generator, ChainsOfUnitsLoad) {
+  for (int n : {1, 4, 6, 12}) {
+    auto m = parseCreatureModel(makeCreatureUrdf(n, "afc"));
+    EXPECT_EQ(m->links.size(), 3u * n) << n;
+    EXPECT_EQ(m->joints.size(), 3u * n - 1) << n;
+    EXPECT_EQ(m->wing_joints.size(), 2u * n) << n;
+    EXPECT_NEAR(m->totalMass(), 0.023 * n, 1e-12) << n;
+    if (n > 1) {
+      const JointModel& link = m->joints[m->findJoint("unit1_link_joint")];
+      EXPECT_FALSE(link.wing);
+      EXPECT_TRUE(link.axis.isApprox(Vec3::UnitY()));
+      EXPECT_GT(link.damping, 0.0);
+    }
+  }
+  EXPECT_THROW(makeCreatureUrdf(0), std::invalid_argument);
+}
+
+TEST(Generator, CommittedUrdfsAreItsOutput) {
+  EXPECT_EQ(readFile(sourcePath("urdf/flap_unit.urdf")), makeCreatureUrdf(1, "flap_unit"));
+  for (int n : {1, 4, 6, 12}) {
+    EXPECT_EQ(readFile(sourcePath("urdf/afc_" + std::to_string(n) + ".urdf")),
+              makeCreatureUrdf(n, "afc" + std::to_string(n)))
+        << "regenerate with make_creature --pairs " << n;
+  }
+}
+
+// ---- errors ---------------------------------------------------------------------------
+
+const char* kLink = R"(
+  <link name="body">
+    <inertial><mass value="0.1"/><inertia ixx="1e-4" ixy="0" ixz="0" iyy="1e-4" iyz="0" izz="1e-4"/></inertial>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+  <link name="wing">
+    <inertial><mass value="0.01"/><inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
+    <collision><geometry><box size="0.1 0.3 0.002"/></geometry></collision>
+  </link>)";
+
+std::string robot(const std::string& body) {
+  return std::string("<robot name=\"r\">") + body + "</robot>";
+}
+
+std::string hinge(const std::string& name = "hinge", const std::string& type = "revolute",
+                  const std::string& child = "wing") {
+  return "<joint name=\"" + name + "\" type=\"" + type +
+         "\"><parent link=\"body\"/><child link=\"" + child +
+         "\"/><axis xyz=\"1 0 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" "
+         "velocity=\"10\"/></joint>";
+}
+
+// Expects a ModelError whose message contains every one of `culprits`.
+void expectError(const std::string& xml, std::initializer_list<std::string> culprits) {
+  try {
+    parseCreatureModel(xml, "test.urdf");
+    ADD_FAILURE() << "no error for: " << xml;
+  } catch (const ModelError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("test.urdf"), std::string::npos) << what;
+    for (const auto& c : culprits) EXPECT_NE(what.find(c), std::string::npos) << what;
+  }
+}
+
+TEST(ModelErrors, ValidReferenceParses) {
+  auto m = parseCreatureModel(robot(std::string(kLink) + hinge() + "<wing joint=\"hinge\"/>"));
+  EXPECT_EQ(m->wing_joints.size(), 1u);
+}
+
+TEST(ModelErrors, NameTheCulprit) {
+  expectError("<robot name=\"r\"><link name=\"a\">", {"malformed XML"});
+  expectError("<notarobot/>", {"<robot>"});
+  expectError(robot(std::string(kLink) + hinge("hinge", "revolute", "ghost")), {"ghost"});
+  expectError(robot(std::string(kLink) + hinge("spin", "floating")), {"spin"});
+  expectError(robot(std::string(kLink) + hinge() + "<wing joint=\"elbow\"/>"), {"elbow"});
+  expectError(robot(std::string(kLink) + hinge("hinge", "fixed") + "<wing joint=\"hinge\"/>"),
+              {"hinge", "revolute"});
+  expectError(robot(std::string(kLink) + hinge() + "<aero link=\"tail\"/>"), {"tail"});
+  expectError(robot(std::string(kLink) + hinge() + "<aero link=\"wing\" subdivisions=\"4\"/>"),
+              {"wing", "subdivisions"});
+  expectError(
+      robot(std::string(kLink) + hinge() + "<aero link=\"wing\" drag_coefficient=\"abc\"/>"),
+      {"wing", "drag_coefficient"});
+  expectError(robot(std::string(kLink) + hinge() + "<aero link=\"wing\" enabled=\"maybe\"/>"),
+              {"wing", "enabled"});
+  expectError(robot(R"(<link name="massless"/>)"), {"massless", "mass"});
+  expectError(robot(R"(<link name="tilted"><inertial><mass value="1"/><inertia ixx="1" ixy="0.1" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)"),
+              {"tilted", "off-diagonal"});
+}
+
+TEST(ModelErrors, MissingFileIsNamed) {
+  try {
+    loadCreatureModel("/nonexistent/creature.urdf");
+    FAIL();
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/creature.urdf"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace flapsim

@@ -1,0 +1,57 @@
+// The stroke state machine: down at w1 to -theta0, up at w2 to +theta0, repeat.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "flapsim/stroke.h"
+
+namespace flapsim {
+namespace {
+
+TEST(Stroke, SwingsBetweenMinusAndPlusAmplitude) {
+  StrokeGenerator g;
+  g.setCommand(StrokeCommand{30.0, 10.0, 0.5});
+  EXPECT_EQ(g.target(0.0), -30.0);  // starts with a downstroke
+  EXPECT_EQ(g.target(-0.49), -30.0);
+  EXPECT_EQ(g.target(-0.5), 10.0);  // reached -theta0: turn up
+  EXPECT_EQ(g.target(0.2), 10.0);
+  EXPECT_EQ(g.target(0.5), -30.0);  // reached +theta0: turn down
+  EXPECT_EQ(g.phase(), StrokeGenerator::Phase::kDown);
+  g.reset();
+  EXPECT_EQ(g.target(-0.2), -30.0);
+}
+
+// Integrating the target exactly gives the stroke period 2 theta0 (1/w1 + 1/w2).
+TEST(Stroke, PeriodFollowsRates) {
+  StrokeGenerator g;
+  const double w1 = 40.0, w2 = 10.0, a = 0.8, dt = 1e-5;
+  g.setCommand(StrokeCommand{w1, w2, a});
+  double q = a;  // start at the top
+  g.target(q);
+  int turns = 0;
+  double t = 0.0, first_turn = -1.0;
+  StrokeGenerator::Phase last = g.phase();
+  while (turns < 3) {
+    q += g.target(q) * dt;
+    t += dt;
+    if (g.phase() != last) {
+      last = g.phase();
+      if (++turns == 1) first_turn = t;
+    }
+  }
+  // Each turn is seen at most two steps after the crossing.
+  EXPECT_NEAR(first_turn, 2 * a / w1, 3 * dt);
+  EXPECT_NEAR(t, 2 * a / w1 + 2 * a / w2 + 2 * a / w1, 9 * dt);
+}
+
+TEST(Stroke, ValidationNamesTheField) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(validateStroke(StrokeCommand{1, 1, 0.5}), "");
+  EXPECT_NE(validateStroke(StrokeCommand{nan, 1, 0.5}).find("downstroke"), std::string::npos);
+  EXPECT_NE(validateStroke(StrokeCommand{1, -1, 0.5}).find("upstroke"), std::string::npos);
+  EXPECT_NE(validateStroke(StrokeCommand{1, 1, INFINITY}).find("amplitude"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace flapsim

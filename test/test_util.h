@@ -1,0 +1,44 @@
+// Helpers shared by the core tests.
+#pragma once
+
+#include <string>
+
+#include "flapsim/creature_model.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+namespace test {
+
+inline std::string sourcePath(const std::string& relative) {
+  return std::string(FLAPSIM_SOURCE_DIR) + "/" + relative;
+}
+
+inline CreatureModelPtr loadUrdf(const std::string& name) {
+  return loadCreatureModel(sourcePath("urdf/" + name));
+}
+
+/// A world without ground (so long falls are unobstructed) and default air.
+inline WorldParams openSky() {
+  WorldParams p;
+  p.ground = false;
+  return p;
+}
+
+inline Pose at(double x, double y, double z, const Quat& q = Quat::Identity()) {
+  return Pose{Vec3(x, y, z), q};
+}
+
+/// True when every number of the two states is identical to the bit.
+inline bool bitIdentical(const CreatureState& a, const CreatureState& b) {
+  if (a.link_poses.size() != b.link_poses.size()) return false;
+  for (size_t i = 0; i < a.link_poses.size(); ++i) {
+    if (a.link_poses[i].position != b.link_poses[i].position) return false;
+    if (a.link_poses[i].orientation.coeffs() != b.link_poses[i].orientation.coeffs()) return false;
+    if (a.link_twists[i].linear != b.link_twists[i].linear) return false;
+    if (a.link_twists[i].angular != b.link_twists[i].angular) return false;
+  }
+  return a.joint_positions == b.joint_positions && a.joint_velocities == b.joint_velocities;
+}
+
+}  // namespace test
+}  // namespace flapsim

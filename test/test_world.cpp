@@ -1,0 +1,256 @@
+// The world: analytic motion, air in the loop, determinism, and bad input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "flapsim/make_creature.h"
+#include "flapsim/world.h"
+#include "test_util.h"
+
+namespace flapsim {
+namespace {
+
+using test::at;
+using test::bitIdentical;
+using test::loadUrdf;
+using test::openSky;
+
+constexpr double kG = 9.81;
+
+TEST(World, FreeFallWithoutAirIsExact) {
+  WorldParams p = openSky();
+  p.air.enabled = false;
+  World w(p);
+  w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 100));
+  const double dt = p.step_size;
+  for (int k = 0; k < 4; ++k) {
+    w.step(500);
+    const double t = w.time();
+    const Pose pose = w.rootPose("plate");
+    const Twist tw = w.rootTwist("plate");
+    // Semi-implicit Euler lags the exact parabola by at most g t dt.
+    EXPECT_NEAR(pose.position.z(), 100.0 - 0.5 * kG * t * t, kG * t * dt) << t;
+    EXPECT_NEAR(tw.linear.z(), -kG * t, 1e-9) << t;
+    EXPECT_EQ(pose.position.x(), 0.0);
+  }
+  EXPECT_DOUBLE_EQ(w.time(), 2.0);
+  EXPECT_EQ(w.stepCount(), 2000u);
+}
+
+TEST(World, FlatPlateReachesTerminalSpeed) {
+  WorldParams p = openSky();
+  p.air.buoyancy = false;
+  World w(p);
+  w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 100));
+  w.step(3000);
+  const double vt = std::sqrt(2 * 0.01 * kG / (p.air.density * p.air.drag_coefficient * 0.04));
+  EXPECT_NEAR(-w.rootTwist("plate").linear.z(), vt, 0.02 * vt);
+  EXPECT_NEAR(-w.rootTwist("plate").linear.z(), vt, 0.001 * vt);  // in fact much closer
+}
+
+TEST(World, TerminalSpeedScalesWithDragCoefficient) {
+  double v[2];
+  for (int i = 0; i < 2; ++i) {
+    WorldParams p = openSky();
+    p.air.buoyancy = false;
+    p.air.drag_coefficient = i == 0 ? 1.15 : 2.0;
+    World w(p);
+    w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 100));
+    w.step(3000);
+    v[i] = -w.rootTwist("plate").linear.z();
+  }
+  EXPECT_NEAR(v[0] / v[1], std::sqrt(2.0 / 1.15), 1e-3);
+}
+
+TEST(World, LevelPlateFallsStraightDown) {
+  World w(openSky());
+  w.spawn("plate", loadUrdf("plate.urdf"), at(0.5, -0.25, 50));
+  w.step(2000);
+  const Pose pose = w.rootPose("plate");
+  EXPECT_NEAR(pose.position.x(), 0.5, 1e-6);
+  EXPECT_NEAR(pose.position.y(), -0.25, 1e-6);
+  EXPECT_LT(pose.position.z(), 47.0);
+}
+
+TEST(World, BuoyancyLiftsAPlateInWater) {
+  WorldParams p = openSky();
+  p.air.density = 1000.0;
+  World w(p);
+  w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 0));
+  w.step(1);
+  // At rest there is no drag: the first step accelerates at g (rho V / m - 1).
+  const double volume = 0.2 * 0.2 * 0.002;
+  const double a = kG * (1000.0 * volume / 0.01 - 1.0);
+  EXPECT_NEAR(w.rootTwist("plate").linear.z(), a * p.step_size, 1e-9);
+  w.step(999);
+  EXPECT_GT(w.rootPose("plate").position.z(), 0.01);
+}
+
+TEST(World, PlateComesToRestOnTheGround) {
+  World w;  // ground on by default
+  w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 0.5));
+  w.step(3000);
+  EXPECT_NEAR(w.rootPose("plate").position.z(), 0.001, 2e-3);
+  EXPECT_NEAR(w.rootTwist("plate").linear.norm(), 0.0, 1e-3);
+}
+
+TEST(World, PositiveWingAngleLiftsTheTip) {
+  World w(openSky());
+  w.spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 10));
+  w.setJointVelocityTarget("u", "unit0_wing_left_joint", 2.0);
+  w.setJointVelocityTarget("u", "unit0_wing_right_joint", 2.0);
+  w.step(100);
+  const auto s = w.state("u");
+  auto m = w.model("u");
+  EXPECT_NEAR(s.joint_positions[m->findJoint("unit0_wing_left_joint")], 0.2, 0.01);
+  const Vec3 body = s.link_poses[0].position;
+  for (const char* wing : {"unit0_wing_left", "unit0_wing_right"}) {
+    const int l = m->findLink(wing);
+    const Vec3 tip = s.link_poses[l].apply(Vec3(0, l == 1 ? 0.3 : -0.3, 0));
+    EXPECT_GT(tip.z() - body.z(), 0.05) << wing;
+  }
+}
+
+TEST(World, StrokeTracksCommandedRates) {
+  World w(openSky());
+  w.spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 10));
+  w.setWingCommands("u", {}, {StrokeCommand{30, 10, 0.8}, StrokeCommand{30, 10, 0.8}});
+  w.step(10);  // mid-downstroke (-0.8 is reached after ~27 ms)
+  auto s = w.state("u");
+  EXPECT_NEAR(s.joint_velocities[0], -30.0, 1e-6);
+  EXPECT_NEAR(s.joint_velocities[1], -30.0, 1e-6);
+  w.step(60);  // mid-upstroke
+  s = w.state("u");
+  EXPECT_NEAR(s.joint_velocities[0], 10.0, 1e-6);
+  // Left and right stay mirror images.
+  EXPECT_NEAR(s.joint_positions[0], s.joint_positions[1], 1e-12);
+  EXPECT_EQ(w.wingCommand("u", "unit0_wing_right_joint").downstroke_rate, 30.0);
+}
+
+CreatureState runFlapUnit(World& w, int steps) {
+  w.step(steps);
+  return w.state("u");
+}
+
+World* makeFlapWorld(World* w) {
+  w->spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 2, Quat(Eigen::AngleAxisd(0.05, Vec3::UnitX()))));
+  w->spawn("p", loadUrdf("plate.urdf"), at(1, 0, 3, Quat(Eigen::AngleAxisd(0.3, Vec3::UnitY()))));
+  w->setWingCommands("u", {}, {StrokeCommand{35, 10, 0.7}, StrokeCommand{30, 12, 0.8}});
+  return w;
+}
+
+TEST(Determinism, TwoRunsAndAResetAgreeBitForBit) {
+  World a, b;
+  makeFlapWorld(&a);
+  makeFlapWorld(&b);
+  const CreatureState sa = runFlapUnit(a, 3000);
+  const CreatureState sb = runFlapUnit(b, 3000);
+  EXPECT_TRUE(bitIdentical(sa, sb));
+  a.reset();
+  EXPECT_EQ(a.time(), 0.0);
+  const CreatureState again = runFlapUnit(a, 3000);
+  EXPECT_TRUE(bitIdentical(sa, again));
+  EXPECT_EQ(a.state("p").link_poses[0].position, b.state("p").link_poses[0].position);
+  // Not trivially equal: the unit did move.
+  EXPECT_GT((sa.link_poses[0].position - Vec3(0, 0, 2)).norm(), 0.01);
+}
+
+TEST(Determinism, RemoveAndSpawnAgainUnderTheSameName) {
+  World w(openSky());
+  w.spawn("p", loadUrdf("plate.urdf"), at(0, 0, 5));
+  w.step(100);
+  w.remove("p");
+  EXPECT_FALSE(w.has("p"));
+  w.spawn("p", loadUrdf("plate.urdf"), at(0, 0, 5));
+  EXPECT_EQ(w.rootPose("p").position.z(), 5.0);
+  EXPECT_EQ(w.creatureNames(), std::vector<std::string>{"p"});
+}
+
+// ---- bad input: an error naming the culprit, and a world that carries on untouched ----
+
+template <typename F>
+void expectRejected(F&& bad, const std::string& culprit) {
+  World reference, w;
+  makeFlapWorld(&reference);
+  makeFlapWorld(&w);
+  reference.step(200);
+  w.step(200);
+  try {
+    bad(w);
+    ADD_FAILURE() << "no error, expected one naming '" << culprit << "'";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(culprit), std::string::npos) << e.what();
+  }
+  reference.step(300);
+  w.step(300);
+  EXPECT_TRUE(bitIdentical(reference.state("u"), w.state("u"))) << culprit;
+  EXPECT_EQ(reference.creatureNames(), w.creatureNames());
+}
+
+TEST(BadInput, IsRejectedAndTheWorldKeepsItsState) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const StrokeCommand ok{30, 10, 0.8};
+  expectRejected([&](World& w) { w.spawn("u", loadUrdf("plate.urdf"), at(0, 0, 1)); }, "'u'");
+  expectRejected([&](World& w) { w.spawn("", loadUrdf("plate.urdf"), at(0, 0, 1)); }, "empty");
+  expectRejected([&](World& w) { w.spawn("q", loadUrdf("plate.urdf"), at(nan, 0, 1)); }, "'q'");
+  expectRejected([&](World& w) { w.remove("ghost"); }, "ghost");
+  expectRejected([&](World& w) { w.setWingCommands("ghost", {}, {ok, ok}); }, "ghost");
+  expectRejected([&](World& w) { w.setWingCommands("u", {"elbow"}, {ok}); }, "elbow");
+  expectRejected([&](World& w) { w.setWingCommands("u", {}, {ok}); }, "1 commands for 2");
+  expectRejected(
+      [&](World& w) {
+        w.setWingCommands("u", {"unit0_wing_left_joint", "unit0_wing_right_joint"},
+                          {ok, StrokeCommand{nan, 1, 1}});
+      },
+      "unit0_wing_right_joint");
+  expectRejected([&](World& w) { w.setWingCommands("u", {}, {ok, StrokeCommand{30, -1, 1}}); },
+                 "upstroke");
+  expectRejected([&](World& w) { w.setJointVelocityTarget("u", "unit0_wing_left_joint", nan); },
+                 "unit0_wing_left_joint");
+  expectRejected([&](World& w) { w.setJointVelocityTarget("u", "tail", 1.0); }, "tail");
+  expectRejected(
+      [&](World& w) {
+        AirParams air;
+        air.density = -1;
+        w.setAirParams(air);
+      },
+      "density");
+  expectRejected([&](World& w) { w.step(-1); }, "step");
+}
+
+TEST(BadInput, InvalidWorldParamsAreNamed) {
+  WorldParams p;
+  p.step_size = 0.0;
+  EXPECT_THROW({ World w(p); }, InputError);
+  p = WorldParams();
+  p.air.subdivisions_u = 0;
+  try {
+    World w(p);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("subdivisions"), std::string::npos);
+  }
+}
+
+// A plate without an <aero> override, so the world's grid applies.
+const char* kPlainPlate = R"(<robot name="p"><link name="p">
+  <inertial><mass value="0.01"/><inertia ixx="3e-5" ixy="0" ixz="0" iyy="3e-5" iyz="0" izz="6e-5"/></inertial>
+  <collision><geometry><box size="0.2 0.2 0.002"/></geometry></collision></link></robot>)";
+
+TEST(AirParams, FinerGridKeepsFlatDrag) {
+  // The same plate with 1x1 and 8x8 cells: flat translation gives the same force.
+  double v[2];
+  for (int i = 0; i < 2; ++i) {
+    WorldParams p = openSky();
+    p.air.subdivisions_u = p.air.subdivisions_v = (i == 0 ? 1 : 8);
+    World w(p);
+    w.spawn("plate", parseCreatureModel(kPlainPlate), at(0, 0, 10));
+    w.step(500);
+    v[i] = w.rootTwist("plate").linear.z();
+  }
+  EXPECT_NEAR(v[0], v[1], 1e-9);
+}
+
+}  // namespace
+}  // namespace flapsim
