@@ -1,1 +1,143 @@
-int main() { return 0; }
+// flapsim_bench: steps per second and real-time factor of the core world, per creature.
+// Prints figures; never passes or fails on time.
+//
+//   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "flapsim/make_creature.h"
+#include "flapsim/world.h"
+
+namespace {
+
+using flapsim::CreatureModelPtr;
+using flapsim::Pose;
+using flapsim::Quat;
+using flapsim::StrokeCommand;
+using flapsim::Twist;
+using flapsim::Vec3;
+using flapsim::World;
+using flapsim::WorldParams;
+
+struct Scenario {
+  std::string name;
+  std::function<void(World&)> setup;
+  int bodies = 0;
+};
+
+std::string urdfPath(const std::string& file) {
+  return std::string(FLAPSIM_SOURCE_DIR) + "/urdf/" + file;
+}
+
+Scenario flapper(const std::string& name, int pairs) {
+  CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(pairs, name));
+  Scenario s{name, nullptr, static_cast<int>(model->links.size())};
+  s.setup = [model](World& w) {
+    w.spawn("c", model, Pose{Vec3(0, 0, 50), Quat::Identity()});
+    w.setWingCommands("c", {},
+                      std::vector<StrokeCommand>(model->wing_joints.size(), {30.0, 10.0, 0.8}));
+  };
+  return s;
+}
+
+std::vector<Scenario> scenarios() {
+  std::vector<Scenario> out;
+  auto plate = flapsim::loadCreatureModel(urdfPath("plate.urdf"));
+  out.push_back(
+      {"plate",
+       [plate](World& w) {
+         w.spawn("c", plate, Pose{Vec3(0, 0, 50), Quat(Eigen::AngleAxisd(0.3, Vec3::UnitY()))});
+       },
+       1});
+  auto copter = flapsim::loadCreatureModel(urdfPath("bamboo_copter.urdf"));
+  out.push_back({"bamboo_copter",
+                 [copter](World& w) {
+                   Twist spin;
+                   spin.angular = Vec3(0, 0, 150);
+                   w.spawn("c", copter, Pose{Vec3(0, 0, 50), Quat::Identity()}, spin);
+                 },
+                 3});
+  out.push_back(flapper("flap_unit", 1));
+  for (int n : {4, 6, 12}) out.push_back(flapper("chain_" + std::to_string(n), n));
+  return out;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Steps per second of one run of `steps` steps.
+double timeRun(const Scenario& s, bool air, int steps) {
+  WorldParams p;
+  p.air.enabled = air;
+  World w(p);
+  s.setup(w);
+  const auto t0 = std::chrono::steady_clock::now();
+  w.step(steps);
+  const auto t1 = std::chrono::steady_clock::now();
+  return steps / std::chrono::duration<double>(t1 - t0).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 5;
+  double seconds = 2.0;
+  std::string only;
+  bool json = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--runs" && i + 1 < argc) {
+      runs = std::max(1, std::atoi(argv[++i]));
+    } else if (a == "--seconds" && i + 1 < argc) {
+      seconds = std::atof(argv[++i]);
+    } else if (a == "--only" && i + 1 < argc) {
+      only = argv[++i];
+    } else if (a == "--json") {
+      json = true;
+    } else {
+      std::fprintf(stderr,
+                   "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json]\n");
+      return 2;
+    }
+  }
+  const double dt = WorldParams().step_size;
+  const int steps = std::max(1, static_cast<int>(seconds / dt));
+  if (!json) {
+    std::printf("flapsim_bench: %d runs of %g s simulated (%d steps of %g ms), medians\n", runs,
+                seconds, steps, dt * 1e3);
+    std::printf("%-14s %7s %14s %10s %10s\n", "creature", "bodies", "steps/s", "RTF", "air share");
+  } else {
+    std::printf("[\n");
+  }
+  bool first = true;
+  for (const Scenario& s : scenarios()) {
+    if (!only.empty() && s.name != only) continue;
+    std::vector<double> with_air, without_air;
+    for (int r = 0; r < runs; ++r) {
+      with_air.push_back(timeRun(s, true, steps));
+      without_air.push_back(timeRun(s, false, steps));
+    }
+    const double sps = median(with_air);
+    const double share = std::max(0.0, 1.0 - sps / median(without_air));
+    if (json) {
+      std::printf(
+          "%s  {\"creature\": \"%s\", \"bodies\": %d, \"steps_per_second\": %.0f, "
+          "\"real_time_factor\": %.2f, \"air_share\": %.3f}",
+          first ? "" : ",\n", s.name.c_str(), s.bodies, sps, sps * dt, share);
+    } else {
+      std::printf("%-14s %7d %14.0f %10.1f %9.1f%%\n", s.name.c_str(), s.bodies, sps, sps * dt,
+                  100.0 * share);
+    }
+    first = false;
+  }
+  if (json) std::printf("\n]\n");
+  return 0;
+}

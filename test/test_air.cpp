@@ -124,8 +124,8 @@ TEST(PressureAirModel, SpinningPlateFeelsMoreAtTheTip) {
   const double span = 0.3;
   AeroSurface s;
   // Infinitely thin, so that each cell's lever arm is exactly its distance along the span.
-  s.cells = boxSurfaceCells(Vec3(0.1, span, 1e-12), poseFromXyzRpy(Vec3(0, span / 2, 0), Vec3::Zero()),
-                            1, 6);
+  s.cells = boxSurfaceCells(Vec3(0.1, span, 1e-12),
+                            poseFromXyzRpy(Vec3(0, span / 2, 0), Vec3::Zero()), 1, 6);
   s.drag_coefficient = kCd;
   BodyKinematics k;
   k.angular_velocity = Vec3(-10.0, 0, 0);  // tip (at +y) moves down

@@ -20,7 +20,8 @@ using test::openSky;
 double glideDrift(double deg, double seconds) {
   World w(openSky());
   const double phi = deg * M_PI / 180.0;
-  w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 50, Quat(Eigen::AngleAxisd(phi, Vec3::UnitY()))));
+  w.spawn("plate", loadUrdf("plate.urdf"),
+          at(0, 0, 50, Quat(Eigen::AngleAxisd(phi, Vec3::UnitY()))));
   w.step(static_cast<int>(seconds / w.params().step_size));
   const Pose p = w.rootPose("plate");
   EXPECT_NEAR(p.position.y(), 0.0, 1e-9) << deg;
@@ -55,10 +56,10 @@ TEST(BambooCopter, RisesSlowsThenFallsSpinningTheOtherWay) {
     }
     min_wz = std::min(min_wz, wz);
   }
-  EXPECT_GT(max_z, 10.3);                // it rose
-  EXPECT_LT(wz_at_top, 0.5 * 150.0);     // its spin decayed on the way up
+  EXPECT_GT(max_z, 10.3);             // it rose
+  EXPECT_LT(wz_at_top, 0.5 * 150.0);  // its spin decayed on the way up
   EXPECT_GT(wz_at_top, 0.0);
-  EXPECT_LT(min_wz, -20.0);              // and reversed while falling
+  EXPECT_LT(min_wz, -20.0);  // and reversed while falling
   EXPECT_LT(w.rootPose("bc").position.z(), max_z - 1.0);
   EXPECT_GT((w.rootPose("bc").orientation * Vec3::UnitZ()).z(), 0.99);  // stayed upright
 }

@@ -147,8 +147,10 @@ TEST(ModelErrors, NameTheCulprit) {
   expectError(robot(std::string(kLink) + hinge() + "<aero link=\"wing\" enabled=\"maybe\"/>"),
               {"wing", "enabled"});
   expectError(robot(R"(<link name="massless"/>)"), {"massless", "mass"});
-  expectError(robot(R"(<link name="tilted"><inertial><mass value="1"/><inertia ixx="1" ixy="0.1" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)"),
-              {"tilted", "off-diagonal"});
+  expectError(
+      robot(
+          R"(<link name="tilted"><inertial><mass value="1"/><inertia ixx="1" ixy="0.1" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)"),
+      {"tilted", "off-diagonal"});
 }
 
 TEST(ModelErrors, MissingFileIsNamed) {

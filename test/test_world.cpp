@@ -134,7 +134,8 @@ CreatureState runFlapUnit(World& w, int steps) {
 }
 
 World* makeFlapWorld(World* w) {
-  w->spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 2, Quat(Eigen::AngleAxisd(0.05, Vec3::UnitX()))));
+  w->spawn("u", loadUrdf("flap_unit.urdf"),
+           at(0, 0, 2, Quat(Eigen::AngleAxisd(0.05, Vec3::UnitX()))));
   w->spawn("p", loadUrdf("plate.urdf"), at(1, 0, 3, Quat(Eigen::AngleAxisd(0.3, Vec3::UnitY()))));
   w->setWingCommands("u", {}, {StrokeCommand{35, 10, 0.7}, StrokeCommand{30, 12, 0.8}});
   return w;
@@ -204,8 +205,11 @@ TEST(BadInput, IsRejectedAndTheWorldKeepsItsState) {
                           {ok, StrokeCommand{nan, 1, 1}});
       },
       "unit0_wing_right_joint");
-  expectRejected([&](World& w) { w.setWingCommands("u", {}, {ok, StrokeCommand{30, -1, 1}}); },
-                 "upstroke");
+  expectRejected(
+      [&](World& w) {
+        w.setWingCommands("u", {}, {ok, StrokeCommand{30, -1, 1}});
+      },
+      "upstroke");
   expectRejected([&](World& w) { w.setJointVelocityTarget("u", "unit0_wing_left_joint", nan); },
                  "unit0_wing_left_joint");
   expectRejected([&](World& w) { w.setJointVelocityTarget("u", "tail", 1.0); }, "tail");

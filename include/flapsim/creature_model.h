@@ -28,7 +28,7 @@ struct Box {
 struct LinkModel {
   std::string name;
   double mass = 0.0;
-  Vec3 com = Vec3::Zero();  // centre of mass in the link frame
+  Vec3 com = Vec3::Zero();      // centre of mass in the link frame
   Vec3 inertia = Vec3::Zero();  // principal moments about the COM, link axes
   std::vector<Box> boxes;       // collision boxes (visual boxes if there are none)
   AeroSettings aero;
@@ -42,7 +42,7 @@ struct JointModel {
   JointType type = JointType::kFixed;
   int parent_link = -1;
   int child_link = -1;
-  Pose origin;  // child link frame in the parent link frame at zero position
+  Pose origin;                // child link frame in the parent link frame at zero position
   Vec3 axis = Vec3::UnitX();  // unit axis in the child frame
   bool limited = false;
   double lower = 0.0, upper = 0.0;

@@ -15,11 +15,11 @@ struct FlapUnitParams {
   double wing_chord = 0.22;  // along x
   double wing_thickness = 0.002;
   double wing_mass = 0.004;
-  double wing_effort = 2.0;      // N m, hinge motor torque limit
-  double wing_limit = 1.4;       // rad, hinge range +-limit
-  double unit_spacing = 0.24;    // m between unit bodies along x
-  double link_damping = 0.002;   // N m s/rad on the passive joints between units
-  double link_limit = 0.35;      // rad, passive joint range +-limit
+  double wing_effort = 2.0;     // N m, hinge motor torque limit
+  double wing_limit = 1.4;      // rad, hinge range +-limit
+  double unit_spacing = 0.24;   // m between unit bodies along x
+  double link_damping = 0.002;  // N m s/rad on the passive joints between units
+  double link_limit = 0.35;     // rad, passive joint range +-limit
 };
 
 /// URDF text of a creature of `pairs` flap units (pairs >= 1) named

@@ -29,8 +29,8 @@ std::string validateWorldParams(const WorldParams& params);
 
 /// State of one creature. Vectors follow the model's links / joints.
 struct CreatureState {
-  std::vector<Pose> link_poses;     // link frames in the world
-  std::vector<Twist> link_twists;   // velocity of each link frame's origin, world frame
+  std::vector<Pose> link_poses;          // link frames in the world
+  std::vector<Twist> link_twists;        // velocity of each link frame's origin, world frame
   std::vector<double> joint_positions;   // per model joint (0 for fixed joints)
   std::vector<double> joint_velocities;  // per model joint (0 for fixed joints)
 };

@@ -2,6 +2,7 @@
 
 #include <console_bridge/console.h>
 #include <tinyxml2.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
 #include <fstream>
@@ -9,7 +10,6 @@
 #include <mutex>
 #include <queue>
 #include <sstream>
-#include <urdf_parser/urdf_parser.h>
 
 namespace flapsim {
 
@@ -67,7 +67,9 @@ Pose toPose(const urdf::Pose& p) {
               Quat(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z).normalized()};
 }
 
-bool finite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
+}
 
 [[noreturn]] void fail(const std::string& source, const std::string& what) {
   throw ModelError(source + ": " + what);
@@ -147,7 +149,8 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
         fail(source, where + ": enabled must be true or false, got '" + v + "'");
       }
     }
-    if (!a.aero.emplace(link, s).second) fail(source, "two <aero> elements for link '" + std::string(link) + "'");
+    if (!a.aero.emplace(link, s).second)
+      fail(source, "two <aero> elements for link '" + std::string(link) + "'");
   }
   return a;
 }
@@ -242,10 +245,18 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
     JointModel jm;
     jm.name = jname;
     switch (j->type) {
-      case urdf::Joint::FIXED: jm.type = JointType::kFixed; break;
-      case urdf::Joint::REVOLUTE: jm.type = JointType::kRevolute; break;
-      case urdf::Joint::CONTINUOUS: jm.type = JointType::kContinuous; break;
-      case urdf::Joint::PRISMATIC: jm.type = JointType::kPrismatic; break;
+      case urdf::Joint::FIXED:
+        jm.type = JointType::kFixed;
+        break;
+      case urdf::Joint::REVOLUTE:
+        jm.type = JointType::kRevolute;
+        break;
+      case urdf::Joint::CONTINUOUS:
+        jm.type = JointType::kContinuous;
+        break;
+      case urdf::Joint::PRISMATIC:
+        jm.type = JointType::kPrismatic;
+        break;
       default:
         fail(source, where + ": type not supported (use fixed, revolute, continuous or prismatic)");
     }

@@ -1,7 +1,5 @@
 #include "flapsim/world.h"
 
-#include <btBulletDynamicsCommon.h>
-
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
@@ -10,6 +8,8 @@
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <BulletDynamics/Featherstone/btMultiBodyMLCPConstraintSolver.h>
 #include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
+#include <btBulletDynamicsCommon.h>
+
 #include <cmath>
 #include <limits>
 
@@ -50,7 +50,8 @@ AeroSurface linkSurface(const LinkModel& l, const AirParams& air) {
     surface.cells.insert(surface.cells.end(), cells.begin(), cells.end());
     surface.volume += b.size.prod();
   }
-  surface.drag_coefficient = l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
+  surface.drag_coefficient =
+      l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
   return surface;
 }
 
@@ -85,7 +86,7 @@ struct CreatureBody {
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
   std::vector<std::unique_ptr<btMultiBodyJointMotor>> motors;  // per model joint, null if fixed
-  std::vector<double> max_effort;                               // per model joint
+  std::vector<double> max_effort;                              // per model joint
   std::vector<AeroBody> aero;
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
@@ -111,7 +112,8 @@ std::string validateWorldParams(const WorldParams& p) {
 
 class World::Impl {
  public:
-  explicit Impl(const WorldParams& p) : params_(p), air_model_(std::make_shared<PressureAirModel>()) {
+  explicit Impl(const WorldParams& p)
+      : params_(p), air_model_(std::make_shared<PressureAirModel>()) {
     build();
   }
   ~Impl() { teardown(); }
@@ -127,7 +129,7 @@ class World::Impl {
     lcp_ = std::make_unique<btDantzigSolver>();
     solver_ = std::make_unique<btMultiBodyMLCPConstraintSolver>(lcp_.get());
     world_ = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(),
-                                                         solver_.get(), config_.get());
+                                                        solver_.get(), config_.get());
     world_->setGravity(toBt(params_.gravity));
     world_->getSolverInfo().m_numIterations = params_.solver_iterations;
     world_->getDispatchInfo().m_deterministicOverlappingPairs = true;
@@ -455,7 +457,9 @@ void World::step(int steps) {
   impl_->step(steps);
 }
 
-double World::time() const { return static_cast<double>(impl_->time_steps_) * impl_->params_.step_size; }
+double World::time() const {
+  return static_cast<double>(impl_->time_steps_) * impl_->params_.step_size;
+}
 std::uint64_t World::stepCount() const { return impl_->time_steps_; }
 const WorldParams& World::params() const { return impl_->params_; }
 
@@ -573,9 +577,7 @@ CreatureState World::state(const std::string& creature) const {
 }
 
 Pose World::rootPose(const std::string& creature) const { return state(creature).link_poses[0]; }
-Twist World::rootTwist(const std::string& creature) const {
-  return state(creature).link_twists[0];
-}
+Twist World::rootTwist(const std::string& creature) const { return state(creature).link_twists[0]; }
 
 void World::setRecordCellForces(bool on) { impl_->record_cells_ = on; }
 

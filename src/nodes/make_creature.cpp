@@ -1,10 +1,10 @@
 // make_creature: writes the URDF of a creature of N flapping units.
+#include "flapsim/make_creature.h"
+
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <string>
-
-#include "flapsim/make_creature.h"
 
 int main(int argc, char** argv) {
   int pairs = 1;

@@ -1,0 +1,144 @@
+// The paper's balance controller: a small feed-forward neural network per wing
+// pair (sec. IV.A), on top of a general fully connected feed-forward net.
+// ROS-free; no clock; plain structs for parameters.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "flapsim/creature_model.h"
+#include "flapsim/stroke.h"
+#include "flapsim/types.h"
+
+namespace flapsim {
+
+enum class Activation { kLinear, kTanh, kSigmoid };
+
+/// "linear", "tanh", "sigmoid"; throws std::invalid_argument otherwise.
+Activation activationFromString(const std::string& name);
+std::string toString(Activation activation);
+
+/// A fully connected feed-forward net. Parameters are one flat vector, layer
+/// by layer; within a layer, neuron by neuron: its weights from every input
+/// of the layer, then its bias. So a layer with n inputs and m neurons takes
+/// m * (n + 1) numbers.
+class FeedForwardNet {
+ public:
+  /// `layer_sizes` = {inputs, hidden..., outputs}, at least two entries, all
+  /// >= 1. Parameters start at zero. Throws std::invalid_argument.
+  FeedForwardNet(const std::vector<int>& layer_sizes, Activation hidden, Activation output);
+
+  const std::vector<int>& layerSizes() const { return layer_sizes_; }
+  int inputCount() const { return layer_sizes_.front(); }
+  int outputCount() const { return layer_sizes_.back(); }
+  int parameterCount() const { return parameterCount(layer_sizes_); }
+  static int parameterCount(const std::vector<int>& layer_sizes);
+
+  /// Throws std::invalid_argument for a wrong length or a non-finite value.
+  void setParameters(const std::vector<double>& parameters);
+  const std::vector<double>& parameters() const { return parameters_; }
+
+  /// Throws std::invalid_argument for a wrong input length.
+  std::vector<double> evaluate(const std::vector<double>& input) const;
+
+ private:
+  std::vector<int> layer_sizes_;
+  Activation hidden_;
+  Activation output_;
+  std::vector<double> parameters_;
+};
+
+/// Settings of the per-wing-pair network (the paper: 2 inputs, 2 hidden, 2
+/// outputs). The outputs (sigmoid, 0..1) are mapped linearly onto
+/// [min_downstroke_rate, max_downstroke_rate]; upstroke rate and amplitude
+/// are fixed here.
+struct FlapControllerParams {
+  int hidden = 2;
+  Activation hidden_activation = Activation::kTanh;
+  double min_downstroke_rate = 20.0;  // rad/s
+  double max_downstroke_rate = 70.0;  // rad/s
+  double upstroke_rate = 10.0;        // rad/s
+  double amplitude = 0.8;             // rad
+  double control_period = 0.02;       // s between network updates
+};
+
+/// Empty if valid, else a message naming the bad field.
+std::string validateFlapControllerParams(const FlapControllerParams& params);
+
+/// The network's inputs for a unit body with orientation `body` (body x =
+/// forward, y = left wing direction, z = up): {world_up . body_x,
+/// world_up . body_y}. A unit rolled to the right (right wing low) has
+/// input[1] > 0; nose up has input[0] > 0.
+std::vector<double> flapInputs(const Quat& body);
+
+/// Left and right wing stroke of one unit.
+struct WingPairCommand {
+  StrokeCommand left;
+  StrokeCommand right;
+};
+
+/// One unit's network: output 0 = right downstroke rate, output 1 = left
+/// (the paper's order).
+class FlapUnitController {
+ public:
+  /// Throws std::invalid_argument on bad params or a wrong weight count.
+  FlapUnitController(const FlapControllerParams& params, const std::vector<double>& weights);
+  static int weightCount(const FlapControllerParams& params);
+
+  WingPairCommand command(const Quat& body) const;
+  /// Downstroke rates {right, left} for raw inputs (for tests and plots).
+  std::vector<double> rates(const std::vector<double>& inputs) const;
+
+  const FlapControllerParams& params() const { return params_; }
+  const std::vector<double>& weights() const { return net_.parameters(); }
+
+ private:
+  FlapControllerParams params_;
+  FeedForwardNet net_;
+};
+
+/// Names of a chain of flap units as makeCreatureUrdf() builds them: unit k
+/// has body link `unit<k>_body` and wing joints `unit<k>_wing_left_joint`,
+/// `unit<k>_wing_right_joint`.
+struct FlapUnitLayout {
+  std::vector<std::string> body_links;   // one per unit
+  std::vector<std::string> wing_joints;  // left, right per unit
+  int units() const { return static_cast<int>(body_links.size()); }
+};
+
+/// Layout for `pairs` units (>= 1; std::invalid_argument otherwise).
+FlapUnitLayout flapUnitLayout(int pairs);
+/// Layout of every unit found in `model` (unit0, unit1, ... while present).
+/// Throws InputError if there is no unit0 or a unit lacks a wing joint.
+FlapUnitLayout flapUnitLayout(const CreatureModel& model);
+
+/// Something that turns unit body orientations into stroke commands in
+/// FlapUnitLayout::wing_joints order (left, right per unit).
+class WingController {
+ public:
+  virtual ~WingController() = default;
+  virtual std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const = 0;
+};
+
+/// The same network on every unit (the paper's multi-pair creatures).
+class AnnWingController : public WingController {
+ public:
+  explicit AnnWingController(const FlapUnitController& unit) : unit_(unit) {}
+  std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const override;
+  const FlapUnitController& unit() const { return unit_; }
+
+ private:
+  FlapUnitController unit_;
+};
+
+/// A fixed stroke on every wing, whatever the orientation (open loop).
+class OpenLoopWingController : public WingController {
+ public:
+  explicit OpenLoopWingController(const StrokeCommand& stroke) : stroke_(stroke) {}
+  std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const override;
+
+ private:
+  StrokeCommand stroke_;
+};
+
+}  // namespace flapsim

@@ -1,0 +1,38 @@
+#!/bin/bash
+# Installs the Debian 12 packages flapsim needs to build, run and test (ROS Noetic as
+# Debian ships it: everything under /usr). Uses sudo when not root; installs only what
+# is missing.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake pkg-config
+  # ROS 1 (Debian's packaging)
+  catkin ros-core ros-core-dev ros-message-generation python3-gencpp
+  libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-msgs-dev libtf2-geometry-msgs-dev
+  libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
+  libvisualization-msgs-dev libros-rosgraph-msgs-dev
+  python3-rosbag python3-rosnode python3-rostopic python3-roslaunch python3-rosservice
+  python3-rostest librostest-dev
+  # physics, robot description, configuration
+  libbullet-dev libeigen3-dev liburdfdom-dev libtinyxml2-dev libconsole-bridge-dev
+  libyaml-cpp-dev
+  # tests and plots
+  libgtest-dev googletest gnuplot-nox
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install_deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install_deps: done"

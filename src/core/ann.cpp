@@ -1,0 +1,210 @@
+#include "flapsim/ann.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace flapsim {
+
+namespace {
+
+double activate(Activation a, double x) {
+  switch (a) {
+    case Activation::kTanh:
+      return std::tanh(x);
+    case Activation::kSigmoid:
+      return 1.0 / (1.0 + std::exp(-x));
+    case Activation::kLinear:
+      break;
+  }
+  return x;
+}
+
+}  // namespace
+
+Activation activationFromString(const std::string& name) {
+  if (name == "linear") return Activation::kLinear;
+  if (name == "tanh") return Activation::kTanh;
+  if (name == "sigmoid") return Activation::kSigmoid;
+  throw std::invalid_argument("unknown activation '" + name +
+                              "' (expected linear, tanh or sigmoid)");
+}
+
+std::string toString(Activation a) {
+  switch (a) {
+    case Activation::kTanh:
+      return "tanh";
+    case Activation::kSigmoid:
+      return "sigmoid";
+    case Activation::kLinear:
+      break;
+  }
+  return "linear";
+}
+
+// ---- FeedForwardNet ------------------------------------------------------------------------
+
+FeedForwardNet::FeedForwardNet(const std::vector<int>& layer_sizes, Activation hidden,
+                               Activation output)
+    : layer_sizes_(layer_sizes), hidden_(hidden), output_(output) {
+  parameters_.assign(parameterCount(layer_sizes), 0.0);
+}
+
+int FeedForwardNet::parameterCount(const std::vector<int>& sizes) {
+  if (sizes.size() < 2) throw std::invalid_argument("a net needs at least two layers");
+  int count = 0;
+  for (size_t l = 0; l < sizes.size(); ++l) {
+    if (sizes[l] < 1) {
+      throw std::invalid_argument("layer " + std::to_string(l) + " has " +
+                                  std::to_string(sizes[l]) + " neurons (need >= 1)");
+    }
+    if (l > 0) count += sizes[l] * (sizes[l - 1] + 1);
+  }
+  return count;
+}
+
+void FeedForwardNet::setParameters(const std::vector<double>& p) {
+  if (static_cast<int>(p.size()) != parameterCount()) {
+    throw std::invalid_argument("net takes " + std::to_string(parameterCount()) +
+                                " parameters, got " + std::to_string(p.size()));
+  }
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (!std::isfinite(p[i])) {
+      throw std::invalid_argument("net parameter " + std::to_string(i) + " is not finite");
+    }
+  }
+  parameters_ = p;
+}
+
+std::vector<double> FeedForwardNet::evaluate(const std::vector<double>& input) const {
+  if (static_cast<int>(input.size()) != inputCount()) {
+    throw std::invalid_argument("net takes " + std::to_string(inputCount()) + " inputs, got " +
+                                std::to_string(input.size()));
+  }
+  std::vector<double> x = input;
+  size_t k = 0;
+  for (size_t l = 1; l < layer_sizes_.size(); ++l) {
+    const Activation act = l + 1 == layer_sizes_.size() ? output_ : hidden_;
+    std::vector<double> y(layer_sizes_[l]);
+    for (double& yj : y) {
+      double sum = 0.0;
+      for (double xi : x) sum += parameters_[k++] * xi;
+      sum += parameters_[k++];  // bias
+      yj = activate(act, sum);
+    }
+    x.swap(y);
+  }
+  return x;
+}
+
+// ---- The per-wing-pair controller ------------------------------------------------------------
+
+std::string validateFlapControllerParams(const FlapControllerParams& p) {
+  if (p.hidden < 1) return "hidden must be >= 1";
+  if (!std::isfinite(p.min_downstroke_rate) || p.min_downstroke_rate < 0.0) {
+    return "min_downstroke_rate must be finite and >= 0";
+  }
+  if (!std::isfinite(p.max_downstroke_rate) || p.max_downstroke_rate < p.min_downstroke_rate) {
+    return "max_downstroke_rate must be finite and >= min_downstroke_rate";
+  }
+  if (!std::isfinite(p.upstroke_rate) || p.upstroke_rate < 0.0) {
+    return "upstroke_rate must be finite and >= 0";
+  }
+  if (!std::isfinite(p.amplitude) || p.amplitude <= 0.0) return "amplitude must be > 0";
+  if (!std::isfinite(p.control_period) || p.control_period <= 0.0) {
+    return "control_period must be > 0";
+  }
+  return "";
+}
+
+std::vector<double> flapInputs(const Quat& body) {
+  const Eigen::Matrix3d r = body.normalized().toRotationMatrix();
+  // Column i of r is body axis i in the world; its z component is world_up . axis.
+  return {r(2, 0), r(2, 1)};
+}
+
+namespace {
+const FlapControllerParams& checked(const FlapControllerParams& p) {
+  const std::string err = validateFlapControllerParams(p);
+  if (!err.empty()) throw std::invalid_argument("flap controller: " + err);
+  return p;
+}
+}  // namespace
+
+FlapUnitController::FlapUnitController(const FlapControllerParams& params,
+                                       const std::vector<double>& weights)
+    : params_(checked(params)),
+      net_({2, params.hidden, 2}, params.hidden_activation, Activation::kSigmoid) {
+  net_.setParameters(weights);
+}
+
+int FlapUnitController::weightCount(const FlapControllerParams& params) {
+  return FeedForwardNet::parameterCount({2, checked(params).hidden, 2});
+}
+
+std::vector<double> FlapUnitController::rates(const std::vector<double>& inputs) const {
+  std::vector<double> y = net_.evaluate(inputs);
+  const double span = params_.max_downstroke_rate - params_.min_downstroke_rate;
+  for (double& v : y) v = params_.min_downstroke_rate + span * v;
+  return y;
+}
+
+WingPairCommand FlapUnitController::command(const Quat& body) const {
+  const std::vector<double> r = rates(flapInputs(body));
+  WingPairCommand c;
+  c.right = StrokeCommand{r[0], params_.upstroke_rate, params_.amplitude};
+  c.left = StrokeCommand{r[1], params_.upstroke_rate, params_.amplitude};
+  return c;
+}
+
+// ---- Layout and wing controllers -------------------------------------------------------------
+
+FlapUnitLayout flapUnitLayout(int pairs) {
+  if (pairs < 1) throw std::invalid_argument("pairs must be >= 1, got " + std::to_string(pairs));
+  FlapUnitLayout layout;
+  for (int k = 0; k < pairs; ++k) {
+    const std::string u = "unit" + std::to_string(k);
+    layout.body_links.push_back(u + "_body");
+    layout.wing_joints.push_back(u + "_wing_left_joint");
+    layout.wing_joints.push_back(u + "_wing_right_joint");
+  }
+  return layout;
+}
+
+FlapUnitLayout flapUnitLayout(const CreatureModel& model) {
+  FlapUnitLayout layout;
+  for (int k = 0;; ++k) {
+    const std::string u = "unit" + std::to_string(k);
+    if (model.findLink(u + "_body") < 0) break;
+    for (const char* side : {"_wing_left_joint", "_wing_right_joint"}) {
+      const int j = model.findJoint(u + side);
+      if (j < 0 || !model.joints[j].wing) {
+        throw InputError("creature '" + model.name + "' (" + model.source + "): unit " +
+                         std::to_string(k) + " has no wing joint '" + u + side + "'");
+      }
+      layout.wing_joints.push_back(u + side);
+    }
+    layout.body_links.push_back(u + "_body");
+  }
+  if (layout.body_links.empty()) {
+    throw InputError("creature '" + model.name + "' (" + model.source +
+                     ") has no flap unit (no link 'unit0_body')");
+  }
+  return layout;
+}
+
+std::vector<StrokeCommand> AnnWingController::commands(const std::vector<Quat>& bodies) const {
+  std::vector<StrokeCommand> out;
+  out.reserve(2 * bodies.size());
+  for (const Quat& q : bodies) {
+    const WingPairCommand c = unit_.command(q);
+    out.push_back(c.left);
+    out.push_back(c.right);
+  }
+  return out;
+}
+
+std::vector<StrokeCommand> OpenLoopWingController::commands(const std::vector<Quat>& bodies) const {
+  return std::vector<StrokeCommand>(2 * bodies.size(), stroke_);
+}
+
+}  // namespace flapsim
