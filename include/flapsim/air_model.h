@@ -27,12 +27,25 @@ struct SurfaceCell {
   double area = 0.0;
 };
 
+/// A planar face: its cells are cells[first_cell, first_cell + cell_count).
+struct SurfaceFace {
+  Vec3 normal = Vec3::UnitZ();
+  Vec3 corners[4];
+  int first_cell = 0;
+  int cell_count = 0;
+};
+
 /// The aero description of one rigid body, in its COM frame.
 struct AeroSurface {
   std::vector<SurfaceCell> cells;
+  std::vector<SurfaceFace> faces;  // optional: lets a model skip faces that retreat
   double drag_coefficient = 1.15;
   double volume = 0.0;  // for buoyancy
 };
+
+/// Adds the 6 faces of a box (size, pose in the body frame), nu x nv cells each, and its
+/// volume to `surface`.
+void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv);
 
 /// World-frame kinematics of a rigid body at its centre of mass.
 struct BodyKinematics {

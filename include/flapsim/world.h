@@ -17,7 +17,7 @@ namespace flapsim {
 struct WorldParams {
   double step_size = 0.001;  // s, fixed
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
-  bool ground = true;  // plane z = 0 with contact
+  bool ground = true;  // flat ground, top face at z = 0, 2 km x 2 km, with contact
   double ground_friction = 0.8;
   AirParams air;
   int solver_iterations = 10;

@@ -45,15 +45,26 @@ AeroSurface linkSurface(const LinkModel& l, const AirParams& air) {
   const int nu = l.aero.subdivisions_u > 0 ? l.aero.subdivisions_u : air.subdivisions_u;
   const int nv = l.aero.subdivisions_v > 0 ? l.aero.subdivisions_v : air.subdivisions_v;
   const Pose com_inv{-l.com, Quat::Identity()};
-  for (const Box& b : l.boxes) {
-    auto cells = boxSurfaceCells(b.size, com_inv * b.origin, nu, nv);
-    surface.cells.insert(surface.cells.end(), cells.begin(), cells.end());
-    surface.volume += b.size.prod();
-  }
+  for (const Box& b : l.boxes) appendBox(surface, b.size, com_inv * b.origin, nu, nv);
   surface.drag_coefficient =
       l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
   return surface;
 }
+
+// A velocity motor that adds no solver rows while switched off (a passive joint without
+// friction), so idle motors cost nothing.
+class JointMotor : public btMultiBodyJointMotor {
+ public:
+  using btMultiBodyJointMotor::btMultiBodyJointMotor;
+  void setActive(bool active) { active_ = active; }
+  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
+                            const btContactSolverInfo& info) override {
+    if (active_) btMultiBodyJointMotor::createConstraintRows(rows, data, info);
+  }
+
+ private:
+  bool active_ = true;
+};
 
 // How a movable joint is driven this step.
 struct JointDrive {
@@ -85,8 +96,8 @@ struct CreatureBody {
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
-  std::vector<std::unique_ptr<btMultiBodyJointMotor>> motors;  // per model joint, null if fixed
-  std::vector<double> max_effort;                              // per model joint
+  std::vector<std::unique_ptr<JointMotor>> motors;  // per model joint, null if fixed
+  std::vector<double> max_effort;                   // per model joint
   std::vector<AeroBody> aero;
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
@@ -134,9 +145,13 @@ class World::Impl {
     world_->getSolverInfo().m_numIterations = params_.solver_iterations;
     world_->getDispatchInfo().m_deterministicOverlappingPairs = true;
     if (params_.ground) {
-      ground_shape_ = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0);
+      // A large flat box rather than an infinite plane: its finite bounding box lets the
+      // broadphase skip all contact work while a creature is in the air.
+      const btScalar half = 1000.0, depth = 1.0;
+      ground_shape_ = std::make_unique<btBoxShape>(btVector3(half, half, depth));
       ground_ = std::make_unique<btCollisionObject>();
       ground_->setCollisionShape(ground_shape_.get());
+      ground_->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, -depth)));
       ground_->setFriction(params_.ground_friction);
       world_->addCollisionObject(ground_.get());
     }
@@ -216,14 +231,23 @@ class World::Impl {
       const Pose com_inv{-l.com, Quat::Identity()};
       if (!l.boxes.empty()) {
         btCollisionShape* shape = nullptr;
-        auto compound = std::make_unique<btCompoundShape>(false, static_cast<int>(l.boxes.size()));
-        for (const Box& b : l.boxes) {
-          auto box = std::make_unique<btBoxShape>(toBt(0.5 * b.size));
-          compound->addChildShape(toBt(com_inv * b.origin), box.get());
-          body->shapes.push_back(std::move(box));
+        const Pose first = com_inv * l.boxes[0].origin;
+        if (l.boxes.size() == 1 && first.position.isZero(1e-12) &&
+            first.orientation.isApprox(Quat::Identity(), 1e-12)) {
+          // One box centred on the COM: no compound needed (cheaper contact tests).
+          body->shapes.push_back(std::make_unique<btBoxShape>(toBt(0.5 * l.boxes[0].size)));
+          shape = body->shapes.back().get();
+        } else {
+          auto compound =
+              std::make_unique<btCompoundShape>(false, static_cast<int>(l.boxes.size()));
+          for (const Box& b : l.boxes) {
+            auto box = std::make_unique<btBoxShape>(toBt(0.5 * b.size));
+            compound->addChildShape(toBt(com_inv * b.origin), box.get());
+            body->shapes.push_back(std::move(box));
+          }
+          shape = compound.get();
+          body->shapes.push_back(std::move(compound));
         }
-        shape = compound.get();
-        body->shapes.push_back(std::move(compound));
         auto col = std::make_unique<btMultiBodyLinkCollider>(mb, k - 1);
         col->setCollisionShape(shape);
         col->setFriction(params_.ground_friction);
@@ -262,7 +286,7 @@ class World::Impl {
         world_->addMultiBodyConstraint(lim.get());
         body->limits.push_back(std::move(lim));
       }
-      auto motor = std::make_unique<btMultiBodyJointMotor>(mb, link, 0.0, 0.0);
+      auto motor = std::make_unique<JointMotor>(mb, link, 0.0, 0.0);
       world_->addMultiBodyConstraint(motor.get());
       body->motors[ji] = std::move(motor);
       body->max_effort[ji] = j.effort > 0.0 ? j.effort : params_.default_wing_effort;
@@ -289,7 +313,8 @@ class World::Impl {
       if (!j.movable()) continue;
       const int link = j.child_link - 1;
       JointDrive& d = r.drives[ji];
-      btMultiBodyJointMotor* motor = b.motors[ji].get();
+      JointMotor* motor = b.motors[ji].get();
+      motor->setActive(d.mode != JointDrive::Mode::kPassive || j.friction > 0.0);
       switch (d.mode) {
         case JointDrive::Mode::kStroke:
           motor->setVelocityTarget(d.stroke.target(mb->getJointPos(link)));
@@ -300,6 +325,7 @@ class World::Impl {
           motor->setMaxAppliedImpulse(b.max_effort[ji] * dt);
           break;
         case JointDrive::Mode::kPassive:
+          // Coulomb friction: a zero-velocity motor whose impulse is capped by friction.
           motor->setVelocityTarget(0.0);
           motor->setMaxAppliedImpulse(j.friction * dt);
           if (j.damping > 0.0) mb->addJointTorque(link, -j.damping * mb->getJointVel(link));
