@@ -14,6 +14,9 @@ PACKAGES=(
   libvisualization-msgs-dev libros-rosgraph-msgs-dev
   python3-rosbag python3-rosnode python3-rostopic python3-roslaunch python3-rosservice
   python3-rostest librostest-dev
+  # simulator node: Python message classes, so rostopic/rosservice/rosbag can show them
+  python3-std-srvs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs python3-tf2-msgs
+  python3-visualization-msgs
   # physics, robot description, configuration
   libbullet-dev libeigen3-dev liburdfdom-dev libtinyxml2-dev libconsole-bridge-dev
   libyaml-cpp-dev
