@@ -1,0 +1,81 @@
+// Conversions between core structs and ROS messages. No node handles, no
+// parameters: pure functions, tested without a master.
+#pragma once
+
+#include <geometry_msgs/Pose.h>
+#include <geometry_msgs/Transform.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/Twist.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/time.h>
+#include <sensor_msgs/JointState.h>
+#include <visualization_msgs/Marker.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "flapsim/WingCommand.h"
+#include "flapsim/creature_model.h"
+#include "flapsim/stroke.h"
+#include "flapsim/types.h"
+#include "flapsim/world.h"
+#include "flapsim_ros/params.h"
+
+namespace flapsim_ros {
+
+geometry_msgs::Pose toMsg(const flapsim::Pose& pose);
+geometry_msgs::Transform toTransformMsg(const flapsim::Pose& pose);
+geometry_msgs::Twist toMsg(const flapsim::Twist& twist);
+/// An all-zero quaternion (a default-constructed message) reads as identity;
+/// other quaternions are passed on as they are (the world rejects bad ones).
+flapsim::Pose fromMsg(const geometry_msgs::Pose& pose);
+flapsim::Twist fromMsg(const geometry_msgs::Twist& twist);
+
+/// Sim time of `steps` fixed steps of `step_ns` nanoseconds: exact, no rounding drift.
+ros::Time simTime(std::uint64_t steps, std::uint64_t step_ns);
+/// A step size in whole nanoseconds (rounded); >= 1.
+std::uint64_t stepNanoseconds(double step_size);
+
+/// Frame id of a creature's link: "<creature>/<link>".
+std::string linkFrame(const std::string& creature, const std::string& link);
+
+/// A wing command in core terms: joint names (empty = all wing joints) and strokes.
+struct WingCommandRequest {
+  std::vector<std::string> joints;
+  std::vector<flapsim::StrokeCommand> strokes;
+};
+
+/// Checks the message's array lengths (the values and joint names are checked
+/// by World::setWingCommands). Throws flapsim::InputError naming the problem.
+WingCommandRequest fromMsg(const flapsim::WingCommand& msg);
+flapsim::WingCommand toMsg(const WingCommandRequest& request);
+
+/// Movable joints in URDF order with positions and velocities.
+sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,
+                                      const flapsim::CreatureState& state, const ros::Time& stamp);
+
+/// Odometry of the root link: pose in `world_frame`, twist (of the root link
+/// frame's origin) in the child frame "<creature>/<root link>", per REP 105.
+nav_msgs::Odometry odometryMsg(const std::string& creature, const flapsim::CreatureModel& model,
+                               const flapsim::CreatureState& state, const ros::Time& stamp,
+                               const std::string& world_frame);
+
+/// One transform world -> "<creature>/<link>" for every link.
+std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,
+                                                            const flapsim::CreatureModel& model,
+                                                            const flapsim::CreatureState& state,
+                                                            const ros::Time& stamp,
+                                                            const std::string& world_frame);
+
+/// Force arrows: one per aero link from its centre of mass (namespace
+/// "<creature>"), and one per cell from its centre (namespace
+/// "<creature>/cells") if `params.per_cell` and the cells were recorded.
+/// Arrows shorter than 0.1 mm are left out.
+std::vector<visualization_msgs::Marker> aeroMarkers(const std::string& creature,
+                                                    const std::vector<flapsim::LinkAero>& aero,
+                                                    const MarkerParams& params,
+                                                    const ros::Time& stamp,
+                                                    const std::string& world_frame);
+
+}  // namespace flapsim_ros

@@ -1,0 +1,74 @@
+// Parameters of the simulator node, read in one place into plain structs.
+// The parser works on an XmlRpc value (testable without a master); the loader
+// fetches the node's private namespace and resolves `urdf_param` entries.
+#pragma once
+
+#include <ros/node_handle.h>
+#include <xmlrpcpp/XmlRpcValue.h>
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "flapsim/stroke.h"
+#include "flapsim/types.h"
+#include "flapsim/world.h"
+
+namespace flapsim_ros {
+
+/// A missing, mistyped or out-of-range parameter; the message names it.
+class ParamError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// One creature to spawn at start-up. Exactly one URDF source is set.
+struct CreatureSpec {
+  std::string name;
+  std::string urdf_file;   // path to a URDF file
+  std::string urdf_param;  // name of a parameter holding URDF text
+  std::string urdf_xml;    // URDF text (also filled in from urdf_param by the loader)
+  flapsim::Pose pose;      // root link in the world frame
+  flapsim::Twist twist;    // root velocity, world frame
+  /// Optional stroke for all wing joints from t = 0 (one entry) or per wing
+  /// joint in URDF order.
+  std::vector<flapsim::StrokeCommand> wing_command;
+};
+
+/// Force arrows on `~aero_markers`.
+struct MarkerParams {
+  bool enabled = true;
+  double scale = 0.5;     // arrow length per force, m/N
+  bool per_cell = false;  // also one arrow per surface cell (costs time)
+  double width = 0.004;   // arrow shaft diameter, m
+};
+
+struct NodeParams {
+  flapsim::WorldParams world;
+  double publish_rate = 100.0;    // Hz of sim time (rounded to whole steps)
+  double real_time_factor = 1.0;  // sim seconds per wall second; 0 = as fast as possible
+  bool paused = false;            // start paused
+  std::string world_frame = "world";
+  MarkerParams markers;
+  std::vector<CreatureSpec> creatures;
+  std::vector<std::string> unknown_keys;  // top-level keys this node does not read
+};
+
+/// Parses the node's private namespace given as an XmlRpc struct (missing
+/// keys keep their defaults). Throws ParamError naming the bad parameter.
+NodeParams parseNodeParams(const XmlRpc::XmlRpcValue& params);
+
+/// Parses one entry of `creatures` (also used for checks of spawn requests).
+/// `where` names the entry in messages, e.g. "creatures[2]".
+CreatureSpec parseCreatureSpec(const XmlRpc::XmlRpcValue& entry, const std::string& where);
+
+/// Empty if `name` can be a creature name (a ROS graph name component used in
+/// topic and frame names: a letter, then letters, digits or '_'), else why not.
+std::string validateCreatureName(const std::string& name);
+
+/// Reads `pnh`'s namespace from the parameter server and parses it; fills in
+/// `urdf_xml` of creatures that name a `urdf_param` (resolved relative to `pnh`).
+NodeParams loadNodeParams(const ros::NodeHandle& pnh);
+
+}  // namespace flapsim_ros

@@ -1,0 +1,94 @@
+// The simulator node: owns a flapsim::World and maps it to topics and
+// services. Single-threaded: callbacks run between steps on the node's own
+// callback queue, so the world needs no lock.
+#pragma once
+
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <std_srvs/Empty.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flapsim/DeleteCreature.h"
+#include "flapsim/SpawnCreature.h"
+#include "flapsim/Step.h"
+#include "flapsim/WingCommand.h"
+#include "flapsim/world.h"
+#include "flapsim_ros/conversions.h"
+#include "flapsim_ros/params.h"
+
+namespace flapsim_ros {
+
+class SimulatorNode {
+ public:
+  /// Reads parameters from `pnh` (private) and spawns the configured
+  /// creatures. Topics of creatures are relative to `nh`; services and
+  /// markers live under `pnh`. Throws ParamError, flapsim::ModelError or
+  /// flapsim::InputError for a bad start-up configuration.
+  SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
+  SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const NodeParams& params);
+  ~SimulatorNode();
+
+  /// Steps, paces, publishes and serves until ros::ok() turns false.
+  void run();
+
+  const flapsim::World& world() const { return world_; }
+  bool paused() const { return paused_; }
+
+ private:
+  struct Creature {
+    std::string name;
+    flapsim::CreatureModelPtr model;
+    ros::Publisher joint_states;
+    ros::Publisher odom;
+    ros::Subscriber wing_command;
+    std::optional<WingCommandRequest> command;  // last valid one, re-applied after reset
+  };
+
+  void spawn(const std::string& name, const std::string& urdf_xml, const std::string& source,
+             const flapsim::Pose& pose, const flapsim::Twist& twist);
+  void remove(const std::string& name);
+  Creature* find(const std::string& name);
+
+  /// Steps `steps` fixed steps, publishing at every publish boundary crossed.
+  void advance(std::uint64_t steps);
+  void publishAll();
+  void publishCreature(const Creature& c, const ros::Time& stamp,
+                       std::vector<geometry_msgs::TransformStamped>* tf);
+  ros::Time now() const;
+  void restartPacing();
+  void warnOnce(const std::string& key, const std::string& message);
+
+  void onWingCommand(const std::string& creature, const flapsim::WingCommand::ConstPtr& msg);
+  bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool onPause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool onUnpause(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
+  bool onStep(flapsim::Step::Request& req, flapsim::Step::Response& res);
+  bool onSpawn(flapsim::SpawnCreature::Request& req, flapsim::SpawnCreature::Response& res);
+  bool onDelete(flapsim::DeleteCreature::Request& req, flapsim::DeleteCreature::Response& res);
+
+  NodeParams params_;
+  ros::CallbackQueue queue_;
+  ros::NodeHandle nh_;
+  ros::NodeHandle pnh_;
+  flapsim::World world_;
+  std::uint64_t step_ns_;
+  std::uint64_t publish_every_;  // steps between publications
+  bool paused_;
+  std::uint64_t published_step_ = UINT64_MAX;  // step count of the last publication
+
+  std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
+  ros::Publisher clock_pub_, tf_pub_, marker_pub_;
+  std::vector<ros::ServiceServer> services_;
+
+  ros::WallTime pace_wall_;                      // wall time at the pacing anchor
+  std::uint64_t pace_step_ = 0;                  // step count at the pacing anchor
+  std::map<std::string, ros::WallTime> warned_;  // throttled warnings by cause
+};
+
+}  // namespace flapsim_ros

@@ -1,0 +1,213 @@
+#include "flapsim_ros/conversions.h"
+
+#include <cmath>
+
+namespace flapsim_ros {
+
+namespace {
+
+geometry_msgs::Point toPoint(const flapsim::Vec3& v) {
+  geometry_msgs::Point p;
+  p.x = v.x();
+  p.y = v.y();
+  p.z = v.z();
+  return p;
+}
+
+geometry_msgs::Vector3 toVector(const flapsim::Vec3& v) {
+  geometry_msgs::Vector3 p;
+  p.x = v.x();
+  p.y = v.y();
+  p.z = v.z();
+  return p;
+}
+
+geometry_msgs::Quaternion toQuaternion(const flapsim::Quat& q) {
+  geometry_msgs::Quaternion m;
+  m.x = q.x();
+  m.y = q.y();
+  m.z = q.z();
+  m.w = q.w();
+  return m;
+}
+
+flapsim::Vec3 fromVector(const geometry_msgs::Vector3& v) { return flapsim::Vec3(v.x, v.y, v.z); }
+
+visualization_msgs::Marker arrow(const std::string& ns, int id, const flapsim::Vec3& from,
+                                 const flapsim::Vec3& to, double width, float r, float g, float b,
+                                 const ros::Time& stamp, const std::string& frame) {
+  visualization_msgs::Marker m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame;
+  m.ns = ns;
+  m.id = id;
+  m.type = visualization_msgs::Marker::ARROW;
+  m.action = visualization_msgs::Marker::ADD;
+  m.pose.orientation.w = 1.0;
+  m.points = {toPoint(from), toPoint(to)};
+  m.scale.x = width;
+  m.scale.y = 2.0 * width;
+  m.scale.z = 3.0 * width;
+  m.color.r = r;
+  m.color.g = g;
+  m.color.b = b;
+  m.color.a = 1.0f;
+  return m;
+}
+
+constexpr double kMinArrow = 1e-4;  // m
+
+}  // namespace
+
+geometry_msgs::Pose toMsg(const flapsim::Pose& pose) {
+  geometry_msgs::Pose m;
+  m.position = toPoint(pose.position);
+  m.orientation = toQuaternion(pose.orientation);
+  return m;
+}
+
+geometry_msgs::Transform toTransformMsg(const flapsim::Pose& pose) {
+  geometry_msgs::Transform m;
+  m.translation = toVector(pose.position);
+  m.rotation = toQuaternion(pose.orientation);
+  return m;
+}
+
+geometry_msgs::Twist toMsg(const flapsim::Twist& twist) {
+  geometry_msgs::Twist m;
+  m.linear = toVector(twist.linear);
+  m.angular = toVector(twist.angular);
+  return m;
+}
+
+flapsim::Pose fromMsg(const geometry_msgs::Pose& pose) {
+  flapsim::Pose p;
+  p.position = flapsim::Vec3(pose.position.x, pose.position.y, pose.position.z);
+  const auto& q = pose.orientation;
+  if (q.x == 0.0 && q.y == 0.0 && q.z == 0.0 && q.w == 0.0) {
+    p.orientation = flapsim::Quat::Identity();
+  } else {
+    p.orientation = flapsim::Quat(q.w, q.x, q.y, q.z);
+  }
+  return p;
+}
+
+flapsim::Twist fromMsg(const geometry_msgs::Twist& twist) {
+  return flapsim::Twist{fromVector(twist.linear), fromVector(twist.angular)};
+}
+
+std::uint64_t stepNanoseconds(double step_size) {
+  const double ns = std::round(step_size * 1e9);
+  return ns < 1.0 ? 1 : static_cast<std::uint64_t>(ns);
+}
+
+ros::Time simTime(std::uint64_t steps, std::uint64_t step_ns) {
+  ros::Time t;
+  t.fromNSec(steps * step_ns);
+  return t;
+}
+
+std::string linkFrame(const std::string& creature, const std::string& link) {
+  return creature + "/" + link;
+}
+
+WingCommandRequest fromMsg(const flapsim::WingCommand& msg) {
+  const size_t n = msg.downstroke_rate.size();
+  if (msg.upstroke_rate.size() != n || msg.amplitude.size() != n) {
+    throw flapsim::InputError("wing command arrays differ in length: downstroke_rate has " +
+                              std::to_string(n) + " entries, upstroke_rate " +
+                              std::to_string(msg.upstroke_rate.size()) + ", amplitude " +
+                              std::to_string(msg.amplitude.size()));
+  }
+  if (!msg.joint_names.empty() && msg.joint_names.size() != n) {
+    throw flapsim::InputError("wing command has " + std::to_string(msg.joint_names.size()) +
+                              " joint_names but " + std::to_string(n) + " strokes");
+  }
+  WingCommandRequest r;
+  r.joints = msg.joint_names;
+  for (size_t i = 0; i < n; ++i) {
+    r.strokes.push_back({msg.downstroke_rate[i], msg.upstroke_rate[i], msg.amplitude[i]});
+  }
+  return r;
+}
+
+flapsim::WingCommand toMsg(const WingCommandRequest& request) {
+  flapsim::WingCommand m;
+  m.joint_names = request.joints;
+  for (const auto& s : request.strokes) {
+    m.downstroke_rate.push_back(s.downstroke_rate);
+    m.upstroke_rate.push_back(s.upstroke_rate);
+    m.amplitude.push_back(s.amplitude);
+  }
+  return m;
+}
+
+sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,
+                                      const flapsim::CreatureState& state, const ros::Time& stamp) {
+  sensor_msgs::JointState m;
+  m.header.stamp = stamp;
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    if (!model.joints[j].movable()) continue;
+    m.name.push_back(model.joints[j].name);
+    m.position.push_back(state.joint_positions.at(j));
+    m.velocity.push_back(state.joint_velocities.at(j));
+  }
+  return m;
+}
+
+nav_msgs::Odometry odometryMsg(const std::string& creature, const flapsim::CreatureModel& model,
+                               const flapsim::CreatureState& state, const ros::Time& stamp,
+                               const std::string& world_frame) {
+  nav_msgs::Odometry m;
+  m.header.stamp = stamp;
+  m.header.frame_id = world_frame;
+  m.child_frame_id = linkFrame(creature, model.links.at(0).name);
+  const flapsim::Pose& pose = state.link_poses.at(0);
+  const flapsim::Twist& twist = state.link_twists.at(0);
+  m.pose.pose = toMsg(pose);
+  const flapsim::Quat to_body = pose.orientation.conjugate();
+  m.twist.twist = toMsg(flapsim::Twist{to_body * twist.linear, to_body * twist.angular});
+  return m;  // covariances: zero (exact simulation state)
+}
+
+std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,
+                                                            const flapsim::CreatureModel& model,
+                                                            const flapsim::CreatureState& state,
+                                                            const ros::Time& stamp,
+                                                            const std::string& world_frame) {
+  std::vector<geometry_msgs::TransformStamped> out(model.links.size());
+  for (size_t k = 0; k < model.links.size(); ++k) {
+    out[k].header.stamp = stamp;
+    out[k].header.frame_id = world_frame;
+    out[k].child_frame_id = linkFrame(creature, model.links[k].name);
+    out[k].transform = toTransformMsg(state.link_poses.at(k));
+  }
+  return out;
+}
+
+std::vector<visualization_msgs::Marker> aeroMarkers(const std::string& creature,
+                                                    const std::vector<flapsim::LinkAero>& aero,
+                                                    const MarkerParams& params,
+                                                    const ros::Time& stamp,
+                                                    const std::string& world_frame) {
+  std::vector<visualization_msgs::Marker> out;
+  int cell_id = 0;
+  for (const flapsim::LinkAero& a : aero) {
+    const flapsim::Vec3 tip = a.com + params.scale * a.wrench.force;
+    if ((tip - a.com).norm() >= kMinArrow) {
+      out.push_back(
+          arrow(creature, a.link, a.com, tip, params.width, 1.0f, 0.5f, 0.0f, stamp, world_frame));
+    }
+    if (!params.per_cell) continue;
+    const size_t n = std::min(a.cell_centres.size(), a.cell_forces.size());
+    for (size_t i = 0; i < n; ++i, ++cell_id) {
+      const flapsim::Vec3 cell_tip = a.cell_centres[i] + params.scale * a.cell_forces[i];
+      if ((cell_tip - a.cell_centres[i]).norm() < kMinArrow) continue;
+      out.push_back(arrow(creature + "/cells", cell_id, a.cell_centres[i], cell_tip,
+                          0.5 * params.width, 0.0f, 0.7f, 1.0f, stamp, world_frame));
+    }
+  }
+  return out;
+}
+
+}  // namespace flapsim_ros

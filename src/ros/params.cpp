@@ -1,0 +1,291 @@
+#include "flapsim_ros/params.h"
+
+#include <ros/param.h>
+
+#include <cmath>
+#include <set>
+#include <sstream>
+
+namespace flapsim_ros {
+
+namespace {
+
+using XmlRpc::XmlRpcValue;
+
+std::string typeName(const XmlRpcValue& v) {
+  switch (v.getType()) {
+    case XmlRpcValue::TypeBoolean:
+      return "a boolean";
+    case XmlRpcValue::TypeInt:
+      return "an integer";
+    case XmlRpcValue::TypeDouble:
+      return "a number";
+    case XmlRpcValue::TypeString:
+      return "a string";
+    case XmlRpcValue::TypeArray:
+      return "a list";
+    case XmlRpcValue::TypeStruct:
+      return "a dictionary";
+    default:
+      return "of an unsupported type";
+  }
+}
+
+[[noreturn]] void fail(const std::string& key, const std::string& what) {
+  throw ParamError("parameter '" + key + "': " + what);
+}
+
+// A struct's members, with strict checks of unknown keys.
+class Dict {
+ public:
+  Dict(const XmlRpcValue& v, std::string prefix) : v_(v), prefix_(std::move(prefix)) {
+    if (v_.getType() != XmlRpcValue::TypeStruct) {
+      fail(prefix_.empty() ? "~" : prefix_, "must be a dictionary, got " + typeName(v_));
+    }
+  }
+
+  std::string key(const std::string& k) const { return prefix_.empty() ? k : prefix_ + "/" + k; }
+  const std::string& name() const { return prefix_; }
+  bool has(const std::string& k) const { return v_.hasMember(k); }
+  const XmlRpcValue& at(const std::string& k) const {
+    read_.insert(k);
+    return const_cast<XmlRpcValue&>(v_)[k];
+  }
+
+  double number(const std::string& k, double def) const {
+    if (!has(k)) return def;
+    return toNumber(at(k), key(k));
+  }
+  bool boolean(const std::string& k, bool def) const {
+    if (!has(k)) return def;
+    const XmlRpcValue& x = at(k);
+    if (x.getType() != XmlRpcValue::TypeBoolean)
+      fail(key(k), "must be true or false, got " + typeName(x));
+    return static_cast<bool>(const_cast<XmlRpcValue&>(x));
+  }
+  int integer(const std::string& k, int def) const {
+    if (!has(k)) return def;
+    const XmlRpcValue& x = at(k);
+    if (x.getType() != XmlRpcValue::TypeInt) fail(key(k), "must be an integer, got " + typeName(x));
+    return static_cast<int>(const_cast<XmlRpcValue&>(x));
+  }
+  std::string string(const std::string& k, const std::string& def) const {
+    if (!has(k)) return def;
+    const XmlRpcValue& x = at(k);
+    if (x.getType() != XmlRpcValue::TypeString)
+      fail(key(k), "must be a string, got " + typeName(x));
+    return static_cast<std::string>(const_cast<XmlRpcValue&>(x));
+  }
+  std::vector<double> numbers(const std::string& k) const {
+    const XmlRpcValue& x = at(k);
+    if (x.getType() != XmlRpcValue::TypeArray)
+      fail(key(k), "must be a list of numbers, got " + typeName(x));
+    std::vector<double> out;
+    for (int i = 0; i < x.size(); ++i) {
+      out.push_back(
+          toNumber(const_cast<XmlRpcValue&>(x)[i], key(k) + "[" + std::to_string(i) + "]"));
+    }
+    return out;
+  }
+  flapsim::Vec3 vec3(const std::string& k, const flapsim::Vec3& def) const {
+    if (!has(k)) return def;
+    std::vector<double> v = numbers(k);
+    if (v.size() != 3) fail(key(k), "must have 3 numbers, got " + std::to_string(v.size()));
+    return flapsim::Vec3(v[0], v[1], v[2]);
+  }
+
+  /// Throws for members that were never read.
+  void rejectUnknown() const {
+    for (const std::string& k : unknownKeys()) fail(key(k), "unknown parameter (misspelt?)");
+  }
+  std::vector<std::string> unknownKeys() const {
+    std::vector<std::string> out;
+    for (auto it = const_cast<XmlRpcValue&>(v_).begin(); it != const_cast<XmlRpcValue&>(v_).end();
+         ++it) {
+      if (!read_.count(it->first)) out.push_back(it->first);
+    }
+    return out;
+  }
+
+  static double toNumber(const XmlRpcValue& x, const std::string& key) {
+    double d = 0.0;
+    if (x.getType() == XmlRpcValue::TypeDouble) {
+      d = static_cast<double>(const_cast<XmlRpcValue&>(x));
+    } else if (x.getType() == XmlRpcValue::TypeInt) {
+      d = static_cast<int>(const_cast<XmlRpcValue&>(x));
+    } else {
+      fail(key, "must be a number, got " + typeName(x));
+    }
+    if (!std::isfinite(d)) fail(key, "must be finite");
+    return d;
+  }
+
+ private:
+  const XmlRpcValue& v_;
+  std::string prefix_;
+  mutable std::set<std::string> read_;
+};
+
+flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
+  air.density = d.number("density", air.density);
+  air.drag_coefficient = d.number("drag_coefficient", air.drag_coefficient);
+  air.wind = d.vec3("wind", air.wind);
+  air.buoyancy = d.boolean("buoyancy", air.buoyancy);
+  air.enabled = d.boolean("enabled", air.enabled);
+  if (d.has("subdivisions")) {
+    std::vector<double> s = d.numbers("subdivisions");
+    if (s.size() != 2 || s[0] != std::floor(s[0]) || s[1] != std::floor(s[1])) {
+      fail(d.key("subdivisions"), "must be two integers [nu, nv]");
+    }
+    air.subdivisions_u = static_cast<int>(s[0]);
+    air.subdivisions_v = static_cast<int>(s[1]);
+  }
+  d.rejectUnknown();
+  return air;
+}
+
+MarkerParams parseMarkers(const Dict& d, MarkerParams m) {
+  m.enabled = d.boolean("enabled", m.enabled);
+  m.scale = d.number("scale", m.scale);
+  m.per_cell = d.boolean("per_cell", m.per_cell);
+  m.width = d.number("width", m.width);
+  if (m.scale < 0.0) fail(d.key("scale"), "must be >= 0");
+  if (m.width <= 0.0) fail(d.key("width"), "must be > 0");
+  d.rejectUnknown();
+  return m;
+}
+
+// A wing command entry: scalars (one stroke for all wings) or equal-length lists.
+std::vector<flapsim::StrokeCommand> parseWingCommand(const Dict& d) {
+  const char* keys[3] = {"downstroke_rate", "upstroke_rate", "amplitude"};
+  std::vector<std::vector<double>> v(3);
+  for (int i = 0; i < 3; ++i) {
+    if (!d.has(keys[i])) fail(d.key(keys[i]), "missing");
+    const XmlRpcValue& x = d.at(keys[i]);
+    if (x.getType() == XmlRpcValue::TypeArray) {
+      v[i] = d.numbers(keys[i]);
+    } else {
+      v[i] = {Dict::toNumber(x, d.key(keys[i]))};
+    }
+  }
+  d.rejectUnknown();
+  if (v[0].size() != v[1].size() || v[0].size() != v[2].size() || v[0].empty()) {
+    fail(d.name(), "needs downstroke_rate, upstroke_rate and amplitude of equal, non-zero length");
+  }
+  std::vector<flapsim::StrokeCommand> out;
+  for (size_t k = 0; k < v[0].size(); ++k) {
+    flapsim::StrokeCommand c{v[0][k], v[1][k], v[2][k]};
+    std::string err = flapsim::validateStroke(c);
+    if (!err.empty()) fail(d.name(), err);
+    out.push_back(c);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string validateCreatureName(const std::string& name) {
+  if (name.empty()) return "creature name is empty";
+  const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  if (!letter(name[0])) return "creature name '" + name + "' must start with a letter";
+  for (char c : name) {
+    if (!letter(c) && !digit(c) && c != '_') {
+      return "creature name '" + name + "' may only contain letters, digits and '_'";
+    }
+  }
+  return "";
+}
+
+CreatureSpec parseCreatureSpec(const XmlRpcValue& entry, const std::string& where) {
+  Dict d(entry, where);
+  CreatureSpec c;
+  if (!d.has("name")) fail(d.key("name"), "missing");
+  c.name = d.string("name", "");
+  std::string err = validateCreatureName(c.name);
+  if (!err.empty()) fail(d.key("name"), err);
+  c.urdf_file = d.string("urdf_file", "");
+  c.urdf_param = d.string("urdf_param", "");
+  c.urdf_xml = d.string("urdf_xml", "");
+  const int sources = !c.urdf_file.empty() + !c.urdf_param.empty() + !c.urdf_xml.empty();
+  if (sources != 1) {
+    fail(where, "creature '" + c.name + "' needs exactly one of urdf_file, urdf_param, urdf_xml");
+  }
+  if (d.has("pose")) {
+    Dict p(d.at("pose"), d.key("pose"));
+    c.pose = flapsim::poseFromXyzRpy(p.vec3("xyz", flapsim::Vec3::Zero()),
+                                     p.vec3("rpy", flapsim::Vec3::Zero()));
+    p.rejectUnknown();
+  }
+  if (d.has("twist")) {
+    Dict t(d.at("twist"), d.key("twist"));
+    c.twist.linear = t.vec3("linear", flapsim::Vec3::Zero());
+    c.twist.angular = t.vec3("angular", flapsim::Vec3::Zero());
+    t.rejectUnknown();
+  }
+  if (d.has("wing_command")) {
+    c.wing_command = parseWingCommand(Dict(d.at("wing_command"), d.key("wing_command")));
+  }
+  d.rejectUnknown();
+  return c;
+}
+
+NodeParams parseNodeParams(const XmlRpcValue& params) {
+  NodeParams p;
+  if (!params.valid()) return p;  // nothing set: all defaults
+  Dict d(params, "");
+  flapsim::WorldParams& w = p.world;
+  w.step_size = d.number("step_size", w.step_size);
+  w.gravity = d.vec3("gravity", w.gravity);
+  w.ground = d.boolean("ground", w.ground);
+  w.ground_friction = d.number("ground_friction", w.ground_friction);
+  w.solver_iterations = d.integer("solver_iterations", w.solver_iterations);
+  w.default_wing_effort = d.number("default_wing_effort", w.default_wing_effort);
+  if (d.has("air")) w.air = parseAir(Dict(d.at("air"), "air"), w.air);
+  std::string err = flapsim::validateWorldParams(w);
+  if (!err.empty()) throw ParamError("bad world parameters: " + err);
+
+  p.publish_rate = d.number("publish_rate", p.publish_rate);
+  if (p.publish_rate <= 0.0) fail("publish_rate", "must be > 0 (Hz of sim time)");
+  p.real_time_factor = d.number("real_time_factor", p.real_time_factor);
+  if (p.real_time_factor < 0.0) fail("real_time_factor", "must be >= 0 (0: as fast as possible)");
+  p.paused = d.boolean("paused", p.paused);
+  p.world_frame = d.string("world_frame", p.world_frame);
+  if (p.world_frame.empty()) fail("world_frame", "must not be empty");
+  if (d.has("markers")) p.markers = parseMarkers(Dict(d.at("markers"), "markers"), p.markers);
+
+  if (d.has("creatures")) {
+    const XmlRpcValue& list = d.at("creatures");
+    if (list.getType() != XmlRpcValue::TypeArray) {
+      fail("creatures", "must be a list of dictionaries, got " + typeName(list));
+    }
+    std::set<std::string> names;
+    for (int i = 0; i < list.size(); ++i) {
+      CreatureSpec c = parseCreatureSpec(const_cast<XmlRpcValue&>(list)[i],
+                                         "creatures[" + std::to_string(i) + "]");
+      if (!names.insert(c.name).second) {
+        fail("creatures[" + std::to_string(i) + "]/name",
+             "creature name '" + c.name + "' is taken");
+      }
+      p.creatures.push_back(std::move(c));
+    }
+  }
+  p.unknown_keys = d.unknownKeys();
+  return p;
+}
+
+NodeParams loadNodeParams(const ros::NodeHandle& pnh) {
+  XmlRpcValue all;
+  if (!ros::param::get(pnh.getNamespace(), all)) all = XmlRpcValue();
+  NodeParams p = parseNodeParams(all);
+  for (CreatureSpec& c : p.creatures) {
+    if (c.urdf_param.empty()) continue;
+    if (!pnh.getParam(c.urdf_param, c.urdf_xml)) {
+      throw ParamError("creature '" + c.name + "': urdf_param '" + pnh.resolveName(c.urdf_param) +
+                       "' is not set or not a string");
+    }
+  }
+  return p;
+}
+
+}  // namespace flapsim_ros

@@ -1,0 +1,346 @@
+#include "flapsim_ros/simulator_node.h"
+
+#include <rosgraph_msgs/Clock.h>
+#include <tf2_msgs/TFMessage.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace flapsim_ros {
+
+namespace {
+
+constexpr double kWarnPeriod = 10.0;    // s (wall) between warnings of one cause
+constexpr double kMaxPacingLag = 0.25;  // s (wall) behind schedule before pacing restarts
+constexpr double kPausedPoll = 0.1;     // s (wall) callback wait while paused
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw flapsim::InputError("cannot read URDF file '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::string formatTime(const ros::Time& t) {
+  std::ostringstream os;
+  os.precision(9);
+  os << std::fixed << t.toSec();
+  return os.str();
+}
+
+}  // namespace
+
+SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+    : SimulatorNode(nh, pnh, loadNodeParams(pnh)) {}
+
+SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh,
+                             const NodeParams& params)
+    : params_(params),
+      nh_(nh),
+      pnh_(pnh),
+      world_(params.world),
+      step_ns_(stepNanoseconds(params.world.step_size)),
+      publish_every_(std::max<std::uint64_t>(
+          1, static_cast<std::uint64_t>(
+                 std::llround(1.0 / (params.publish_rate * params.world.step_size))))),
+      paused_(params.paused) {
+  nh_.setCallbackQueue(&queue_);
+  pnh_.setCallbackQueue(&queue_);
+  for (const std::string& k : params_.unknown_keys) {
+    ROS_WARN_STREAM("flapsim: ignoring unknown parameter '" << pnh_.resolveName(k) << "'");
+  }
+
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", 100);
+  marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("aero_markers", 2);
+  services_.push_back(pnh_.advertiseService("reset", &SimulatorNode::onReset, this));
+  services_.push_back(pnh_.advertiseService("pause", &SimulatorNode::onPause, this));
+  services_.push_back(pnh_.advertiseService("unpause", &SimulatorNode::onUnpause, this));
+  services_.push_back(pnh_.advertiseService("step", &SimulatorNode::onStep, this));
+  services_.push_back(pnh_.advertiseService("spawn", &SimulatorNode::onSpawn, this));
+  services_.push_back(pnh_.advertiseService("delete", &SimulatorNode::onDelete, this));
+
+  for (const CreatureSpec& spec : params_.creatures) {
+    const bool from_file = !spec.urdf_file.empty();
+    const std::string text = from_file ? readFile(spec.urdf_file) : spec.urdf_xml;
+    const std::string source =
+        from_file ? spec.urdf_file
+                  : (spec.urdf_param.empty() ? "creature '" + spec.name + "' urdf_xml"
+                                             : pnh_.resolveName(spec.urdf_param));
+    spawn(spec.name, text, source, spec.pose, spec.twist);
+    if (!spec.wing_command.empty()) {
+      const size_t wings = find(spec.name)->model->wing_joints.size();
+      WingCommandRequest r;
+      r.strokes = spec.wing_command;
+      if (r.strokes.size() == 1) r.strokes.assign(wings, spec.wing_command[0]);
+      try {
+        world_.setWingCommands(spec.name, r.joints, r.strokes);
+      } catch (const flapsim::InputError& e) {
+        throw ParamError("creature '" + spec.name + "' wing_command: " + e.what());
+      }
+      find(spec.name)->command = r;
+    }
+  }
+  ROS_INFO_STREAM("flapsim: " << creatures_.size() << " creature(s), step "
+                              << params_.world.step_size << " s, publishing every "
+                              << publish_every_ << " steps, real-time factor "
+                              << params_.real_time_factor << (paused_ ? ", paused" : ""));
+  publishAll();
+}
+
+SimulatorNode::~SimulatorNode() {
+  for (const auto& c : creatures_) nh_.deleteParam(c->name + "/robot_description");
+}
+
+// ---- creatures ---------------------------------------------------------------------
+
+void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
+                          const std::string& source, const flapsim::Pose& pose,
+                          const flapsim::Twist& twist) {
+  const std::string err = validateCreatureName(name);
+  if (!err.empty()) throw flapsim::InputError(err);
+  if (world_.has(name)) throw flapsim::InputError("creature name '" + name + "' is taken");
+  flapsim::CreatureModelPtr model = flapsim::parseCreatureModel(urdf_xml, source);
+  world_.spawn(name, model, pose, twist);
+  auto c = std::make_unique<Creature>();
+  c->name = name;
+  c->model = model;
+  try {
+    c->joint_states = nh_.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
+    c->odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 10);
+    c->wing_command = nh_.subscribe<flapsim::WingCommand>(
+        name + "/wing_command", 10,
+        [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });
+    nh_.setParam(name + "/robot_description", urdf_xml);
+  } catch (const ros::Exception& e) {
+    world_.remove(name);
+    throw flapsim::InputError("creature '" + name + "': " + e.what());
+  }
+  creatures_.push_back(std::move(c));
+}
+
+void SimulatorNode::remove(const std::string& name) {
+  world_.remove(name);  // InputError if unknown
+  auto it = std::find_if(creatures_.begin(), creatures_.end(),
+                         [&](const auto& c) { return c->name == name; });
+  if (it == creatures_.end()) return;
+  (*it)->joint_states.shutdown();
+  (*it)->odom.shutdown();
+  (*it)->wing_command.shutdown();
+  nh_.deleteParam(name + "/robot_description");
+  creatures_.erase(it);
+}
+
+SimulatorNode::Creature* SimulatorNode::find(const std::string& name) {
+  for (auto& c : creatures_) {
+    if (c->name == name) return c.get();
+  }
+  return nullptr;
+}
+
+// ---- stepping and publishing ---------------------------------------------------------
+
+ros::Time SimulatorNode::now() const { return simTime(world_.stepCount(), step_ns_); }
+
+void SimulatorNode::advance(std::uint64_t steps) {
+  while (steps > 0) {
+    const std::uint64_t to_boundary = publish_every_ - world_.stepCount() % publish_every_;
+    const std::uint64_t k = std::min(steps, to_boundary);
+    world_.setRecordCellForces(params_.markers.enabled && params_.markers.per_cell &&
+                               marker_pub_.getNumSubscribers() > 0);
+    world_.step(static_cast<int>(k));
+    steps -= k;
+    if (world_.stepCount() % publish_every_ == 0) publishAll();
+  }
+}
+
+void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp,
+                                    std::vector<geometry_msgs::TransformStamped>* tf) {
+  const bool need_tf = tf != nullptr;
+  const bool need_js = c.joint_states.getNumSubscribers() > 0;
+  const bool need_odom = c.odom.getNumSubscribers() > 0;
+  if (!need_tf && !need_js && !need_odom) return;
+  const flapsim::CreatureState s = world_.state(c.name);
+  if (need_js) c.joint_states.publish(jointStateMsg(*c.model, s, stamp));
+  if (need_odom) c.odom.publish(odometryMsg(c.name, *c.model, s, stamp, params_.world_frame));
+  if (need_tf) {
+    auto t = linkTransforms(c.name, *c.model, s, stamp, params_.world_frame);
+    tf->insert(tf->end(), t.begin(), t.end());
+  }
+}
+
+void SimulatorNode::publishAll() {
+  const ros::Time stamp = now();
+  rosgraph_msgs::Clock clock;
+  clock.clock = stamp;
+  clock_pub_.publish(clock);
+
+  const bool need_tf = tf_pub_.getNumSubscribers() > 0;
+  tf2_msgs::TFMessage tf;
+  for (const auto& c : creatures_) publishCreature(*c, stamp, need_tf ? &tf.transforms : nullptr);
+  if (need_tf && !tf.transforms.empty()) tf_pub_.publish(tf);
+
+  if (params_.markers.enabled && marker_pub_.getNumSubscribers() > 0) {
+    visualization_msgs::MarkerArray markers;
+    markers.markers.emplace_back();
+    markers.markers.back().header.stamp = stamp;
+    markers.markers.back().header.frame_id = params_.world_frame;
+    markers.markers.back().action = visualization_msgs::Marker::DELETEALL;
+    for (const auto& c : creatures_) {
+      auto m = aeroMarkers(c->name, world_.aeroForces(c->name), params_.markers, stamp,
+                           params_.world_frame);
+      markers.markers.insert(markers.markers.end(), m.begin(), m.end());
+    }
+    marker_pub_.publish(markers);
+  }
+  published_step_ = world_.stepCount();
+}
+
+void SimulatorNode::restartPacing() {
+  pace_wall_ = ros::WallTime::now();
+  pace_step_ = world_.stepCount();
+}
+
+void SimulatorNode::run() {
+  restartPacing();
+  while (ros::ok()) {
+    if (paused_) {
+      queue_.callAvailable(ros::WallDuration(kPausedPoll));
+      continue;
+    }
+    advance(publish_every_ - world_.stepCount() % publish_every_);
+    queue_.callAvailable();
+    if (paused_ || params_.real_time_factor <= 0.0) continue;
+    const double sim_elapsed =
+        static_cast<double>(world_.stepCount() - pace_step_) * params_.world.step_size;
+    const ros::WallTime due =
+        pace_wall_ + ros::WallDuration(sim_elapsed / params_.real_time_factor);
+    ros::WallTime wall = ros::WallTime::now();
+    if (wall > due + ros::WallDuration(kMaxPacingLag)) {
+      restartPacing();  // too slow for this factor: run as fast as possible, don't burst
+      continue;
+    }
+    while (ros::ok() && !paused_ && wall < due) {
+      queue_.callAvailable(due - wall);
+      wall = ros::WallTime::now();
+    }
+  }
+}
+
+void SimulatorNode::warnOnce(const std::string& key, const std::string& message) {
+  const ros::WallTime wall = ros::WallTime::now();
+  auto it = warned_.find(key);
+  if (it != warned_.end() && (wall - it->second).toSec() < kWarnPeriod) {
+    ROS_DEBUG_STREAM("flapsim: " << message);
+    return;
+  }
+  warned_[key] = wall;
+  ROS_WARN_STREAM("flapsim: " << message);
+}
+
+// ---- callbacks -----------------------------------------------------------------------
+
+void SimulatorNode::onWingCommand(const std::string& creature,
+                                  const flapsim::WingCommand::ConstPtr& msg) {
+  try {
+    WingCommandRequest r = fromMsg(*msg);
+    world_.setWingCommands(creature, r.joints, r.strokes);
+    if (Creature* c = find(creature)) c->command = std::move(r);
+  } catch (const flapsim::InputError& e) {
+    warnOnce(creature + "/wing_command: " + e.what(), "rejected wing command for '" + creature +
+                                                          "': " + e.what() +
+                                                          " (keeping the previous command)");
+  }
+}
+
+bool SimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  world_.reset();
+  for (const auto& c : creatures_) {
+    if (!c->command) continue;
+    try {
+      world_.setWingCommands(c->name, c->command->joints, c->command->strokes);
+    } catch (const flapsim::InputError& e) {
+      warnOnce("reset/" + c->name, "after reset: " + std::string(e.what()));
+    }
+  }
+  restartPacing();
+  ROS_INFO("flapsim: reset, sim time 0");
+  publishAll();
+  return true;
+}
+
+bool SimulatorNode::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = true;
+  return true;
+}
+
+bool SimulatorNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = false;
+  restartPacing();
+  return true;
+}
+
+bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response& res) {
+  if (!paused_) {
+    res.success = false;
+    res.status_message = "flapsim is running: call flapsim/pause before flapsim/step";
+    warnOnce("step/running", "step refused: " + res.status_message);
+  } else {
+    published_step_ = UINT64_MAX;
+    advance(req.steps);
+    if (published_step_ != world_.stepCount()) publishAll();
+    res.success = true;
+    res.status_message =
+        "stepped " + std::to_string(req.steps) + " steps to t = " + formatTime(now()) + " s";
+  }
+  res.sim_time = now();
+  return true;
+}
+
+bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
+                            flapsim::SpawnCreature::Response& res) {
+  try {
+    if (req.urdf_xml.empty() == req.urdf_file.empty()) {
+      throw flapsim::InputError("spawn '" + req.name +
+                                "': give exactly one of urdf_xml and urdf_file");
+    }
+    const bool from_file = !req.urdf_file.empty();
+    spawn(req.name, from_file ? readFile(req.urdf_file) : req.urdf_xml,
+          from_file ? req.urdf_file : "spawn request '" + req.name + "'", fromMsg(req.initial_pose),
+          fromMsg(req.initial_twist));
+    Creature* c = find(req.name);
+    tf2_msgs::TFMessage tf;
+    publishCreature(*c, now(), &tf.transforms);
+    tf_pub_.publish(tf);
+    res.success = true;
+    res.status_message = "spawned '" + req.name + "': " + std::to_string(c->model->links.size()) +
+                         " links, " + std::to_string(c->model->wing_joints.size()) + " wing joints";
+    ROS_INFO_STREAM("flapsim: " << res.status_message);
+  } catch (const std::exception& e) {  // InputError, ModelError
+    res.success = false;
+    res.status_message = e.what();
+    warnOnce("spawn/" + res.status_message, "spawn refused: " + res.status_message);
+  }
+  return true;
+}
+
+bool SimulatorNode::onDelete(flapsim::DeleteCreature::Request& req,
+                             flapsim::DeleteCreature::Response& res) {
+  try {
+    remove(req.name);
+    res.success = true;
+    res.status_message = "deleted '" + req.name + "'";
+    ROS_INFO_STREAM("flapsim: " << res.status_message);
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = e.what();
+    warnOnce("delete/" + res.status_message, "delete refused: " + res.status_message);
+  }
+  return true;
+}
+
+}  // namespace flapsim_ros
