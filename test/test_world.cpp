@@ -87,6 +87,22 @@ TEST(World, BuoyancyLiftsAPlateInWater) {
   EXPECT_GT(w.rootPose("plate").position.z(), 0.01);
 }
 
+// A plate denser than water sinks flat at sqrt(2 (m - rho V) g / (rho Cd A)).
+TEST(World, DensePlateSinksAtTerminalSpeedInWater) {
+  WorldParams p = openSky();
+  p.air = waterParams();
+  World w(p);
+  auto steel = parseCreatureModel(R"(<robot name="steel"><link name="p">
+    <inertial><mass value="0.5"/><inertia ixx="1.67e-3" ixy="0" ixz="0" iyy="1.67e-3" iyz="0" izz="3.33e-3"/></inertial>
+    <collision><geometry><box size="0.2 0.2 0.002"/></geometry></collision></link></robot>)");
+  w.spawn("steel", steel, at(0, 0, 0));
+  w.step(2000);
+  const double volume = 0.2 * 0.2 * 0.002;
+  const double vt = std::sqrt(2 * (0.5 - 1000.0 * volume) * kG / (1000.0 * 1.15 * 0.04));
+  EXPECT_NEAR(-w.rootTwist("steel").linear.z(), vt, 1e-3 * vt);
+  EXPECT_NEAR(w.rootPose("steel").position.x(), 0.0, 1e-9);
+}
+
 TEST(World, PlateComesToRestOnTheGround) {
   World w;  // ground on by default
   w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 0.5));

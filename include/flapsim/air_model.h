@@ -3,14 +3,26 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "flapsim/types.h"
 
 namespace flapsim {
 
+/// Lift and drag coefficients of a flat wing against the angle of attack a (degrees):
+/// C_L = lift_mean + lift_amplitude sin(lift_frequency a + lift_phase),
+/// C_D = drag_mean - drag_amplitude cos(drag_frequency a + drag_phase).
+/// Defaults: the Robofly fits of Dickinson, Lehmann and Sane (1999).
+struct QuasiSteadyCoefficients {
+  double lift_mean = 0.225, lift_amplitude = 1.58, lift_frequency = 2.13, lift_phase = -7.20;
+  double drag_mean = 1.92, drag_amplitude = 1.55, drag_frequency = 2.04, drag_phase = -9.82;
+};
+
 /// Air parameters of a world (per-link overrides live in AeroSettings).
 struct AirParams {
+  std::string model = "pressure";  // "pressure" (the paper's) or "quasi_steady"
+  QuasiSteadyCoefficients quasi_steady;
   double density = 1.204;          // kg/m^3 (1000 for water)
   double drag_coefficient = 1.15;  // Cd of the paper's method
   Vec3 wind = Vec3::Zero();        // uniform wind, world frame, m/s
@@ -19,6 +31,14 @@ struct AirParams {
   int subdivisions_v = 4;  // ... and along its second edge
   bool enabled = true;
 };
+
+/// The water preset: density 1000 kg/m^3 with buoyancy, otherwise as AirParams.
+inline AirParams waterParams() {
+  AirParams water;
+  water.density = 1000.0;
+  water.buoyancy = true;
+  return water;
+}
 
 /// One sub-surface: centre and outward unit normal in the body (COM) frame.
 struct SurfaceCell {
@@ -30,6 +50,7 @@ struct SurfaceCell {
 /// A planar face: its cells are cells[first_cell, first_cell + cell_count).
 struct SurfaceFace {
   Vec3 normal = Vec3::UnitZ();
+  Vec3 span = Vec3::UnitY();  // the face's longer edge (the wing span of a wing plate)
   Vec3 corners[4];
   int first_cell = 0;
   int cell_count = 0;
@@ -106,6 +127,30 @@ class PressureAirModel : public AirModel {
                     std::vector<Vec3>* cell_forces) const override;
 };
 
+/// Angle of attack in [0, 90] deg of a face with normal n moving at u (spanwise part of u
+/// removed), and the lift and drag coefficients there.
+double angleOfAttack(const Vec3& u_chordwise, const Vec3& n);
+double liftCoefficient(double alpha_deg, const QuasiSteadyCoefficients& c);
+double dragCoefficient(double alpha_deg, const QuasiSteadyCoefficients& c);
+
+/// Quasi-steady blade-element force on one cell of an advancing face (zero otherwise):
+/// with u' = u minus its component along the span s, drag 1/2 rho s_i C_D |u'|^2 against
+/// u' and lift 1/2 rho s_i C_L |u'|^2 perpendicular to u' in the chord plane, on the side
+/// the face pushes the air from (-n).
+Vec3 quasiSteadyForce(const Vec3& u, const Vec3& n, const Vec3& span, double area, double density,
+                      const QuasiSteadyCoefficients& c);
+
+/// A quasi-steady blade-element model: per cell, angle of attack from the chordwise
+/// velocity; lift and drag from QuasiSteadyCoefficients. Needs AeroSurface::faces.
+class QuasiSteadyAirModel : public AirModel {
+ public:
+  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
+                    std::vector<Vec3>* cell_forces) const override;
+};
+
 using AirModelPtr = std::shared_ptr<const AirModel>;
+
+/// The model of that name ("pressure", "quasi_steady"), or null for an unknown name.
+AirModelPtr makeAirModel(const std::string& name);
 
 }  // namespace flapsim

@@ -11,10 +11,11 @@
 namespace flapsim {
 
 /// Per-link air settings from `<aero link=... drag_coefficient=... subdivisions="nu nv"
-/// enabled=.../>`. Unset values fall back to the world's AirParams.
+/// enabled=... model="pressure|quasi_steady"/>`. Unset values fall back to the world's AirParams.
 struct AeroSettings {
   bool enabled = true;
   std::optional<double> drag_coefficient;
+  std::string model;       // air model name; empty: world default
   int subdivisions_u = 0;  // 0: world default
   int subdivisions_v = 0;
 };

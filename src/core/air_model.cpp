@@ -1,5 +1,8 @@
 #include "flapsim/air_model.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace flapsim {
 
 std::vector<SurfaceCell> boxSurfaceCells(const Vec3& size, const Pose& origin, int nu, int nv) {
@@ -36,6 +39,9 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
     const int b = (axis + 1) % 3, c = (axis + 2) % 3;
     SurfaceFace face;
     face.normal = cells[f * per_face].normal;
+    Vec3 edge = Vec3::Zero();
+    edge[size[b] >= size[c] ? b : c] = 1.0;
+    face.span = origin.orientation * edge;
     for (int k = 0; k < 4; ++k) {
       Vec3 p = Vec3::Zero();
       p[axis] = sign * 0.5 * size[axis];
@@ -51,40 +57,102 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
   surface.volume += size.prod();
 }
 
-Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
-                                    const AirParams& air, std::vector<Vec3>* cell_forces) const {
-  // Work in the body frame: cell centres and normals are constant there.
+namespace {
+
+// Sums per-cell forces of `force(u, cell, face)` over a body, in its frame, skipping faces
+// none of whose corners advance into the air (u.n is affine over a face).
+template <typename CellForce>
+Wrench sumCells(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
+                std::vector<Vec3>* cell_forces, CellForce force) {
   const Eigen::Matrix3d rot = body.orientation.toRotationMatrix();
   const Vec3 v = rot.transpose() * body.linear_velocity;
   const Vec3 w = rot.transpose() * body.angular_velocity;
   const Vec3 wind = rot.transpose() * air.wind;
-  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+  Vec3 total = Vec3::Zero(), torque = Vec3::Zero();
   if (cell_forces) cell_forces->assign(surface.cells.size(), Vec3::Zero());
-  auto cellRange = [&](int first, int count) {
+  auto cellRange = [&](int first, int count, const Vec3& span) {
     for (int i = first; i < first + count; ++i) {
       const SurfaceCell& cell = surface.cells[i];
-      const Vec3 u = relativeAirVelocity(v, w, cell.centre, wind);
-      const Vec3 f =
-          pressureForce(u, cell.normal, cell.area, air.density, surface.drag_coefficient);
+      const Vec3 f = force(relativeAirVelocity(v, w, cell.centre, wind), cell, span);
       if (f.isZero(0.0)) continue;
-      force += f;
+      total += f;
       torque += cell.centre.cross(f);
       if (cell_forces) (*cell_forces)[i] = rot * f;
     }
   };
   if (surface.faces.empty()) {
-    cellRange(0, static_cast<int>(surface.cells.size()));
+    cellRange(0, static_cast<int>(surface.cells.size()), Vec3::Zero());
   } else {
     for (const SurfaceFace& face : surface.faces) {
-      // u.n is affine over the face: if no corner advances, no cell does.
       bool advancing = false;
       for (const Vec3& corner : face.corners) {
         advancing = advancing || relativeAirVelocity(v, w, corner, wind).dot(face.normal) > 0.0;
       }
-      if (advancing) cellRange(face.first_cell, face.cell_count);
+      if (advancing) cellRange(face.first_cell, face.cell_count, face.span);
     }
   }
-  return Wrench{rot * force, rot * torque};
+  return Wrench{rot * total, rot * torque};
+}
+
+constexpr double kDeg = M_PI / 180.0;
+
+}  // namespace
+
+Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
+                                    const AirParams& air, std::vector<Vec3>* cell_forces) const {
+  const double cd = surface.drag_coefficient;
+  return sumCells(body, surface, air, cell_forces,
+                  [&](const Vec3& u, const SurfaceCell& cell, const Vec3&) {
+                    return pressureForce(u, cell.normal, cell.area, air.density, cd);
+                  });
+}
+
+double angleOfAttack(const Vec3& u, const Vec3& n) {
+  const double speed = u.norm();
+  if (speed == 0.0) return 0.0;
+  return std::asin(std::min(1.0, std::abs(u.dot(n)) / speed)) / kDeg;
+}
+
+double liftCoefficient(double a, const QuasiSteadyCoefficients& c) {
+  return c.lift_mean + c.lift_amplitude * std::sin((c.lift_frequency * a + c.lift_phase) * kDeg);
+}
+
+double dragCoefficient(double a, const QuasiSteadyCoefficients& c) {
+  return c.drag_mean - c.drag_amplitude * std::cos((c.drag_frequency * a + c.drag_phase) * kDeg);
+}
+
+Vec3 quasiSteadyForce(const Vec3& u, const Vec3& n, const Vec3& span, double area, double density,
+                      const QuasiSteadyCoefficients& c) {
+  // Edge-on within rounding counts as edge-on: C_D(0) > 0 would otherwise give a full
+  // face's drag to whichever face rounding happens to tilt forward.
+  if (u.dot(n) <= 1e-12 * u.norm()) return Vec3::Zero();
+  const Vec3 chordwise = u - u.dot(span) * span;
+  const double speed2 = chordwise.squaredNorm();
+  if (speed2 == 0.0) return Vec3::Zero();
+  const Vec3 drag_dir = -chordwise / std::sqrt(speed2);
+  const double alpha = angleOfAttack(chordwise, n);
+  const double q = 0.5 * density * area * speed2;
+  Vec3 force = q * dragCoefficient(alpha, c) * drag_dir;
+  Vec3 lift_dir = -n - (-n).dot(drag_dir) * drag_dir;  // -n without its part along the flow
+  lift_dir -= lift_dir.dot(span) * span;
+  const double norm = lift_dir.norm();
+  if (norm > 1e-12) force += q * liftCoefficient(alpha, c) * (lift_dir / norm);
+  return force;
+}
+
+Wrench QuasiSteadyAirModel::bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
+                                       const AirParams& air, std::vector<Vec3>* cell_forces) const {
+  return sumCells(body, surface, air, cell_forces,
+                  [&](const Vec3& u, const SurfaceCell& cell, const Vec3& span) {
+                    return quasiSteadyForce(u, cell.normal, span, cell.area, air.density,
+                                            air.quasi_steady);
+                  });
+}
+
+AirModelPtr makeAirModel(const std::string& name) {
+  if (name == "pressure") return std::make_shared<PressureAirModel>();
+  if (name == "quasi_steady") return std::make_shared<QuasiSteadyAirModel>();
+  return nullptr;
 }
 
 }  // namespace flapsim

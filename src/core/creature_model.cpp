@@ -11,6 +11,8 @@
 #include <queue>
 #include <sstream>
 
+#include "flapsim/air_model.h"
+
 namespace flapsim {
 
 Pose poseFromXyzRpy(const Vec3& xyz, const Vec3& rpy) {
@@ -138,6 +140,12 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
       }
       s.subdivisions_u = nu;
       s.subdivisions_v = nv;
+    }
+    if (const char* model = e->Attribute("model")) {
+      if (!makeAirModel(model)) {
+        fail(source, where + ": unknown air model '" + model + "' (pressure, quasi_steady)");
+      }
+      s.model = model;
     }
     if (const char* en = e->Attribute("enabled")) {
       std::string v(en);

@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace flapsim {
 
@@ -32,6 +33,7 @@ std::string checkAir(const AirParams& a) {
     return "air drag_coefficient must be finite and >= 0";
   }
   if (!finite(a.wind)) return "air wind must be finite";
+  if (!makeAirModel(a.model)) return "unknown air model '" + a.model + "' (pressure, quasi_steady)";
   if (a.subdivisions_u < 1 || a.subdivisions_v < 1 || a.subdivisions_u > 1000 ||
       a.subdivisions_v > 1000) {
     return "air subdivisions must be in 1..1000";
@@ -75,7 +77,8 @@ struct JointDrive {
 };
 
 struct AeroBody {
-  int link = 0;  // model link index (0 = root = Bullet base)
+  int link = 0;       // model link index (0 = root = Bullet base)
+  std::string model;  // the link's own air model, empty for the world's
   AeroSurface surface;
   bool enabled = true;
   LinkAero last;
@@ -123,8 +126,8 @@ std::string validateWorldParams(const WorldParams& p) {
 
 class World::Impl {
  public:
-  explicit Impl(const WorldParams& p)
-      : params_(p), air_model_(std::make_shared<PressureAirModel>()) {
+  explicit Impl(const WorldParams& p) : params_(p), air_model_(makeAirModel(p.air.model)) {
+    for (const char* name : {"pressure", "quasi_steady"}) named_models_[name] = makeAirModel(name);
     build();
   }
   ~Impl() { teardown(); }
@@ -268,6 +271,7 @@ class World::Impl {
       aero.enabled = l.aero.enabled && !l.boxes.empty();
       aero.last.link = k;
       if (aero.enabled) {
+        aero.model = l.aero.model;
         aero.surface = linkSurface(l, params_.air);
         body->aero.push_back(std::move(aero));
       }
@@ -347,8 +351,9 @@ class World::Impl {
       kin.com = fromBt(b.local_origin[k]);
       kin.linear_velocity = fromBt(quatRotate(to_world, b.vel[k]));
       kin.angular_velocity = fromBt(quatRotate(to_world, b.omega[k]));
-      Wrench w = air_model_->bodyWrench(kin, a.surface, air,
-                                        record_cells_ ? &a.last.cell_forces : nullptr);
+      const AirModel& model = a.model.empty() ? *air_model_ : *named_models_.at(a.model);
+      Wrench w =
+          model.bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
       if (air.buoyancy) w.force += buoyancyForce(a.surface.volume, air.density, params_.gravity);
       a.last.com = kin.com;
       a.last.wrench = w;
@@ -395,7 +400,8 @@ class World::Impl {
   }
 
   WorldParams params_;
-  AirModelPtr air_model_;
+  AirModelPtr air_model_;                            // the world's default
+  std::map<std::string, AirModelPtr> named_models_;  // for links that name their own
   bool record_cells_ = false;
   std::vector<CreatureRecord> records_;
   std::vector<std::unique_ptr<CreatureBody>> bodies_;
@@ -495,6 +501,7 @@ void World::setAirParams(const AirParams& air) {
   const bool grid_changed = air.subdivisions_u != impl_->params_.air.subdivisions_u ||
                             air.subdivisions_v != impl_->params_.air.subdivisions_v ||
                             air.drag_coefficient != impl_->params_.air.drag_coefficient;
+  if (air.model != impl_->params_.air.model) impl_->air_model_ = makeAirModel(air.model);
   impl_->params_.air = air;
   if (grid_changed) {
     // Rebuild the aero surfaces of every creature, keeping its motion state.

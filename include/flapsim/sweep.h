@@ -1,0 +1,42 @@
+// The paper's Fig. 14-15 experiment: a plate held in a steady uniform flow at a range of
+// inclinations; the air's force on it, per air model, drag coefficient and grid size.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "flapsim/air_model.h"
+
+namespace flapsim {
+
+struct SweepParams {
+  double speed = 10.0;  // m/s, flow along +x
+  double density = 1.204;
+  double chord = 0.2;  // plate size along the flow at 90 deg (x before tilting)
+  double span = 0.4;   // plate size across the flow (y)
+  double thickness = 0.002;
+  double step_deg = 15.0;  // inclinations 0, step, ..., 180
+  std::vector<std::string> models{"pressure", "quasi_steady"};
+  std::vector<double> drag_coefficients{2.0, 1.15};  // for the pressure model
+  std::vector<int> grids{4};                         // cells per face edge
+};
+
+struct SweepRow {
+  std::string model;
+  double drag_coefficient = 0.0;  // 0 for models that do not use it
+  int grid = 0;
+  double inclination_deg = 0.0;  // 0: edge-on, 90: face-on
+  double normal_force = 0.0;     // |F . plate normal|, N
+  double pressure = 0.0;         // normal_force / plate area, Pa
+  double lift = 0.0;             // F across the flow (+z), N
+  double drag = 0.0;             // F along the flow (+x), N
+};
+
+/// Runs the sweep with the models' pure functions (no world). Throws InputError for an
+/// unknown model or non-positive sizes.
+std::vector<SweepRow> pressureSweep(const SweepParams& params);
+
+/// The rows as CSV, with a header line.
+std::string sweepCsv(const std::vector<SweepRow>& rows);
+
+}  // namespace flapsim
