@@ -2,6 +2,7 @@
 // bamboo-copter (Fig. 3-4) and the flapping unit (Fig. 5, eq. 19).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "flapsim/make_creature.h"
@@ -142,6 +143,43 @@ TEST(FlapUnit, Equation19SignAndProportionality) {
   }
   // One constant K M r^4 / I^2 for every setting (eq. 19), up to the stroke reversals.
   for (double r : ratio) EXPECT_NEAR(r / ratio[0], 1.0, 0.1);
+}
+
+// Feathering (paper sec. VI): pitching the wings edge-on for the upstroke loses less lift
+// on the way up, so the anchored unit's net vertical air impulse grows with the angle.
+double anchoredImpulse(double feather) {
+  FlapUnitParams params;
+  params.feathering = true;
+  std::string urdf = makeCreatureUrdf(1, "feather", params);
+  urdf.insert(urdf.rfind("</robot>"),
+              "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
+              "link=\"world\"/><child link=\"unit0_body\"/></joint>\n");
+  WorldParams p = openSky();
+  p.gravity = Vec3::Zero();
+  World w(p);
+  w.spawn("u", parseCreatureModel(urdf), at(0, 0, 0));
+  const StrokeCommand c{30, 10, 0.8, feather};
+  w.setWingCommands("u", {}, {c, c});
+  const int pitch = w.model("u")->findJoint("unit0_wing_left_pitch");
+  double impulse = 0.0, max_pitch = 0.0;
+  for (int i = 0; i < 4000; ++i) {
+    w.step(1);
+    for (const LinkAero& a : w.aeroForces("u")) impulse += a.wrench.force.z() * p.step_size;
+    max_pitch = std::max(max_pitch, w.state("u").joint_positions[pitch]);
+  }
+  EXPECT_NEAR(max_pitch, feather, 0.01 + 1e-3 * feather);  // the servo reaches the angle
+  return impulse;
+}
+
+TEST(Feathering, RaisesNetLift) {
+  double last = anchoredImpulse(0.0);
+  EXPECT_GT(last, 0.0);
+  for (double feather : {0.4, 0.8, 1.2}) {
+    const double impulse = anchoredImpulse(feather);
+    EXPECT_GT(impulse, last) << "feather " << feather;
+    last = impulse;
+  }
+  EXPECT_GT(last, 1.3 * anchoredImpulse(0.0));
 }
 
 }  // namespace

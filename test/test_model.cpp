@@ -80,6 +80,20 @@ TEST(Generator, ChainsOfUnitsLoad) {
   EXPECT_THROW(makeCreatureUrdf(0), std::invalid_argument);
 }
 
+TEST(Generator, FeatheringWingsHangFromPitchJoints) {
+  FlapUnitParams p;
+  p.feathering = true;
+  auto m = parseCreatureModel(makeCreatureUrdf(2, "f", p));
+  EXPECT_EQ(m->links.size(), 2u * 5u);  // body, 2 roots, 2 wings per unit
+  ASSERT_EQ(m->wing_joints.size(), 4u);
+  const JointModel& hinge = m->joints[m->wing_joints[1]];
+  EXPECT_EQ(hinge.name, "unit0_wing_right_joint");
+  ASSERT_GE(hinge.feather_joint, 0);
+  EXPECT_EQ(m->joints[hinge.feather_joint].name, "unit0_wing_right_pitch");
+  EXPECT_TRUE(m->joints[hinge.feather_joint].axis.isApprox(Vec3(0, -1, 0)));
+  EXPECT_EQ(readFile(sourcePath("urdf/feather_unit.urdf")), makeCreatureUrdf(1, "feather_unit", p));
+}
+
 TEST(Generator, CommittedUrdfsAreItsOutput) {
   EXPECT_EQ(readFile(sourcePath("urdf/flap_unit.urdf")), makeCreatureUrdf(1, "flap_unit"));
   for (int n : {1, 4, 6, 12}) {
@@ -139,6 +153,11 @@ TEST(ModelErrors, NameTheCulprit) {
   expectError(robot(std::string(kLink) + hinge("hinge", "fixed") + "<wing joint=\"hinge\"/>"),
               {"hinge", "revolute"});
   expectError(robot(std::string(kLink) + hinge() + "<aero link=\"tail\"/>"), {"tail"});
+  expectError(
+      robot(std::string(kLink) + hinge() + "<wing joint=\"hinge\" feather_joint=\"flip\"/>"),
+      {"hinge", "flip"});
+  expectError(robot(std::string(kLink) + hinge() + "<aero link=\"wing\" model=\"cfd\"/>"),
+              {"wing", "cfd"});
   expectError(robot(std::string(kLink) + hinge() + "<aero link=\"wing\" subdivisions=\"4\"/>"),
               {"wing", "subdivisions"});
   expectError(

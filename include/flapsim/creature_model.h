@@ -51,7 +51,8 @@ struct JointModel {
   double velocity = 0.0;  // speed limit (0: none)
   double damping = 0.0;
   double friction = 0.0;
-  bool wing = false;  // marked by <wing joint="..."/>
+  bool wing = false;       // marked by <wing joint="..."/>
+  int feather_joint = -1;  // <wing joint="..." feather_joint="..."/>: pitches this wing
 
   bool movable() const { return type != JointType::kFixed; }
 };

@@ -20,6 +20,12 @@ struct FlapUnitParams {
   double unit_spacing = 0.24;   // m between unit bodies along x
   double link_damping = 0.002;  // N m s/rad on the passive joints between units
   double link_limit = 0.35;     // rad, passive joint range +-limit
+  /// Feathering wings: each wing hangs from its hinge through a small root link and a pitch
+  /// joint `unit<k>_wing_<side>_pitch` about its span (the wing's feather_joint).
+  bool feathering = false;
+  double root_mass = 0.001;     // kg, the small link between hinge and pitch joint
+  double root_size = 0.01;      // m, its cube
+  double feather_effort = 0.5;  // N m, pitch motor torque limit
 };
 
 /// URDF text of a creature of `pairs` flap units (pairs >= 1) named

@@ -5,11 +5,14 @@
 
 namespace flapsim {
 
-/// Downstroke rate w1 and upstroke rate w2 (rad/s, >= 0), amplitude theta0 (rad, > 0).
+/// Downstroke rate w1 and upstroke rate w2 (rad/s, >= 0), amplitude theta0 (rad, >= 0).
 struct StrokeCommand {
   double downstroke_rate = 0.0;
   double upstroke_rate = 0.0;
   double amplitude = 0.0;
+  /// Feathering: pitch (rad, |.| <= pi/2) of the wing about its span during the upstroke,
+  /// for wings with a feather joint; 0 keeps the wing flat.
+  double feather = 0.0;
 };
 
 /// Empty string if valid, else a message naming the bad field.

@@ -102,6 +102,7 @@ double parseDoubleAttr(const tinyxml2::XMLElement* e, const char* attr, const st
 struct Annotations {
   std::vector<std::string> joint_order;
   std::vector<std::string> wings;
+  std::vector<std::string> feathers;  // per wing, "" if none
   std::map<std::string, AeroSettings> aero;
 };
 
@@ -120,6 +121,8 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
     const char* joint = w->Attribute("joint");
     if (!joint || !*joint) fail(source, "<wing> without a joint attribute");
     a.wings.push_back(joint);
+    const char* feather = w->Attribute("feather_joint");
+    a.feathers.push_back(feather ? feather : "");
   }
   for (auto* e = robot->FirstChildElement("aero"); e; e = e->NextSiblingElement("aero")) {
     const char* link = e->Attribute("link");
@@ -297,7 +300,8 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
     model->joints.push_back(jm);
   }
 
-  for (const std::string& w : notes.wings) {
+  for (size_t wi = 0; wi < notes.wings.size(); ++wi) {
+    const std::string& w = notes.wings[wi];
     int idx = model->findJoint(w);
     if (idx < 0) fail(source, "<wing> names unknown joint '" + w + "'");
     JointModel& jm = model->joints[idx];
@@ -306,6 +310,16 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
     }
     if (jm.wing) fail(source, "joint '" + w + "' is marked <wing> twice");
     jm.wing = true;
+    if (!notes.feathers[wi].empty()) {
+      const std::string& f = notes.feathers[wi];
+      const int fi = model->findJoint(f);
+      if (fi < 0) fail(source, "<wing joint='" + w + "'> names unknown feather_joint '" + f + "'");
+      if (model->joints[fi].type != JointType::kRevolute &&
+          model->joints[fi].type != JointType::kContinuous) {
+        fail(source, "feather_joint '" + f + "' must be revolute or continuous");
+      }
+      jm.feather_joint = fi;
+    }
   }
   for (size_t i = 0; i < model->joints.size(); ++i) {
     if (model->joints[i].wing) model->wing_joints.push_back(static_cast<int>(i));

@@ -66,14 +66,29 @@ std::string makeCreatureUrdf(int pairs, const std::string& name, const FlapUnitP
       boxLink(out, wing, p.wing_mass, p.wing_chord, p.wing_span, p.wing_thickness, 0,
               side * 0.5 * p.wing_span, 0);
       // Positive angle lifts the wing tip on both sides.
-      joint(out, wing + "_joint", u + "_body", wing, 0, side * 0.5 * p.body_width, 0,
-            side > 0 ? "1 0 0" : "-1 0 0", p.wing_limit, p.wing_effort, 0.0);
+      const char* hinge_axis = side > 0 ? "1 0 0" : "-1 0 0";
+      if (!p.feathering) {
+        joint(out, wing + "_joint", u + "_body", wing, 0, side * 0.5 * p.body_width, 0, hinge_axis,
+              p.wing_limit, p.wing_effort, 0.0);
+        continue;
+      }
+      const double r = p.root_size;
+      boxLink(out, wing + "_root", p.root_mass, r, r, r, 0, 0, 0);
+      joint(out, wing + "_joint", u + "_body", wing + "_root", 0, side * 0.5 * p.body_width, 0,
+            hinge_axis, p.wing_limit, p.wing_effort, 0.0);
+      // Positive pitch lifts the leading (+x) edge on both sides (mirror images: a rotation
+      // about the mirror plane's normal keeps its sense).
+      joint(out, wing + "_pitch", wing + "_root", wing, 0, 0, 0, "0 -1 0", 1.5707963,
+            p.feather_effort, 0.0);
     }
   }
   for (int k = 0; k < pairs; ++k) {
     const std::string u = "unit" + std::to_string(k);
-    out << "  <wing joint=\"" << u << "_wing_left_joint\"/>\n"
-        << "  <wing joint=\"" << u << "_wing_right_joint\"/>\n";
+    for (const char* side : {"_wing_left", "_wing_right"}) {
+      out << "  <wing joint=\"" << u << side << "_joint\"";
+      if (p.feathering) out << " feather_joint=\"" << u << side << "_pitch\"";
+      out << "/>\n";
+    }
   }
   out << "</robot>\n";
   return out.str();

@@ -14,6 +14,9 @@ std::string validateStroke(const StrokeCommand& c) {
   if (!std::isfinite(c.amplitude) || c.amplitude < 0.0) {
     return "amplitude must be finite and >= 0";
   }
+  if (!std::isfinite(c.feather) || std::abs(c.feather) > M_PI / 2) {
+    return "feather angle must be finite and within +-pi/2";
+  }
   return "";
 }
 

@@ -68,6 +68,9 @@ class JointMotor : public btMultiBodyJointMotor {
   bool active_ = true;
 };
 
+// Time constant of the feathering servo.
+constexpr double kFeatherTime = 0.005;
+
 // How a movable joint is driven this step.
 struct JointDrive {
   enum class Mode { kPassive, kStroke, kVelocity };
@@ -335,6 +338,20 @@ class World::Impl {
           if (j.damping > 0.0) mb->addJointTorque(link, -j.damping * mb->getJointVel(link));
           break;
       }
+    }
+    // Feathering: a stroking wing pitches its feather joint to the commanded angle during
+    // the upstroke and back to flat for the downstroke (a stiff position servo).
+    for (int wi : m.wing_joints) {
+      const JointModel& wing = m.joints[wi];
+      const JointDrive& d = r.drives[wi];
+      if (wing.feather_joint < 0 || d.mode != JointDrive::Mode::kStroke) continue;
+      const int link = m.joints[wing.feather_joint].child_link - 1;
+      const double target =
+          d.stroke.phase() == StrokeGenerator::Phase::kUp ? d.stroke.command().feather : 0.0;
+      JointMotor* motor = b.motors[wing.feather_joint].get();
+      motor->setActive(true);
+      motor->setVelocityTarget((target - mb->getJointPos(link)) / kFeatherTime);
+      motor->setMaxAppliedImpulse(b.max_effort[wing.feather_joint] * dt);
     }
   }
 

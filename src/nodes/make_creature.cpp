@@ -8,6 +8,7 @@
 
 int main(int argc, char** argv) {
   int pairs = 1;
+  flapsim::FlapUnitParams params;
   std::string name = "afc", output;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -27,21 +28,24 @@ int main(int argc, char** argv) {
         return 2;
       }
       pairs = static_cast<int>(n);
+    } else if (a == "--feathering") {
+      params.feathering = true;
     } else if (a == "--name") {
       name = value();
     } else if (a == "--output" || a == "-o") {
       output = value();
     } else if (a == "--help" || a == "-h") {
-      std::cout << "usage: make_creature [--pairs N] [--name NAME] [--output FILE]\n"
+      std::cout << "usage: make_creature [--pairs N] [--name NAME] [--feathering] [--output FILE]\n"
                    "Writes the URDF of N flapping units (body + two wings) chained by passive\n"
-                   "pitch joints; to stdout unless --output is given.\n";
+                   "pitch joints; to stdout unless --output is given. --feathering hangs each\n"
+                   "wing from a pitch joint (its feather_joint).\n";
       return 0;
     } else {
       std::cerr << "make_creature: unknown argument '" << a << "' (see --help)\n";
       return 2;
     }
   }
-  const std::string urdf = flapsim::makeCreatureUrdf(pairs, name);
+  const std::string urdf = flapsim::makeCreatureUrdf(pairs, name, params);
   if (output.empty()) {
     std::cout << urdf;
     return 0;
