@@ -63,8 +63,21 @@ std::vector<Scenario> scenarios() {
                  },
                  3});
   out.push_back(flapper("flap_unit", 1));
-  for (int n : {4, 6, 12}) out.push_back(flapper("chain_" + std::to_string(n), n));
+  for (int n : {4, 6, 12, 25}) out.push_back(flapper("chain_" + std::to_string(n), n));
   return out;
+}
+
+// Resident set size of this process, MB (Linux).
+double residentMb() {
+  FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0.0;
+  char line[256];
+  double kb = 0.0;
+  while (std::fgets(line, sizeof(line), f)) {
+    if (std::sscanf(line, "VmRSS: %lf kB", &kb) == 1) break;
+  }
+  std::fclose(f);
+  return kb / 1024.0;
 }
 
 double median(std::vector<double> v) {
@@ -74,8 +87,7 @@ double median(std::vector<double> v) {
 }
 
 // Steps per second of one run of `steps` steps.
-double timeRun(const Scenario& s, bool air, int steps) {
-  WorldParams p;
+double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldParams()) {
   p.air.enabled = air;
   World w(p);
   s.setup(w);
@@ -139,5 +151,59 @@ int main(int argc, char** argv) {
     first = false;
   }
   if (json) std::printf("\n]\n");
+  if (!only.empty()) return 0;
+
+  // Finer air grid: the flap unit with 8 x 8 cells per face instead of the default.
+  const Scenario unit = flapper("flap_unit", 1);
+  std::vector<double> fine, coarse;
+  for (int r = 0; r < runs; ++r) {
+    WorldParams p;
+    coarse.push_back(timeRun(unit, true, steps, p));
+    p.air.subdivisions_u = p.air.subdivisions_v = 8;
+    fine.push_back(timeRun(unit, true, steps, p));
+  }
+  std::printf("%sgrid: flap_unit step time x%.2f with 8x8 cells per face (vs %dx%d)\n",
+              json ? "# " : "", median(coarse) / median(fine), WorldParams().air.subdivisions_u,
+              WorldParams().air.subdivisions_v);
+
+  // A flock of 16 flap units in one world, on 1 and 2 threads.
+  CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "unit"));
+  auto flock = [&](int threads, flapsim::CreatureState* last) {
+    WorldParams p;
+    p.threads = threads;
+    World w(p);
+    for (int i = 0; i < 16; ++i) {
+      const std::string name = "u" + std::to_string(i);
+      w.spawn(name, model, Pose{Vec3(i % 4, i / 4, 50), Quat::Identity()});
+      w.setWingCommands(name, {}, {{30.0 + i, 10.0, 0.8}, {30.0 + i, 10.0, 0.8}});
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    w.step(steps);
+    const auto t1 = std::chrono::steady_clock::now();
+    if (last) *last = w.state("u15");
+    return steps / std::chrono::duration<double>(t1 - t0).count();
+  };
+  std::vector<double> one, two;
+  flapsim::CreatureState s1, s2;
+  for (int r = 0; r < runs; ++r) {
+    one.push_back(flock(1, &s1));
+    two.push_back(flock(2, &s2));
+  }
+  const bool same = s1.link_poses[0].position == s2.link_poses[0].position &&
+                    s1.joint_positions == s2.joint_positions;
+  std::printf("%sflock_16: %.0f steps/s on 1 thread, %.0f on 2 (x%.2f), results %s\n",
+              json ? "# " : "", median(one), median(two), median(two) / median(one),
+              same ? "identical" : "DIFFERENT");
+
+  // Memory: resident size before and after a 12-unit world ran.
+  const double before = residentMb();
+  {
+    WorldParams p;
+    World w(p);
+    flapper("chain_12", 12).setup(w);
+    w.step(steps);
+    std::printf("%smemory: process %.1f MB resident with a 12-unit world (%.1f MB before it)\n",
+                json ? "# " : "", residentMb(), before);
+  }
   return 0;
 }

@@ -184,6 +184,27 @@ TEST(Determinism, RemoveAndSpawnAgainUnderTheSameName) {
   EXPECT_EQ(w.creatureNames(), std::vector<std::string>{"p"});
 }
 
+TEST(Determinism, ThreadsAndNeighboursDoNotChangeATrajectory) {
+  auto unit = loadUrdf("flap_unit.urdf");
+  const StrokeCommand c{35, 10, 0.8};
+  auto run = [&](int threads, int creatures) {
+    WorldParams p = openSky();
+    p.threads = threads;
+    World w(p);
+    for (int i = 0; i < creatures; ++i) {
+      const std::string name = "u" + std::to_string(i);
+      w.spawn(name, unit, at(i, 0, 5, Quat(Eigen::AngleAxisd(0.02 * i, Vec3::UnitX()))));
+      w.setWingCommands(name, {}, {c, StrokeCommand{30.0 + i, 10, 0.8}});
+    }
+    w.step(1500);
+    return w.state("u0");
+  };
+  const CreatureState alone = run(1, 1);
+  EXPECT_TRUE(bitIdentical(alone, run(1, 5)));  // neighbours do not perturb it
+  EXPECT_TRUE(bitIdentical(alone, run(2, 5)));  // nor does stepping on two threads
+  EXPECT_TRUE(bitIdentical(alone, run(3, 5)));
+}
+
 // ---- bad input: an error naming the culprit, and a world that carries on untouched ----
 
 template <typename F>

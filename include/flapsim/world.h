@@ -21,6 +21,9 @@ struct WorldParams {
   double ground_friction = 0.8;
   AirParams air;
   int solver_iterations = 10;
+  /// Threads that step creatures in parallel (results do not depend on it). Creatures
+  /// live in Bullet worlds of their own: they touch the ground but not one another.
+  int threads = 1;
   double default_wing_effort = 5.0;  // N m, when a wing joint has no URDF effort limit
 };
 

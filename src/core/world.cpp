@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <thread>
 
 namespace flapsim {
 
@@ -96,8 +97,66 @@ struct CreatureRecord {
   std::vector<JointDrive> drives;  // per model joint
 };
 
+// A Bullet world of its own for each creature: creatures do not touch one another, so
+// they can be stepped in parallel, and adding one never perturbs another's trajectory.
+struct Scene {
+  explicit Scene(const WorldParams& params) {
+    btDefaultCollisionConstructionInfo info;
+    info.m_defaultMaxPersistentManifoldPoolSize = 64;  // small pools: many scenes
+    info.m_defaultMaxCollisionAlgorithmPoolSize = 64;
+    config = std::make_unique<btDefaultCollisionConfiguration>(info);
+    dispatcher = std::make_unique<btCollisionDispatcher>(config.get());
+    broadphase = std::make_unique<btDbvtBroadphase>();
+    // A direct (Dantzig) LCP solve of all joint motors and limits at once: sequential
+    // impulses would serve the first wing's motor before the second's and break the
+    // left/right symmetry of a flapping unit.
+    lcp = std::make_unique<btDantzigSolver>();
+    solver = std::make_unique<btMultiBodyMLCPConstraintSolver>(lcp.get());
+    world = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher.get(), broadphase.get(),
+                                                       solver.get(), config.get());
+    world->setGravity(toBt(params.gravity));
+    world->getSolverInfo().m_numIterations = params.solver_iterations;
+    world->getDispatchInfo().m_deterministicOverlappingPairs = true;
+    if (params.ground) {
+      // A large flat box rather than an infinite plane: its finite bounding box lets the
+      // broadphase skip all contact work while the creature is in the air.
+      const btScalar half = 1000.0, depth = 1.0;
+      ground_shape = std::make_unique<btBoxShape>(btVector3(half, half, depth));
+      ground = std::make_unique<btCollisionObject>();
+      ground->setCollisionShape(ground_shape.get());
+      ground->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, -depth)));
+      ground->setFriction(params.ground_friction);
+      world->addCollisionObject(ground.get());
+    }
+  }
+  ~Scene() {
+    if (ground) world->removeCollisionObject(ground.get());
+  }
+
+  std::unique_ptr<btDefaultCollisionConfiguration> config;
+  std::unique_ptr<btCollisionDispatcher> dispatcher;
+  std::unique_ptr<btBroadphaseInterface> broadphase;
+  std::unique_ptr<btDantzigSolver> lcp;
+  std::unique_ptr<btMultiBodyConstraintSolver> solver;
+  std::unique_ptr<btMultiBodyDynamicsWorld> world;
+  std::unique_ptr<btCollisionShape> ground_shape;
+  std::unique_ptr<btCollisionObject> ground;
+};
+
 // The Bullet side of a creature.
 struct CreatureBody {
+  ~CreatureBody() {
+    if (!scene) return;
+    btMultiBodyDynamicsWorld* world = scene->world.get();
+    for (auto& m : motors) {
+      if (m) world->removeMultiBodyConstraint(m.get());
+    }
+    for (auto& l : limits) world->removeMultiBodyConstraint(l.get());
+    for (auto& c : colliders) world->removeCollisionObject(c.get());
+    if (mb) world->removeMultiBody(mb.get());
+  }
+
+  std::unique_ptr<Scene> scene;  // declared first: destroyed last
   std::unique_ptr<btMultiBody> mb;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
@@ -121,6 +180,7 @@ std::string validateWorldParams(const WorldParams& p) {
     return "ground_friction must be >= 0";
   }
   if (p.solver_iterations < 1) return "solver_iterations must be >= 1";
+  if (p.threads < 1 || p.threads > 256) return "threads must be in 1..256";
   if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0) {
     return "default_wing_effort must be > 0";
   }
@@ -137,52 +197,18 @@ class World::Impl {
 
   // ---- Bullet world lifetime ---------------------------------------------------
   void build() {
-    config_ = std::make_unique<btDefaultCollisionConfiguration>();
-    dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
-    broadphase_ = std::make_unique<btDbvtBroadphase>();
-    // A direct (Dantzig) LCP solve of all joint motors and limits at once:
-    // sequential impulses would serve the first wing's motor before the
-    // second's and break the left/right symmetry of a flapping unit.
-    lcp_ = std::make_unique<btDantzigSolver>();
-    solver_ = std::make_unique<btMultiBodyMLCPConstraintSolver>(lcp_.get());
-    world_ = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher_.get(), broadphase_.get(),
-                                                        solver_.get(), config_.get());
-    world_->setGravity(toBt(params_.gravity));
-    world_->getSolverInfo().m_numIterations = params_.solver_iterations;
-    world_->getDispatchInfo().m_deterministicOverlappingPairs = true;
-    if (params_.ground) {
-      // A large flat box rather than an infinite plane: its finite bounding box lets the
-      // broadphase skip all contact work while a creature is in the air.
-      const btScalar half = 1000.0, depth = 1.0;
-      ground_shape_ = std::make_unique<btBoxShape>(btVector3(half, half, depth));
-      ground_ = std::make_unique<btCollisionObject>();
-      ground_->setCollisionShape(ground_shape_.get());
-      ground_->setWorldTransform(btTransform(btQuaternion::getIdentity(), btVector3(0, 0, -depth)));
-      ground_->setFriction(params_.ground_friction);
-      world_->addCollisionObject(ground_.get());
-    }
     bodies_.clear();
     for (const auto& r : records_) bodies_.push_back(makeBody(r));
     time_steps_ = 0;
   }
 
-  void teardown() {
-    for (auto& b : bodies_) removeBody(*b);
-    bodies_.clear();
-    if (ground_) world_->removeCollisionObject(ground_.get());
-    world_.reset();
-    ground_.reset();
-    ground_shape_.reset();
-    solver_.reset();
-    broadphase_.reset();
-    dispatcher_.reset();
-    config_.reset();
-    lcp_.reset();
-  }
+  void teardown() { bodies_.clear(); }
 
   std::unique_ptr<CreatureBody> makeBody(const CreatureRecord& r) {
     const CreatureModel& m = *r.model;
     auto body = std::make_unique<CreatureBody>();
+    body->scene = std::make_unique<Scene>(params_);
+    btMultiBodyDynamicsWorld* world = body->scene->world.get();
     const int n = static_cast<int>(m.links.size()) - 1;
     const LinkModel& root = m.links[0];
     body->mb = std::make_unique<btMultiBody>(n, root.mass, toBt(root.inertia), m.fixed_base, false);
@@ -223,7 +249,7 @@ class World::Impl {
     mb->setBaseWorldTransform(toBt(com_pose));
     mb->setBaseVel(toBt(r.twist.linear));
     mb->setBaseOmega(toBt(r.twist.angular));
-    world_->addMultiBody(mb);
+    world->addMultiBody(mb);
 
     body->world_to_local.resize(n + 1);
     body->local_origin.resize(n + 1);
@@ -260,8 +286,8 @@ class World::Impl {
         col->setActivationState(DISABLE_DEACTIVATION);
         btTransform tr(body->world_to_local[k].inverse(), body->local_origin[k]);
         col->setWorldTransform(tr);
-        world_->addCollisionObject(col.get(), btBroadphaseProxy::DefaultFilter,
-                                   btBroadphaseProxy::AllFilter);
+        world->addCollisionObject(col.get(), btBroadphaseProxy::DefaultFilter,
+                                  btBroadphaseProxy::AllFilter);
         if (k == 0) {
           mb->setBaseCollider(col.get());
         } else {
@@ -290,24 +316,15 @@ class World::Impl {
       const int link = j.child_link - 1;
       if (j.limited && j.lower < j.upper) {
         auto lim = std::make_unique<btMultiBodyJointLimitConstraint>(mb, link, j.lower, j.upper);
-        world_->addMultiBodyConstraint(lim.get());
+        world->addMultiBodyConstraint(lim.get());
         body->limits.push_back(std::move(lim));
       }
       auto motor = std::make_unique<JointMotor>(mb, link, 0.0, 0.0);
-      world_->addMultiBodyConstraint(motor.get());
+      world->addMultiBodyConstraint(motor.get());
       body->motors[ji] = std::move(motor);
       body->max_effort[ji] = j.effort > 0.0 ? j.effort : params_.default_wing_effort;
     }
     return body;
-  }
-
-  void removeBody(CreatureBody& b) {
-    for (auto& m : b.motors) {
-      if (m) world_->removeMultiBodyConstraint(m.get());
-    }
-    for (auto& l : b.limits) world_->removeMultiBodyConstraint(l.get());
-    for (auto& c : b.colliders) world_->removeCollisionObject(c.get());
-    world_->removeMultiBody(b.mb.get());
   }
 
   // ---- stepping ------------------------------------------------------------------
@@ -390,15 +407,32 @@ class World::Impl {
     }
   }
 
+  void stepOne(size_t i) {
+    applyDrives(records_[i], *bodies_[i]);
+    if (params_.air.enabled) applyAir(*bodies_[i]);
+    bodies_[i]->scene->world->stepSimulation(params_.step_size, 0, params_.step_size);
+  }
+
+  // Creatures are independent: each thread steps a contiguous share of them through all
+  // `steps`, so the result does not depend on the number of threads.
   void step(int steps) {
-    for (int s = 0; s < steps; ++s) {
-      for (size_t i = 0; i < records_.size(); ++i) {
-        applyDrives(records_[i], *bodies_[i]);
-        if (params_.air.enabled) applyAir(*bodies_[i]);
+    const size_t n = bodies_.size();
+    const size_t threads = std::min<size_t>(static_cast<size_t>(params_.threads), n);
+    auto run = [this, steps](size_t first, size_t last) {
+      for (int s = 0; s < steps; ++s) {
+        for (size_t i = first; i < last; ++i) stepOne(i);
       }
-      world_->stepSimulation(params_.step_size, 0, params_.step_size);
-      ++time_steps_;
+    };
+    if (threads <= 1 || static_cast<size_t>(steps) * n < 64) {
+      run(0, n);
+    } else {
+      std::vector<std::thread> pool;
+      for (size_t t = 1; t < threads; ++t)
+        pool.emplace_back(run, t * n / threads, (t + 1) * n / threads);
+      run(0, n / threads);
+      for (auto& th : pool) th.join();
     }
+    time_steps_ += static_cast<std::uint64_t>(steps);
   }
 
   // ---- lookups -------------------------------------------------------------------
@@ -423,15 +457,6 @@ class World::Impl {
   std::vector<CreatureRecord> records_;
   std::vector<std::unique_ptr<CreatureBody>> bodies_;
   std::uint64_t time_steps_ = 0;
-
-  std::unique_ptr<btDefaultCollisionConfiguration> config_;
-  std::unique_ptr<btCollisionDispatcher> dispatcher_;
-  std::unique_ptr<btBroadphaseInterface> broadphase_;
-  std::unique_ptr<btDantzigSolver> lcp_;
-  std::unique_ptr<btMultiBodyConstraintSolver> solver_;
-  std::unique_ptr<btMultiBodyDynamicsWorld> world_;
-  std::unique_ptr<btCollisionShape> ground_shape_;
-  std::unique_ptr<btCollisionObject> ground_;
 };
 
 // ---- World ---------------------------------------------------------------------------
@@ -471,7 +496,6 @@ void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& p
 
 void World::remove(const std::string& name) {
   size_t i = impl_->index(name);
-  impl_->removeBody(*impl_->bodies_[i]);
   impl_->bodies_.erase(impl_->bodies_.begin() + static_cast<long>(i));
   impl_->records_.erase(impl_->records_.begin() + static_cast<long>(i));
 }
