@@ -71,7 +71,7 @@ std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& c
 /// Force arrows: one per aero link from its centre of mass (namespace
 /// "<creature>"), and one per cell from its centre (namespace
 /// "<creature>/cells") if `params.per_cell` and the cells were recorded.
-/// Arrows shorter than 0.1 mm are left out.
+/// Arrows shorter than 1 micrometre are left out.
 std::vector<visualization_msgs::Marker> aeroMarkers(const std::string& creature,
                                                     const std::vector<flapsim::LinkAero>& aero,
                                                     const MarkerParams& params,

@@ -55,7 +55,7 @@ visualization_msgs::Marker arrow(const std::string& ns, int id, const flapsim::V
   return m;
 }
 
-constexpr double kMinArrow = 1e-4;  // m
+constexpr double kMinArrow = 1e-6;  // m: no zero-length arrows
 
 }  // namespace
 

@@ -1,0 +1,377 @@
+// Adapters of the simulator node, without a master: parameters -> structs
+// (including every kind of bad parameter) and structs <-> messages.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "flapsim/creature_model.h"
+#include "flapsim_ros/conversions.h"
+#include "flapsim_ros/params.h"
+
+namespace {
+
+using flapsim::Vec3;
+using flapsim_ros::ParamError;
+using XmlRpc::XmlRpcValue;
+
+std::string sourcePath(const std::string& relative) {
+  return std::string(FLAPSIM_SOURCE_DIR) + "/" + relative;
+}
+
+// YAML as the parameter server would hold it (rosparam's typing rules).
+XmlRpcValue toXmlRpc(const YAML::Node& n) {
+  XmlRpcValue v;
+  if (n.IsMap()) {
+    v.begin();  // make it a struct even if empty
+    for (const auto& kv : n) v[kv.first.as<std::string>()] = toXmlRpc(kv.second);
+  } else if (n.IsSequence()) {
+    v.setSize(static_cast<int>(n.size()));
+    for (size_t i = 0; i < n.size(); ++i) v[static_cast<int>(i)] = toXmlRpc(n[i]);
+  } else if (n.IsScalar()) {
+    const std::string s = n.Scalar();
+    bool b;
+    int i;
+    double d;
+    if (n.Tag() == "!") {
+      v = s;  // quoted: a string
+    } else if (YAML::convert<bool>::decode(n, b) && (s == "true" || s == "false")) {
+      v = b;
+    } else if (YAML::convert<int>::decode(n, i)) {
+      v = i;
+    } else if (YAML::convert<double>::decode(n, d)) {
+      v = d;
+    } else {
+      v = s;
+    }
+  }
+  return v;
+}
+
+XmlRpcValue yaml(const std::string& text) { return toXmlRpc(YAML::Load(text)); }
+
+// The message of the ParamError thrown by parsing `text`; "" if none.
+std::string paramError(const std::string& text) {
+  try {
+    flapsim_ros::parseNodeParams(yaml(text));
+  } catch (const ParamError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kCreature = "creatures: [{name: a, urdf_file: /x.urdf";
+
+// ---- parameters ------------------------------------------------------------------------
+
+TEST(Params, NothingSetGivesTheDefaults) {
+  flapsim_ros::NodeParams p = flapsim_ros::parseNodeParams(XmlRpcValue());
+  EXPECT_EQ(p.world.step_size, 0.001);
+  EXPECT_EQ(p.publish_rate, 100.0);
+  EXPECT_EQ(p.real_time_factor, 1.0);
+  EXPECT_FALSE(p.paused);
+  EXPECT_EQ(p.world_frame, "world");
+  EXPECT_EQ(p.world.air.density, 1.204);
+  EXPECT_TRUE(p.markers.enabled);
+  EXPECT_TRUE(p.creatures.empty());
+}
+
+TEST(Params, ShippedConfigParsesToItsNumbers) {
+  flapsim_ros::NodeParams p =
+      flapsim_ros::parseNodeParams(toXmlRpc(YAML::LoadFile(sourcePath("config/flapsim.yaml"))));
+  EXPECT_TRUE(p.unknown_keys.empty());
+  EXPECT_EQ(p.world.step_size, 0.001);
+  EXPECT_EQ(p.publish_rate, 100.0);
+  EXPECT_EQ(p.world.gravity, Vec3(0, 0, -9.81));
+  EXPECT_EQ(p.world.air.drag_coefficient, 1.15);
+  EXPECT_EQ(p.world.air.subdivisions_u, 4);
+  EXPECT_EQ(p.world.air.subdivisions_v, 4);
+  EXPECT_EQ(p.markers.scale, 0.5);
+  EXPECT_FALSE(p.markers.per_cell);
+}
+
+TEST(Params, OverridesReachTheStructs) {
+  flapsim_ros::NodeParams p = flapsim_ros::parseNodeParams(yaml(R"(
+step_size: 0.002
+publish_rate: 50            # an integer where a number is expected
+real_time_factor: 0
+paused: true
+world_frame: map
+ground: false
+air: {density: 1000, wind: [1, 2.5, -3], subdivisions: [2, 3], buoyancy: false}
+markers: {scale: 0.1, per_cell: true}
+something_else: 1
+creatures:
+  - name: plate_a
+    urdf_file: /tmp/plate.urdf
+    pose: {xyz: [1, 2, 3], rpy: [0, 0, 1.5707963267948966]}
+    twist: {linear: [0, 0, 1], angular: [0, 0, 150]}
+  - name: b
+    urdf_param: /robot_description
+    wing_command: {downstroke_rate: 40, upstroke_rate: 10, amplitude: 0.8}
+  - name: c
+    urdf_xml: "<robot name='c'/>"
+    wing_command: {downstroke_rate: [30, 31], upstroke_rate: [10, 11], amplitude: [0.8, 0.7]}
+)"));
+  EXPECT_EQ(p.world.step_size, 0.002);
+  EXPECT_EQ(p.publish_rate, 50.0);
+  EXPECT_EQ(p.real_time_factor, 0.0);
+  EXPECT_TRUE(p.paused);
+  EXPECT_EQ(p.world_frame, "map");
+  EXPECT_FALSE(p.world.ground);
+  EXPECT_EQ(p.world.air.density, 1000.0);
+  EXPECT_EQ(p.world.air.wind, Vec3(1, 2.5, -3));
+  EXPECT_EQ(p.world.air.subdivisions_u, 2);
+  EXPECT_EQ(p.world.air.subdivisions_v, 3);
+  EXPECT_FALSE(p.world.air.buoyancy);
+  EXPECT_EQ(p.markers.scale, 0.1);
+  EXPECT_TRUE(p.markers.per_cell);
+  ASSERT_EQ(p.unknown_keys, std::vector<std::string>{"something_else"});
+  ASSERT_EQ(p.creatures.size(), 3u);
+  const auto& a = p.creatures[0];
+  EXPECT_EQ(a.name, "plate_a");
+  EXPECT_EQ(a.urdf_file, "/tmp/plate.urdf");
+  EXPECT_EQ(a.pose.position, Vec3(1, 2, 3));
+  // yaw pi/2 about z: q = (cos(pi/4), 0, 0, sin(pi/4))
+  EXPECT_NEAR(a.pose.orientation.w(), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(a.pose.orientation.z(), std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(a.pose.orientation.x(), 0.0, 1e-15);
+  EXPECT_EQ(a.twist.linear, Vec3(0, 0, 1));
+  EXPECT_EQ(a.twist.angular, Vec3(0, 0, 150));
+  EXPECT_TRUE(a.wing_command.empty());
+  EXPECT_EQ(p.creatures[1].urdf_param, "/robot_description");
+  ASSERT_EQ(p.creatures[1].wing_command.size(), 1u);
+  EXPECT_EQ(p.creatures[1].wing_command[0].downstroke_rate, 40.0);
+  EXPECT_EQ(p.creatures[1].wing_command[0].upstroke_rate, 10.0);
+  EXPECT_EQ(p.creatures[1].wing_command[0].amplitude, 0.8);
+  EXPECT_EQ(p.creatures[2].urdf_xml, "<robot name='c'/>");
+  ASSERT_EQ(p.creatures[2].wing_command.size(), 2u);
+  EXPECT_EQ(p.creatures[2].wing_command[1].downstroke_rate, 31.0);
+  EXPECT_EQ(p.creatures[2].wing_command[1].amplitude, 0.7);
+}
+
+TEST(Params, BadParametersAreNamed) {
+  struct Case {
+    std::string yaml, expect;
+  };
+  const std::string c = kCreature;
+  const Case cases[] = {
+      {"publish_rate: -1", "'publish_rate'"},
+      {"publish_rate: 0", "'publish_rate'"},
+      {"real_time_factor: fast", "'real_time_factor': must be a number"},
+      {"real_time_factor: -0.5", "'real_time_factor'"},
+      {"paused: 1", "'paused': must be true or false"},
+      {"step_size: 0", "step_size"},
+      {"step_size: .nan", "'step_size': must be finite"},
+      {"gravity: [0, 0]", "'gravity': must have 3 numbers"},
+      {"gravity: [0, 0, x]", "'gravity[2]'"},
+      {"solver_iterations: 2.5", "'solver_iterations': must be an integer"},
+      {"air: {desnity: 1.2}", "'air/desnity': unknown parameter"},
+      {"air: {density: -1}", "air density"},
+      {"air: {subdivisions: [4]}", "'air/subdivisions'"},
+      {"air: {subdivisions: [4, 2.5]}", "'air/subdivisions'"},
+      {"air: 3", "'air': must be a dictionary"},
+      {"markers: {width: 0}", "'markers/width'"},
+      {"markers: {scale: -1}", "'markers/scale'"},
+      {"world_frame: ''", "'world_frame'"},
+      {"creatures: {name: a}", "'creatures': must be a list"},
+      {"creatures: [{urdf_file: /x.urdf}]", "'creatures[0]/name': missing"},
+      {"creatures: [{name: 'a b', urdf_file: /x.urdf}]",
+       "'creatures[0]/name': creature name 'a b'"},
+      {"creatures: [{name: 9a, urdf_file: /x.urdf}]", "must start with a letter"},
+      {"creatures: [{name: a}]", "creature 'a' needs exactly one of"},
+      {"creatures: [{name: a, urdf_file: /x.urdf, urdf_xml: '<robot/>'}]", "needs exactly one"},
+      {c + "}, {name: a, urdf_file: /y.urdf}]", "'creatures[1]/name': creature name 'a' is taken"},
+      {c + ", pose: {xyz: [1, 2]}}]", "'creatures[0]/pose/xyz': must have 3 numbers"},
+      {c + ", pose: {xyz: [1, 2, 3], ryp: [0, 0, 0]}}]", "'creatures[0]/pose/ryp': unknown"},
+      {c + ", twist: {angular: [0, 0, .inf]}}]", "'creatures[0]/twist/angular[2]': must be finite"},
+      {c + ", colour: red}]", "'creatures[0]/colour': unknown"},
+      {c + ", wing_command: {downstroke_rate: -1, upstroke_rate: 10, amplitude: 0.8}}]",
+       "'creatures[0]/wing_command': downstroke rate must be finite and >= 0"},
+      {c + ", wing_command: {downstroke_rate: [1, 2], upstroke_rate: [1], amplitude: [1, 1]}}]",
+       "'creatures[0]/wing_command': needs downstroke_rate, upstroke_rate and amplitude of equal"},
+      {c + ", wing_command: {downstroke_rate: 1, upstroke_rate: 1}}]",
+       "'creatures[0]/wing_command/amplitude': missing"},
+  };
+  for (const Case& k : cases) {
+    const std::string msg = paramError(k.yaml);
+    EXPECT_NE(msg.find(k.expect), std::string::npos)
+        << "yaml: " << k.yaml << "\nerror: '" << msg << "'\nexpected to contain: " << k.expect;
+  }
+}
+
+TEST(Params, CreatureNames) {
+  EXPECT_EQ(flapsim_ros::validateCreatureName("flap_unit"), "");
+  EXPECT_EQ(flapsim_ros::validateCreatureName("Plate10"), "");
+  EXPECT_NE(flapsim_ros::validateCreatureName(""), "");
+  EXPECT_NE(flapsim_ros::validateCreatureName("_x"), "");
+  EXPECT_NE(flapsim_ros::validateCreatureName("a/b"), "");
+  EXPECT_NE(flapsim_ros::validateCreatureName("a-b"), "");
+  EXPECT_NE(flapsim_ros::validateCreatureName("~a"), "");
+}
+
+// ---- conversions -----------------------------------------------------------------------
+
+TEST(Conversions, PoseAndTwistRoundTrip) {
+  flapsim::Pose p{Vec3(1.5, -2, 3.25), flapsim::Quat(0.5, 0.5, -0.5, 0.5)};
+  geometry_msgs::Pose m = flapsim_ros::toMsg(p);
+  EXPECT_EQ(m.position.x, 1.5);
+  EXPECT_EQ(m.orientation.w, 0.5);
+  EXPECT_EQ(m.orientation.y, -0.5);  // Eigen order: w, x, y, z
+  flapsim::Pose q = flapsim_ros::fromMsg(m);
+  EXPECT_EQ(q.position, p.position);
+  EXPECT_EQ(q.orientation.coeffs(), p.orientation.coeffs());
+
+  geometry_msgs::Pose zero;  // all-zero quaternion: identity
+  EXPECT_EQ(flapsim_ros::fromMsg(zero).orientation.coeffs(), flapsim::Quat::Identity().coeffs());
+
+  flapsim::Twist t{Vec3(1, 2, 3), Vec3(-4, 5, -6)};
+  flapsim::Twist u = flapsim_ros::fromMsg(flapsim_ros::toMsg(t));
+  EXPECT_EQ(u.linear, t.linear);
+  EXPECT_EQ(u.angular, t.angular);
+}
+
+TEST(Conversions, SimTimeIsExactInSteps) {
+  EXPECT_EQ(flapsim_ros::stepNanoseconds(0.001), 1000000u);
+  EXPECT_EQ(flapsim_ros::stepNanoseconds(0.0005), 500000u);
+  EXPECT_EQ(flapsim_ros::stepNanoseconds(1e-12), 1u);
+  ros::Time t = flapsim_ros::simTime(7, 1000000);
+  EXPECT_EQ(t.sec, 0u);
+  EXPECT_EQ(t.nsec, 7000000u);
+  // 10^7 steps of 1 ms = 10^4 s on the nanosecond
+  t = flapsim_ros::simTime(10000000, 1000000);
+  EXPECT_EQ(t.sec, 10000u);
+  EXPECT_EQ(t.nsec, 0u);
+}
+
+TEST(Conversions, WingCommandLengthsAreChecked) {
+  flapsim::WingCommand m;
+  m.downstroke_rate = {30, 40};
+  m.upstroke_rate = {10, 11};
+  m.amplitude = {0.8, 0.7};
+  flapsim_ros::WingCommandRequest r = flapsim_ros::fromMsg(m);
+  EXPECT_TRUE(r.joints.empty());
+  ASSERT_EQ(r.strokes.size(), 2u);
+  EXPECT_EQ(r.strokes[1].downstroke_rate, 40.0);
+  EXPECT_EQ(r.strokes[1].upstroke_rate, 11.0);
+  EXPECT_EQ(r.strokes[1].amplitude, 0.7);
+  flapsim::WingCommand back = flapsim_ros::toMsg(r);
+  EXPECT_EQ(back.downstroke_rate, m.downstroke_rate);
+  EXPECT_EQ(back.amplitude, m.amplitude);
+
+  flapsim::WingCommand bad = m;
+  bad.upstroke_rate = {10};
+  try {
+    flapsim_ros::fromMsg(bad);
+    ADD_FAILURE() << "mismatched arrays accepted";
+  } catch (const flapsim::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("upstroke_rate 1"), std::string::npos) << e.what();
+  }
+  bad = m;
+  bad.joint_names = {"unit0_wing_left_joint"};
+  try {
+    flapsim_ros::fromMsg(bad);
+    ADD_FAILURE() << "1 joint name for 2 strokes accepted";
+  } catch (const flapsim::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1 joint_names but 2 strokes"), std::string::npos)
+        << e.what();
+  }
+}
+
+flapsim::CreatureState stateOf(const flapsim::CreatureModel& m) {
+  flapsim::CreatureState s;
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    s.link_poses.push_back(flapsim::Pose{Vec3(0.1 * k, 0.2, 1.0 + k), flapsim::Quat::Identity()});
+    s.link_twists.emplace_back();
+  }
+  for (size_t j = 0; j < m.joints.size(); ++j) {
+    s.joint_positions.push_back(0.25 + j);
+    s.joint_velocities.push_back(-30.0 + j);
+  }
+  return s;
+}
+
+TEST(Conversions, JointStatesListMovableJointsInUrdfOrder) {
+  auto unit = flapsim::loadCreatureModel(sourcePath("urdf/flap_unit.urdf"));
+  const ros::Time stamp = flapsim_ros::simTime(20, 1000000);
+  sensor_msgs::JointState js = flapsim_ros::jointStateMsg(*unit, stateOf(*unit), stamp);
+  EXPECT_EQ(js.header.stamp, stamp);
+  ASSERT_EQ(js.name, (std::vector<std::string>{"unit0_wing_left_joint", "unit0_wing_right_joint"}));
+  const int left = unit->findJoint("unit0_wing_left_joint");
+  EXPECT_EQ(js.position[0], 0.25 + left);
+  EXPECT_EQ(js.velocity[0], -30.0 + left);
+
+  auto copter = flapsim::loadCreatureModel(sourcePath("urdf/bamboo_copter.urdf"));
+  EXPECT_TRUE(flapsim_ros::jointStateMsg(*copter, stateOf(*copter), stamp).name.empty());
+}
+
+TEST(Conversions, OdometryTwistIsInTheChildFrame) {
+  auto plate = flapsim::loadCreatureModel(sourcePath("urdf/plate.urdf"));
+  flapsim::CreatureState s = stateOf(*plate);
+  // yawed by +90 deg, moving along world +x, spinning about world +x
+  s.link_poses[0].orientation = flapsim::Quat(std::sqrt(0.5), 0, 0, std::sqrt(0.5));
+  s.link_twists[0] = flapsim::Twist{Vec3(2, 0, 0), Vec3(3, 0, 0)};
+  const ros::Time stamp = flapsim_ros::simTime(5, 1000000);
+  nav_msgs::Odometry o = flapsim_ros::odometryMsg("p1", *plate, s, stamp, "world");
+  EXPECT_EQ(o.header.frame_id, "world");
+  EXPECT_EQ(o.child_frame_id, "p1/plate");
+  EXPECT_EQ(o.header.stamp, stamp);
+  EXPECT_EQ(o.pose.pose.position.z, 1.0);
+  // world +x is body -y after a +90 deg yaw
+  EXPECT_NEAR(o.twist.twist.linear.x, 0.0, 1e-15);
+  EXPECT_NEAR(o.twist.twist.linear.y, -2.0, 1e-15);
+  EXPECT_NEAR(o.twist.twist.angular.y, -3.0, 1e-15);
+}
+
+TEST(Conversions, TransformsCoverEveryLink) {
+  auto unit = flapsim::loadCreatureModel(sourcePath("urdf/flap_unit.urdf"));
+  flapsim::CreatureState s = stateOf(*unit);
+  auto tf = flapsim_ros::linkTransforms("fu", *unit, s, ros::Time(1, 0), "world");
+  ASSERT_EQ(tf.size(), unit->links.size());
+  for (size_t k = 0; k < tf.size(); ++k) {
+    EXPECT_EQ(tf[k].header.frame_id, "world");
+    EXPECT_EQ(tf[k].child_frame_id, "fu/" + unit->links[k].name);
+    EXPECT_EQ(tf[k].transform.translation.x, 0.1 * k);
+    EXPECT_EQ(tf[k].transform.translation.z, 1.0 + k);
+    EXPECT_EQ(tf[k].transform.rotation.w, 1.0);
+  }
+  EXPECT_EQ(tf[0].child_frame_id, "fu/unit0_body");
+}
+
+TEST(Conversions, AeroMarkersAreScaledArrows) {
+  flapsim::LinkAero a;
+  a.link = 2;
+  a.com = Vec3(1, 2, 3);
+  a.wrench.force = Vec3(0, 0, 2);
+  a.cell_centres = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  a.cell_forces = {Vec3(0.1, 0, 0), Vec3(0, 0, 0), Vec3(0, -0.2, 0)};
+  flapsim_ros::MarkerParams mp;
+  mp.scale = 0.5;
+  mp.width = 0.01;
+  auto m = flapsim_ros::aeroMarkers("fu", {a}, mp, ros::Time(2, 0), "world");
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].ns, "fu");
+  EXPECT_EQ(m[0].id, 2);
+  EXPECT_EQ(m[0].type, visualization_msgs::Marker::ARROW);
+  EXPECT_EQ(m[0].header.frame_id, "world");
+  ASSERT_EQ(m[0].points.size(), 2u);
+  EXPECT_EQ(m[0].points[0].z, 3.0);
+  EXPECT_EQ(m[0].points[1].z, 4.0);  // 3 + 0.5 m/N * 2 N
+  EXPECT_EQ(m[0].scale.x, 0.01);
+
+  mp.per_cell = true;
+  m = flapsim_ros::aeroMarkers("fu", {a}, mp, ros::Time(2, 0), "world");
+  ASSERT_EQ(m.size(), 3u);  // the zero-force cell has no arrow
+  EXPECT_EQ(m[1].ns, "fu/cells");
+  EXPECT_EQ(m[1].points[1].x, 0.05);
+  EXPECT_EQ(m[2].points[0].x, 2.0);
+  EXPECT_EQ(m[2].points[1].y, -0.1);
+
+  a.wrench.force = Vec3::Zero();
+  mp.per_cell = false;
+  EXPECT_TRUE(flapsim_ros::aeroMarkers("fu", {a}, mp, ros::Time(2, 0), "world").empty());
+}
+
+}  // namespace

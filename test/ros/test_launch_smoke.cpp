@@ -1,0 +1,123 @@
+// A launch file starts and its creatures do what the scenario says. The
+// launch file is included paused; this test connects, has the t = 0 state
+// published (flapsim/step 0), steps `~duration` of sim time, checks each
+// creature's displacement against `~checks` (list of {topic, min_dz, max_dz,
+// min_dxy, max_dxy}, all optional), and checks that unpausing runs the sim.
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <std_srvs/Empty.h>
+
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "flapsim/Step.h"
+
+namespace {
+
+double member(XmlRpc::XmlRpcValue& v, const std::string& key, double def) {
+  if (!v.hasMember(key)) return def;
+  XmlRpc::XmlRpcValue& x = v[key];
+  return x.getType() == XmlRpc::XmlRpcValue::TypeInt ? static_cast<int>(x) : static_cast<double>(x);
+}
+
+TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
+  ros::NodeHandle nh, pnh("~");
+  std::vector<std::string> topics;
+  ASSERT_TRUE(pnh.getParam("odom_topics", topics));
+  double duration = 1.0;
+  pnh.getParam("duration", duration);
+
+  std::map<std::string, nav_msgs::Odometry> first, last;
+  std::vector<ros::Subscriber> subs;
+  for (const std::string& t : topics) {
+    subs.push_back(
+        nh.subscribe<nav_msgs::Odometry>(t, 1000, [&, t](const nav_msgs::Odometry::ConstPtr& m) {
+          if (!first.count(t)) first[t] = *m;
+          last[t] = *m;
+        }));
+  }
+  ASSERT_TRUE(ros::service::waitForService("/flapsim/step", ros::Duration(60)));
+  auto wait = [](const std::function<bool()>& done, double timeout) {
+    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
+    while (ros::ok() && !done() && ros::WallTime::now() < deadline) {
+      ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
+    }
+    return done();
+  };
+  ASSERT_TRUE(wait(
+      [&] {
+        for (const auto& s : subs) {
+          if (s.getNumPublishers() == 0) return false;
+        }
+        return true;
+      },
+      30.0))
+      << "odom topics did not connect";
+
+  // t = 0: the spawn poses
+  flapsim::Step step;
+  step.request.steps = 0;
+  ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+  ASSERT_TRUE(step.response.success) << step.response.status_message << " (launch it paused)";
+  EXPECT_EQ(step.response.sim_time, ros::Time(0));
+  ASSERT_TRUE(wait([&] { return first.size() == topics.size(); }, 10.0));
+  for (const auto& kv : first) EXPECT_EQ(kv.second.header.stamp, ros::Time(0)) << kv.first;
+
+  // `duration` of sim time in one step request: exact, whatever the machine's speed
+  double step_size = 0.001;
+  nh.getParam("/flapsim/step_size", step_size);
+  step.request.steps = static_cast<std::uint32_t>(std::llround(duration / step_size));
+  ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+  ASSERT_TRUE(step.response.success) << step.response.status_message;
+  const ros::Time end = step.response.sim_time;
+  EXPECT_NEAR(end.toSec(), duration, 1e-9);
+  ASSERT_TRUE(wait(
+      [&] {
+        for (const std::string& t : topics) {
+          if (!last.count(t) || last[t].header.stamp != end) return false;
+        }
+        return true;
+      },
+      30.0))
+      << "no odom at " << end;
+  std::map<std::string, nav_msgs::Odometry> at_end = last;
+
+  // and it runs by itself when unpaused
+  std_srvs::Empty e;
+  ASSERT_TRUE(ros::service::call("/flapsim/unpause", e));
+  EXPECT_TRUE(wait([&] { return last[topics[0]].header.stamp > end; }, 30.0))
+      << "no progress after flapsim/unpause";
+  ros::service::call("/flapsim/pause", e);
+
+  XmlRpc::XmlRpcValue checks;
+  if (!pnh.getParam("checks", checks)) return;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < checks.size(); ++i) {
+    const std::string t = checks[i]["topic"];
+    ASSERT_TRUE(at_end.count(t)) << t << " is not in odom_topics";
+    const auto& p0 = first[t].pose.pose.position;
+    const auto& p1 = at_end[t].pose.pose.position;
+    const double dz = p1.z - p0.z;
+    const double dxy = std::hypot(p1.x - p0.x, p1.y - p0.y);
+    RecordProperty(t + "_dz", std::to_string(dz));
+    RecordProperty(t + "_dxy", std::to_string(dxy));
+    EXPECT_GE(dz, member(checks[i], "min_dz", -inf)) << t;
+    EXPECT_LE(dz, member(checks[i], "max_dz", inf)) << t;
+    EXPECT_GE(dxy, member(checks[i], "min_dxy", -inf)) << t;
+    EXPECT_LE(dxy, member(checks[i], "max_dxy", inf)) << t;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_launch_smoke");
+  return RUN_ALL_TESTS();
+}
