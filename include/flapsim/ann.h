@@ -56,9 +56,9 @@ struct FlapControllerParams {
   int hidden = 2;
   Activation hidden_activation = Activation::kTanh;
   double min_downstroke_rate = 20.0;  // rad/s
-  double max_downstroke_rate = 70.0;  // rad/s
+  double max_downstroke_rate = 60.0;  // rad/s
   double upstroke_rate = 10.0;        // rad/s
-  double amplitude = 0.8;             // rad
+  double amplitude = 1.2;             // rad (wide strokes roll the unit less, see README)
   double control_period = 0.02;       // s between network updates
 };
 

@@ -43,8 +43,8 @@ struct GaParams {
   double mutation_rate = 0.05;  // probability that a gene is mutated
   double mutation_sigma = 0.1;  // std. dev. of a mutation, as a fraction of the gene range
   double blend_alpha = 0.5;     // BLX-alpha crossover
-  double gene_min = -5.0;       // initial range and bounds of every gene
-  double gene_max = 5.0;
+  double gene_min = -10.0;      // initial range and bounds of every gene
+  double gene_max = 10.0;
   std::uint64_t seed = 1;
   int threads = 1;  // fitness evaluations in parallel; results do not depend on it
   // A child that is an unchanged copy of a parent (no crossover, no

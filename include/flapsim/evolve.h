@@ -1,0 +1,138 @@
+// Evolution of the flap-unit balance controller: the flight episode and its
+// fitness (headless, in process, on a World), the GA run, and the files an
+// evolution writes (weights YAML, CSVs, a gnuplot script). ROS-free; no clock.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "flapsim/ann.h"
+#include "flapsim/creature_model.h"
+#include "flapsim/ga.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+
+/// One flight. The creature starts at rest, its root body at
+/// (0, 0, start_height), rolled and pitched by the episode's start angles;
+/// every control period the controller reads the unit bodies' orientations
+/// and sets the wing strokes, the world advances one control period, and the
+/// root body's height z is sampled. Samples are taken at t = P, 2P, ..., T
+/// (P = control period, T = duration).
+///
+/// Fitness ("accumulated height") = the mean of those samples, in metres,
+/// averaged over the episodes of an evaluation. A creature that climbs
+/// scores high; one that tumbles and falls to the ground (z = 0, on by
+/// default) scores about its resting height.
+struct EpisodeParams {
+  double duration = 30.0;     // s
+  double start_height = 1.0;  // m, root body
+  // Perturbation of the start attitude: |roll| uniform in [min_roll,
+  // max_roll] with the sign alternating between episodes (+, -, +, ...),
+  // pitch uniform in [-max_pitch, max_pitch]. A perfectly level start is
+  // unrealistically easy: with no perturbation a symmetric creature under a
+  // symmetric stroke never rolls.
+  double min_roll = 0.035;  // rad (2 deg)
+  double max_roll = 0.087;  // rad (5 deg)
+  double max_pitch = 0.035;
+  int episodes = 4;        // per fitness evaluation
+  std::uint64_t seed = 1;  // draws the start attitudes
+  WorldParams world;       // ground on at z = 0 by default
+};
+
+/// Empty if valid, else a message naming the bad field.
+std::string validateEpisodeParams(const EpisodeParams& params);
+
+struct EpisodeStart {
+  double roll = 0.0;   // rad about body x; > 0 = right wing low
+  double pitch = 0.0;  // rad about body y; > 0 = nose down
+};
+
+/// The `episodes` start attitudes drawn from `params.seed` (deterministic).
+std::vector<EpisodeStart> episodeStarts(const EpisodeParams& params);
+
+struct EpisodeSample {
+  double time = 0.0;
+  double height = 0.0;             // root body z
+  double upright = 0.0;            // root body z axis . world z (1 = level)
+  std::vector<double> downstroke;  // commanded rates, FlapUnitLayout wing order
+};
+
+struct EpisodeResult {
+  double fitness = 0.0;       // mean sampled height
+  double final_height = 0.0;  // at t = T
+  double max_height = 0.0;
+  double min_upright = 1.0;  // over all samples
+  double final_upright = 1.0;
+  std::vector<EpisodeSample> trace;  // one per sample if asked for
+};
+
+/// Runs one episode of `model` (a chain of flap units, see FlapUnitLayout)
+/// under `controller`, updated every `control_period` seconds (a positive
+/// multiple of the world step, InputError otherwise).
+EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& controller,
+                         double control_period, const EpisodeParams& params,
+                         const EpisodeStart& start, bool record_trace = false);
+
+/// Fitness of network weights: mean of runEpisode() fitness over
+/// episodeStarts(params). Deterministic.
+double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& controller,
+                   const std::vector<double>& weights, const EpisodeParams& params);
+
+/// Everything an evolution needs.
+struct EvolveParams {
+  int pairs = 1;  // the creature: makeCreatureUrdf(pairs)
+  GaParams ga;
+  FlapControllerParams controller;
+  EpisodeParams episode;  // episode.seed is set from ga.seed by evolveFlapController
+};
+
+struct EvolveResult {
+  std::vector<GenerationStats> history;
+  std::vector<double> best_weights;
+  double best_fitness = 0.0;
+};
+
+/// Runs the GA on the flap-unit network of a `pairs`-unit creature; the
+/// fitness is flapFitness with episode.seed = mixSeed(ga.seed, 0xE915) (the
+/// same start attitudes for every individual of the run, so the fitness is a
+/// function of the weights alone). Calls `on_generation` after each
+/// generation.
+EvolveResult evolveFlapController(
+    const EvolveParams& params,
+    const std::function<void(const GenerationStats&)>& on_generation = {});
+
+/// The episode start-attitude seed used by evolveFlapController for `ga_seed`.
+std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed);
+
+// ---- Files ---------------------------------------------------------------------------------
+
+/// A controller as stored in a weights YAML file.
+struct ControllerSpec {
+  FlapControllerParams params;
+  std::vector<double> weights;
+};
+
+/// YAML text of a controller (key `flap_unit_controller`), preceded by the
+/// `header` lines as comments and followed by `metadata` (key `evolution`).
+std::string controllerToYaml(const ControllerSpec& spec, const std::string& header = "",
+                             const std::map<std::string, std::string>& metadata = {});
+/// Parses controllerToYaml() output; checks the weight count. Throws
+/// std::runtime_error naming `source` and the bad key.
+ControllerSpec controllerFromYaml(const std::string& text, const std::string& source = "<string>");
+ControllerSpec loadControllerYaml(const std::string& path);
+/// Throws std::runtime_error if the file cannot be written.
+void writeTextFile(const std::string& path, const std::string& text);
+
+/// CSV: generation,best,mean,worst.
+std::string fitnessCsv(const std::vector<GenerationStats>& history);
+/// CSV: time,height,upright,left_downstroke,right_downstroke (of unit `unit`).
+std::string ratesCsv(const std::vector<EpisodeSample>& trace, int unit = 0);
+/// gnuplot commands drawing fitness.png (paper Fig. 8) and rates.png (Fig. 7)
+/// into `out_dir` from the two CSVs there (fitness.csv, rates.csv).
+std::string gnuplotScript(const std::string& out_dir, double rates_window = 5.0);
+
+}  // namespace flapsim

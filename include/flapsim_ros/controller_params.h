@@ -1,0 +1,73 @@
+// Parameters of the controller nodes (stroke_controller, ann_controller),
+// read in one place into plain structs, and the messages they publish. Pure
+// functions of XmlRpc values: testable without a master.
+#pragma once
+
+#include <xmlrpcpp/XmlRpcValue.h>
+
+#include <string>
+#include <vector>
+
+#include "flapsim/WingCommand.h"
+#include "flapsim/ann.h"
+#include "flapsim/stroke.h"
+#include "flapsim_ros/params.h"  // ParamError
+
+namespace flapsim_ros {
+
+/// stroke_controller: an open-loop stroke per wing pair.
+struct StrokeControllerParams {
+  std::string creature;  // topic <creature>/wing_command
+  int pairs = 1;
+  double rate = 10.0;          // Hz (sim time) of re-publication
+  double reread_period = 0.5;  // s (wall) between re-reads of the parameters
+  // One entry per wing pair (left and right wing get the same stroke).
+  std::vector<flapsim::StrokeCommand> strokes;
+};
+
+/// Private namespace of stroke_controller. Keys (all optional):
+///   creature (default `default_creature`), pairs (1), rate (10),
+///   reread_period (0.5), downstroke_rate (40), upstroke_rate (10),
+///   amplitude (0.8): each of the last three a number (every pair) or a list
+///   with one number per pair. Throws ParamError naming the bad key.
+StrokeControllerParams parseStrokeControllerParams(const XmlRpc::XmlRpcValue& ns,
+                                                   const std::string& default_creature);
+
+/// The message: all wing joints in URDF order (joint_names empty), two
+/// entries (left, right) per pair.
+flapsim::WingCommand strokeCommandMsg(const std::vector<flapsim::StrokeCommand>& strokes);
+
+/// ann_controller: the evolved network on every unit of a creature.
+struct AnnControllerParams {
+  std::string creature;      // tf frames <creature>/unit<k>_body, topic <creature>/wing_command
+  std::string weights_file;  // YAML written by `evolve` (required)
+  int pairs = 1;
+  std::string world_frame = "world";
+  double rate = 0.0;  // Hz (sim time); 0: 1 / control_period of the weights file
+  // Lockstep (tests, exact replays): the node drives a paused flapsim_node
+  // itself: read the unit bodies at t, publish, call step for one control
+  // period, repeat until lockstep_duration (0: forever).
+  bool lockstep = false;
+  double lockstep_duration = 0.0;        // s of sim time
+  bool lockstep_wait_for_start = false;  // wait for a call of ~start before stepping
+  std::string step_service = "/flapsim/step";
+  double step_size = 0.001;    // s, the simulator's (for steps per control period)
+  double wait_timeout = 30.0;  // s (wall) for connections and transforms in lockstep
+};
+
+/// Private namespace of ann_controller. Keys: weights (required), creature,
+/// pairs, world_frame, rate, lockstep, lockstep_duration,
+/// lockstep_wait_for_start, step_service, step_size, wait_timeout.
+/// Throws ParamError naming the bad key.
+AnnControllerParams parseAnnControllerParams(const XmlRpc::XmlRpcValue& ns,
+                                             const std::string& default_creature);
+
+/// The message for one set of strokes in FlapUnitLayout order (joint names
+/// given, so only the unit wings are driven).
+flapsim::WingCommand annCommandMsg(const flapsim::FlapUnitLayout& layout,
+                                   const std::vector<flapsim::StrokeCommand>& strokes);
+
+/// The last component of a namespace ("/flock/afc3" -> "afc3"), "" for "/".
+std::string namespaceBasename(const std::string& ns);
+
+}  // namespace flapsim_ros

@@ -1,0 +1,119 @@
+// Parameters and messages of the controller nodes, without a master.
+#include <gtest/gtest.h>
+
+#include "flapsim_ros/controller_params.h"
+
+namespace flapsim_ros {
+namespace {
+
+XmlRpc::XmlRpcValue yamlish(std::initializer_list<std::pair<std::string, XmlRpc::XmlRpcValue>> kv) {
+  XmlRpc::XmlRpcValue v;
+  v.begin();  // make it a struct even when empty
+  for (const auto& [k, x] : kv) v[k] = x;
+  return v;
+}
+
+XmlRpc::XmlRpcValue list(std::initializer_list<double> xs) {
+  XmlRpc::XmlRpcValue v;
+  v.setSize(static_cast<int>(xs.size()));
+  int i = 0;
+  for (double x : xs) v[i++] = x;
+  return v;
+}
+
+TEST(StrokeControllerParams, DefaultsNumbersAndPerPairLists) {
+  XmlRpc::XmlRpcValue empty;
+  const StrokeControllerParams d = parseStrokeControllerParams(empty, "flap_unit");
+  EXPECT_EQ(d.creature, "flap_unit");
+  ASSERT_EQ(d.strokes.size(), 1u);
+  EXPECT_EQ(d.strokes[0].downstroke_rate, 40.0);
+  EXPECT_EQ(d.strokes[0].upstroke_rate, 10.0);
+  EXPECT_EQ(d.strokes[0].amplitude, 0.8);
+
+  const StrokeControllerParams p =
+      parseStrokeControllerParams(yamlish({{"creature", XmlRpc::XmlRpcValue("afc")},
+                                           {"pairs", XmlRpc::XmlRpcValue(3)},
+                                           {"downstroke_rate", list({30, 35, 40})},
+                                           {"upstroke_rate", XmlRpc::XmlRpcValue(12)},
+                                           {"amplitude", XmlRpc::XmlRpcValue(1.1)}}),
+                                  "ignored");
+  EXPECT_EQ(p.creature, "afc");
+  ASSERT_EQ(p.strokes.size(), 3u);
+  EXPECT_EQ(p.strokes[1].downstroke_rate, 35.0);
+  EXPECT_EQ(p.strokes[2].upstroke_rate, 12.0);
+  EXPECT_EQ(p.strokes[0].amplitude, 1.1);
+
+  const flapsim::WingCommand msg = strokeCommandMsg(p.strokes);
+  EXPECT_TRUE(msg.joint_names.empty());  // all wings in URDF order: left, right per pair
+  ASSERT_EQ(msg.downstroke_rate.size(), 6u);
+  EXPECT_EQ(msg.downstroke_rate[2], 35.0);
+  EXPECT_EQ(msg.downstroke_rate[3], 35.0);
+  EXPECT_EQ(msg.upstroke_rate.size(), 6u);
+  EXPECT_EQ(msg.amplitude.size(), 6u);
+}
+
+TEST(StrokeControllerParams, BadValuesNameTheirKey) {
+  auto message = [](const XmlRpc::XmlRpcValue& v) {
+    try {
+      parseStrokeControllerParams(v, "c");
+    } catch (const ParamError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(
+      message(yamlish({{"pairs", XmlRpc::XmlRpcValue(2)}, {"downstroke_rate", list({30, 35, 40})}}))
+          .find("downstroke_rate"),
+      std::string::npos);
+  EXPECT_NE(message(yamlish({{"upstroke_rate", XmlRpc::XmlRpcValue(-1.0)}})).find("upstroke"),
+            std::string::npos);
+  EXPECT_NE(message(yamlish({{"amplitude", XmlRpc::XmlRpcValue("wide")}})).find("amplitude"),
+            std::string::npos);
+  EXPECT_NE(message(yamlish({{"pairs", XmlRpc::XmlRpcValue(0)}})).find("pairs"), std::string::npos);
+  EXPECT_NE(message(yamlish({{"creature", XmlRpc::XmlRpcValue("bad name")}})).find("creature"),
+            std::string::npos);
+  EXPECT_NE(message(yamlish({{"rate", XmlRpc::XmlRpcValue(0.0)}})).find("rate"), std::string::npos);
+}
+
+TEST(AnnControllerParams, RequiresWeightsAndReadsLockstep) {
+  EXPECT_THROW(parseAnnControllerParams(XmlRpc::XmlRpcValue(), "afc"), ParamError);
+  const AnnControllerParams p =
+      parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("/tmp/w.yaml")},
+                                        {"pairs", XmlRpc::XmlRpcValue(4)},
+                                        {"lockstep", XmlRpc::XmlRpcValue(true)},
+                                        {"lockstep_duration", XmlRpc::XmlRpcValue(2.5)}}),
+                               "afc");
+  EXPECT_EQ(p.creature, "afc");
+  EXPECT_EQ(p.weights_file, "/tmp/w.yaml");
+  EXPECT_EQ(p.pairs, 4);
+  EXPECT_TRUE(p.lockstep);
+  EXPECT_EQ(p.lockstep_duration, 2.5);
+  EXPECT_EQ(p.step_service, "/flapsim/step");
+  EXPECT_EQ(p.rate, 0.0);  // from the weights file
+  EXPECT_THROW(parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w")},
+                                                 {"lockstep", XmlRpc::XmlRpcValue(1)}}),
+                                        "afc"),
+               ParamError);
+  EXPECT_THROW(parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w")}}), ""),
+               ParamError);  // no creature: neither a parameter nor a namespace
+}
+
+TEST(AnnControllerParams, MessageNamesTheUnitWings) {
+  const flapsim::FlapUnitLayout layout = flapsim::flapUnitLayout(2);
+  std::vector<flapsim::StrokeCommand> strokes(4, flapsim::StrokeCommand{30, 10, 1.2});
+  strokes[3].downstroke_rate = 55;
+  const flapsim::WingCommand msg = annCommandMsg(layout, strokes);
+  ASSERT_EQ(msg.joint_names.size(), 4u);
+  EXPECT_EQ(msg.joint_names[3], "unit1_wing_right_joint");
+  EXPECT_EQ(msg.downstroke_rate[3], 55.0);
+  EXPECT_EQ(msg.amplitude[0], 1.2);
+}
+
+TEST(NamespaceBasename, LastComponent) {
+  EXPECT_EQ(namespaceBasename("/flock/afc3"), "afc3");
+  EXPECT_EQ(namespaceBasename("/afc/"), "afc");
+  EXPECT_EQ(namespaceBasename("/"), "");
+}
+
+}  // namespace
+}  // namespace flapsim_ros

@@ -1,0 +1,175 @@
+// The feed-forward net and the paper's per-wing-pair controller.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "flapsim/ann.h"
+#include "flapsim/evolve.h"
+#include "flapsim/make_creature.h"
+
+namespace flapsim {
+namespace {
+
+// Hidden: h0 = tanh(x0), h1 = tanh(2 x1 + 0.5); outputs: sigmoid(h0 - h1),
+// sigmoid(0.5 h0 + 0.5 h1 - 1). Layout: per neuron, input weights then bias.
+const std::vector<double> kWeights = {1, 0, 0, 0, 2, 0.5, 1, -1, 0, 0.5, 0.5, -1};
+
+TEST(FeedForwardNet, KnownWeightsGiveKnownOutputs) {
+  FeedForwardNet net({2, 2, 2}, Activation::kTanh, Activation::kSigmoid);
+  EXPECT_EQ(net.parameterCount(), 12);
+  net.setParameters(kWeights);
+  const std::vector<double> y = net.evaluate({0.3, -0.2});
+  ASSERT_EQ(y.size(), 2u);
+  // Computed by hand (Python math): h0 = tanh(0.3), h1 = tanh(0.1).
+  EXPECT_NEAR(y[0], 0.5477650523180715, 1e-15);
+  EXPECT_NEAR(y[1], 0.30906167845270577, 1e-15);
+
+  FeedForwardNet linear({1, 1}, Activation::kLinear, Activation::kLinear);
+  linear.setParameters({-2.5, 0.75});
+  EXPECT_DOUBLE_EQ(linear.evaluate({2.0})[0], -4.25);
+}
+
+TEST(FeedForwardNet, DeeperNetsCountAndChainTheirLayers) {
+  EXPECT_EQ(FeedForwardNet::parameterCount({3, 4, 5, 1}), 4 * 4 + 5 * 5 + 1 * 6);
+  FeedForwardNet net({1, 1, 1, 1}, Activation::kLinear, Activation::kLinear);
+  net.setParameters({2, 1, 3, 0, -1, 4});  // ((2x + 1) * 3) * -1 + 4
+  EXPECT_DOUBLE_EQ(net.evaluate({1.0})[0], -5.0);
+}
+
+TEST(FeedForwardNet, BadShapesAndValuesAreRefused) {
+  EXPECT_THROW(FeedForwardNet({2}, Activation::kTanh, Activation::kTanh), std::invalid_argument);
+  EXPECT_THROW(FeedForwardNet({2, 0, 1}, Activation::kTanh, Activation::kTanh),
+               std::invalid_argument);
+  FeedForwardNet net({2, 2, 2}, Activation::kTanh, Activation::kSigmoid);
+  EXPECT_THROW(net.setParameters(std::vector<double>(11, 0.0)), std::invalid_argument);
+  std::vector<double> nan(12, 0.0);
+  nan[3] = std::nan("");
+  EXPECT_THROW(net.setParameters(nan), std::invalid_argument);
+  EXPECT_THROW(net.evaluate({1.0}), std::invalid_argument);
+  EXPECT_THROW(activationFromString("relu"), std::invalid_argument);
+  EXPECT_EQ(activationFromString(toString(Activation::kSigmoid)), Activation::kSigmoid);
+}
+
+TEST(FlapInputs, AreTheVerticalComponentsOfForwardAndWingAxes) {
+  const std::vector<double> level = flapInputs(Quat::Identity());
+  EXPECT_DOUBLE_EQ(level[0], 0.0);
+  EXPECT_DOUBLE_EQ(level[1], 0.0);
+  // Rolled right by 0.2 rad (about +x): the left wing axis (+y) rises.
+  const std::vector<double> right = flapInputs(Quat(Eigen::AngleAxisd(0.2, Vec3::UnitX())));
+  EXPECT_NEAR(right[0], 0.0, 1e-15);
+  EXPECT_NEAR(right[1], std::sin(0.2), 1e-15);
+  // Nose up by 0.3 rad (about -y): the forward axis rises.
+  const std::vector<double> up = flapInputs(Quat(Eigen::AngleAxisd(-0.3, Vec3::UnitY())));
+  EXPECT_NEAR(up[0], std::sin(0.3), 1e-15);
+  EXPECT_NEAR(up[1], 0.0, 1e-15);
+  // Yaw changes nothing.
+  const std::vector<double> yawed = flapInputs(Quat(Eigen::AngleAxisd(1.0, Vec3::UnitZ())) *
+                                               Quat(Eigen::AngleAxisd(0.2, Vec3::UnitX())));
+  EXPECT_NEAR(yawed[1], std::sin(0.2), 1e-15);
+}
+
+TEST(FlapUnitController, MapsOutputsIntoTheRateRangeRightFirst) {
+  FlapControllerParams p;
+  p.min_downstroke_rate = 20.0;
+  p.max_downstroke_rate = 70.0;
+  p.upstroke_rate = 12.0;
+  p.amplitude = 0.7;
+  const FlapUnitController c(p, kWeights);
+  const std::vector<double> r = c.rates({0.3, -0.2});
+  EXPECT_NEAR(r[0], 47.388252615903575, 1e-12);  // 20 + 50 * 0.54776...
+  EXPECT_NEAR(r[1], 35.45308392263529, 1e-12);
+
+  // All-zero weights: both sigmoids at 0.5, the middle of the range, any attitude.
+  const FlapUnitController zero(p, std::vector<double>(12, 0.0));
+  const WingPairCommand cmd = zero.command(Quat(Eigen::AngleAxisd(0.4, Vec3::UnitX())));
+  EXPECT_DOUBLE_EQ(cmd.left.downstroke_rate, 45.0);
+  EXPECT_DOUBLE_EQ(cmd.right.downstroke_rate, 45.0);
+  EXPECT_DOUBLE_EQ(cmd.left.upstroke_rate, 12.0);
+  EXPECT_DOUBLE_EQ(cmd.right.amplitude, 0.7);
+  EXPECT_EQ(FlapUnitController::weightCount(p), 12);
+  p.hidden = 3;
+  EXPECT_EQ(FlapUnitController::weightCount(p), 3 * 3 + 2 * 4);
+}
+
+TEST(FlapUnitController, ARollCorrectingNetStrokesTheLowWingHarder) {
+  // Hidden h0 = tanh(5 wing_up); right = sigmoid(4 h0), left = sigmoid(-4 h0).
+  const std::vector<double> w = {0, 5, 0, 0, 0, 0, 4, 0, 0, -4, 0, 0};
+  const FlapUnitController c(FlapControllerParams(), w);
+  const WingPairCommand rolled_right = c.command(Quat(Eigen::AngleAxisd(0.1, Vec3::UnitX())));
+  EXPECT_GT(rolled_right.right.downstroke_rate, rolled_right.left.downstroke_rate + 20.0);
+  const WingPairCommand rolled_left = c.command(Quat(Eigen::AngleAxisd(-0.1, Vec3::UnitX())));
+  EXPECT_GT(rolled_left.left.downstroke_rate, rolled_left.right.downstroke_rate + 20.0);
+  const WingPairCommand level = c.command(Quat::Identity());
+  EXPECT_DOUBLE_EQ(level.left.downstroke_rate, level.right.downstroke_rate);
+}
+
+TEST(FlapUnitController, BadParamsAreRefused) {
+  FlapControllerParams p;
+  p.max_downstroke_rate = p.min_downstroke_rate - 1.0;
+  EXPECT_THROW(FlapUnitController(p, kWeights), std::invalid_argument);
+  p = FlapControllerParams();
+  p.amplitude = 0.0;
+  EXPECT_FALSE(validateFlapControllerParams(p).empty());
+  EXPECT_THROW(FlapUnitController(FlapControllerParams(), {1.0, 2.0}), std::invalid_argument);
+}
+
+TEST(WingControllers, OneNetPerUnitInLayoutOrder) {
+  const FlapUnitController c(FlapControllerParams(), {0, 5, 0, 0, 0, 0, 4, 0, 0, -4, 0, 0});
+  const AnnWingController ann(c);
+  const std::vector<Quat> bodies = {Quat::Identity(), Quat(Eigen::AngleAxisd(0.1, Vec3::UnitX()))};
+  const std::vector<StrokeCommand> cmds = ann.commands(bodies);
+  ASSERT_EQ(cmds.size(), 4u);
+  EXPECT_DOUBLE_EQ(cmds[0].downstroke_rate, cmds[1].downstroke_rate);  // unit 0 level
+  EXPECT_GT(cmds[3].downstroke_rate, cmds[2].downstroke_rate);         // unit 1: right > left
+  const OpenLoopWingController open(StrokeCommand{30, 10, 0.8});
+  const std::vector<StrokeCommand> o = open.commands(bodies);
+  ASSERT_EQ(o.size(), 4u);
+  EXPECT_EQ(o[3].downstroke_rate, 30.0);
+}
+
+TEST(FlapUnitLayout, FollowsTheGeneratorsNames) {
+  const auto model = parseCreatureModel(makeCreatureUrdf(3, "afc"));
+  const FlapUnitLayout a = flapUnitLayout(*model);
+  const FlapUnitLayout b = flapUnitLayout(3);
+  EXPECT_EQ(a.body_links, b.body_links);
+  EXPECT_EQ(a.wing_joints, b.wing_joints);
+  ASSERT_EQ(a.units(), 3);
+  EXPECT_EQ(a.body_links[2], "unit2_body");
+  EXPECT_EQ(a.wing_joints[1], "unit0_wing_right_joint");
+  for (const auto& j : a.wing_joints) EXPECT_TRUE(model->joints[model->findJoint(j)].wing) << j;
+  EXPECT_THROW(flapUnitLayout(0), std::invalid_argument);
+  const auto plate = parseCreatureModel(
+      "<robot name='p'><link name='plate'><inertial><mass value='1'/><inertia ixx='1' ixy='0' "
+      "ixz='0' iyy='1' iyz='0' izz='1'/></inertial></link></robot>");
+  EXPECT_THROW(flapUnitLayout(*plate), InputError);
+}
+
+TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
+  ControllerSpec spec;
+  spec.params.min_downstroke_rate = 12.5;
+  spec.params.control_period = 0.01;
+  spec.weights = kWeights;
+  spec.weights[0] = 0.1 + 0.2;  // not exactly representable in short decimal
+  const std::string text = controllerToYaml(spec, "line one\nline two", {{"seed", "7"}});
+  EXPECT_EQ(text.rfind("# line one\n# line two\n", 0), 0u) << text;
+  const ControllerSpec back = controllerFromYaml(text, "mem");
+  EXPECT_EQ(back.weights, spec.weights);
+  EXPECT_EQ(back.params.min_downstroke_rate, 12.5);
+  EXPECT_EQ(back.params.control_period, 0.01);
+  EXPECT_EQ(back.params.hidden, 2);
+
+  try {
+    controllerFromYaml("flap_unit_controller: {hidden: 2, weights: [1, 2, 3]}", "short.yaml");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("short.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("weights"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(controllerFromYaml("other: 1"), std::runtime_error);
+  EXPECT_THROW(controllerFromYaml("flap_unit_controller: {weights: [1, 2}"), std::runtime_error);
+  EXPECT_THROW(loadControllerYaml("/nonexistent/weights.yaml"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace flapsim
