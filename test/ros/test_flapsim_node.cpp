@@ -129,9 +129,17 @@ class Node : public ::testing::Test {
     std_srvs::Empty e;
     ASSERT_TRUE(ros::service::call("/flapsim/unpause", e));
   }
+  /// Resets the world and forgets the messages seen so far: sim times repeat
+  /// after a reset, so an old message could otherwise match a new stamp.
   static void reset() {
     std_srvs::Empty e;
     ASSERT_TRUE(ros::service::call("/flapsim/reset", e));
+    clock_.clear();
+    tf_.clear();
+    markers_.clear();
+    js_.clear();
+    odom_.clear();
+    plate_odom_.clear();
   }
   static flapsim::Step step(std::uint32_t n) {
     flapsim::Step s;
