@@ -53,6 +53,9 @@ class SimulatorNode {
   void spawn(const std::string& name, const std::string& urdf_xml, const std::string& source,
              const flapsim::Pose& pose, const flapsim::Twist& twist);
   void remove(const std::string& name);
+  /// Wing commands of a step request: all or nothing; InputError naming the cause.
+  void applyWingCommands(const std::vector<std::string>& creatures,
+                         const std::vector<flapsim::WingCommand>& commands);
   Creature* find(const std::string& name);
 
   /// Steps `steps` fixed steps, publishing at every publish boundary crossed.

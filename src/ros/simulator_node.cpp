@@ -284,20 +284,59 @@ bool SimulatorNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Respon
   return true;
 }
 
+void SimulatorNode::applyWingCommands(const std::vector<std::string>& creatures,
+                                      const std::vector<flapsim::WingCommand>& commands) {
+  if (creatures.size() != commands.size()) {
+    throw flapsim::InputError("step request has " + std::to_string(creatures.size()) +
+                              " creatures but " + std::to_string(commands.size()) +
+                              " wing_commands");
+  }
+  std::vector<WingCommandRequest> requests;
+  for (size_t i = 0; i < creatures.size(); ++i) {
+    if (!find(creatures[i])) throw flapsim::InputError("unknown creature '" + creatures[i] + "'");
+    try {
+      requests.push_back(fromMsg(commands[i]));
+    } catch (const flapsim::InputError& e) {
+      throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
+    }
+  }
+  // All checked first, so that no creature is commanded unless all can be.
+  for (size_t i = 0; i < creatures.size(); ++i) {
+    try {
+      checkWingCommand(*find(creatures[i])->model, requests[i]);
+    } catch (const flapsim::InputError& e) {
+      throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
+    }
+  }
+  for (size_t i = 0; i < creatures.size(); ++i) {
+    world_.setWingCommands(creatures[i], requests[i].joints, requests[i].strokes);
+  }
+  for (size_t i = 0; i < creatures.size(); ++i) find(creatures[i])->command = requests[i];
+}
+
 bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response& res) {
+  res.sim_time = now();
   if (!paused_) {
     res.success = false;
     res.status_message = "flapsim is running: call flapsim/pause before flapsim/step";
     warnOnce("step/running", "step refused: " + res.status_message);
-  } else {
-    published_step_ = UINT64_MAX;
-    advance(req.steps);
-    if (published_step_ != world_.stepCount()) publishAll();
-    res.success = true;
-    res.status_message =
-        "stepped " + std::to_string(req.steps) + " steps to t = " + formatTime(now()) + " s";
+    return true;
   }
+  try {
+    applyWingCommands(req.creatures, req.wing_commands);
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("wing commands refused, no step taken: ") + e.what();
+    warnOnce("step/" + res.status_message, "step refused: " + res.status_message);
+    return true;
+  }
+  published_step_ = UINT64_MAX;
+  advance(req.steps);
+  if (published_step_ != world_.stepCount()) publishAll();
+  res.success = true;
   res.sim_time = now();
+  res.status_message =
+      "stepped " + std::to_string(req.steps) + " steps to t = " + formatTime(res.sim_time) + " s";
   return true;
 }
 

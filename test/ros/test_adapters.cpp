@@ -280,6 +280,28 @@ TEST(Conversions, WingCommandLengthsAreChecked) {
   }
 }
 
+TEST(Conversions, WingCommandsAreCheckedAgainstTheModel) {
+  auto afc = flapsim::loadCreatureModel(sourcePath("urdf/afc_4.urdf"));
+  const flapsim::StrokeCommand ok{30, 10, 0.8};
+  auto error = [&](std::vector<std::string> joints, std::vector<flapsim::StrokeCommand> strokes) {
+    try {
+      flapsim_ros::checkWingCommand(*afc, {joints, strokes});
+    } catch (const flapsim::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error({}, std::vector<flapsim::StrokeCommand>(8, ok)), "");
+  EXPECT_EQ(error({"unit3_wing_right_joint"}, {ok}), "");
+  EXPECT_EQ(error({}, {ok, ok}), "2 commands for 8 wing joints");
+  EXPECT_EQ(error({"nope"}, {ok}), "no joint 'nope'");
+  EXPECT_EQ(error({"unit1_link_joint"}, {ok}), "joint 'unit1_link_joint' is not a wing joint");
+  EXPECT_EQ(error({"unit0_wing_left_joint"}, {{30, -1, 0.8}}),
+            "joint 'unit0_wing_left_joint': upstroke rate must be finite and >= 0");
+  EXPECT_EQ(error({"unit0_wing_left_joint"}, {{std::nan(""), 10, 0.8}}),
+            "joint 'unit0_wing_left_joint': downstroke rate must be finite and >= 0");
+}
+
 flapsim::CreatureState stateOf(const flapsim::CreatureModel& m) {
   flapsim::CreatureState s;
   for (size_t k = 0; k < m.links.size(); ++k) {

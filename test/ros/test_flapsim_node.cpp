@@ -406,6 +406,72 @@ TEST_F(Node, DeterministicAcrossResetAndStep) {
   EXPECT_NE(a.second->position[0], 0.0);
 }
 
+TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
+  // whatever was commanded before (here 20/5 via the topic), a step request
+  // carrying a command flies exactly as the same request after a reset
+  auto run = [&](std::uint32_t steps) {
+    reset();
+    flapsim::Step s;
+    s.request.steps = steps;
+    s.request.creatures = {"flap_unit"};
+    s.request.wing_commands = {command({}, {30, 30}, {10, 10}, {0.8, 0.8})};
+    EXPECT_TRUE(ros::service::call("/flapsim/step", s));
+    EXPECT_TRUE(s.response.success) << s.response.status_message;
+    return std::make_pair(at(odom_, s.response.sim_time), at(js_, s.response.sim_time));
+  };
+  auto a = run(400);
+  ASSERT_TRUE(commandAndWait(20, 5, 0.6));
+  auto b = run(400);
+  ASSERT_TRUE(a.first && a.second && b.first && b.second);
+  EXPECT_EQ(a.first->pose.pose.position.z, b.first->pose.pose.position.z);
+  EXPECT_EQ(a.first->pose.pose.orientation.x, b.first->pose.pose.orientation.x);
+  EXPECT_EQ(a.second->position, b.second->position);
+  EXPECT_EQ(a.second->velocity, b.second->velocity);
+  // and the command acts from the first step: 5 steps in, the wings swing down at 30
+  reset();
+  flapsim::Step s;
+  s.request.steps = 5;
+  s.request.creatures = {"flap_unit"};
+  s.request.wing_commands = {command({}, {30, 30}, {10, 10}, {0.8, 0.8})};
+  ASSERT_TRUE(ros::service::call("/flapsim/step", s));
+  auto js = at(js_, s.response.sim_time);
+  ASSERT_TRUE(js);
+  EXPECT_NEAR(js->velocity[0], -30.0, 0.5);
+  EXPECT_NEAR(js->velocity[1], -30.0, 0.5);
+
+  // refused as a whole: no step taken, earlier creatures not commanded either
+  const ros::Time t0 = s.response.sim_time;
+  struct Case {
+    std::vector<std::string> creatures;
+    std::vector<flapsim::WingCommand> commands;
+    std::string expect;
+  };
+  const auto good = command({}, {20, 20}, {5, 5}, {0.6, 0.6});
+  const Case cases[] = {
+      {{"flap_unit"}, {}, "1 creatures but 0 wing_commands"},
+      {{"flap_unit", "ghost"}, {good, good}, "unknown creature 'ghost'"},
+      {{"flap_unit", "plate"}, {good, good}, "creature 'plate': 2 commands for 0 wing joints"},
+      {{"flap_unit"}, {command({}, {20, -1}, {5, 5}, {0.6, 0.6})}, "downstroke rate"},
+  };
+  for (const Case& c : cases) {
+    flapsim::Step bad;
+    bad.request.steps = 10;
+    bad.request.creatures = c.creatures;
+    bad.request.wing_commands = c.commands;
+    ASSERT_TRUE(ros::service::call("/flapsim/step", bad));
+    EXPECT_FALSE(bad.response.success) << c.expect;
+    EXPECT_NE(bad.response.status_message.find(c.expect), std::string::npos)
+        << "'" << bad.response.status_message << "' lacks '" << c.expect << "'";
+    EXPECT_EQ(bad.response.sim_time, t0);
+  }
+  // still the 30/10 stroke
+  std::vector<double> v = sampleVelocities(40);
+  ASSERT_FALSE(v.empty());
+  EXPECT_GE(*std::min_element(v.begin(), v.end()), -31.0);
+  EXPECT_GT(std::count_if(v.begin(), v.end(), [](double x) { return std::abs(x + 30) < 0.5; }), 0);
+  EXPECT_EQ(std::count_if(v.begin(), v.end(), [](double x) { return std::abs(x + 20) < 0.5; }), 0);
+}
+
 TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {
   Recorder<nav_msgs::Odometry> extra;
   extra.start(*nh_, "/extra/odom");
