@@ -65,8 +65,9 @@ class World {
   std::vector<std::string> creatureNames() const;  // in spawn order
   CreatureModelPtr model(const std::string& name) const;
 
-  /// Puts every creature back to its spawn pose and twist, clears commands
-  /// and sets time to zero: bit-identical to a freshly built world.
+  /// Puts every creature back to its spawn pose and twist, restarts every stroke (wing
+  /// commands are kept) and sets time to zero: bit-identical to a freshly built world
+  /// given the same commands.
   void reset();
   /// Advances `steps` fixed steps.
   void step(int steps = 1);
