@@ -95,6 +95,12 @@ TEST(Generator, FeatheringWingsHangFromPitchJoints) {
 }
 
 TEST(Generator, CommittedUrdfsAreItsOutput) {
+  FlapUnitParams swimmer;
+  swimmer.body_mass = 0.3;
+  swimmer.wing_mass = 0.076;
+  swimmer.wing_effort = 100;
+  EXPECT_EQ(readFile(sourcePath("urdf/swimmer.urdf")), makeCreatureUrdf(1, "swimmer", swimmer))
+      << "make_creature --name swimmer --body-mass 0.3 --wing-mass 0.076 --wing-effort 100";
   EXPECT_EQ(readFile(sourcePath("urdf/flap_unit.urdf")), makeCreatureUrdf(1, "flap_unit"));
   for (int n : {1, 4, 6, 12}) {
     EXPECT_EQ(readFile(sourcePath("urdf/afc_" + std::to_string(n) + ".urdf")),

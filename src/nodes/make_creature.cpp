@@ -28,6 +28,17 @@ int main(int argc, char** argv) {
         return 2;
       }
       pairs = static_cast<int>(n);
+    } else if (a == "--body-mass" || a == "--wing-mass" || a == "--wing-effort") {
+      const std::string v = value();
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (*end != '\0' || !(x > 0.0) || x > 1e6) {
+        std::cerr << "make_creature: " << a << " must be a positive number, got '" << v << "'\n";
+        return 2;
+      }
+      (a == "--body-mass"   ? params.body_mass
+       : a == "--wing-mass" ? params.wing_mass
+                            : params.wing_effort) = x;
     } else if (a == "--feathering") {
       params.feathering = true;
     } else if (a == "--name") {
@@ -35,10 +46,12 @@ int main(int argc, char** argv) {
     } else if (a == "--output" || a == "-o") {
       output = value();
     } else if (a == "--help" || a == "-h") {
-      std::cout << "usage: make_creature [--pairs N] [--name NAME] [--feathering] [--output FILE]\n"
-                   "Writes the URDF of N flapping units (body + two wings) chained by passive\n"
-                   "pitch joints; to stdout unless --output is given. --feathering hangs each\n"
-                   "wing from a pitch joint (its feather_joint).\n";
+      std::cout
+          << "usage: make_creature [--pairs N] [--name NAME] [--feathering] [--body-mass KG]\n"
+             "                     [--wing-mass KG] [--wing-effort NM] [--output FILE]\n"
+             "Writes the URDF of N flapping units (body + two wings) chained by passive\n"
+             "pitch joints; to stdout unless --output is given. --feathering hangs each\n"
+             "wing from a pitch joint (its feather_joint).\n";
       return 0;
     } else {
       std::cerr << "make_creature: unknown argument '" << a << "' (see --help)\n";

@@ -119,6 +119,10 @@ WingCommandRequest fromMsg(const flapsim::WingCommand& msg) {
                               std::to_string(msg.upstroke_rate.size()) + ", amplitude " +
                               std::to_string(msg.amplitude.size()));
   }
+  if (!msg.feather_angle.empty() && msg.feather_angle.size() != n) {
+    throw flapsim::InputError("wing command has " + std::to_string(msg.feather_angle.size()) +
+                              " feather_angle entries for " + std::to_string(n) + " strokes");
+  }
   if (!msg.joint_names.empty() && msg.joint_names.size() != n) {
     throw flapsim::InputError("wing command has " + std::to_string(msg.joint_names.size()) +
                               " joint_names but " + std::to_string(n) + " strokes");
@@ -126,7 +130,8 @@ WingCommandRequest fromMsg(const flapsim::WingCommand& msg) {
   WingCommandRequest r;
   r.joints = msg.joint_names;
   for (size_t i = 0; i < n; ++i) {
-    r.strokes.push_back({msg.downstroke_rate[i], msg.upstroke_rate[i], msg.amplitude[i]});
+    r.strokes.push_back({msg.downstroke_rate[i], msg.upstroke_rate[i], msg.amplitude[i],
+                         msg.feather_angle.empty() ? 0.0 : msg.feather_angle[i]});
   }
   return r;
 }
@@ -138,6 +143,11 @@ flapsim::WingCommand toMsg(const WingCommandRequest& request) {
     m.downstroke_rate.push_back(s.downstroke_rate);
     m.upstroke_rate.push_back(s.upstroke_rate);
     m.amplitude.push_back(s.amplitude);
+  }
+  for (const auto& s : request.strokes) {
+    if (s.feather == 0.0) continue;
+    for (const auto& f : request.strokes) m.feather_angle.push_back(f.feather);
+    break;
   }
   return m;
 }

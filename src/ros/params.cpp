@@ -132,6 +132,23 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.wind = d.vec3("wind", air.wind);
   air.buoyancy = d.boolean("buoyancy", air.buoyancy);
   air.enabled = d.boolean("enabled", air.enabled);
+  air.model = d.string("model", air.model);
+  if (!flapsim::makeAirModel(air.model)) {
+    fail(d.key("model"), "unknown air model '" + air.model + "' (pressure, quasi_steady)");
+  }
+  if (d.has("quasi_steady")) {
+    Dict q(d.at("quasi_steady"), d.key("quasi_steady"));
+    flapsim::QuasiSteadyCoefficients& c = air.quasi_steady;
+    c.lift_mean = q.number("lift_mean", c.lift_mean);
+    c.lift_amplitude = q.number("lift_amplitude", c.lift_amplitude);
+    c.lift_frequency = q.number("lift_frequency", c.lift_frequency);
+    c.lift_phase = q.number("lift_phase", c.lift_phase);
+    c.drag_mean = q.number("drag_mean", c.drag_mean);
+    c.drag_amplitude = q.number("drag_amplitude", c.drag_amplitude);
+    c.drag_frequency = q.number("drag_frequency", c.drag_frequency);
+    c.drag_phase = q.number("drag_phase", c.drag_phase);
+    q.rejectUnknown();
+  }
   if (d.has("subdivisions")) {
     std::vector<double> s = d.numbers("subdivisions");
     if (s.size() != 2 || s[0] != std::floor(s[0]) || s[1] != std::floor(s[1])) {
@@ -159,6 +176,13 @@ MarkerParams parseMarkers(const Dict& d, MarkerParams m) {
 std::vector<flapsim::StrokeCommand> parseWingCommand(const Dict& d) {
   const char* keys[3] = {"downstroke_rate", "upstroke_rate", "amplitude"};
   std::vector<std::vector<double>> v(3);
+  std::vector<double> feather;
+  if (d.has("feather")) {
+    const XmlRpcValue& x = d.at("feather");
+    feather = x.getType() == XmlRpcValue::TypeArray
+                  ? d.numbers("feather")
+                  : std::vector<double>{Dict::toNumber(x, d.key("feather"))};
+  }
   for (int i = 0; i < 3; ++i) {
     if (!d.has(keys[i])) fail(d.key(keys[i]), "missing");
     const XmlRpcValue& x = d.at(keys[i]);
@@ -172,9 +196,12 @@ std::vector<flapsim::StrokeCommand> parseWingCommand(const Dict& d) {
   if (v[0].size() != v[1].size() || v[0].size() != v[2].size() || v[0].empty()) {
     fail(d.name(), "needs downstroke_rate, upstroke_rate and amplitude of equal, non-zero length");
   }
+  if (!feather.empty() && feather.size() != v[0].size()) {
+    fail(d.key("feather"), "must have as many entries as downstroke_rate");
+  }
   std::vector<flapsim::StrokeCommand> out;
   for (size_t k = 0; k < v[0].size(); ++k) {
-    flapsim::StrokeCommand c{v[0][k], v[1][k], v[2][k]};
+    flapsim::StrokeCommand c{v[0][k], v[1][k], v[2][k], feather.empty() ? 0.0 : feather[k]};
     std::string err = flapsim::validateStroke(c);
     if (!err.empty()) fail(d.name(), err);
     out.push_back(c);
@@ -240,6 +267,7 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   w.ground = d.boolean("ground", w.ground);
   w.ground_friction = d.number("ground_friction", w.ground_friction);
   w.solver_iterations = d.integer("solver_iterations", w.solver_iterations);
+  w.threads = d.integer("threads", w.threads);
   w.default_wing_effort = d.number("default_wing_effort", w.default_wing_effort);
   if (d.has("air")) w.air = parseAir(Dict(d.at("air"), "air"), w.air);
   std::string err = flapsim::validateWorldParams(w);

@@ -100,7 +100,9 @@ real_time_factor: 0
 paused: true
 world_frame: map
 ground: false
-air: {density: 1000, wind: [1, 2.5, -3], subdivisions: [2, 3], buoyancy: false}
+threads: 2
+air: {density: 1000, wind: [1, 2.5, -3], subdivisions: [2, 3], buoyancy: false,
+      model: quasi_steady, quasi_steady: {lift_mean: 0.3, drag_phase: -9}}
 markers: {scale: 0.1, per_cell: true}
 something_else: 1
 creatures:
@@ -113,7 +115,8 @@ creatures:
     wing_command: {downstroke_rate: 40, upstroke_rate: 10, amplitude: 0.8}
   - name: c
     urdf_xml: "<robot name='c'/>"
-    wing_command: {downstroke_rate: [30, 31], upstroke_rate: [10, 11], amplitude: [0.8, 0.7]}
+    wing_command: {downstroke_rate: [30, 31], upstroke_rate: [10, 11], amplitude: [0.8, 0.7],
+                   feather: [1.2, 1.1]}
 )"));
   EXPECT_EQ(p.world.step_size, 0.002);
   EXPECT_EQ(p.publish_rate, 50.0);
@@ -126,6 +129,11 @@ creatures:
   EXPECT_EQ(p.world.air.subdivisions_u, 2);
   EXPECT_EQ(p.world.air.subdivisions_v, 3);
   EXPECT_FALSE(p.world.air.buoyancy);
+  EXPECT_EQ(p.world.threads, 2);
+  EXPECT_EQ(p.world.air.model, "quasi_steady");
+  EXPECT_EQ(p.world.air.quasi_steady.lift_mean, 0.3);
+  EXPECT_EQ(p.world.air.quasi_steady.drag_phase, -9.0);
+  EXPECT_EQ(p.world.air.quasi_steady.lift_amplitude, 1.58);  // untouched default
   EXPECT_EQ(p.markers.scale, 0.1);
   EXPECT_TRUE(p.markers.per_cell);
   ASSERT_EQ(p.unknown_keys, std::vector<std::string>{"something_else"});
@@ -150,6 +158,8 @@ creatures:
   ASSERT_EQ(p.creatures[2].wing_command.size(), 2u);
   EXPECT_EQ(p.creatures[2].wing_command[1].downstroke_rate, 31.0);
   EXPECT_EQ(p.creatures[2].wing_command[1].amplitude, 0.7);
+  EXPECT_EQ(p.creatures[2].wing_command[1].feather, 1.1);
+  EXPECT_EQ(p.creatures[1].wing_command[0].feather, 0.0);
 }
 
 TEST(Params, BadParametersAreNamed) {
@@ -173,6 +183,9 @@ TEST(Params, BadParametersAreNamed) {
       {"air: {subdivisions: [4]}", "'air/subdivisions'"},
       {"air: {subdivisions: [4, 2.5]}", "'air/subdivisions'"},
       {"air: 3", "'air': must be a dictionary"},
+      {"air: {model: cfd}", "'air/model': unknown air model 'cfd'"},
+      {"air: {quasi_steady: {lift_man: 1}}", "'air/quasi_steady/lift_man': unknown"},
+      {"threads: 0", "threads must be in 1..256"},
       {"markers: {width: 0}", "'markers/width'"},
       {"markers: {scale: -1}", "'markers/scale'"},
       {"world_frame: ''", "'world_frame'"},
@@ -194,6 +207,11 @@ TEST(Params, BadParametersAreNamed) {
        "'creatures[0]/wing_command': needs downstroke_rate, upstroke_rate and amplitude of equal"},
       {c + ", wing_command: {downstroke_rate: 1, upstroke_rate: 1}}]",
        "'creatures[0]/wing_command/amplitude': missing"},
+      {c + ", wing_command: {downstroke_rate: 1, upstroke_rate: 1, amplitude: 1, feather: 2}}]",
+       "'creatures[0]/wing_command': feather angle must be finite and within +-pi/2"},
+      {c + ", wing_command: {downstroke_rate: 1, upstroke_rate: 1, amplitude: 1, feather: [1, "
+           "1]}}]",
+       "'creatures[0]/wing_command/feather': must have as many entries"},
   };
   for (const Case& k : cases) {
     const std::string msg = paramError(k.yaml);
@@ -260,6 +278,23 @@ TEST(Conversions, WingCommandLengthsAreChecked) {
   flapsim::WingCommand back = flapsim_ros::toMsg(r);
   EXPECT_EQ(back.downstroke_rate, m.downstroke_rate);
   EXPECT_EQ(back.amplitude, m.amplitude);
+  EXPECT_TRUE(back.feather_angle.empty());  // no feathering: the optional array stays empty
+  EXPECT_EQ(r.strokes[0].feather, 0.0);
+
+  flapsim::WingCommand feathered = m;
+  feathered.feather_angle = {1.2, 0.0};
+  r = flapsim_ros::fromMsg(feathered);
+  EXPECT_EQ(r.strokes[0].feather, 1.2);
+  EXPECT_EQ(flapsim_ros::toMsg(r).feather_angle, feathered.feather_angle);
+  feathered.feather_angle = {1.2};
+  try {
+    flapsim_ros::fromMsg(feathered);
+    ADD_FAILURE() << "1 feather angle for 2 strokes accepted";
+  } catch (const flapsim::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1 feather_angle entries for 2 strokes"),
+              std::string::npos)
+        << e.what();
+  }
 
   flapsim::WingCommand bad = m;
   bad.upstroke_rate = {10};
