@@ -88,15 +88,24 @@ TEST(FlapUnit, ClimbsOnlyWhenTheDownstrokeIsFaster) {
 // Eq. 17-19: with the body held still (anchored to "world"), the left side of eq. 17,
 // the vertical air force integrated over the wing angle, int F_L d(theta) per stroke cycle,
 // is proportional to (w1^2 - w2^2) sin(theta0).
-double liftWorkPerCycle(double w1, double w2, double amplitude) {
-  std::string urdf = makeCreatureUrdf(1, "anchored");
+// Weightless, and the unit's body held still by a "world" root link.
+WorldParams weightless() {
+  WorldParams p = openSky();
+  p.gravity = Vec3::Zero();
+  return p;
+}
+
+void spawnAnchored(World& w, std::string urdf) {
   urdf.insert(urdf.rfind("</robot>"),
               "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
               "link=\"world\"/><child link=\"unit0_body\"/></joint>\n");
-  WorldParams p = openSky();
-  p.gravity = Vec3::Zero();
-  World w(p);
   w.spawn("u", parseCreatureModel(urdf), at(0, 0, 0));
+}
+
+double liftWorkPerCycle(double w1, double w2, double amplitude) {
+  const WorldParams p = weightless();
+  World w(p);
+  spawnAnchored(w, makeCreatureUrdf(1, "anchored"));
   w.setWingCommands("u", {}, {StrokeCommand{w1, w2, amplitude}, StrokeCommand{w1, w2, amplitude}});
   const int left = w.model("u")->findJoint("unit0_wing_left_joint");
   // Integrate over whole cycles: from one top reversal (velocity turns from up to down) to
@@ -151,10 +160,9 @@ TEST(FlapUnit, Equation19SignAndProportionality) {
 // dominating its inertia, by a distance per cycle that depends on the ratio w1 / w2 and
 // hardly on the rates themselves.
 double swim(double w1, double w2, int cycles) {
-  WorldParams p = openSky();
+  WorldParams p = weightless();
   p.air = waterParams();
   p.air.buoyancy = false;
-  p.gravity = Vec3::Zero();
   World w(p);
   w.spawn("s", loadUrdf("swimmer.urdf"), at(0, 0, 0));
   w.setWingCommands("s", {}, {StrokeCommand{w1, w2, 0.8}, StrokeCommand{w1, w2, 0.8}});
@@ -177,14 +185,9 @@ TEST(Water, SwimmerMovesThroughWater) {
 double anchoredImpulse(double feather) {
   FlapUnitParams params;
   params.feathering = true;
-  std::string urdf = makeCreatureUrdf(1, "feather", params);
-  urdf.insert(urdf.rfind("</robot>"),
-              "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
-              "link=\"world\"/><child link=\"unit0_body\"/></joint>\n");
-  WorldParams p = openSky();
-  p.gravity = Vec3::Zero();
+  const WorldParams p = weightless();
   World w(p);
-  w.spawn("u", parseCreatureModel(urdf), at(0, 0, 0));
+  spawnAnchored(w, makeCreatureUrdf(1, "feather", params));
   const StrokeCommand c{30, 10, 0.8, feather};
   w.setWingCommands("u", {}, {c, c});
   const int pitch = w.model("u")->findJoint("unit0_wing_left_pitch");
