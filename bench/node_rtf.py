@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""Real-time factor of flapsim_node at rtf 0 (as fast as possible), publishing at 100 Hz.
+
+Starts its own master on a free port and the node from this build, flies one creature
+(the flap unit or an N-unit chain) and reads sim time from /clock twice, --seconds of wall
+time apart. With --subscribe, subscribers on /tf, odom and joint_states keep the
+node publishing everything (rospy.AnyMsg: no decoding). Prints figures; never fails on time.
+
+  source build/devel/setup.bash && bench/node_rtf.py [--pairs 1] [--seconds 10] [--subscribe]
+"""
+import argparse
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+import rospy
+from rosgraph_msgs.msg import Clock
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def sim_time(timeout=10.0):
+    return rospy.wait_for_message("/clock", Clock, timeout=timeout).clock.to_sec()
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--pairs", type=int, default=1)
+    ap.add_argument("--seconds", type=float, default=10.0)
+    ap.add_argument("--subscribe", action="store_true")
+    ap.add_argument("--devel", default=os.path.join(ROOT, "build", "devel"))
+    args = ap.parse_args()
+
+    tmp = tempfile.mkdtemp(prefix="flapsim_rtf_")
+    urdf = os.path.join(tmp, "creature.urdf")
+    subprocess.run([os.path.join(args.devel, "lib", "flapsim", "make_creature"), "--pairs",
+                    str(args.pairs), "--name", "c", "-o", urdf], check=True)
+    params = os.path.join(tmp, "params.yaml")
+    with open(params, "w") as f:
+        f.write(f"""real_time_factor: 0.0
+publish_rate: 100.0
+ground: false
+creatures:
+  - name: c
+    urdf_file: {urdf}
+    pose: {{xyz: [0, 0, 1000], rpy: [0, 0, 0]}}
+    wing_command: {{downstroke_rate: 30, upstroke_rate: 10, amplitude: 0.8}}
+""")
+    port = free_port()
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}")
+    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
+    log = open(os.path.join(tmp, "log.txt"), "w")
+    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log, stderr=log)
+    node = None
+    try:
+        for _ in range(100):
+            try:
+                with socket.create_connection(("127.0.0.1", port), timeout=0.2):
+                    break
+            except OSError:
+                time.sleep(0.1)
+        subprocess.run(["rosparam", "load", params, "/flapsim"], env=env, check=True)
+        node = subprocess.Popen([os.path.join(args.devel, "lib", "flapsim", "flapsim_node")],
+                                env=env, stdout=log, stderr=log)
+        rospy.init_node("node_rtf", anonymous=True, disable_signals=True)
+        if args.subscribe:
+            for t in ["/tf", "/c/odom", "/c/joint_states"]:
+                rospy.Subscriber(t, rospy.AnyMsg, lambda m: None, queue_size=1)
+        sim_time(30.0)
+        time.sleep(2.0)  # connections, warm-up
+        s0, w0 = sim_time(), time.monotonic()
+        time.sleep(args.seconds)
+        s1, w1 = sim_time(), time.monotonic()
+        print(f"flapsim_node, {args.pairs}-unit creature, rtf 0, 100 Hz publishing"
+              f"{' with subscribers on /tf, odom, joint_states' if args.subscribe else ''}: "
+              f"sim {s1 - s0:.2f} s in {w1 - w0:.2f} s wall -> real-time factor "
+              f"{(s1 - s0) / (w1 - w0):.1f}")
+    finally:
+        for p in (node, core):
+            if p:
+                p.terminate()
+                try:
+                    p.wait(timeout=10)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
