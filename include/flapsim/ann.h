@@ -58,7 +58,7 @@ struct FlapControllerParams {
   double min_downstroke_rate = 20.0;  // rad/s
   double max_downstroke_rate = 60.0;  // rad/s
   double upstroke_rate = 10.0;        // rad/s
-  double amplitude = 1.2;             // rad (wide strokes roll the unit less, see README)
+  double amplitude = 1.2;             // rad (at 0.8 the unit rolls over within ~2 s)
   double control_period = 0.02;       // s between network updates
 };
 

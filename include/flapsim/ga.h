@@ -76,6 +76,12 @@ struct GenerationStats {
 using FitnessFunction =
     std::function<double(const std::vector<double>& genes, std::uint64_t eval_seed)>;
 
+/// Fitness of several genomes at once (the caller may parallelise as it
+/// likes, e.g. over episodes); must return one value per genome, in order,
+/// and depend only on its arguments.
+using BatchFitnessFunction = std::function<std::vector<double>(
+    const std::vector<std::vector<double>>& genomes, const std::vector<std::uint64_t>& eval_seeds)>;
+
 /// Generation g + 1 from generation g: the `elite_count` best are kept with
 /// their fitness (not re-evaluated); the others are children of two parents
 /// drawn by linear rank selection (weight population - rank), crossed with
@@ -88,6 +94,8 @@ class GeneticAlgorithm {
  public:
   /// Throws std::invalid_argument for bad params or gene_count < 1.
   GeneticAlgorithm(const GaParams& params, int gene_count, FitnessFunction fitness);
+  /// The same with a batch fitness (params.threads is then not used by the GA).
+  GeneticAlgorithm(const GaParams& params, int gene_count, BatchFitnessFunction fitness);
 
   /// Creates and evaluates generation 0; called by step() if needed.
   void initialize();
@@ -110,7 +118,7 @@ class GeneticAlgorithm {
 
   GaParams params_;
   int gene_count_;
-  FitnessFunction fitness_;
+  BatchFitnessFunction fitness_;
   int generation_ = -1;
   std::vector<Individual> population_;
   std::vector<GenerationStats> history_;

@@ -45,8 +45,9 @@ struct AnnControllerParams {
   std::string world_frame = "world";
   double rate = 0.0;  // Hz (sim time); 0: 1 / control_period of the weights file
   // Lockstep (tests, exact replays): the node drives a paused flapsim_node
-  // itself: read the unit bodies at t, publish, call step for one control
-  // period, repeat until lockstep_duration (0: forever).
+  // itself: read the unit bodies at t from tf, call step for one control
+  // period with the command in the request (not on the topic), repeat until
+  // lockstep_duration (0: forever).
   bool lockstep = false;
   double lockstep_duration = 0.0;        // s of sim time
   bool lockstep_wait_for_start = false;  // wait for a call of ~start before stepping

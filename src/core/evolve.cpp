@@ -120,11 +120,31 @@ EvolveResult evolveFlapController(const EvolveParams& params,
   if (err.empty()) err = validateFlapControllerParams(params.controller);
   if (!err.empty()) throw std::invalid_argument("evolve: " + err);
 
+  // One task per (individual, episode), so that the threads stay busy even
+  // when few children are new; the sums run in a fixed order afterwards.
   const FlapControllerParams controller = params.controller;
+  const std::vector<EpisodeStart> starts = episodeStarts(episode);
+  const int n_starts = static_cast<int>(starts.size());
+  const int threads = params.ga.threads;
+  auto batch = [&](const std::vector<std::vector<double>>& genomes,
+                   const std::vector<std::uint64_t>&) {
+    std::vector<AnnWingController> anns;
+    for (const auto& g : genomes) anns.emplace_back(FlapUnitController(controller, g));
+    const std::vector<double> f =
+        parallelMap(static_cast<int>(genomes.size()) * n_starts, threads, [&](int task) {
+          return runEpisode(model, anns[task / n_starts], controller.control_period, episode,
+                            starts[task % n_starts])
+              .fitness;
+        });
+    std::vector<double> out(genomes.size(), 0.0);
+    for (size_t i = 0; i < genomes.size(); ++i) {
+      for (int k = 0; k < n_starts; ++k) out[i] += f[i * n_starts + k];
+      out[i] /= n_starts;
+    }
+    return out;
+  };
   GeneticAlgorithm ga(params.ga, FlapUnitController::weightCount(controller),
-                      [&](const std::vector<double>& genes, std::uint64_t) {
-                        return flapFitness(model, controller, genes, episode);
-                      });
+                      BatchFitnessFunction(batch));
   ga.run(on_gen);
   EvolveResult result;
   result.history = ga.history();

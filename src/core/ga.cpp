@@ -100,7 +100,8 @@ std::string validateGaParams(const GaParams& p) {
   return "";
 }
 
-GeneticAlgorithm::GeneticAlgorithm(const GaParams& params, int gene_count, FitnessFunction fitness)
+GeneticAlgorithm::GeneticAlgorithm(const GaParams& params, int gene_count,
+                                   BatchFitnessFunction fitness)
     : params_(params), gene_count_(gene_count), fitness_(std::move(fitness)) {
   const std::string err = validateGaParams(params);
   if (!err.empty()) throw std::invalid_argument("GA: " + err);
@@ -108,13 +109,33 @@ GeneticAlgorithm::GeneticAlgorithm(const GaParams& params, int gene_count, Fitne
   if (!fitness_) throw std::invalid_argument("GA: no fitness function");
 }
 
+namespace {
+BatchFitnessFunction batchOf(FitnessFunction fitness, int threads) {
+  if (!fitness) return {};
+  return [threads, fitness](const std::vector<std::vector<double>>& genomes,
+                            const std::vector<std::uint64_t>& seeds) {
+    return parallelMap(static_cast<int>(genomes.size()), threads,
+                       [&](int i) { return fitness(genomes[i], seeds[i]); });
+  };
+}
+}  // namespace
+
+GeneticAlgorithm::GeneticAlgorithm(const GaParams& params, int gene_count, FitnessFunction fitness)
+    : GeneticAlgorithm(params, gene_count, batchOf(std::move(fitness), params.threads)) {}
+
 void GeneticAlgorithm::evaluate(std::vector<Individual>& pop, const std::vector<int>& which) {
   const std::uint64_t gen = static_cast<std::uint64_t>(generation_);
-  const std::vector<double> f =
-      parallelMap(static_cast<int>(which.size()), params_.threads, [&](int k) {
-        const int i = which[k];
-        return fitness_(pop[i].genes, mixSeed(params_.seed, gen, static_cast<std::uint64_t>(i)));
-      });
+  std::vector<std::vector<double>> genomes;
+  std::vector<std::uint64_t> seeds;
+  for (int i : which) {
+    genomes.push_back(pop[i].genes);
+    seeds.push_back(mixSeed(params_.seed, gen, static_cast<std::uint64_t>(i)));
+  }
+  const std::vector<double> f = fitness_(genomes, seeds);
+  if (f.size() != which.size()) {
+    throw std::runtime_error("GA: the batch fitness returned " + std::to_string(f.size()) +
+                             " values for " + std::to_string(which.size()) + " genomes");
+  }
   for (size_t k = 0; k < which.size(); ++k) {
     if (std::isnan(f[k])) {
       throw std::runtime_error("GA: fitness of individual " + std::to_string(which[k]) +

@@ -25,7 +25,7 @@ const char* kUsage =
     "  --seed S           GA and start-attitude seed (1)\n"
     "  --threads T        parallel episodes (hardware threads); results do not depend on it\n"
     "  --duration D       episode length, s (30)\n"
-    "  --episodes E       episodes per evaluation, start roll alternating +/- (4)\n"
+    "  --episodes E       episodes per evaluation, start roll alternating +/- (8)\n"
     "  --min-rate R       lowest downstroke rate, rad/s (20)\n"
     "  --max-rate R       highest downstroke rate, rad/s (60)\n"
     "  --upstroke-rate R  upstroke rate, rad/s (10)\n"

@@ -154,17 +154,21 @@ bool AnnControllerNode::runLockstep() {
     return false;
   }
   ros::ServiceClient step = nh_.serviceClient<flapsim::Step>(params_.step_service, true);
-  if (!waitFor([&] { return pub_.getNumSubscribers() > 0; }, timeout)) {
-    ROS_ERROR_STREAM("ann_controller: nobody subscribes to " << pub_.getTopic());
-    return false;
-  }
   if (params_.lockstep_wait_for_start) {
     ROS_INFO("ann_controller: lockstep waits for a call of ~start");
     if (!waitFor([&] { return started_.load(); }, timeout)) return false;
   }
   flapsim::Step srv;
-  auto call = [&](std::uint32_t n) {
+  // The command travels with the step request (applied before the first
+  // step): no race between the wing_command topic and the service.
+  auto call = [&](std::uint32_t n, const flapsim::WingCommand* command = nullptr) {
     srv.request.steps = n;
+    srv.request.creatures.clear();
+    srv.request.wing_commands.clear();
+    if (command != nullptr) {
+      srv.request.creatures.push_back(params_.creature);
+      srv.request.wing_commands.push_back(*command);
+    }
     if (!step.call(srv) || !srv.response.success) {
       ROS_ERROR_STREAM("ann_controller: " << params_.step_service
                                           << " failed: " << srv.response.status_message);
@@ -193,8 +197,9 @@ bool AnnControllerNode::runLockstep() {
       ROS_ERROR_STREAM("ann_controller: no transforms of " << params_.creature << " at t = " << t);
       return false;
     }
-    command(*q, t);
-    if (!call(static_cast<std::uint32_t>(steps))) return false;
+    flapsim::WingCommand msg = annCommandMsg(layout_, controller_->commands(*q));
+    msg.header.stamp = t;
+    if (!call(static_cast<std::uint32_t>(steps), &msg)) return false;
     t = srv.response.sim_time;
   }
   ROS_INFO_STREAM("ann_controller: lockstep done at t = " << t);

@@ -1,0 +1,119 @@
+// flock.launch (see flock.test, started paused): `count` creatures afc<i> with
+// odometry, `count` ann_controller nodes /afc<i>/ann_controller, and every
+// controller commands its own creature: its first command is what the
+// network gives for that creature's attitude (the flock starts with
+// alternating roll, so neighbours' attitudes, and commands, differ).
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "flapsim/Step.h"
+#include "flapsim/WingCommand.h"
+#include "flapsim/evolve.h"
+
+namespace {
+
+bool waitFor(const std::function<bool()>& done, double timeout) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok() && !done() && ros::WallTime::now() < deadline) {
+    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
+  }
+  return done();
+}
+
+TEST(Flock, KCreaturesAndKControllersEachFlyingItsOwn) {
+  ros::NodeHandle nh, pnh("~");
+  int count = 0;
+  ASSERT_TRUE(pnh.getParam("count", count));
+  ASSERT_GE(count, 2);
+
+  std::string weights;
+  ASSERT_TRUE(pnh.getParam("weights", weights));
+  const flapsim::ControllerSpec spec = flapsim::loadControllerYaml(weights);
+  const flapsim::FlapUnitController net(spec.params, spec.weights);
+
+  std::map<int, nav_msgs::Odometry> odom;
+  std::map<int, std::vector<flapsim::Quat>> attitudes;  // every published one
+  std::map<int, flapsim::WingCommand> command;
+  std::vector<ros::Subscriber> subs;
+  for (int i = 0; i < count; ++i) {
+    const std::string ns = "/afc" + std::to_string(i);
+    subs.push_back(nh.subscribe<nav_msgs::Odometry>(ns + "/odom", 100,
+                                                    [&, i](const nav_msgs::Odometry::ConstPtr& m) {
+                                                      odom[i] = *m;
+                                                      const auto& q = m->pose.pose.orientation;
+                                                      attitudes[i].emplace_back(q.w, q.x, q.y, q.z);
+                                                    }));
+    subs.push_back(nh.subscribe<flapsim::WingCommand>(
+        ns + "/wing_command", 100, [&, i](const flapsim::WingCommand::ConstPtr& m) {
+          if (!command.count(i)) command[i] = *m;
+        }));
+  }
+  // Every odom topic has the simulator, every wing_command topic a controller.
+  ASSERT_TRUE(waitFor(
+      [&] {
+        for (const auto& s : subs) {
+          if (s.getNumPublishers() != 1) return false;
+        }
+        return true;
+      },
+      60.0));
+  std::vector<std::string> nodes;
+  ASSERT_TRUE(ros::master::getNodes(nodes));
+  const std::set<std::string> all(nodes.begin(), nodes.end());
+  int controllers = 0;
+  for (const auto& n : all) controllers += n.find("/ann_controller") != std::string::npos;
+  EXPECT_EQ(controllers, count);
+  for (int i = 0; i < count; ++i) {
+    EXPECT_TRUE(all.count("/afc" + std::to_string(i) + "/ann_controller")) << i;
+  }
+  EXPECT_FALSE(all.count("/afc" + std::to_string(count) + "/ann_controller"));
+
+  // Publish t = 0, then step one control period at a time until every
+  // controller has commanded (their timers run on sim time).
+  ASSERT_TRUE(ros::service::waitForService("/flapsim/step", ros::Duration(60.0)));
+  flapsim::Step step;
+  step.request.steps = 0;
+  ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+  ASSERT_TRUE(waitFor([&] { return static_cast<int>(odom.size()) == count; }, 30.0));
+  for (int k = 0; k < 200 && static_cast<int>(command.size()) < count; ++k) {
+    step.request.steps = 20;
+    ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+    waitFor([&] { return static_cast<int>(command.size()) == count; }, 0.2);
+  }
+  ASSERT_EQ(static_cast<int>(command.size()), count) << "not every controller commanded";
+  for (int i = 0; i < count; ++i) {
+    const flapsim::WingCommand& c = command[i];
+    ASSERT_EQ(c.joint_names.size(), 2u);
+    EXPECT_EQ(c.joint_names[0], "unit0_wing_left_joint");
+    ASSERT_EQ(c.downstroke_rate.size(), 2u);
+    // Which creature's attitude gives this command? Its own, and no other's.
+    for (int j = 0; j < count; ++j) {
+      bool match = false;
+      for (const flapsim::Quat& q : attitudes[j]) {
+        const flapsim::WingPairCommand w = net.command(q);
+        match = match || (std::abs(w.left.downstroke_rate - c.downstroke_rate[0]) < 1e-9 &&
+                          std::abs(w.right.downstroke_rate - c.downstroke_rate[1]) < 1e-9);
+      }
+      EXPECT_EQ(match, i == j) << "command of controller " << i << " vs attitude of creature " << j;
+    }
+  }
+  // And the creatures are distinct bodies at their spaced poses.
+  EXPECT_NE(odom[0].pose.pose.position.x, odom[1].pose.pose.position.x);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_flock");
+  return RUN_ALL_TESTS();
+}
