@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <thread>
 
 namespace flapsim {
@@ -97,6 +98,21 @@ struct CreatureRecord {
   std::vector<JointDrive> drives;  // per model joint
 };
 
+// Bullet's Dantzig LCP keeps its failure flag in a global variable (s_error in
+// btDantzigLCP.cpp), so two solves at once in different threads can fail each other and
+// fall back to another solver. One solve at a time keeps parallel runs bit-identical to
+// serial ones; the rest of the step still runs in parallel.
+class SerialDantzigSolver : public btDantzigSolver {
+ public:
+  bool solveMLCP(const btMatrixXu& A, const btVectorXu& b, btVectorXu& x, const btVectorXu& lo,
+                 const btVectorXu& hi, const btAlignedObjectArray<int>& limit_dependency,
+                 int iterations, bool use_sparsity) override {
+    static std::mutex mutex;
+    std::lock_guard<std::mutex> lock(mutex);
+    return btDantzigSolver::solveMLCP(A, b, x, lo, hi, limit_dependency, iterations, use_sparsity);
+  }
+};
+
 // A Bullet world of its own for each creature: creatures do not touch one another, so
 // they can be stepped in parallel, and adding one never perturbs another's trajectory.
 struct Scene {
@@ -110,7 +126,7 @@ struct Scene {
     // A direct (Dantzig) LCP solve of all joint motors and limits at once: sequential
     // impulses would serve the first wing's motor before the second's and break the
     // left/right symmetry of a flapping unit.
-    lcp = std::make_unique<btDantzigSolver>();
+    lcp = std::make_unique<SerialDantzigSolver>();
     solver = std::make_unique<btMultiBodyMLCPConstraintSolver>(lcp.get());
     world = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher.get(), broadphase.get(),
                                                        solver.get(), config.get());
@@ -136,7 +152,7 @@ struct Scene {
   std::unique_ptr<btDefaultCollisionConfiguration> config;
   std::unique_ptr<btCollisionDispatcher> dispatcher;
   std::unique_ptr<btBroadphaseInterface> broadphase;
-  std::unique_ptr<btDantzigSolver> lcp;
+  std::unique_ptr<SerialDantzigSolver> lcp;
   std::unique_ptr<btMultiBodyConstraintSolver> solver;
   std::unique_ptr<btMultiBodyDynamicsWorld> world;
   std::unique_ptr<btCollisionShape> ground_shape;
