@@ -10,10 +10,10 @@
 #include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
 #include <btBulletDynamicsCommon.h>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <thread>
 
 namespace flapsim {
@@ -107,9 +107,14 @@ class SerialDantzigSolver : public btDantzigSolver {
   bool solveMLCP(const btMatrixXu& A, const btVectorXu& b, btVectorXu& x, const btVectorXu& lo,
                  const btVectorXu& hi, const btAlignedObjectArray<int>& limit_dependency,
                  int iterations, bool use_sparsity) override {
-    static std::mutex mutex;
-    std::lock_guard<std::mutex> lock(mutex);
-    return btDantzigSolver::solveMLCP(A, b, x, lo, hi, limit_dependency, iterations, use_sparsity);
+    // A spin lock: the solves are short (microseconds), sleeping on a mutex costs more.
+    static std::atomic_flag busy = ATOMIC_FLAG_INIT;
+    while (busy.test_and_set(std::memory_order_acquire)) {
+    }
+    const bool ok =
+        btDantzigSolver::solveMLCP(A, b, x, lo, hi, limit_dependency, iterations, use_sparsity);
+    busy.clear(std::memory_order_release);
+    return ok;
   }
 };
 
