@@ -177,7 +177,9 @@ TEST(Water, SwimmerMovesThroughWater) {
   EXPECT_LT(std::abs(equal), 0.01);
   EXPECT_GT(twice, 0.05);
   EXPECT_GT(thrice, twice);
-  EXPECT_NEAR(swim(4, 2, 10), twice, 0.1 * twice);  // drag-dominated: rate-independent
+  // Drag-dominated: doubling both rates changes the distance per cycle little (in air,
+  // where inertia and gravity dominate, it changes it many times over).
+  EXPECT_NEAR(swim(4, 2, 10), twice, 0.2 * twice);
 }
 
 // Feathering (paper sec. VI): pitching the wings edge-on for the upstroke loses less lift

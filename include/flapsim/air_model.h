@@ -99,10 +99,13 @@ inline Vec3 relativeAirVelocity(const Vec3& v, const Vec3& w, const Vec3& r, con
 
 /// The paper's pressure on one cell (world frame): zero unless the face
 /// advances into the air (u.n > 0), then -1/2 rho Cd s |u| (u.n) n.
-inline Vec3 pressureForce(const Vec3& u, const Vec3& n, double area, double density, double cd) {
+inline double pressureMagnitude(const Vec3& u, const Vec3& n, double area, double density,
+                                double cd) {
   const double un = u.dot(n);
-  if (un <= 0.0) return Vec3::Zero();
-  return (-0.5 * density * cd * area * u.norm() * un) * n;
+  return un > 0.0 ? 0.5 * density * cd * area * u.norm() * un : 0.0;
+}
+inline Vec3 pressureForce(const Vec3& u, const Vec3& n, double area, double density, double cd) {
+  return -pressureMagnitude(u, n, area, density, cd) * n;
 }
 
 /// Buoyancy rho V g opposite to gravity (gravity is a vector, e.g. (0,0,-9.81)).

@@ -101,10 +101,40 @@ constexpr double kDeg = M_PI / 180.0;
 Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
                                     const AirParams& air, std::vector<Vec3>* cell_forces) const {
   const double cd = surface.drag_coefficient;
-  return sumCells(body, surface, air, cell_forces,
-                  [&](const Vec3& u, const SurfaceCell& cell, const Vec3&) {
-                    return pressureForce(u, cell.normal, cell.area, air.density, cd);
-                  });
+  if (surface.faces.empty()) {
+    return sumCells(body, surface, air, cell_forces,
+                    [&](const Vec3& u, const SurfaceCell& cell, const Vec3&) {
+                      return pressureForce(u, cell.normal, cell.area, air.density, cd);
+                    });
+  }
+  // Per face: every force is along the face's normal n, so the face's force is -(sum p_i) n
+  // and its torque -(sum p_i c_i) x n; only magnitudes are summed per cell.
+  const Eigen::Matrix3d rot = body.orientation.toRotationMatrix();
+  const Vec3 v = rot.transpose() * body.linear_velocity;
+  const Vec3 w = rot.transpose() * body.angular_velocity;
+  const Vec3 wind = rot.transpose() * air.wind;
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
+  if (cell_forces) cell_forces->assign(surface.cells.size(), Vec3::Zero());
+  for (const SurfaceFace& face : surface.faces) {
+    bool advancing = false;
+    for (const Vec3& corner : face.corners) {
+      advancing = advancing || relativeAirVelocity(v, w, corner, wind).dot(face.normal) > 0.0;
+    }
+    if (!advancing) continue;
+    double sum = 0.0;
+    Vec3 moment = Vec3::Zero();
+    for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
+      const SurfaceCell& cell = surface.cells[i];
+      const double p = pressureMagnitude(relativeAirVelocity(v, w, cell.centre, wind), face.normal,
+                                         cell.area, air.density, cd);
+      sum += p;
+      moment += p * cell.centre;
+      if (cell_forces) (*cell_forces)[i] = rot * (-p * face.normal);
+    }
+    force -= sum * face.normal;
+    torque -= moment.cross(face.normal);
+  }
+  return Wrench{rot * force, rot * torque};
 }
 
 double angleOfAttack(const Vec3& u, const Vec3& n) {
