@@ -59,39 +59,53 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
 
 namespace {
 
-// Sums per-cell forces of `force(u, cell, face)` over a body, in its frame, skipping faces
-// none of whose corners advance into the air (u.n is affine over a face).
+// The air's motion seen from a body: velocities in the body frame, where cell centres and
+// normals are constant.
+struct BodyFlow {
+  BodyFlow(const BodyKinematics& body, const AirParams& air)
+      : rot(body.orientation.toRotationMatrix()),
+        v(rot.transpose() * body.linear_velocity),
+        w(rot.transpose() * body.angular_velocity),
+        wind(rot.transpose() * air.wind) {}
+
+  Vec3 at(const Vec3& point) const { return relativeAirVelocity(v, w, point, wind); }
+  // u.n is affine over a face: if no corner advances into the air, no cell does.
+  bool advances(const SurfaceFace& face) const {
+    for (const Vec3& corner : face.corners) {
+      if (at(corner).dot(face.normal) > 0.0) return true;
+    }
+    return false;
+  }
+
+  Eigen::Matrix3d rot;
+  Vec3 v, w, wind;
+};
+
+// Sums per-cell forces of `force(u, cell, span)` over a body, skipping retreating faces.
 template <typename CellForce>
 Wrench sumCells(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
                 std::vector<Vec3>* cell_forces, CellForce force) {
-  const Eigen::Matrix3d rot = body.orientation.toRotationMatrix();
-  const Vec3 v = rot.transpose() * body.linear_velocity;
-  const Vec3 w = rot.transpose() * body.angular_velocity;
-  const Vec3 wind = rot.transpose() * air.wind;
+  const BodyFlow flow(body, air);
   Vec3 total = Vec3::Zero(), torque = Vec3::Zero();
   if (cell_forces) cell_forces->assign(surface.cells.size(), Vec3::Zero());
   auto cellRange = [&](int first, int count, const Vec3& span) {
     for (int i = first; i < first + count; ++i) {
       const SurfaceCell& cell = surface.cells[i];
-      const Vec3 f = force(relativeAirVelocity(v, w, cell.centre, wind), cell, span);
+      const Vec3 f = force(flow.at(cell.centre), cell, span);
       if (f.isZero(0.0)) continue;
       total += f;
       torque += cell.centre.cross(f);
-      if (cell_forces) (*cell_forces)[i] = rot * f;
+      if (cell_forces) (*cell_forces)[i] = flow.rot * f;
     }
   };
   if (surface.faces.empty()) {
     cellRange(0, static_cast<int>(surface.cells.size()), Vec3::Zero());
   } else {
     for (const SurfaceFace& face : surface.faces) {
-      bool advancing = false;
-      for (const Vec3& corner : face.corners) {
-        advancing = advancing || relativeAirVelocity(v, w, corner, wind).dot(face.normal) > 0.0;
-      }
-      if (advancing) cellRange(face.first_cell, face.cell_count, face.span);
+      if (flow.advances(face)) cellRange(face.first_cell, face.cell_count, face.span);
     }
   }
-  return Wrench{rot * total, rot * torque};
+  return Wrench{flow.rot * total, flow.rot * torque};
 }
 
 constexpr double kDeg = M_PI / 180.0;
@@ -109,32 +123,25 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
   }
   // Per face: every force is along the face's normal n, so the face's force is -(sum p_i) n
   // and its torque -(sum p_i c_i) x n; only magnitudes are summed per cell.
-  const Eigen::Matrix3d rot = body.orientation.toRotationMatrix();
-  const Vec3 v = rot.transpose() * body.linear_velocity;
-  const Vec3 w = rot.transpose() * body.angular_velocity;
-  const Vec3 wind = rot.transpose() * air.wind;
+  const BodyFlow flow(body, air);
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   if (cell_forces) cell_forces->assign(surface.cells.size(), Vec3::Zero());
   for (const SurfaceFace& face : surface.faces) {
-    bool advancing = false;
-    for (const Vec3& corner : face.corners) {
-      advancing = advancing || relativeAirVelocity(v, w, corner, wind).dot(face.normal) > 0.0;
-    }
-    if (!advancing) continue;
+    if (!flow.advances(face)) continue;
     double sum = 0.0;
     Vec3 moment = Vec3::Zero();
     for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
       const SurfaceCell& cell = surface.cells[i];
-      const double p = pressureMagnitude(relativeAirVelocity(v, w, cell.centre, wind), face.normal,
-                                         cell.area, air.density, cd);
+      const double p =
+          pressureMagnitude(flow.at(cell.centre), face.normal, cell.area, air.density, cd);
       sum += p;
       moment += p * cell.centre;
-      if (cell_forces) (*cell_forces)[i] = rot * (-p * face.normal);
+      if (cell_forces) (*cell_forces)[i] = flow.rot * (-p * face.normal);
     }
     force -= sum * face.normal;
     torque -= moment.cross(face.normal);
   }
-  return Wrench{rot * force, rot * torque};
+  return Wrench{flow.rot * force, flow.rot * torque};
 }
 
 double angleOfAttack(const Vec3& u, const Vec3& n) {

@@ -13,16 +13,11 @@
 #include <map>
 
 #include "flapsim/evolve.h"
+#include "wait_for.h"
 
 namespace {
 
-bool waitFor(const std::function<bool()>& done, double timeout) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok() && !done() && ros::WallTime::now() < deadline) {
-    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
-  }
-  return done();
-}
+using flapsim_test::waitFor;
 
 TEST(AnnControllerLockstep, MatchesTheInProcessEvaluation) {
   ros::NodeHandle nh, pnh("~");

@@ -18,16 +18,11 @@
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
 #include "flapsim/evolve.h"
+#include "wait_for.h"
 
 namespace {
 
-bool waitFor(const std::function<bool()>& done, double timeout) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok() && !done() && ros::WallTime::now() < deadline) {
-    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
-  }
-  return done();
-}
+using flapsim_test::waitFor;
 
 TEST(Flock, KCreaturesAndKControllersEachFlyingItsOwn) {
   ros::NodeHandle nh, pnh("~");
