@@ -33,6 +33,7 @@ const char* kUsage =
     "  --control-period P network update period, s (0.02)\n"
     "  --roll LO HI       start roll range, rad (0.035 0.087)\n"
     "  --gene-range G     initial range and bound of every weight, +-G (10)\n"
+    "  --air-model M      air model of the episodes: pressure or quasi_steady (pressure)\n"
     "  --out DIR          output directory (evolve_out)\n"
     "  --weights FILE     weights YAML (DIR/weights.yaml)\n"
     "  --no-plot          do not run gnuplot\n";
@@ -103,7 +104,9 @@ int main(int argc, char** argv) {
       else if (a == "--gene-range") {
         params.ga.gene_max = std::stod(v);
         params.ga.gene_min = -params.ga.gene_max;
-      } else if (a == "--out")
+      } else if (a == "--air-model")
+        params.episode.world.air.model = v;
+      else if (a == "--out")
         out_dir = v;
       else if (a == "--weights")
         weights_path = v;
