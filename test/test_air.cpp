@@ -83,6 +83,36 @@ AeroSurface plateSurface(double lx, double ly, int nu, int nv) {
   return s;
 }
 
+// The world's surfaces (appendBox: faces on regular grids, summed per face) give the forces
+// of the plain per-cell sum, for arbitrary motion, wind and box pose.
+TEST(PressureAirModel, FaceGridSumsEqualThePerCellSum) {
+  PressureAirModel model;
+  const Pose origin = poseFromXyzRpy(Vec3(0.01, 0.1, -0.02), Vec3(0.2, -0.4, 1.0));
+  AeroSurface plain, faces;
+  plain.cells = boxSurfaceCells(Vec3(0.2, 0.35, 0.01), origin, 3, 5);
+  appendBox(faces, Vec3(0.2, 0.35, 0.01), origin, 3, 5);
+  ASSERT_EQ(faces.cells.size(), plain.cells.size());
+  EXPECT_NEAR(faces.volume, 0.2 * 0.35 * 0.01, 1e-15);
+  AirParams air;
+  air.wind = Vec3(1.0, -0.5, 0.2);
+  for (int k = 0; k < 20; ++k) {
+    BodyKinematics b;
+    b.orientation = Quat(Eigen::AngleAxisd(0.3 * k, Vec3(1, k, 2).normalized()));
+    b.linear_velocity = Vec3(std::sin(k), std::cos(2 * k), -1.0 + 0.1 * k);
+    b.angular_velocity = Vec3(5 * std::cos(k), -3.0 + k, 2 * std::sin(3 * k));
+    std::vector<Vec3> cells_a, cells_b;
+    const Wrench a = model.bodyWrench(b, plain, air, &cells_a);
+    const Wrench f = model.bodyWrench(b, faces, air, &cells_b);
+    const double scale = a.force.norm() + a.torque.norm();
+    ASSERT_GT(scale, 0.0);
+    EXPECT_NEAR((a.force - f.force).norm(), 0.0, 1e-12 * scale) << k;
+    EXPECT_NEAR((a.torque - f.torque).norm(), 0.0, 1e-12 * scale) << k;
+    for (size_t i = 0; i < cells_a.size(); ++i) {
+      EXPECT_NEAR((cells_a[i] - cells_b[i]).norm(), 0.0, 1e-12 * scale) << k << " cell " << i;
+    }
+  }
+}
+
 TEST(PressureAirModel, StillAirAtRestGivesNothing) {
   PressureAirModel model;
   Wrench w = model.bodyWrench(BodyKinematics(), plateSurface(0.2, 0.2, 4, 4), AirParams(), nullptr);

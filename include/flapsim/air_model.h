@@ -54,6 +54,10 @@ struct SurfaceFace {
   Vec3 corners[4];
   int first_cell = 0;
   int cell_count = 0;
+  /// A regular grid when nu > 0: cell (i, j) is cells[first_cell + i * nv + j], centred at
+  /// cells[first_cell].centre + i * step_u + j * step_v, all of the same area.
+  int nu = 0, nv = 0;
+  Vec3 step_u = Vec3::Zero(), step_v = Vec3::Zero();
 };
 
 /// The aero description of one rigid body, in its COM frame.

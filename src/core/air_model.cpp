@@ -51,6 +51,14 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
     }
     face.first_cell = static_cast<int>(surface.cells.size()) + f * per_face;
     face.cell_count = per_face;
+    face.nu = nu;
+    face.nv = nv;
+    Vec3 step = Vec3::Zero();
+    step[b] = size[b] / nu;
+    face.step_u = origin.orientation * step;
+    step = Vec3::Zero();
+    step[c] = size[c] / nv;
+    face.step_v = origin.orientation * step;
     surface.faces.push_back(face);
   }
   surface.cells.insert(surface.cells.end(), cells.begin(), cells.end());
@@ -130,13 +138,35 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
     if (!flow.advances(face)) continue;
     double sum = 0.0;
     Vec3 moment = Vec3::Zero();
-    for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
-      const SurfaceCell& cell = surface.cells[i];
-      const double p =
-          pressureMagnitude(flow.at(cell.centre), face.normal, cell.area, air.density, cd);
-      sum += p;
-      moment += p * cell.centre;
-      if (cell_forces) (*cell_forces)[i] = flow.rot * (-p * face.normal);
+    if (face.nu > 0) {
+      // On a grid the relative velocity is affine in the cell index (u(c + s) = u(c) + w x s),
+      // and so is the centre: sum p, p i and p j, not vectors.
+      const SurfaceCell& first = surface.cells[face.first_cell];
+      const Vec3 u0 = flow.at(first.centre);
+      const Vec3 du = flow.w.cross(face.step_u), dv = flow.w.cross(face.step_v);
+      double sum_i = 0.0, sum_j = 0.0;
+      for (int i = 0; i < face.nu; ++i) {
+        for (int j = 0; j < face.nv; ++j) {
+          const Vec3 u = u0 + static_cast<double>(i) * du + static_cast<double>(j) * dv;
+          const double p = pressureMagnitude(u, face.normal, first.area, air.density, cd);
+          sum += p;
+          sum_i += p * i;
+          sum_j += p * j;
+          if (cell_forces) {
+            (*cell_forces)[face.first_cell + i * face.nv + j] = flow.rot * (-p * face.normal);
+          }
+        }
+      }
+      moment = sum * first.centre + sum_i * face.step_u + sum_j * face.step_v;
+    } else {
+      for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
+        const SurfaceCell& cell = surface.cells[i];
+        const double p =
+            pressureMagnitude(flow.at(cell.centre), face.normal, cell.area, air.density, cd);
+        sum += p;
+        moment += p * cell.centre;
+        if (cell_forces) (*cell_forces)[i] = flow.rot * (-p * face.normal);
+      }
     }
     force -= sum * face.normal;
     torque -= moment.cross(face.normal);
