@@ -111,6 +111,25 @@ TEST(World, PlateComesToRestOnTheGround) {
   EXPECT_NEAR(w.rootTwist("plate").linear.norm(), 0.0, 1e-3);
 }
 
+// A horizontal flap on a hinge with an enormous URDF damping: it sinks under gravity slowly
+// and smoothly, instead of the explicit damping torque making the step blow up.
+TEST(World, HugeJointDampingStaysStable) {
+  auto hinge = parseCreatureModel(R"(<robot name="h"><link name="world"/>
+    <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
+      <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
+      <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
+    <joint name="hinge" type="continuous"><parent link="world"/><child link="flap"/>
+      <axis xyz="1 0 0"/><dynamics damping="1000"/></joint></robot>)");
+  World w(openSky());
+  w.spawn("h", hinge, at(0, 0, 1));
+  w.step(1000);
+  const CreatureState s = w.state("h");
+  EXPECT_TRUE(std::isfinite(s.joint_positions[0]));
+  EXPECT_LT(s.joint_positions[0], 0.0);   // it did sink (tip down is negative about +x)
+  EXPECT_GT(s.joint_positions[0], -0.5);  // but slowly: heavily damped
+  EXPECT_LT(std::abs(s.joint_velocities[0]), 1.0);
+}
+
 TEST(World, PositiveWingAngleLiftsTheTip) {
   World w(openSky());
   w.spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 10));

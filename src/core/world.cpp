@@ -70,6 +70,18 @@ class JointMotor : public btMultiBodyJointMotor {
   bool active_ = true;
 };
 
+// Joint damping is applied as an explicit torque -d qdot, stable while d dt stays well
+// under the joint's inertia. Beyond that it is capped at a quarter of the child link's own
+// inertia about the axis per step: the joint is then nearly rigid in velocity either way,
+// and a large URDF damping cannot make the step blow up.
+double dampingLimit(const CreatureModel& m, const JointModel& j, double dt) {
+  const LinkModel& child = m.links[j.child_link];
+  if (j.type == JointType::kPrismatic) return 0.25 * child.mass / dt;
+  const Vec3 r = child.com - child.com.dot(j.axis) * j.axis;  // COM off the axis
+  const double inertia = child.inertia.dot(j.axis.cwiseAbs2()) + child.mass * r.squaredNorm();
+  return 0.25 * inertia / dt;
+}
+
 // Time constant of the feathering servo.
 constexpr double kFeatherTime = 0.005;
 
@@ -184,6 +196,7 @@ struct CreatureBody {
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
   std::vector<std::unique_ptr<JointMotor>> motors;  // per model joint, null if fixed
   std::vector<double> max_effort;                   // per model joint
+  std::vector<double> damping;  // per model joint: URDF damping, capped for stability
   std::vector<AeroBody> aero;
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
@@ -331,6 +344,7 @@ class World::Impl {
     // targets, and Coulomb friction of passive joints).
     body->motors.resize(m.joints.size());
     body->max_effort.assign(m.joints.size(), 0.0);
+    body->damping.assign(m.joints.size(), 0.0);
     for (size_t ji = 0; ji < m.joints.size(); ++ji) {
       const JointModel& j = m.joints[ji];
       if (!j.movable()) continue;
@@ -344,6 +358,7 @@ class World::Impl {
       world->addMultiBodyConstraint(motor.get());
       body->motors[ji] = std::move(motor);
       body->max_effort[ji] = j.effort > 0.0 ? j.effort : params_.default_wing_effort;
+      body->damping[ji] = std::min(j.damping, dampingLimit(m, j, params_.step_size));
     }
     return body;
   }
@@ -373,7 +388,9 @@ class World::Impl {
           // Coulomb friction: a zero-velocity motor whose impulse is capped by friction.
           motor->setVelocityTarget(0.0);
           motor->setMaxAppliedImpulse(j.friction * dt);
-          if (j.damping > 0.0) mb->addJointTorque(link, -j.damping * mb->getJointVel(link));
+          if (b.damping[ji] > 0.0) {
+            mb->addJointTorque(link, -b.damping[ji] * mb->getJointVel(link));
+          }
           break;
       }
     }
