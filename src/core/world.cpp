@@ -189,6 +189,22 @@ struct CreatureBody {
     if (mb) world->removeMultiBody(mb.get());
   }
 
+  // Refreshes the link frames and velocities below from the multibody's state.
+  void updateKinematics() {
+    mb->forwardKinematics(world_to_local, local_origin);
+    mb->compTreeLinkVelocities(omega.data(), vel.data());
+  }
+  // World-frame kinematics of link k's centre of mass (after updateKinematics).
+  BodyKinematics kinematics(int k) const {
+    const btQuaternion to_world = world_to_local[k].inverse();
+    BodyKinematics kin;
+    kin.orientation = fromBt(to_world);
+    kin.com = fromBt(local_origin[k]);
+    kin.linear_velocity = fromBt(quatRotate(to_world, vel[k]));
+    kin.angular_velocity = fromBt(quatRotate(to_world, omega[k]));
+    return kin;
+  }
+
   std::unique_ptr<Scene> scene;  // declared first: destroyed last
   std::unique_ptr<btMultiBody> mb;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
@@ -412,17 +428,11 @@ class World::Impl {
 
   void applyAir(CreatureBody& b) {
     btMultiBody* mb = b.mb.get();
-    mb->forwardKinematics(b.world_to_local, b.local_origin);
-    mb->compTreeLinkVelocities(b.omega.data(), b.vel.data());
+    b.updateKinematics();
     const AirParams& air = params_.air;
     for (AeroBody& a : b.aero) {
       const int k = a.link;
-      const btQuaternion to_world = b.world_to_local[k].inverse();
-      BodyKinematics kin;
-      kin.orientation = fromBt(to_world);
-      kin.com = fromBt(b.local_origin[k]);
-      kin.linear_velocity = fromBt(quatRotate(to_world, b.vel[k]));
-      kin.angular_velocity = fromBt(quatRotate(to_world, b.omega[k]));
+      const BodyKinematics kin = b.kinematics(k);
       const AirModel& model = a.model.empty() ? *air_model_ : *named_models_.at(a.model);
       Wrench w =
           model.bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
@@ -662,21 +672,18 @@ CreatureState World::state(const std::string& creature) const {
   const CreatureModel& m = *impl_->records_[c].model;
   CreatureBody& b = *impl_->bodies_[c];
   btMultiBody* mb = b.mb.get();
-  mb->forwardKinematics(b.world_to_local, b.local_origin);
-  mb->compTreeLinkVelocities(b.omega.data(), b.vel.data());
+  b.updateKinematics();
   CreatureState s;
   const size_t n = m.links.size();
   s.link_poses.resize(n);
   s.link_twists.resize(n);
   for (size_t k = 0; k < n; ++k) {
-    const btQuaternion to_world = b.world_to_local[k].inverse();
-    const Quat q = fromBt(to_world).normalized();
-    const Vec3 com = fromBt(b.local_origin[k]);
-    const Vec3 origin = com - q * m.links[k].com;
-    const Vec3 w = fromBt(quatRotate(to_world, b.omega[k]));
-    const Vec3 v = fromBt(quatRotate(to_world, b.vel[k]));
+    const BodyKinematics kin = b.kinematics(static_cast<int>(k));
+    const Quat q = kin.orientation.normalized();
+    const Vec3 origin = kin.com - q * m.links[k].com;
     s.link_poses[k] = Pose{origin, q};
-    s.link_twists[k] = Twist{v + w.cross(origin - com), w};
+    s.link_twists[k] = Twist{kin.linear_velocity + kin.angular_velocity.cross(origin - kin.com),
+                             kin.angular_velocity};
   }
   s.joint_positions.assign(m.joints.size(), 0.0);
   s.joint_velocities.assign(m.joints.size(), 0.0);
