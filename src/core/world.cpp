@@ -4,7 +4,6 @@
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
-#include <BulletDynamics/Featherstone/btMultiBodyJointMotor.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <BulletDynamics/Featherstone/btMultiBodyMLCPConstraintSolver.h>
 #include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
@@ -12,9 +11,12 @@
 
 #include <atomic>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <thread>
+
+#include "flapsim/joint_servo.h"
 
 namespace flapsim {
 
@@ -55,19 +57,19 @@ AeroSurface linkSurface(const LinkModel& l, const AirParams& air) {
   return surface;
 }
 
-// A velocity motor that adds no solver rows while switched off (a passive joint without
-// friction), so idle motors cost nothing.
-class JointMotor : public btMultiBodyJointMotor {
+// A multibody world that lets its creature's joint servos act between Bullet's
+// unconstrained velocity update (gravity, air, damping) and its constraint solve (limits,
+// contacts), which is where Bullet's own joint motors act.
+class ServoWorld : public btMultiBodyDynamicsWorld {
  public:
-  using btMultiBodyJointMotor::btMultiBodyJointMotor;
-  void setActive(bool active) { active_ = active; }
-  void createConstraintRows(btMultiBodyConstraintArray& rows, btMultiBodyJacobianData& data,
-                            const btContactSolverInfo& info) override {
-    if (active_) btMultiBodyJointMotor::createConstraintRows(rows, data, info);
-  }
+  using btMultiBodyDynamicsWorld::btMultiBodyDynamicsWorld;
+  std::function<void()> servos;
 
- private:
-  bool active_ = true;
+ protected:
+  void solveExternalForces(btContactSolverInfo& info) override {
+    btMultiBodyDynamicsWorld::solveExternalForces(info);
+    if (servos) servos();
+  }
 };
 
 // Joint damping is applied as an explicit torque -d qdot, stable while d dt stays well
@@ -140,13 +142,13 @@ struct Scene {
     config = std::make_unique<btDefaultCollisionConfiguration>(info);
     dispatcher = std::make_unique<btCollisionDispatcher>(config.get());
     broadphase = std::make_unique<btDbvtBroadphase>();
-    // A direct (Dantzig) LCP solve of all joint motors and limits at once: sequential
-    // impulses would serve the first wing's motor before the second's and break the
+    // A direct (Dantzig) LCP solve of all joint limits and contacts at once: sequential
+    // impulses would serve the left wing's limit before the right's and break the
     // left/right symmetry of a flapping unit.
     lcp = std::make_unique<SerialDantzigSolver>();
     solver = std::make_unique<btMultiBodyMLCPConstraintSolver>(lcp.get());
-    world = std::make_unique<btMultiBodyDynamicsWorld>(dispatcher.get(), broadphase.get(),
-                                                       solver.get(), config.get());
+    world = std::make_unique<ServoWorld>(dispatcher.get(), broadphase.get(), solver.get(),
+                                         config.get());
     world->setGravity(toBt(params.gravity));
     world->getSolverInfo().m_numIterations = params.solver_iterations;
     world->getDispatchInfo().m_deterministicOverlappingPairs = true;
@@ -171,7 +173,7 @@ struct Scene {
   std::unique_ptr<btBroadphaseInterface> broadphase;
   std::unique_ptr<SerialDantzigSolver> lcp;
   std::unique_ptr<btMultiBodyConstraintSolver> solver;
-  std::unique_ptr<btMultiBodyDynamicsWorld> world;
+  std::unique_ptr<ServoWorld> world;
   std::unique_ptr<btCollisionShape> ground_shape;
   std::unique_ptr<btCollisionObject> ground;
 };
@@ -181,9 +183,6 @@ struct CreatureBody {
   ~CreatureBody() {
     if (!scene) return;
     btMultiBodyDynamicsWorld* world = scene->world.get();
-    for (auto& m : motors) {
-      if (m) world->removeMultiBodyConstraint(m.get());
-    }
     for (auto& l : limits) world->removeMultiBodyConstraint(l.get());
     for (auto& c : colliders) world->removeCollisionObject(c.get());
     if (mb) world->removeMultiBody(mb.get());
@@ -205,14 +204,62 @@ struct CreatureBody {
     return kin;
   }
 
+  // Called by Bullet once the velocities hold gravity, air and damping for this step:
+  // solves every servo together and adds the velocity change it causes. The link frames
+  // are those of updateKinematics() at the start of the step (positions have not moved).
+  void applyServos() {
+    const CreatureModel& m = *model;
+    bool any = false;
+    for (size_t k = 1; k < demands.size(); ++k) {
+      if (!demands[k].active) continue;
+      demands[k].velocity_change = servo_target[k] - mb->getJointVel(static_cast<int>(k) - 1);
+      any = true;
+    }
+    if (!any) return;
+    const btVector3 origin = local_origin[0];  // the root's COM
+    for (size_t k = 0; k < servo_links.size(); ++k) {
+      const LinkModel& l = m.links[k];
+      ServoLink& s = servo_links[k];
+      const btMatrix3x3 rot(world_to_local[k].inverse());
+      const btMatrix3x3 inertia = rot.scaled(toBt(l.inertia)) * rot.transpose();
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) s.inertia(r, c) = inertia[r][c];
+      }
+      s.com = fromBt(local_origin[k] - origin);
+      if (k > 0) {
+        const JointModel& j = m.joints[l.parent_joint];
+        s.axis = fromBt(rot * toBt(j.axis));
+        s.anchor = fromBt(local_origin[k] - rot * toBt(l.com) - origin);
+      }
+    }
+    servo.solve(servo_links, m.fixed_base, demands, solution);
+    for (size_t k = 1; k < demands.size(); ++k) {
+      if (servo_links[k].joint == ServoJointType::kFixed) continue;
+      const int link = static_cast<int>(k) - 1;
+      mb->setJointVel(link, mb->getJointVel(link) + solution.velocity_change[k]);
+    }
+    if (!m.fixed_base) {
+      const Vec6& dv = solution.root_velocity_change;
+      mb->setBaseOmega(mb->getBaseOmega() + toBt(Vec3(dv.head<3>())));
+      mb->setBaseVel(mb->getBaseVel() + toBt(Vec3(dv.tail<3>())));
+    }
+  }
+
   std::unique_ptr<Scene> scene;  // declared first: destroyed last
   std::unique_ptr<btMultiBody> mb;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
-  std::vector<std::unique_ptr<JointMotor>> motors;  // per model joint, null if fixed
-  std::vector<double> max_effort;                   // per model joint
-  std::vector<double> damping;  // per model joint: URDF damping, capped for stability
+  std::vector<double> max_effort;  // per model joint
+  std::vector<double> damping;     // per model joint: URDF damping, capped for stability
+  // Joint servos (wing motors, velocity targets, feathering, Coulomb friction), indexed
+  // by model link: the servo of the joint to that link's parent.
+  const CreatureModel* model = nullptr;
+  std::vector<double> servo_target;  // joint velocity wanted at the end of the step
+  std::vector<ServoDemand> demands;
+  std::vector<ServoLink> servo_links;
+  JointServoSolver servo;
+  ServoSolution solution;
   std::vector<AeroBody> aero;
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
@@ -356,9 +403,7 @@ class World::Impl {
       }
     }
 
-    // Joint limits and motors (a motor per movable joint: wings, velocity
-    // targets, and Coulomb friction of passive joints).
-    body->motors.resize(m.joints.size());
+    // Joint limits (Bullet constraints) and servos (ours, see applyServos).
     body->max_effort.assign(m.joints.size(), 0.0);
     body->damping.assign(m.joints.size(), 0.0);
     for (size_t ji = 0; ji < m.joints.size(); ++ji) {
@@ -370,12 +415,26 @@ class World::Impl {
         world->addMultiBodyConstraint(lim.get());
         body->limits.push_back(std::move(lim));
       }
-      auto motor = std::make_unique<JointMotor>(mb, link, 0.0, 0.0);
-      world->addMultiBodyConstraint(motor.get());
-      body->motors[ji] = std::move(motor);
       body->max_effort[ji] = j.effort > 0.0 ? j.effort : params_.default_wing_effort;
       body->damping[ji] = std::min(j.damping, dampingLimit(m, j, params_.step_size));
     }
+    body->model = &m;
+    body->servo_target.assign(n + 1, 0.0);
+    body->demands.assign(n + 1, ServoDemand());
+    body->servo_links.resize(n + 1);
+    for (int k = 0; k <= n; ++k) {
+      const LinkModel& l = m.links[k];
+      ServoLink& s = body->servo_links[k];
+      s.mass = l.mass;
+      if (k == 0) continue;
+      const JointModel& j = m.joints[l.parent_joint];
+      s.parent = j.parent_link;
+      s.joint = j.type == JointType::kFixed       ? ServoJointType::kFixed
+                : j.type == JointType::kPrismatic ? ServoJointType::kPrismatic
+                                                  : ServoJointType::kRevolute;
+    }
+    CreatureBody* b = body.get();
+    body->scene->world->servos = [b] { b->applyServos(); };
     return body;
   }
 
@@ -384,26 +443,29 @@ class World::Impl {
     const CreatureModel& m = *r.model;
     btMultiBody* mb = b.mb.get();
     const double dt = params_.step_size;
+    // A servo with target velocity `target` and torque bound `effort` on a joint.
+    auto drive = [&b, dt](int joint_link, double target, double effort) {
+      ServoDemand& demand = b.demands[joint_link];
+      demand.active = true;
+      demand.max_impulse = effort * dt;
+      b.servo_target[joint_link] = target;
+    };
     for (size_t ji = 0; ji < m.joints.size(); ++ji) {
       const JointModel& j = m.joints[ji];
       if (!j.movable()) continue;
       const int link = j.child_link - 1;
       JointDrive& d = r.drives[ji];
-      JointMotor* motor = b.motors[ji].get();
-      motor->setActive(d.mode != JointDrive::Mode::kPassive || j.friction > 0.0);
+      b.demands[j.child_link].active = false;
       switch (d.mode) {
         case JointDrive::Mode::kStroke:
-          motor->setVelocityTarget(d.stroke.target(mb->getJointPos(link)));
-          motor->setMaxAppliedImpulse(b.max_effort[ji] * dt);
+          drive(j.child_link, d.stroke.target(mb->getJointPos(link)), b.max_effort[ji]);
           break;
         case JointDrive::Mode::kVelocity:
-          motor->setVelocityTarget(d.velocity);
-          motor->setMaxAppliedImpulse(b.max_effort[ji] * dt);
+          drive(j.child_link, d.velocity, b.max_effort[ji]);
           break;
         case JointDrive::Mode::kPassive:
-          // Coulomb friction: a zero-velocity motor whose impulse is capped by friction.
-          motor->setVelocityTarget(0.0);
-          motor->setMaxAppliedImpulse(j.friction * dt);
+          // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
+          if (j.friction > 0.0) drive(j.child_link, 0.0, j.friction);
           if (b.damping[ji] > 0.0) {
             mb->addJointTorque(link, -b.damping[ji] * mb->getJointVel(link));
           }
@@ -416,19 +478,16 @@ class World::Impl {
       const JointModel& wing = m.joints[wi];
       const JointDrive& d = r.drives[wi];
       if (wing.feather_joint < 0 || d.mode != JointDrive::Mode::kStroke) continue;
-      const int link = m.joints[wing.feather_joint].child_link - 1;
+      const JointModel& feather = m.joints[wing.feather_joint];
       const double target =
           d.stroke.phase() == StrokeGenerator::Phase::kUp ? d.stroke.command().feather : 0.0;
-      JointMotor* motor = b.motors[wing.feather_joint].get();
-      motor->setActive(true);
-      motor->setVelocityTarget((target - mb->getJointPos(link)) / kFeatherTime);
-      motor->setMaxAppliedImpulse(b.max_effort[wing.feather_joint] * dt);
+      drive(feather.child_link, (target - mb->getJointPos(feather.child_link - 1)) / kFeatherTime,
+            b.max_effort[wing.feather_joint]);
     }
   }
 
   void applyAir(CreatureBody& b) {
     btMultiBody* mb = b.mb.get();
-    b.updateKinematics();
     const AirParams& air = params_.air;
     for (AeroBody& a : b.aero) {
       const int k = a.link;
@@ -456,6 +515,7 @@ class World::Impl {
   }
 
   void stepOne(size_t i) {
+    bodies_[i]->updateKinematics();  // for the air and the servos
     applyDrives(records_[i], *bodies_[i]);
     if (params_.air.enabled) applyAir(*bodies_[i]);
     bodies_[i]->scene->world->stepSimulation(params_.step_size, 0, params_.step_size);

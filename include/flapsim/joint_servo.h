@@ -1,0 +1,82 @@
+// Joint velocity servos on a kinematic tree, solved exactly in O(links) per pass.
+//
+// Each driven joint gets the impulse that brings its velocity to the target by the end of
+// the step, unless that impulse exceeds the joint's bound (effort x step), in which case
+// it pushes with the bound. All servos are solved together, so a servo on one joint sees
+// the motion the others cause (a left and a right wing stay mirror images), and the
+// impulses are internal: the tree's momentum is conserved.
+//
+// This is the articulated-body algorithm in its hybrid-dynamics form (Featherstone,
+// "Rigid Body Dynamics Algorithms", ch. 9) at impulse level: a driven joint has a
+// prescribed velocity change and contributes its whole subtree's inertia to its parent; a
+// passive or saturated joint has a known impulse. Saturation is found by an active-set
+// loop; each pass costs O(links). Pure functions of the tree at one instant: no Bullet.
+#pragma once
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <vector>
+
+#include "flapsim/types.h"
+
+namespace flapsim {
+
+using Mat3 = Eigen::Matrix3d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+enum class ServoJointType { kFixed, kRevolute, kPrismatic };
+
+/// One link of a tree at an instant; every vector is in one common frame. A parent comes
+/// before its children; link 0 is the root.
+struct ServoLink {
+  int parent = -1;  // -1 for the root
+  double mass = 0.0;
+  Vec3 com = Vec3::Zero();
+  Mat3 inertia = Mat3::Zero();                    // about the COM, common-frame axes
+  ServoJointType joint = ServoJointType::kFixed;  // the joint to the parent
+  Vec3 axis = Vec3::UnitZ();                      // unit
+  Vec3 anchor = Vec3::Zero();                     // a point on a revolute joint's axis
+};
+
+/// What one joint's servo asks for in this step.
+struct ServoDemand {
+  bool active = false;           // false: passive, no impulse
+  double velocity_change = 0.0;  // wanted change of the joint velocity
+  double max_impulse = 0.0;      // bound on |impulse| (N m s or N s), >= 0
+};
+
+struct ServoSolution {
+  std::vector<double> impulse;               // per link: along its joint (0 if fixed or root)
+  std::vector<double> velocity_change;       // per link: of its joint velocity
+  Vec6 root_velocity_change = Vec6::Zero();  // [angular; linear at the frame origin]
+  std::vector<bool> saturated;               // per link: pushing with its bound
+  int passes = 0;                            // active-set passes (each O(links))
+};
+
+/// Spatial inertia about the frame origin, for velocities [angular; linear at origin].
+Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia);
+/// The joint's motion subspace: the spatial velocity of a unit joint rate.
+Vec6 motionSubspace(const ServoLink& link);
+
+class JointServoSolver {
+ public:
+  /// Solves the servos of `demands` (one per link; the root's is ignored). `fixed_root`:
+  /// the root cannot move. Keeps its scratch between calls: no allocation once warm.
+  void solve(const std::vector<ServoLink>& links, bool fixed_root,
+             const std::vector<ServoDemand>& demands, ServoSolution& out);
+
+ private:
+  enum class Status { kFixed, kFree, kPrescribed };
+  void pass(const std::vector<ServoLink>& links, bool fixed_root,
+            const std::vector<ServoDemand>& demands, ServoSolution& out);
+
+  std::vector<Status> status_;
+  std::vector<double> tau_;  // known impulse of a free joint
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
+  std::vector<double> d_, u_;
+  Eigen::LDLT<Mat6> root_;
+};
+
+}  // namespace flapsim

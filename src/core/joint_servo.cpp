@@ -1,0 +1,188 @@
+#include "flapsim/joint_servo.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace flapsim {
+
+namespace {
+
+Mat3 skew(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+}  // namespace
+
+Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia) {
+  const Mat3 c = skew(com);
+  Mat6 out;
+  out.topLeftCorner<3, 3>() = inertia - mass * c * c;
+  out.topRightCorner<3, 3>() = mass * c;
+  out.bottomLeftCorner<3, 3>() = -mass * c;
+  out.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
+  return out;
+}
+
+Vec6 motionSubspace(const ServoLink& link) {
+  Vec6 s = Vec6::Zero();
+  switch (link.joint) {
+    case ServoJointType::kRevolute:
+      s.head<3>() = link.axis;
+      s.tail<3>() = link.anchor.cross(link.axis);
+      break;
+    case ServoJointType::kPrismatic:
+      s.tail<3>() = link.axis;
+      break;
+    case ServoJointType::kFixed:
+      break;
+  }
+  return s;
+}
+
+void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
+                             const std::vector<ServoDemand>& demands, ServoSolution& out) {
+  const size_t n = links.size();
+  status_.resize(n);
+  tau_.assign(n, 0.0);
+  body_inertia_.resize(n);
+  articulated_.resize(n);
+  bias_.resize(n);
+  s_.resize(n);
+  u_vec_.resize(n);
+  dv_.resize(n);
+  d_.resize(n);
+  u_.resize(n);
+  out.impulse.assign(n, 0.0);
+  out.velocity_change.assign(n, 0.0);
+  out.saturated.assign(n, false);
+  out.passes = 0;
+
+  int driven = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const ServoLink& l = links[k];
+    body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
+    s_[k] = motionSubspace(l);
+    if (k == 0 || l.joint == ServoJointType::kFixed) {
+      status_[k] = Status::kFixed;
+    } else if (demands[k].active && demands[k].max_impulse > 0.0) {
+      status_[k] = Status::kPrescribed;
+      ++driven;
+    } else {
+      status_[k] = Status::kFree;
+    }
+  }
+
+  // Active set: a driven joint whose impulse would exceed its bound pushes with the bound
+  // instead; a pushing joint whose bound would carry it past its target is driven again.
+  const int max_passes = std::min(2 * driven + 2, 32);
+  bool changed = true;
+  while (changed && out.passes < max_passes) {
+    pass(links, fixed_root, demands, out);
+    changed = false;
+    for (size_t k = 1; k < n; ++k) {
+      const ServoDemand& d = demands[k];
+      if (!d.active || status_[k] == Status::kFixed || d.max_impulse <= 0.0) continue;
+      if (status_[k] == Status::kPrescribed) {
+        const double lambda = out.impulse[k];
+        if (std::abs(lambda) > d.max_impulse) {
+          status_[k] = Status::kFree;
+          tau_[k] = std::copysign(d.max_impulse, lambda);
+          out.saturated[k] = true;
+          changed = true;
+        }
+      } else if (out.saturated[k]) {
+        const double excess = out.velocity_change[k] - d.velocity_change;
+        if ((tau_[k] > 0.0 && excess > 0.0) || (tau_[k] < 0.0 && excess < 0.0)) {
+          status_[k] = Status::kPrescribed;
+          out.saturated[k] = false;
+          changed = true;
+        }
+      }
+    }
+  }
+  if (changed) {
+    // Out of passes (a cycling active set, in theory): keep every bound.
+    for (size_t k = 1; k < n; ++k) {
+      const ServoDemand& d = demands[k];
+      if (status_[k] == Status::kPrescribed && std::abs(out.impulse[k]) > d.max_impulse) {
+        status_[k] = Status::kFree;
+        tau_[k] = std::copysign(d.max_impulse, out.impulse[k]);
+        out.saturated[k] = true;
+      }
+    }
+    pass(links, fixed_root, demands, out);
+  }
+}
+
+void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root,
+                            const std::vector<ServoDemand>& demands, ServoSolution& out) {
+  const size_t n = links.size();
+  for (size_t k = 0; k < n; ++k) {
+    articulated_[k] = body_inertia_[k];
+    bias_[k].setZero();
+  }
+  // Leaves to root: articulated inertias and bias impulses.
+  for (size_t k = n - 1; k >= 1; --k) {
+    const int p = links[k].parent;
+    const Mat6& ia = articulated_[k];
+    switch (status_[k]) {
+      case Status::kFixed:
+        articulated_[p] += ia;
+        bias_[p] += bias_[k];
+        break;
+      case Status::kFree: {
+        const Vec6 u_vec = ia * s_[k];
+        const double d = s_[k].dot(u_vec);
+        u_vec_[k] = u_vec;
+        d_[k] = d;
+        u_[k] = tau_[k] - s_[k].dot(bias_[k]);
+        if (d > 0.0) {
+          articulated_[p] += ia - u_vec * (u_vec.transpose() / d);
+          bias_[p] += bias_[k] + u_vec * (u_[k] / d);
+        } else {  // a subtree without inertia about its joint: carried along
+          articulated_[p] += ia;
+          bias_[p] += bias_[k];
+        }
+        break;
+      }
+      case Status::kPrescribed:
+        articulated_[p] += ia;
+        bias_[p] += bias_[k] + ia * (s_[k] * demands[k].velocity_change);
+        break;
+    }
+  }
+  // Root to leaves: velocity changes and the driven joints' impulses.
+  if (fixed_root) {
+    dv_[0].setZero();
+  } else {
+    root_.compute(articulated_[0]);
+    dv_[0] = root_.solve(-bias_[0]);
+  }
+  for (size_t k = 1; k < n; ++k) {
+    const Vec6& ap = dv_[links[k].parent];
+    double dq = 0.0;
+    switch (status_[k]) {
+      case Status::kFixed:
+        out.impulse[k] = 0.0;
+        break;
+      case Status::kFree:
+        dq = d_[k] > 0.0 ? (u_[k] - u_vec_[k].dot(ap)) / d_[k] : 0.0;
+        out.impulse[k] = tau_[k];
+        break;
+      case Status::kPrescribed:
+        dq = demands[k].velocity_change;
+        break;
+    }
+    dv_[k] = ap + s_[k] * dq;
+    if (status_[k] == Status::kPrescribed) {
+      out.impulse[k] = s_[k].dot(articulated_[k] * dv_[k] + bias_[k]);
+    }
+    out.velocity_change[k] = dq;
+  }
+  out.root_velocity_change = dv_[0];
+  ++out.passes;
+}
+
+}  // namespace flapsim
