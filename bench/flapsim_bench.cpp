@@ -125,7 +125,8 @@ int main(int argc, char** argv) {
   if (!json) {
     std::printf("flapsim_bench: %d runs of %g s simulated (%d steps of %g ms), medians\n", runs,
                 seconds, steps, dt * 1e3);
-    std::printf("%-14s %7s %14s %10s %10s\n", "creature", "bodies", "steps/s", "RTF", "air share");
+    std::printf("%-14s %7s %14s %10s %10s %12s\n", "creature", "bodies", "steps/s", "RTF",
+                "air share", "us/body/step");
   } else {
     std::printf("[\n");
   }
@@ -139,14 +140,15 @@ int main(int argc, char** argv) {
     }
     const double sps = median(with_air);
     const double share = std::max(0.0, 1.0 - sps / median(without_air));
+    const double per_body = 1e6 / (sps * s.bodies);  // flat when the cost is linear
     if (json) {
       std::printf(
           "%s  {\"creature\": \"%s\", \"bodies\": %d, \"steps_per_second\": %.0f, "
-          "\"real_time_factor\": %.2f, \"air_share\": %.3f}",
-          first ? "" : ",\n", s.name.c_str(), s.bodies, sps, sps * dt, share);
+          "\"real_time_factor\": %.2f, \"air_share\": %.3f, \"us_per_body_step\": %.3f}",
+          first ? "" : ",\n", s.name.c_str(), s.bodies, sps, sps * dt, share, per_body);
     } else {
-      std::printf("%-14s %7d %14.0f %10.1f %9.1f%%\n", s.name.c_str(), s.bodies, sps, sps * dt,
-                  100.0 * share);
+      std::printf("%-14s %7d %14.0f %10.1f %9.1f%% %12.3f\n", s.name.c_str(), s.bodies, sps,
+                  sps * dt, 100.0 * share, per_body);
     }
     first = false;
   }

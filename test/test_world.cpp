@@ -130,6 +130,95 @@ TEST(World, HugeJointDampingStaysStable) {
   EXPECT_LT(std::abs(s.joint_velocities[0]), 1.0);
 }
 
+// A flap (10 g, COM 0.1 m from the hinge) on a fixed hinge about `axis`, in vacuum.
+CreatureModelPtr hingedFlap(const std::string& axis, const std::string& limit,
+                            const std::string& dynamics) {
+  return parseCreatureModel(R"(<robot name="h"><link name="world"/>
+    <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
+      <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
+      <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
+    <joint name="hinge" type="revolute"><parent link="world"/><child link="flap"/>
+      <axis xyz=")" + axis + R"("/>)" +
+                            limit + dynamics + "</joint></robot>");
+}
+
+WorldParams vacuum() {
+  WorldParams p = openSky();
+  p.air.enabled = false;
+  return p;
+}
+
+// Inertia of the hinged flap about its hinge (x or z axis): own + m d^2.
+constexpr double kFlapHingeInertia = 3.4e-5 + 0.01 * 0.1 * 0.1;
+
+// A weak motor accelerates at effort / inertia until it reaches its target, then holds it.
+TEST(Servo, EffortLimitsTheMotor) {
+  const double effort = 0.01;
+  World w(vacuum());
+  w.spawn(
+      "h",
+      hingedFlap("0 0 1", R"(<limit lower="-100" upper="100" effort="0.01" velocity="50"/>)", ""),
+      at(0, 0, 1));
+  w.setJointVelocityTarget("h", "hinge", 10.0);
+  w.step(50);
+  EXPECT_NEAR(w.state("h").joint_velocities[0], 0.05 * effort / kFlapHingeInertia, 1e-9);
+  w.step(250);  // 0.3 s: past the 0.134 s the target takes
+  EXPECT_NEAR(w.state("h").joint_velocities[0], 10.0, 1e-9);
+}
+
+// Coulomb friction holds the flap level while gravity's torque m g d is below it, and
+// only slows it when above.
+TEST(Servo, JointFrictionHoldsOrSlows) {
+  const double gravity_torque = 0.01 * kG * 0.1;
+  const std::string limit = R"(<limit lower="-3" upper="3" effort="1" velocity="50"/>)";
+  World w(vacuum());
+  w.spawn("held", hingedFlap("1 0 0", limit, R"(<dynamics friction="0.012"/>)"), at(0, 0, 1));
+  w.spawn("slipping", hingedFlap("1 0 0", limit, R"(<dynamics friction="0.005"/>)"), at(1, 0, 1));
+  w.step(10);
+  EXPECT_NEAR(w.state("held").joint_velocities[0], 0.0, 1e-12);
+  EXPECT_NEAR(w.state("held").joint_positions[0], 0.0, 1e-12);
+  // Tip down is negative about +x; the angle stays under 2e-3 rad, so cos ~ 1.
+  const double expected = -(gravity_torque - 0.005) / kFlapHingeInertia * 0.01;
+  EXPECT_NEAR(w.state("slipping").joint_velocities[0], expected, 1e-3 * std::abs(expected));
+}
+
+// Largest linear momentum of a flapping unit in vacuum without gravity over 0.5 s.
+double largestMomentum(double step_size) {
+  WorldParams p = vacuum();
+  p.gravity = Vec3::Zero();
+  p.step_size = step_size;
+  World w(p);
+  auto model = loadUrdf("flap_unit.urdf");
+  w.spawn("u", model, at(0, 0, 10, Quat(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()))));
+  w.setWingCommands("u", {}, {StrokeCommand{35, 10, 0.7}, StrokeCommand{30, 12, 0.8}});
+  const int steps = static_cast<int>(std::lround(0.5 / step_size));
+  double largest = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    w.step(1);
+    const CreatureState s = w.state("u");
+    Vec3 momentum = Vec3::Zero();
+    for (size_t k = 0; k < model->links.size(); ++k) {
+      const Vec3 r = s.link_poses[k].orientation * model->links[k].com;
+      momentum +=
+          model->links[k].mass * (s.link_twists[k].linear + s.link_twists[k].angular.cross(r));
+    }
+    largest = std::max(largest, momentum.norm());
+  }
+  return largest;
+}
+
+// The servos' impulses are internal: a flapping unit in vacuum without gravity keeps zero
+// linear momentum, however asymmetric its strokes, up to the integrator's first-order
+// error (semi-implicit Euler in joint coordinates), which halves with the step. A wing's
+// own momentum is about 0.004 kg x 35 rad/s x 0.175 m = 0.025 kg m/s.
+TEST(Servo, FlappingInVacuumConservesMomentum) {
+  const double coarse = largestMomentum(0.001);
+  const double fine = largestMomentum(0.0005);
+  EXPECT_LT(coarse, 0.004);
+  EXPECT_LT(fine, 0.6 * coarse);
+  EXPECT_GT(fine, 0.4 * coarse);
+}
+
 TEST(World, PositiveWingAngleLiftsTheTip) {
   World w(openSky());
   w.spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 10));

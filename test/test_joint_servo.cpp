@@ -1,0 +1,323 @@
+// JointServoSolver against closed forms, conservation, mirror symmetry and a dense solve of
+// the joint-space equations H dq = B lambda built from Jacobians.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "flapsim/joint_servo.h"
+
+namespace flapsim {
+namespace {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+constexpr double kHuge = 1e6;
+
+ServoDemand drive(double velocity_change, double max_impulse = kHuge) {
+  return ServoDemand{true, velocity_change, max_impulse};
+}
+
+// Column of each movable joint in the generalized velocity (6 root columns first unless
+// the root is fixed); -1 for the root and fixed joints.
+std::vector<int> dofIndex(const std::vector<ServoLink>& links, bool fixed_root, int* ndof) {
+  std::vector<int> dof(links.size(), -1);
+  *ndof = fixed_root ? 0 : 6;
+  for (size_t k = 1; k < links.size(); ++k) {
+    if (links[k].joint != ServoJointType::kFixed) dof[k] = (*ndof)++;
+  }
+  return dof;
+}
+
+struct Dense {
+  VectorXd dq;                  // generalized velocity change
+  std::vector<double> impulse;  // per link
+};
+
+// Dense solve: joints with an active demand are driven (dq = demand, impulse unknown); the
+// others push with known_impulse[k].
+Dense denseSolve(const std::vector<ServoLink>& links, bool fixed_root,
+                 const std::vector<ServoDemand>& demands, const std::vector<double>& known) {
+  int ndof = 0;
+  const std::vector<int> dof = dofIndex(links, fixed_root, &ndof);
+  MatrixXd h = MatrixXd::Zero(ndof, ndof);
+  for (size_t k = 0; k < links.size(); ++k) {
+    MatrixXd j = MatrixXd::Zero(6, ndof);
+    if (!fixed_root) j.leftCols(6).setIdentity();
+    for (int a = static_cast<int>(k); a > 0; a = links[a].parent) {
+      if (dof[a] >= 0) j.col(dof[a]) = motionSubspace(links[a]);
+    }
+    const ServoLink& l = links[k];
+    h += j.transpose() * spatialInertia(l.mass, l.com, l.inertia) * j;
+  }
+  std::vector<int> driven;
+  VectorXd f = VectorXd::Zero(ndof);
+  for (size_t k = 1; k < links.size(); ++k) {
+    if (dof[k] < 0) continue;
+    if (demands[k].active) {
+      driven.push_back(static_cast<int>(k));
+    } else {
+      f(dof[k]) = known[k];
+    }
+  }
+  const int nd = static_cast<int>(driven.size());
+  MatrixXd kkt = MatrixXd::Zero(ndof + nd, ndof + nd);
+  VectorXd rhs = VectorXd::Zero(ndof + nd);
+  kkt.topLeftCorner(ndof, ndof) = h;
+  rhs.head(ndof) = f;
+  for (int i = 0; i < nd; ++i) {
+    const int c = dof[driven[i]];
+    kkt(c, ndof + i) = -1.0;
+    kkt(ndof + i, c) = 1.0;
+    rhs(ndof + i) = demands[driven[i]].velocity_change;
+  }
+  const VectorXd x = kkt.fullPivLu().solve(rhs);
+  Dense out{x.head(ndof), known};
+  for (int i = 0; i < nd; ++i) out.impulse[driven[i]] = x(ndof + i);
+  for (size_t k = 1; k < links.size(); ++k) {
+    if (dof[k] < 0) out.impulse[k] = 0.0;
+  }
+  return out;
+}
+
+void expectMatchesDense(const std::vector<ServoLink>& links, bool fixed_root,
+                        const ServoSolution& s, const Dense& d, double tol) {
+  int ndof = 0;
+  const std::vector<int> dof = dofIndex(links, fixed_root, &ndof);
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(s.root_velocity_change(i), fixed_root ? 0.0 : d.dq(i), tol) << "root " << i;
+  }
+  for (size_t k = 1; k < links.size(); ++k) {
+    EXPECT_NEAR(s.impulse[k], d.impulse[k], tol) << "link " << k;
+    EXPECT_NEAR(s.velocity_change[k], dof[k] < 0 ? 0.0 : d.dq(dof[k]), tol) << "link " << k;
+  }
+}
+
+// Seven links, floating or fixed root; link 1 and the root have two children each.
+std::vector<ServoLink> randomTree(unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto vec = [&] {
+    Vec3 v;
+    for (int i = 0; i < 3; ++i) v(i) = u(rng);
+    return v;
+  };
+  using T = ServoJointType;
+  const int parents[] = {-1, 0, 1, 1, 0, 4, 3};
+  const T types[] = {T::kFixed,    T::kRevolute, T::kPrismatic, T::kRevolute,
+                     T::kRevolute, T::kFixed,    T::kRevolute};
+  std::vector<ServoLink> links(7);
+  for (size_t k = 0; k < links.size(); ++k) {
+    ServoLink& l = links[k];
+    l.parent = parents[k];
+    l.joint = types[k];
+    l.mass = 1.0 + 0.8 * u(rng);
+    l.com = 0.4 * vec();
+    Mat3 a;
+    for (int c = 0; c < 3; ++c) a.col(c) = vec();
+    l.inertia = 0.02 * (a * a.transpose() + 0.1 * Mat3::Identity());
+    l.axis = vec().normalized();
+    l.anchor = 0.4 * vec();
+  }
+  return links;
+}
+
+// Links 1 (revolute), 2 (prismatic) and 6 (revolute) driven; 3 and 4 passive; the demand
+// on the fixed link 5 must be ignored.
+std::vector<ServoDemand> treeDemands() {
+  std::vector<ServoDemand> d(7);
+  d[1] = drive(1.3);
+  d[2] = drive(-0.7);
+  d[5] = drive(2.0);
+  d[6] = drive(-2.1);
+  return d;
+}
+
+TEST(JointServo, PendulumImpulseIsInertiaAboutAxisTimesRate) {
+  const Vec3 axis = Vec3(1.0, 2.0, 2.0) / 3.0;
+  const Vec3 perp = Vec3(2.0, -1.0, 0.0).normalized();
+  const double m = 0.7, dist = 0.15, rate = 1.5;
+  std::vector<ServoLink> links(2);
+  links[0].mass = 3.0;
+  links[0].inertia = Mat3::Identity();
+  ServoLink& p = links[1];
+  p.parent = 0;
+  p.joint = ServoJointType::kRevolute;
+  p.mass = m;
+  p.axis = axis;
+  p.anchor = Vec3(0.1, -0.2, 0.3);
+  p.com = p.anchor + dist * perp + 0.05 * axis;  // the offset along the axis is irrelevant
+  p.inertia << 0.02, 0.003, -0.001, 0.003, 0.015, 0.002, -0.001, 0.002, 0.01;
+  const std::vector<ServoDemand> demands = {ServoDemand{}, drive(rate)};
+  JointServoSolver solver;
+  ServoSolution s;
+  solver.solve(links, true, demands, s);
+  const double i_axis = axis.dot(p.inertia * axis) + m * dist * dist;
+  EXPECT_NEAR(s.impulse[1], i_axis * rate, 1e-14);
+  EXPECT_DOUBLE_EQ(s.velocity_change[1], rate);
+  EXPECT_FALSE(s.saturated[1]);
+  EXPECT_TRUE(s.root_velocity_change.isZero());
+}
+
+TEST(JointServo, FloatingPairConservesMomentum) {
+  std::vector<ServoLink> links = randomTree(3);
+  links.resize(2);
+  JointServoSolver solver;
+  ServoSolution s;
+  solver.solve(links, false, {ServoDemand{}, drive(0.9)}, s);
+  EXPECT_DOUBLE_EQ(s.velocity_change[1], 0.9);
+  const Vec6 dv0 = s.root_velocity_change;
+  const Vec6 dv1 = dv0 + motionSubspace(links[1]) * s.velocity_change[1];
+  const Vec6 p0 = spatialInertia(links[0].mass, links[0].com, links[0].inertia) * dv0;
+  const Vec6 p1 = spatialInertia(links[1].mass, links[1].com, links[1].inertia) * dv1;
+  ASSERT_GT(p1.norm(), 1e-3);
+  EXPECT_LT((p0 + p1).norm(), 1e-12 * (p0.norm() + p1.norm()));
+  // The child's momentum change is the joint's spatial impulse; along the axis it is the
+  // servo impulse.
+  EXPECT_NEAR(motionSubspace(links[1]).dot(p1), s.impulse[1], 1e-12 * p1.norm());
+}
+
+TEST(JointServo, MatchesDenseSolveOnRandomTree) {
+  const std::vector<ServoLink> links = randomTree(7);
+  const std::vector<ServoDemand> demands = treeDemands();
+  for (bool fixed_root : {false, true}) {
+    SCOPED_TRACE(fixed_root ? "fixed root" : "floating root");
+    JointServoSolver solver;
+    ServoSolution s;
+    solver.solve(links, fixed_root, demands, s);
+    const Dense d = denseSolve(links, fixed_root, demands, std::vector<double>(7, 0.0));
+    expectMatchesDense(links, fixed_root, s, d, 1e-9);
+    EXPECT_EQ(s.velocity_change[5], 0.0);
+    EXPECT_EQ(s.impulse[5], 0.0);
+    for (int k : {1, 2, 6}) EXPECT_DOUBLE_EQ(s.velocity_change[k], demands[k].velocity_change);
+    for (size_t k = 0; k < links.size(); ++k) EXPECT_FALSE(s.saturated[k]);
+  }
+}
+
+TEST(JointServo, SaturatedJointPushesWithItsBound) {
+  const std::vector<ServoLink> links = randomTree(7);
+  for (bool fixed_root : {false, true}) {
+    SCOPED_TRACE(fixed_root ? "fixed root" : "floating root");
+    std::vector<ServoDemand> demands = treeDemands();
+    JointServoSolver solver;
+    ServoSolution free_run, s;
+    solver.solve(links, fixed_root, demands, free_run);
+    const double needed = free_run.impulse[6];
+    ASSERT_GT(std::abs(needed), 1e-3);
+
+    demands[6].max_impulse = 0.4 * std::abs(needed);
+    solver.solve(links, fixed_root, demands, s);
+    const double bound = std::copysign(demands[6].max_impulse, needed);
+    EXPECT_TRUE(s.saturated[6]);
+    EXPECT_DOUBLE_EQ(s.impulse[6], bound);
+    EXPECT_FALSE(s.saturated[1]);
+    EXPECT_FALSE(s.saturated[2]);
+    // Pushing with less than it needs, the joint falls short of its target.
+    EXPECT_GT((demands[6].velocity_change - s.velocity_change[6]) * bound, 0.0);
+    std::vector<ServoDemand> known = demands;
+    known[6].active = false;
+    std::vector<double> impulses(7, 0.0);
+    impulses[6] = bound;
+    expectMatchesDense(links, fixed_root, s, denseSolve(links, fixed_root, known, impulses), 1e-9);
+
+    demands[6].max_impulse = 1.0000001 * std::abs(needed);
+    solver.solve(links, fixed_root, demands, s);
+    EXPECT_FALSE(s.saturated[6]);
+    expectMatchesDense(links, fixed_root, s,
+                       denseSolve(links, fixed_root, demands, std::vector<double>(7, 0.0)), 1e-9);
+  }
+}
+
+// Every driven joint bounded below or near its need: the result must satisfy the box
+// complementarity conditions and solve the dense equations of its own active set.
+TEST(JointServo, TightBoundsSatisfyComplementarity) {
+  for (unsigned seed = 1; seed <= 30; ++seed) {
+    SCOPED_TRACE(seed);
+    const std::vector<ServoLink> links = randomTree(seed);
+    const bool fixed_root = seed % 2 == 0;
+    std::vector<ServoDemand> demands(7);
+    for (int k : {1, 2, 3, 4, 6}) demands[k] = drive(std::sin(seed * 1.7 + k));
+    JointServoSolver solver;
+    ServoSolution s;
+    solver.solve(links, fixed_root, demands, s);
+    for (int k : {1, 2, 3, 4, 6}) {
+      demands[k].max_impulse = std::abs(s.impulse[k]) * (0.3 + 0.25 * ((seed + k) % 5));
+    }
+    solver.solve(links, fixed_root, demands, s);
+    std::vector<ServoDemand> active = demands;
+    std::vector<double> impulses(7, 0.0);
+    for (int k : {1, 2, 3, 4, 6}) {
+      const ServoDemand& d = demands[k];
+      if (s.saturated[k]) {
+        EXPECT_DOUBLE_EQ(std::abs(s.impulse[k]), d.max_impulse) << k;
+        EXPECT_GE((d.velocity_change - s.velocity_change[k]) * s.impulse[k], -1e-12) << k;
+        active[k].active = false;
+        impulses[k] = s.impulse[k];
+      } else {
+        EXPECT_LE(std::abs(s.impulse[k]), d.max_impulse * (1.0 + 1e-12)) << k;
+        EXPECT_DOUBLE_EQ(s.velocity_change[k], d.velocity_change) << k;
+      }
+    }
+    expectMatchesDense(links, fixed_root, s, denseSolve(links, fixed_root, active, impulses), 1e-9);
+  }
+}
+
+TEST(JointServo, MirrorWingsGiveMirrorImpulses) {
+  const Mat3 flip = Eigen::Vector3d(1.0, -1.0, 1.0).asDiagonal();  // y -> -y
+  std::vector<ServoLink> links(3);
+  links[0].mass = 0.5;
+  links[0].com = Vec3(0.01, 0.0, -0.02);
+  links[0].inertia << 2e-4, 0.0, 3e-5, 0.0, 3e-4, 0.0, 3e-5, 0.0, 4e-4;
+  for (int side : {1, 2}) {
+    const Mat3 m = side == 1 ? Mat3::Identity() : flip;
+    ServoLink& w = links[side];
+    w.parent = 0;
+    w.joint = ServoJointType::kRevolute;
+    w.axis = Vec3::UnitX();  // mirrors to -x: mirrored motion has the opposite rate
+    w.anchor = m * Vec3(0.0, 0.03, 0.0);
+    w.mass = 0.02;
+    w.com = m * Vec3(0.012, 0.07, 0.004);
+    Mat3 i;
+    i << 3e-5, 4e-6, -2e-6, 4e-6, 1e-5, 5e-6, -2e-6, 5e-6, 3.5e-5;
+    w.inertia = m * i * m;
+  }
+  JointServoSolver solver;
+  ServoSolution s;
+  const double rate = 2.0;
+  for (double bound : {kHuge, 0.0}) {
+    SCOPED_TRACE(bound);
+    if (bound == 0.0) bound = 0.5 * std::abs(s.impulse[1]);  // both wings saturate
+    solver.solve(links, false, {ServoDemand{}, drive(rate, bound), drive(-rate, bound)}, s);
+    ASSERT_GT(std::abs(s.impulse[1]), 1e-6);
+    EXPECT_EQ(s.saturated[1], bound != kHuge);
+    EXPECT_EQ(s.saturated[2], s.saturated[1]);
+    EXPECT_NEAR(s.impulse[1] + s.impulse[2], 0.0, 1e-12 * std::abs(s.impulse[1]));
+    EXPECT_NEAR(s.velocity_change[1] + s.velocity_change[2], 0.0, 1e-12 * rate);
+    const Vec6& dv = s.root_velocity_change;
+    ASSERT_GT(dv.norm(), 1e-3);
+    for (int i : {0, 2, 4}) EXPECT_NEAR(dv(i), 0.0, 1e-12 * dv.norm()) << i;  // roll, yaw, y
+  }
+}
+
+TEST(JointServo, AllPassiveDoesNothing) {
+  const std::vector<ServoLink> links = randomTree(11);
+  std::vector<ServoDemand> demands(7);
+  demands[3] = ServoDemand{false, 1.0, 5.0};  // inactive: its target is ignored
+  demands[4] = ServoDemand{true, 1.0, 0.0};   // no authority: passive
+  for (bool fixed_root : {false, true}) {
+    JointServoSolver solver;
+    ServoSolution s;
+    solver.solve(links, fixed_root, demands, s);
+    EXPECT_TRUE(s.root_velocity_change.isZero(0.0));
+    for (size_t k = 0; k < links.size(); ++k) {
+      EXPECT_EQ(s.impulse[k], 0.0) << k;
+      EXPECT_EQ(s.velocity_change[k], 0.0) << k;
+      EXPECT_FALSE(s.saturated[k]) << k;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace flapsim
