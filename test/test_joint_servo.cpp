@@ -37,9 +37,10 @@ struct Dense {
 };
 
 // Dense solve: joints with an active demand are driven (dq = demand, impulse unknown); the
-// others push with known_impulse[k].
+// others push with known[k] (zero on fixed joints).
 Dense denseSolve(const std::vector<ServoLink>& links, bool fixed_root,
-                 const std::vector<ServoDemand>& demands, const std::vector<double>& known) {
+                 const std::vector<ServoDemand>& demands,
+                 const std::vector<double>& known = std::vector<double>(7, 0.0)) {
   int ndof = 0;
   const std::vector<int> dof = dofIndex(links, fixed_root, &ndof);
   MatrixXd h = MatrixXd::Zero(ndof, ndof);
@@ -76,9 +77,6 @@ Dense denseSolve(const std::vector<ServoLink>& links, bool fixed_root,
   const VectorXd x = kkt.fullPivLu().solve(rhs);
   Dense out{x.head(ndof), known};
   for (int i = 0; i < nd; ++i) out.impulse[driven[i]] = x(ndof + i);
-  for (size_t k = 1; k < links.size(); ++k) {
-    if (dof[k] < 0) out.impulse[k] = 0.0;
-  }
   return out;
 }
 
@@ -187,7 +185,7 @@ TEST(JointServo, MatchesDenseSolveOnRandomTree) {
     JointServoSolver solver;
     ServoSolution s;
     solver.solve(links, fixed_root, demands, s);
-    const Dense d = denseSolve(links, fixed_root, demands, std::vector<double>(7, 0.0));
+    const Dense d = denseSolve(links, fixed_root, demands);
     expectMatchesDense(links, fixed_root, s, d, 1e-9);
     EXPECT_EQ(s.velocity_change[5], 0.0);
     EXPECT_EQ(s.impulse[5], 0.0);
@@ -225,8 +223,7 @@ TEST(JointServo, SaturatedJointPushesWithItsBound) {
     demands[6].max_impulse = 1.0000001 * std::abs(needed);
     solver.solve(links, fixed_root, demands, s);
     EXPECT_FALSE(s.saturated[6]);
-    expectMatchesDense(links, fixed_root, s,
-                       denseSolve(links, fixed_root, demands, std::vector<double>(7, 0.0)), 1e-9);
+    expectMatchesDense(links, fixed_root, s, denseSolve(links, fixed_root, demands), 1e-9);
   }
 }
 
@@ -286,9 +283,9 @@ TEST(JointServo, MirrorWingsGiveMirrorImpulses) {
   JointServoSolver solver;
   ServoSolution s;
   const double rate = 2.0;
-  for (double bound : {kHuge, 0.0}) {
+  for (int run = 0; run < 2; ++run) {  // unbounded, then both wings saturated
+    const double bound = run == 0 ? kHuge : 0.5 * std::abs(s.impulse[1]);
     SCOPED_TRACE(bound);
-    if (bound == 0.0) bound = 0.5 * std::abs(s.impulse[1]);  // both wings saturate
     solver.solve(links, false, {ServoDemand{}, drive(rate, bound), drive(-rate, bound)}, s);
     ASSERT_GT(std::abs(s.impulse[1]), 1e-6);
     EXPECT_EQ(s.saturated[1], bound != kHuge);
@@ -317,6 +314,22 @@ TEST(JointServo, AllPassiveDoesNothing) {
       EXPECT_FALSE(s.saturated[k]) << k;
     }
   }
+}
+
+TEST(JointServo, WrongNumberOfDemandsIsNamed) {
+  std::vector<ServoLink> links(3);
+  links[1].parent = 0;
+  links[2].parent = 1;
+  JointServoSolver solver;
+  ServoSolution out;
+  try {
+    solver.solve(links, true, std::vector<ServoDemand>(2), out);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("2 demands for 3 links"), std::string::npos) << e.what();
+  }
+  solver.solve({}, false, {}, out);  // an empty tree is nothing to do
+  EXPECT_TRUE(out.impulse.empty());
 }
 
 }  // namespace

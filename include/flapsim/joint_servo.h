@@ -62,7 +62,8 @@ Vec6 motionSubspace(const ServoLink& link);
 class JointServoSolver {
  public:
   /// Solves the servos of `demands` (one per link; the root's is ignored). `fixed_root`:
-  /// the root cannot move. Keeps its scratch between calls: no allocation once warm.
+  /// the root cannot move. Throws std::invalid_argument unless there is one demand per
+  /// link. Keeps its scratch between calls: no allocation once warm.
   void solve(const std::vector<ServoLink>& links, bool fixed_root,
              const std::vector<ServoDemand>& demands, ServoSolution& out);
 

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace flapsim {
 
@@ -44,6 +46,18 @@ Vec6 motionSubspace(const ServoLink& link) {
 void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
                              const std::vector<ServoDemand>& demands, ServoSolution& out) {
   const size_t n = links.size();
+  if (demands.size() != n) {
+    throw std::invalid_argument("JointServoSolver: " + std::to_string(demands.size()) +
+                                " demands for " + std::to_string(n) + " links");
+  }
+  out.root_velocity_change.setZero();
+  if (n == 0) {
+    out.impulse.clear();
+    out.velocity_change.clear();
+    out.saturated.clear();
+    out.passes = 0;
+    return;
+  }
   status_.resize(n);
   tau_.assign(n, 0.0);
   body_inertia_.resize(n);
