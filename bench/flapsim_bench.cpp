@@ -2,8 +2,14 @@
 // Prints figures; never passes or fails on time.
 //
 //   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json]
+//   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
+//
+// The second form times one creature from a URDF, every wing stroking at 30/10 rad/s with
+// amplitude 0.8, from `height`, after `skip` simulated seconds: the scenario of
+// bench/node_rtf.py, so the node and the core are timed on the same stretch of flight.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
@@ -39,6 +45,18 @@ Scenario flapper(const std::string& name, int pairs) {
   Scenario s{name, nullptr, static_cast<int>(model->links.size())};
   s.setup = [model](World& w) {
     w.spawn("c", model, Pose{Vec3(0, 0, 50), Quat::Identity()});
+    w.setWingCommands("c", {},
+                      std::vector<StrokeCommand>(model->wing_joints.size(), {30.0, 10.0, 0.8}));
+  };
+  return s;
+}
+
+Scenario fromUrdf(const std::string& file, double height) {
+  CreatureModelPtr model = flapsim::loadCreatureModel(file);
+  std::string name = file.substr(file.find_last_of('/') + 1);
+  Scenario s{name.substr(0, name.find('.')), nullptr, static_cast<int>(model->links.size())};
+  s.setup = [model, height](World& w) {
+    w.spawn("c", model, Pose{Vec3(0, 0, height), Quat::Identity()});
     w.setWingCommands("c", {},
                       std::vector<StrokeCommand>(model->wing_joints.size(), {30.0, 10.0, 0.8}));
   };
@@ -86,11 +104,13 @@ double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-// Steps per second of one run of `steps` steps.
-double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldParams()) {
+// Steps per second of one run of `steps` steps, after `skip` untimed ones.
+double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldParams(),
+               int skip = 0) {
   p.air.enabled = air;
   World w(p);
   s.setup(w);
+  w.step(skip);
   const auto t0 = std::chrono::steady_clock::now();
   w.step(steps);
   const auto t1 = std::chrono::steady_clock::now();
@@ -102,8 +122,9 @@ double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldPara
 int main(int argc, char** argv) {
   int runs = 5;
   double seconds = 2.0;
-  std::string only;
-  bool json = false;
+  std::string only, urdf;
+  double height = 50.0, skip = 0.0;
+  bool json = false, ground = true;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--runs" && i + 1 < argc) {
@@ -114,14 +135,42 @@ int main(int argc, char** argv) {
       only = argv[++i];
     } else if (a == "--json") {
       json = true;
+    } else if (a == "--urdf" && i + 1 < argc) {
+      urdf = argv[++i];
+    } else if (a == "--height" && i + 1 < argc) {
+      height = std::atof(argv[++i]);
+    } else if (a == "--skip" && i + 1 < argc) {
+      skip = std::atof(argv[++i]);
+    } else if (a == "--no-ground") {
+      ground = false;
     } else {
       std::fprintf(stderr,
-                   "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json]\n");
+                   "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json]\n"
+                   "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
+                   "[--runs N] [--seconds S]\n");
       return 2;
     }
   }
   const double dt = WorldParams().step_size;
   const int steps = std::max(1, static_cast<int>(seconds / dt));
+  if (!urdf.empty()) {
+    Scenario s;
+    try {
+      s = fromUrdf(urdf, height);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+      return 1;
+    }
+    WorldParams p;
+    p.ground = ground;
+    std::vector<double> sps;
+    for (int r = 0; r < runs; ++r) {
+      sps.push_back(timeRun(s, true, steps, p, static_cast<int>(std::lround(skip / dt))));
+    }
+    std::printf("%s: %d bodies, %g s simulated after %g s: %.0f steps/s, real-time factor %.1f\n",
+                s.name.c_str(), s.bodies, steps * dt, skip, median(sps), median(sps) * dt);
+    return 0;
+  }
   if (!json) {
     std::printf("flapsim_bench: %d runs of %g s simulated (%d steps of %g ms), medians\n", runs,
                 seconds, steps, dt * 1e3);

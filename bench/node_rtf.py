@@ -3,8 +3,10 @@
 
 Starts its own master on a free port and the node from this build, flies one creature
 (the flap unit or an N-unit chain) and reads sim time from /clock twice, --seconds of wall
-time apart. With --subscribe, subscribers on /tf, odom and joint_states keep the
-node publishing everything (rospy.AnyMsg: no decoding). Prints figures; never fails on time.
+time apart. Then times the core (flapsim_bench --urdf) on the same creature over the same
+stretch of simulated flight, and prints the ratio. With --subscribe, subscribers on /tf,
+odom and joint_states keep the node publishing everything (rospy.AnyMsg: no decoding).
+Prints figures; never fails on time.
 
   source build/devel/setup.bash && bench/node_rtf.py [--pairs 1] [--seconds 10] [--subscribe]
 """
@@ -80,10 +82,11 @@ creatures:
         s0, w0 = sim_time(), time.monotonic()
         time.sleep(args.seconds)
         s1, w1 = sim_time(), time.monotonic()
+        node_rtf = (s1 - s0) / (w1 - w0)
         print(f"flapsim_node, {args.pairs}-unit creature, rtf 0, 100 Hz publishing"
               f"{' with subscribers on /tf, odom, joint_states' if args.subscribe else ''}: "
               f"sim {s1 - s0:.2f} s in {w1 - w0:.2f} s wall -> real-time factor "
-              f"{(s1 - s0) / (w1 - w0):.1f}")
+              f"{node_rtf:.1f}", flush=True)
     finally:
         for p in (node, core):
             if p:
@@ -92,6 +95,13 @@ creatures:
                     p.wait(timeout=10)
                 except subprocess.TimeoutExpired:
                     p.kill()
+    # The core alone, same creature, same simulated stretch [s0, s1].
+    out = subprocess.run([os.path.join(args.devel, "lib", "flapsim", "flapsim_bench"), "--urdf",
+                          urdf, "--height", "1000", "--no-ground", "--skip", f"{s0:.3f}",
+                          "--seconds", f"{s1 - s0:.3f}", "--runs", "1"],
+                         check=True, capture_output=True, text=True).stdout.strip()
+    core_rtf = float(out.rsplit(" ", 1)[1])
+    print(f"core on the same stretch: {out}\nnode / core = {node_rtf / core_rtf:.3f}")
     return 0
 
 

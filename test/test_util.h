@@ -37,7 +37,8 @@ inline bool bitIdentical(const CreatureState& a, const CreatureState& b) {
     if (a.link_twists[i].linear != b.link_twists[i].linear) return false;
     if (a.link_twists[i].angular != b.link_twists[i].angular) return false;
   }
-  return a.joint_positions == b.joint_positions && a.joint_velocities == b.joint_velocities;
+  return a.joint_positions == b.joint_positions && a.joint_velocities == b.joint_velocities &&
+         a.joint_efforts == b.joint_efforts;
 }
 
 }  // namespace test

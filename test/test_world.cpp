@@ -162,8 +162,10 @@ TEST(Servo, EffortLimitsTheMotor) {
   w.setJointVelocityTarget("h", "hinge", 10.0);
   w.step(50);
   EXPECT_NEAR(w.state("h").joint_velocities[0], 0.05 * effort / kFlapHingeInertia, 1e-9);
+  EXPECT_NEAR(w.state("h").joint_efforts[0], effort, 1e-12);  // pushing with all it has
   w.step(250);  // 0.3 s: past the 0.134 s the target takes
   EXPECT_NEAR(w.state("h").joint_velocities[0], 10.0, 1e-9);
+  EXPECT_NEAR(w.state("h").joint_efforts[0], 0.0, 1e-9);  // a free spin needs no torque
 }
 
 // Coulomb friction holds the flap level while gravity's torque m g d is below it, and
@@ -177,6 +179,8 @@ TEST(Servo, JointFrictionHoldsOrSlows) {
   w.step(10);
   EXPECT_NEAR(w.state("held").joint_velocities[0], 0.0, 1e-12);
   EXPECT_NEAR(w.state("held").joint_positions[0], 0.0, 1e-12);
+  EXPECT_NEAR(w.state("held").joint_efforts[0], gravity_torque, 1e-9);  // holds the weight
+  EXPECT_NEAR(w.state("slipping").joint_efforts[0], 0.005, 1e-12);      // slides at its friction
   // Tip down is negative about +x; the angle stays under 2e-3 rad, so cos ~ 1.
   const double expected = -(gravity_torque - 0.005) / kFlapHingeInertia * 0.01;
   EXPECT_NEAR(w.state("slipping").joint_velocities[0], expected, 1e-3 * std::abs(expected));

@@ -36,6 +36,9 @@ struct CreatureState {
   std::vector<Twist> link_twists;        // velocity of each link frame's origin, world frame
   std::vector<double> joint_positions;   // per model joint (0 for fixed joints)
   std::vector<double> joint_velocities;  // per model joint (0 for fixed joints)
+  /// Per model joint: the torque (force, if prismatic) its servo applied in the last step
+  /// (wing motor, velocity target, feathering or Coulomb friction; not damping).
+  std::vector<double> joint_efforts;
 };
 
 /// Last air wrench on each link (about its COM), and optionally per cell.

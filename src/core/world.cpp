@@ -215,7 +215,10 @@ struct CreatureBody {
       demands[k].velocity_change = servo_target[k] - mb->getJointVel(static_cast<int>(k) - 1);
       any = true;
     }
-    if (!any) return;
+    if (!any) {
+      solution.impulse.assign(demands.size(), 0.0);
+      return;
+    }
     const btVector3 origin = local_origin[0];  // the root's COM
     for (size_t k = 0; k < servo_links.size(); ++k) {
       const LinkModel& l = m.links[k];
@@ -259,7 +262,7 @@ struct CreatureBody {
   std::vector<ServoDemand> demands;
   std::vector<ServoLink> servo_links;
   JointServoSolver servo;
-  ServoSolution solution;
+  ServoSolution solution;  // of the last step; impulses all zero if no servo acted
   std::vector<AeroBody> aero;
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
@@ -747,10 +750,16 @@ CreatureState World::state(const std::string& creature) const {
   }
   s.joint_positions.assign(m.joints.size(), 0.0);
   s.joint_velocities.assign(m.joints.size(), 0.0);
+  s.joint_efforts.assign(m.joints.size(), 0.0);
+  const std::vector<double>& impulse = b.solution.impulse;
   for (size_t j = 0; j < m.joints.size(); ++j) {
     if (!m.joints[j].movable()) continue;
-    s.joint_positions[j] = mb->getJointPos(m.joints[j].child_link - 1);
-    s.joint_velocities[j] = mb->getJointVel(m.joints[j].child_link - 1);
+    const int k = m.joints[j].child_link;
+    s.joint_positions[j] = mb->getJointPos(k - 1);
+    s.joint_velocities[j] = mb->getJointVel(k - 1);
+    if (static_cast<size_t>(k) < impulse.size()) {
+      s.joint_efforts[j] = impulse[k] / impl_->params_.step_size;
+    }
   }
   return s;
 }

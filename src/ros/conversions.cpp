@@ -184,6 +184,7 @@ sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,
     m.name.push_back(model.joints[j].name);
     m.position.push_back(state.joint_positions.at(j));
     m.velocity.push_back(state.joint_velocities.at(j));
+    m.effort.push_back(state.joint_efforts.at(j));
   }
   return m;
 }

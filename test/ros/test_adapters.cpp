@@ -346,6 +346,7 @@ flapsim::CreatureState stateOf(const flapsim::CreatureModel& m) {
   for (size_t j = 0; j < m.joints.size(); ++j) {
     s.joint_positions.push_back(0.25 + j);
     s.joint_velocities.push_back(-30.0 + j);
+    s.joint_efforts.push_back(0.5 - j);
   }
   return s;
 }
@@ -359,6 +360,7 @@ TEST(Conversions, JointStatesListMovableJointsInUrdfOrder) {
   const int left = unit->findJoint("unit0_wing_left_joint");
   EXPECT_EQ(js.position[0], 0.25 + left);
   EXPECT_EQ(js.velocity[0], -30.0 + left);
+  EXPECT_EQ(js.effort[0], 0.5 - left);
 
   auto copter = flapsim::loadCreatureModel(sourcePath("urdf/bamboo_copter.urdf"));
   EXPECT_TRUE(flapsim_ros::jointStateMsg(*copter, stateOf(*copter), stamp).name.empty());

@@ -1,0 +1,294 @@
+// mujoco_bench: a reference for bench/flapsim_bench.cpp. It times THE SAME flapping creatures
+// (flapsim::makeCreatureUrdf with 1, 4, 6, 12 and 25 units) in MuJoCo 2.2.2 and prints the
+// median steps per second of mj_step, the real-time factor and the cost per body per step; it
+// prints figures and never passes or fails on time. Mapping: flapsim's own CreatureModel is
+// turned into MJCF, one body per link nested as the joint tree (frames from JointModel::origin,
+// the root free at z = 50 with no floor), inertial from the link mass, COM and principal moments
+// (link axes), one box geom per LinkModel box (half sizes) with MuJoCo's ellipsoid fluid model in
+// air (density 1.204, viscosity 0) and contype = conaffinity = 0 (flapsim has no self-collision),
+// hinges with their axis, limits as range and damping; 1 ms steps, gravity -9.81 z, implicit
+// integrator. Every wing hinge gets a velocity actuator (kv below, force range = the URDF
+// effort) whose target is set each step by flapsim::StrokeGenerator from the joint angle, with
+// strokes of 30/10 rad/s and amplitude 0.8 rad, as flapsim_bench does. Only the stepping loop
+// (controller included) is timed.
+//
+//   mujoco_bench [--runs 5] [--seconds 2] [--only NAME]
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <iomanip>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "flapsim/creature_model.h"
+#include "flapsim/make_creature.h"
+#include "flapsim/stroke.h"
+
+namespace {
+
+constexpr double kTimestep = 0.001;  // s, as flapsim's WorldParams::step_size
+constexpr double kStartHeight = 50.0;
+// Velocity-servo gain on the wing hinges, N m s/rad. A wing's inertia about its hinge is about
+// 1.6e-4 kg m^2, so the unsaturated time constant I / kv is 0.16 ms; the torque bound (2 N m)
+// makes a 40 rad/s stroke reversal take about 3 ms, as flapsim's impulse servo does.
+constexpr double kWingKv = 1.0;
+const flapsim::StrokeCommand kStroke{30.0, 10.0, 0.8};
+
+struct Scenario {
+  std::string name;
+  int pairs = 1;
+};
+
+// Suppresses MuJoCo's default warning handler (it writes MUJOCO_LOG.TXT in the working
+// directory); warnings go to stderr instead.
+void warningToStderr(const char* msg) { std::fprintf(stderr, "mujoco warning: %s\n", msg); }
+
+void appendVec(std::ostringstream& out, const char* attr, const flapsim::Vec3& v) {
+  out << ' ' << attr << "=\"" << v.x() << ' ' << v.y() << ' ' << v.z() << '"';
+}
+
+void appendQuat(std::ostringstream& out, const flapsim::Quat& q) {
+  out << " quat=\"" << q.w() << ' ' << q.x() << ' ' << q.y() << ' ' << q.z() << '"';
+}
+
+// Appends link `index` and, nested in it, its children.
+void appendBody(const flapsim::CreatureModel& model, const std::vector<std::vector<int>>& children,
+                int index, int depth, std::ostringstream& out) {
+  const flapsim::LinkModel& link = model.links[index];
+  const std::string pad(2 * depth + 4, ' ');
+  out << pad << "<body name=\"" << link.name << '"';
+  if (link.parent_joint < 0) {
+    appendVec(out, "pos", flapsim::Vec3(0, 0, kStartHeight));
+  } else {
+    const flapsim::Pose& origin = model.joints[link.parent_joint].origin;
+    appendVec(out, "pos", origin.position);
+    appendQuat(out, origin.orientation);
+  }
+  out << ">\n";
+  if (link.parent_joint < 0) {
+    if (!model.fixed_base) out << pad << "  <freejoint name=\"root\"/>\n";
+  } else {
+    const flapsim::JointModel& j = model.joints[link.parent_joint];
+    if (j.movable()) {
+      out << pad << "  <joint name=\"" << j.name << "\" type=\""
+          << (j.type == flapsim::JointType::kPrismatic ? "slide" : "hinge") << '"';
+      appendVec(out, "axis", j.axis);
+      if (j.limited && j.type != flapsim::JointType::kContinuous) {
+        out << " limited=\"true\" range=\"" << j.lower << ' ' << j.upper << '"';
+      } else {
+        out << " limited=\"false\"";
+      }
+      out << " damping=\"" << j.damping << "\" frictionloss=\"" << j.friction << "\"/>\n";
+    }
+  }
+  if (link.mass > 0.0) {
+    out << pad << "  <inertial";
+    appendVec(out, "pos", link.com);
+    out << " mass=\"" << link.mass << '"';
+    appendVec(out, "diaginertia", link.inertia);
+    out << "/>\n";
+  }
+  for (const flapsim::Box& box : link.boxes) {
+    out << pad << "  <geom type=\"box\"";
+    appendVec(out, "size", 0.5 * box.size);
+    appendVec(out, "pos", box.origin.position);
+    appendQuat(out, box.origin.orientation);
+    out << " contype=\"0\" conaffinity=\"0\" fluidshape=\"ellipsoid\"/>\n";
+  }
+  for (int child : children[index]) appendBody(model, children, child, depth + 1, out);
+  out << pad << "</body>\n";
+}
+
+// MJCF text of `model`, with a velocity actuator on each wing hinge.
+std::string toMjcf(const flapsim::CreatureModel& model) {
+  std::vector<std::vector<int>> children(model.links.size());
+  for (const flapsim::JointModel& j : model.joints) children[j.parent_link].push_back(j.child_link);
+  std::ostringstream out;
+  out << std::setprecision(12);
+  out << "<mujoco model=\"" << model.name << "\">\n"
+      << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+      << "  <option timestep=\"" << kTimestep << "\" gravity=\"0 0 -9.81\" integrator=\"implicit\""
+      << " density=\"1.204\" viscosity=\"0\"/>\n"
+      << "  <worldbody>\n";
+  appendBody(model, children, 0, 0, out);
+  out << "  </worldbody>\n"
+      << "  <actuator>\n";
+  for (int w : model.wing_joints) {
+    const flapsim::JointModel& j = model.joints[w];
+    out << "    <velocity name=\"" << j.name << "_motor\" joint=\"" << j.name << "\" kv=\""
+        << kWingKv << '"';
+    if (j.effort > 0.0) {
+      out << " forcelimited=\"true\" forcerange=\"" << -j.effort << ' ' << j.effort << '"';
+    }
+    out << "/>\n";
+  }
+  out << "  </actuator>\n"
+      << "</mujoco>\n";
+  return out.str();
+}
+
+// Compiles MJCF text through MuJoCo's virtual file system. Throws std::runtime_error with
+// MuJoCo's message.
+mjModel* compile(const std::string& xml) {
+  auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  const char* file = "creature.xml";
+  if (mj_makeEmptyFileVFS(vfs.get(), file, static_cast<int>(xml.size())) != 0) {
+    throw std::runtime_error("cannot add the model to MuJoCo's VFS");
+  }
+  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), file)], xml.data(), xml.size());
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(file, vfs.get(), error, sizeof(error));
+  mj_deleteVFS(vfs.get());
+  if (!m) throw std::runtime_error(std::string("mj_loadXML: ") + error);
+  return m;
+}
+
+// A compiled creature: the model, the wing actuators' joints and their stroke generators.
+struct Creature {
+  std::string xml;
+  int bodies = 0;  // links of the creature (MuJoCo's world body not counted)
+  mjModel* model = nullptr;
+  std::vector<int> wing_qpos;  // qpos address of the joint of each actuator
+  ~Creature() { mj_deleteModel(model); }
+};
+
+std::unique_ptr<Creature> build(const Scenario& s) {
+  const flapsim::CreatureModelPtr cm =
+      flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(s.pairs, "c"));
+  auto c = std::make_unique<Creature>();
+  c->xml = toMjcf(*cm);
+  c->bodies = static_cast<int>(cm->links.size());
+  c->model = compile(c->xml);
+  for (int u = 0; u < c->model->nu; ++u) {
+    c->wing_qpos.push_back(c->model->jnt_qposadr[c->model->actuator_trnid[2 * u]]);
+  }
+  return c;
+}
+
+struct RunResult {
+  double steps_per_second = 0.0;
+  double root_height = 0.0;               // at the end
+  int strokes = 0;                        // completed down-up cycles of the first wing
+  double min_wing = 0.0, max_wing = 0.0;  // range of the first wing's angle, rad
+};
+
+// One run: fresh mjData, `steps` steps of 1 ms with the stroke controller, timed.
+RunResult run(const Creature& c, int steps) {
+  mjData* d = mj_makeData(c.model);
+  std::vector<flapsim::StrokeGenerator> gens(c.wing_qpos.size());
+  for (flapsim::StrokeGenerator& g : gens) g.setCommand(kStroke);
+  const int nu = static_cast<int>(gens.size());
+  int switches = 0;
+  bool was_up = false;
+  double lo = 0.0, hi = 0.0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < steps; ++i) {
+    for (int u = 0; u < nu; ++u) d->ctrl[u] = gens[u].target(d->qpos[c.wing_qpos[u]]);
+    if (nu > 0) {
+      const double q = d->qpos[c.wing_qpos[0]];
+      lo = std::min(lo, q);
+      hi = std::max(hi, q);
+      const bool up = gens[0].phase() == flapsim::StrokeGenerator::Phase::kUp;
+      if (up != was_up) ++switches;
+      was_up = up;
+    }
+    mj_step(c.model, d);
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  RunResult r;
+  r.steps_per_second = steps / std::chrono::duration<double>(t1 - t0).count();
+  r.root_height = d->qpos[2];
+  r.strokes = switches / 2;
+  r.min_wing = lo;
+  r.max_wing = hi;
+  mj_deleteData(d);
+  return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: mujoco_bench [--runs N] [--seconds S] [--only NAME]\n"
+               "  NAME: flap_unit, chain_4, chain_6, chain_12 or chain_25\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int runs = 5;
+  double seconds = 2.0;
+  std::string only;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    char* end = nullptr;
+    if (a == "--runs" && i + 1 < argc) {
+      runs = static_cast<int>(std::strtol(argv[++i], &end, 10));
+      if (*end != '\0' || runs < 1) return usage();
+    } else if (a == "--seconds" && i + 1 < argc) {
+      seconds = std::strtod(argv[++i], &end);
+      if (*end != '\0' || !(seconds > 0.0)) return usage();
+    } else if (a == "--only" && i + 1 < argc) {
+      only = argv[++i];
+    } else {
+      return usage();
+    }
+  }
+  std::vector<Scenario> scenarios{{"flap_unit", 1}};
+  for (int n : {4, 6, 12, 25}) scenarios.push_back({"chain_" + std::to_string(n), n});
+  if (!only.empty() && std::none_of(scenarios.begin(), scenarios.end(),
+                                    [&](const Scenario& s) { return s.name == only; })) {
+    return usage();
+  }
+  mju_user_warning = warningToStderr;
+  const int steps = std::max(1, static_cast<int>(seconds / kTimestep + 0.5));
+  std::printf("mujoco_bench: MuJoCo %s, %d runs of %g s simulated (%d steps of %g ms), medians\n",
+              mj_versionString(), runs, steps * kTimestep, steps, kTimestep * 1e3);
+  std::printf("%-14s %7s %14s %10s %12s\n", "creature", "bodies", "steps/s", "RTF", "us/body/step");
+  bool have_unit = false;
+  RunResult unit;
+  for (const Scenario& s : scenarios) {
+    if (!only.empty() && s.name != only) continue;
+    std::unique_ptr<Creature> c;
+    try {
+      c = build(s);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "mujoco_bench: %s: %s\n", s.name.c_str(), e.what());
+      return 1;
+    }
+    std::vector<double> sps;
+    RunResult last;
+    for (int r = 0; r < runs; ++r) {
+      last = run(*c, steps);
+      sps.push_back(last.steps_per_second);
+    }
+    const double m = median(sps);
+    std::printf("%-14s %7d %14.0f %10.1f %12.3f\n", s.name.c_str(), c->bodies, m, m * kTimestep,
+                1e6 / (m * c->bodies));
+    if (s.pairs == 1) {
+      have_unit = true;
+      unit = last;
+    }
+  }
+  if (have_unit) {
+    std::printf(
+        "flap_unit: root height %.3f m after %g s from %.0f m; %d strokes, left wing angle in "
+        "[%.3f, %.3f] rad\n",
+        unit.root_height, steps * kTimestep, kStartHeight, unit.strokes, unit.min_wing,
+        unit.max_wing);
+  }
+  return 0;
+}
