@@ -177,7 +177,8 @@ int main(int argc, char** argv) {
     std::printf("%-14s %7s %14s %10s %10s %12s\n", "creature", "bodies", "steps/s", "RTF",
                 "air share", "us/body/step");
   } else {
-    std::printf("[\n");
+    std::printf("{\n  \"step_size\": %g,\n  \"runs\": %d,\n  \"steps\": %d,\n  \"creatures\": [\n",
+                dt, runs, steps);
   }
   bool first = true;
   for (const Scenario& s : scenarios()) {
@@ -192,7 +193,7 @@ int main(int argc, char** argv) {
     const double per_body = 1e6 / (sps * s.bodies);  // flat when the cost is linear
     if (json) {
       std::printf(
-          "%s  {\"creature\": \"%s\", \"bodies\": %d, \"steps_per_second\": %.0f, "
+          "%s    {\"creature\": \"%s\", \"bodies\": %d, \"steps_per_second\": %.0f, "
           "\"real_time_factor\": %.2f, \"air_share\": %.3f, \"us_per_body_step\": %.3f}",
           first ? "" : ",\n", s.name.c_str(), s.bodies, sps, sps * dt, share, per_body);
     } else {
@@ -201,7 +202,7 @@ int main(int argc, char** argv) {
     }
     first = false;
   }
-  if (json) std::printf("\n]\n");
+  if (json) std::printf("\n  ]%s\n", only.empty() ? "," : "\n}");
   if (!only.empty()) return 0;
 
   // Finer air grid: the flap unit with 8 x 8 cells per face instead of the default.
@@ -213,9 +214,13 @@ int main(int argc, char** argv) {
     p.air.subdivisions_u = p.air.subdivisions_v = 8;
     fine.push_back(timeRun(unit, true, steps, p));
   }
-  std::printf("%sgrid: flap_unit step time x%.2f with 8x8 cells per face (vs %dx%d)\n",
-              json ? "# " : "", median(coarse) / median(fine), WorldParams().air.subdivisions_u,
-              WorldParams().air.subdivisions_v);
+  const double grid_cost = median(coarse) / median(fine);
+  if (json) {
+    std::printf("  \"grid_8x8_step_time_ratio\": %.3f,\n", grid_cost);
+  } else {
+    std::printf("grid: flap_unit step time x%.2f with 8x8 cells per face (vs %dx%d)\n", grid_cost,
+                WorldParams().air.subdivisions_u, WorldParams().air.subdivisions_v);
+  }
 
   // A flock of 16 flap units in one world, on 1 and 2 threads.
   CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "unit"));
@@ -242,9 +247,15 @@ int main(int argc, char** argv) {
   }
   const bool same = s1.link_poses[0].position == s2.link_poses[0].position &&
                     s1.joint_positions == s2.joint_positions;
-  std::printf("%sflock_16: %.0f steps/s on 1 thread, %.0f on 2 (x%.2f), results %s\n",
-              json ? "# " : "", median(one), median(two), median(two) / median(one),
-              same ? "identical" : "DIFFERENT");
+  if (json) {
+    std::printf(
+        "  \"flock_16\": {\"steps_per_second_1_thread\": %.0f, \"steps_per_second_2_threads\": "
+        "%.0f, \"speedup\": %.3f, \"identical\": %s},\n",
+        median(one), median(two), median(two) / median(one), same ? "true" : "false");
+  } else {
+    std::printf("flock_16: %.0f steps/s on 1 thread, %.0f on 2 (x%.2f), results %s\n", median(one),
+                median(two), median(two) / median(one), same ? "identical" : "DIFFERENT");
+  }
 
   // Memory: resident size before and after a 12-unit world ran.
   const double before = residentMb();
@@ -253,8 +264,13 @@ int main(int argc, char** argv) {
     World w(p);
     flapper("chain_12", 12).setup(w);
     w.step(steps);
-    std::printf("%smemory: process %.1f MB resident with a 12-unit world (%.1f MB before it)\n",
-                json ? "# " : "", residentMb(), before);
+    if (json) {
+      std::printf("  \"resident_mb_with_chain_12\": %.1f,\n  \"resident_mb_before\": %.1f\n}\n",
+                  residentMb(), before);
+    } else {
+      std::printf("memory: process %.1f MB resident with a 12-unit world (%.1f MB before it)\n",
+                  residentMb(), before);
+    }
   }
   return 0;
 }
