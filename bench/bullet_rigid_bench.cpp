@@ -23,10 +23,10 @@
 // - Each revolute joint is a btHingeConstraint (parent = A, child = B) with the pivot at the
 //   child link's origin and the frames' z axes along the URDF axis, built with
 //   useReferenceFrameA = true: then getHingeAngle(), the motor's target velocity and setLimit()
-//   all follow the URDF sign convention (positive turns the child about +axis), checked on a
-//   two-body test. URDF limits are set on every limited joint (the passive joints, +-0.35, and
-//   the wing hinges, +-1.4, never reached by a 0.8 stroke). Bodies joined by a hinge do not
-//   collide (addConstraint(c, true)); other pairs of the creature may.
+//   all follow the URDF sign convention (positive turns the child about +axis; verified on a
+//   two-body test when this bench was written). URDF limits are set on every limited joint (the
+//   passive joints, +-0.35, and the wing hinges, +-1.4, never reached by a 0.8 stroke). Bodies
+//   joined by a hinge do not collide (addConstraint(c, true)); other pairs of the creature may.
 // - Wing joints: the hinge's angular motor, enableAngularMotor(true, target, effort * dt) with
 //   target = flapsim::StrokeGenerator::target(getHingeAngle()) set before every step.
 // - Passive joints: damping as an explicit torque -d (w_child - w_parent) . axis about the
@@ -38,6 +38,10 @@
 //   time). Summed per plate and applied as applyCentralForce + applyTorque (the same as
 //   applyForce per cell). Unlike flapsim's world there is no drag on the bodies and on the
 //   plates' edges, no buoyancy and no wind.
+// Sequential impulses with 10 iterations do not converge on these creatures (light body, heavy
+// wings): the left and right wings drift apart, printed after the table. When this bench was
+// written, 1000 iterations brought the flap unit's 2 s trajectory to within about 1 cm of
+// flapsim's World, with the wings in step.
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
@@ -196,8 +200,9 @@ class RigidCreature {
       const LinkModel& l = m.links[m.joints[wj].child_link];
       Plate plate{bodies_[m.joints[wj].child_link].get(), {}};
       const Pose com_inv{-l.com, Quat::Identity()};
-      for (const flapsim::Box& box : l.boxes)
+      for (const flapsim::Box& box : l.boxes) {
         appendPlateCells(box.size, com_inv * box.origin, plate.cells);
+      }
       plates_.push_back(std::move(plate));
     }
   }
@@ -238,7 +243,7 @@ class RigidCreature {
   // World position of the link's COM.
   Vec3 linkCom(int link) const { return fromBt(bodies_.at(link)->getWorldTransform().getOrigin()); }
   // Steps that ended with a contact point between two links of the creature.
-  long contactSteps() const { return contact_steps_; }
+  int contactSteps() const { return contact_steps_; }
 
  private:
   std::unique_ptr<btRigidBody> makeBody(const LinkModel& l, const Pose& com_pose) {
@@ -303,19 +308,14 @@ class RigidCreature {
   std::vector<WingDrive> wings_;
   std::vector<Damper> dampers_;
   std::vector<Plate> plates_;
-  long contact_steps_ = 0;
-};
-
-struct Scenario {
-  std::string name;
-  CreatureModelPtr model;
+  int contact_steps_ = 0;
 };
 
 // What one run leaves behind, for the report after the table.
 struct EndState {
   double root_height = 0.0;
   double wing_difference = 0.0;  // unit 0: left minus right wing joint angle, rad
-  long contact_steps = 0;
+  int contact_steps = 0;
 };
 
 double median(std::vector<double> v) {
@@ -394,7 +394,7 @@ int main(int argc, char** argv) {
       "bullet_rigid_bench: btRigidBody + btHingeConstraint, sequential impulses; %d runs of %g s "
       "simulated (%d steps of %g ms), medians\n",
       runs, seconds, steps, kStep * 1e3);
-  std::printf("%-14s %7s %14s %10s %12s\n", "creature", "bodies", "steps/s", "RTF", "us/body/step");
+  std::printf("%-14s %7s %14s %10s %14s\n", "creature", "bodies", "steps/s", "RTF", "us/body/step");
   std::string reported;
   EndState report;
   for (const auto& [n, name] : creatures) {
@@ -405,7 +405,7 @@ int main(int argc, char** argv) {
     EndState end;
     for (int r = 0; r < runs; ++r) sps.push_back(timeRun(*model, steps, &end));
     const double s = median(sps);
-    std::printf("%-14s %7d %14.0f %10.1f %12.3f\n", name.c_str(), bodies, s, s * kStep,
+    std::printf("%-14s %7d %14.0f %10.1f %14.3f\n", name.c_str(), bodies, s, s * kStep,
                 1e6 / (s * bodies));
     if (reported.empty()) {
       reported = name;
@@ -414,7 +414,7 @@ int main(int argc, char** argv) {
   }
   std::printf(
       "%s after %g s: root height %.4f m (spawned at %g), unit0 wing angle left - right "
-      "%.3e rad, %ld steps with self-contacts\n",
+      "%.3e rad, %d steps with self-contacts\n",
       reported.c_str(), steps * kStep, report.root_height, kSpawnHeight, report.wing_difference,
       report.contact_steps);
   return 0;
