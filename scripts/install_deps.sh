@@ -22,6 +22,8 @@ PACKAGES=(
   libyaml-cpp-dev
   # tests and plots
   libgtest-dev googletest gnuplot-nox
+  # side-by-side benchmark against MuJoCo (bench/mujoco_bench.cpp)
+  libmujoco-dev
 )
 
 missing=()
