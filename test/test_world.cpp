@@ -365,6 +365,12 @@ TEST(BadInput, IsRejectedAndTheWorldKeepsItsState) {
         w.setWingCommands("u", {}, {ok, StrokeCommand{30, -1, 1}});
       },
       "upstroke");
+  // The wing joints range over +-1.4 rad: a 1.5 rad stroke would never turn.
+  expectRejected(
+      [&](World& w) {
+        w.setWingCommands("u", {}, {ok, StrokeCommand{30, 10, 1.5}});
+      },
+      "unit0_wing_right_joint': amplitude 1.5 rad does not fit inside its limits [-1.4");
   expectRejected([&](World& w) { w.setJointVelocityTarget("u", "unit0_wing_left_joint", nan); },
                  "unit0_wing_left_joint");
   expectRejected([&](World& w) { w.setJointVelocityTarget("u", "tail", 1.0); }, "tail");

@@ -14,6 +14,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <thread>
 
 #include "flapsim/joint_servo.h"
@@ -690,9 +691,17 @@ void World::setWingCommands(const std::string& creature, const std::vector<std::
                      " commands for " + std::to_string(targets.size()) + " wing joints");
   }
   for (size_t i = 0; i < commands.size(); ++i) {
+    const JointModel& j = r.model->joints[targets[i]];
     std::string err = validateStroke(commands[i]);
-    if (!err.empty()) {
-      throw InputError("joint '" + r.model->joints[targets[i]].name + "': " + err);
+    if (!err.empty()) throw InputError("joint '" + j.name + "': " + err);
+    // The stroke turns where the wing reaches -amplitude and +amplitude: beyond a limit the
+    // wing would rest on its stop with the motor pushing, and never turn.
+    const double amplitude = commands[i].amplitude;
+    if (j.limited && j.lower < j.upper && (amplitude >= j.upper || -amplitude <= j.lower)) {
+      std::ostringstream msg;
+      msg << "joint '" << j.name << "': amplitude " << amplitude
+          << " rad does not fit inside its limits [" << j.lower << ", " << j.upper << "]";
+      throw InputError(msg.str());
     }
   }
   for (size_t i = 0; i < commands.size(); ++i) {
