@@ -50,6 +50,15 @@ struct LinkAero {
   std::vector<Vec3> cell_forces;
 };
 
+/// The wing joints that `commands` address (`joints` empty: every wing joint, in URDF
+/// order), checked: throws InputError naming an unknown or non-wing joint, a count that does
+/// not match, a bad stroke, or an amplitude that does not fit inside the joint's limits.
+/// World::setWingCommands uses it; a caller commanding several creatures at once can check
+/// them all first.
+std::vector<int> checkWingCommands(const CreatureModel& model,
+                                   const std::vector<std::string>& joints,
+                                   const std::vector<StrokeCommand>& commands);
+
 class World {
  public:
   /// Throws InputError if the parameters are invalid.

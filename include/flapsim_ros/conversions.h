@@ -50,10 +50,9 @@ struct WingCommandRequest {
 /// by World::setWingCommands). Throws flapsim::InputError naming the problem.
 WingCommandRequest fromMsg(const flapsim::WingCommand& msg);
 flapsim::WingCommand toMsg(const WingCommandRequest& request);
-/// Checks a request against a creature's model as World::setWingCommands
-/// does (wing joint names, count, finite non-negative values), without a
-/// world: lets several creatures be commanded all or nothing. Throws
-/// flapsim::InputError naming the problem.
+/// Checks a request against a creature's model as World::setWingCommands does
+/// (flapsim::checkWingCommands), without a world: lets several creatures be commanded all or
+/// nothing. Throws flapsim::InputError naming the problem.
 void checkWingCommand(const flapsim::CreatureModel& model, const WingCommandRequest& request);
 
 /// Movable joints in URDF order with positions and velocities.

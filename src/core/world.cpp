@@ -670,29 +670,27 @@ void World::setAirModel(AirModelPtr model) {
   impl_->air_model_ = std::move(model);
 }
 
-void World::setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
-                            const std::vector<StrokeCommand>& commands) {
-  const size_t c = impl_->index(creature);
-  CreatureRecord& r = impl_->records_[c];
+std::vector<int> checkWingCommands(const CreatureModel& model,
+                                   const std::vector<std::string>& joints,
+                                   const std::vector<StrokeCommand>& commands) {
   std::vector<int> targets;
   if (joints.empty()) {
-    targets = r.model->wing_joints;
+    targets = model.wing_joints;
   } else {
-    for (const auto& name : joints) {
-      int j = impl_->jointIndex(c, name);
-      if (!r.model->joints[j].wing) {
-        throw InputError("joint '" + name + "' of creature '" + creature + "' is not a wing joint");
-      }
+    for (const std::string& name : joints) {
+      const int j = model.findJoint(name);
+      if (j < 0) throw InputError("no joint '" + name + "'");
+      if (!model.joints[j].wing) throw InputError("joint '" + name + "' is not a wing joint");
       targets.push_back(j);
     }
   }
   if (targets.size() != commands.size()) {
-    throw InputError("creature '" + creature + "': " + std::to_string(commands.size()) +
-                     " commands for " + std::to_string(targets.size()) + " wing joints");
+    throw InputError(std::to_string(commands.size()) + " commands for " +
+                     std::to_string(targets.size()) + " wing joints");
   }
   for (size_t i = 0; i < commands.size(); ++i) {
-    const JointModel& j = r.model->joints[targets[i]];
-    std::string err = validateStroke(commands[i]);
+    const JointModel& j = model.joints[targets[i]];
+    const std::string err = validateStroke(commands[i]);
     if (!err.empty()) throw InputError("joint '" + j.name + "': " + err);
     // The stroke turns where the wing reaches -amplitude and +amplitude: beyond a limit the
     // wing would rest on its stop with the motor pushing, and never turn.
@@ -703,6 +701,18 @@ void World::setWingCommands(const std::string& creature, const std::vector<std::
           << " rad does not fit inside its limits [" << j.lower << ", " << j.upper << "]";
       throw InputError(msg.str());
     }
+  }
+  return targets;
+}
+
+void World::setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
+                            const std::vector<StrokeCommand>& commands) {
+  CreatureRecord& r = impl_->records_[impl_->index(creature)];
+  std::vector<int> targets;
+  try {
+    targets = checkWingCommands(*r.model, joints, commands);
+  } catch (const InputError& e) {
+    throw InputError("creature '" + creature + "': " + e.what());
   }
   for (size_t i = 0; i < commands.size(); ++i) {
     JointDrive& d = r.drives[targets[i]];

@@ -153,26 +153,7 @@ flapsim::WingCommand toMsg(const WingCommandRequest& request) {
 }
 
 void checkWingCommand(const flapsim::CreatureModel& model, const WingCommandRequest& request) {
-  std::vector<std::string> names;
-  if (request.joints.empty()) {
-    for (int j : model.wing_joints) names.push_back(model.joints[j].name);
-  } else {
-    for (const std::string& name : request.joints) {
-      const int j = model.findJoint(name);
-      if (j < 0) throw flapsim::InputError("no joint '" + name + "'");
-      if (!model.joints[j].wing)
-        throw flapsim::InputError("joint '" + name + "' is not a wing joint");
-      names.push_back(name);
-    }
-  }
-  if (names.size() != request.strokes.size()) {
-    throw flapsim::InputError(std::to_string(request.strokes.size()) + " commands for " +
-                              std::to_string(names.size()) + " wing joints");
-  }
-  for (size_t i = 0; i < names.size(); ++i) {
-    const std::string err = flapsim::validateStroke(request.strokes[i]);
-    if (!err.empty()) throw flapsim::InputError("joint '" + names[i] + "': " + err);
-  }
+  flapsim::checkWingCommands(model, request.joints, request.strokes);
 }
 
 sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,

@@ -335,6 +335,10 @@ TEST(Conversions, WingCommandsAreCheckedAgainstTheModel) {
             "joint 'unit0_wing_left_joint': upstroke rate must be finite and >= 0");
   EXPECT_EQ(error({"unit0_wing_left_joint"}, {{std::nan(""), 10, 0.8}}),
             "joint 'unit0_wing_left_joint': downstroke rate must be finite and >= 0");
+  EXPECT_EQ(error({"unit0_wing_left_joint"}, {{30, 10, 1.4}}),
+            "joint 'unit0_wing_left_joint': amplitude 1.4 rad does not fit inside its limits "
+            "[-1.4, 1.4]");
+  EXPECT_EQ(error({"unit0_wing_left_joint"}, {{30, 10, 1.39}}), "");
 }
 
 flapsim::CreatureState stateOf(const flapsim::CreatureModel& m) {

@@ -452,6 +452,9 @@ TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
       {{"flap_unit", "ghost"}, {good, good}, "unknown creature 'ghost'"},
       {{"flap_unit", "plate"}, {good, good}, "creature 'plate': 2 commands for 0 wing joints"},
       {{"flap_unit"}, {command({}, {20, -1}, {5, 5}, {0.6, 0.6})}, "downstroke rate"},
+      {{"flap_unit"},
+       {command({}, {20, 20}, {5, 5}, {0.6, 1.5})},
+       "creature 'flap_unit': joint 'unit0_wing_right_joint': amplitude 1.5 rad does not fit"},
   };
   for (const Case& c : cases) {
     flapsim::Step bad;
