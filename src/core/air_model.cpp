@@ -140,22 +140,32 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
     Vec3 moment = Vec3::Zero();
     if (face.nu > 0) {
       // On a grid the relative velocity is affine in the cell index (u(c + s) = u(c) + w x s),
-      // and so is the centre: sum p, p i and p j, not vectors.
+      // and so is the centre: sum p, p i and p j, not vectors. Then u.n is affine in (i, j)
+      // and |u|^2 a quadratic: a cell costs a few multiply-adds and one square root.
       const SurfaceCell& first = surface.cells[face.first_cell];
+      const Vec3& n = face.normal;
       const Vec3 u0 = flow.at(first.centre);
       const Vec3 du = flow.w.cross(face.step_u), dv = flow.w.cross(face.step_v);
+      const double k = 0.5 * air.density * cd * first.area;
+      const double n0 = u0.dot(n), n_i = du.dot(n), n_j = dv.dot(n);
+      const double q00 = u0.squaredNorm(), q0i = 2.0 * u0.dot(du), q0j = 2.0 * u0.dot(dv);
+      const double qii = du.squaredNorm(), qij = 2.0 * du.dot(dv), qjj = dv.squaredNorm();
       double sum_i = 0.0, sum_j = 0.0;
       for (int i = 0; i < face.nu; ++i) {
+        const double un_i = n0 + i * n_i;
+        const double q_i = q00 + i * (q0i + i * qii), q_ij = q0j + i * qij;
+        double row = 0.0, row_j = 0.0;
         for (int j = 0; j < face.nv; ++j) {
-          const Vec3 u = u0 + static_cast<double>(i) * du + static_cast<double>(j) * dv;
-          const double p = pressureMagnitude(u, face.normal, first.area, air.density, cd);
-          sum += p;
-          sum_i += p * i;
-          sum_j += p * j;
-          if (cell_forces) {
-            (*cell_forces)[face.first_cell + i * face.nv + j] = flow.rot * (-p * face.normal);
-          }
+          const double un = un_i + j * n_j;
+          if (un <= 0.0) continue;
+          const double p = k * std::sqrt(std::max(0.0, q_i + j * (q_ij + j * qjj))) * un;
+          row += p;
+          row_j += p * j;
+          if (cell_forces) (*cell_forces)[face.first_cell + i * face.nv + j] = flow.rot * (-p * n);
         }
+        sum += row;
+        sum_i += row * i;
+        sum_j += row_j;
       }
       moment = sum * first.centre + sum_i * face.step_u + sum_j * face.step_v;
     } else {

@@ -65,6 +65,14 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
  public:
   using btMultiBodyDynamicsWorld::btMultiBodyDynamicsWorld;
   std::function<void()> servos;
+  // False while the creature cannot touch anything this step; collision detection (bounding
+  // boxes, broadphase, narrowphase) is then skipped: it would find nothing.
+  std::function<bool()> may_touch;
+
+  void performDiscreteCollisionDetection() override {
+    if (may_touch && !may_touch()) return;
+    btMultiBodyDynamicsWorld::performDiscreteCollisionDetection();
+  }
 
  protected:
   void solveExternalForces(btContactSolverInfo& info) override {
@@ -205,6 +213,22 @@ struct CreatureBody {
     return kin;
   }
 
+  // Whether a link could come within reach of the ground in this step (the link frames are
+  // those of updateKinematics() at the start of the step). Creatures do not collide with
+  // themselves, so without ground, or well above it, there is nothing to detect.
+  bool mayTouch() const {
+    if (!ground) return false;
+    if (scene->dispatcher->getNumManifolds() > 0) return true;
+    constexpr double kClearance = 0.1;  // m: well beyond Bullet's contact margins
+    const double dt = scene->world->getSolverInfo().m_timeStep;
+    for (size_t k = 0; k < reach.size(); ++k) {
+      if (reach[k] <= 0.0) continue;
+      const double travel = 2.0 * dt * (vel[k].length() + omega[k].length() * reach[k]);
+      if (local_origin[static_cast<int>(k)].z() - reach[k] - travel < kClearance) return true;
+    }
+    return false;
+  }
+
   // Called by Bullet once the velocities hold gravity, air and damping for this step:
   // solves every servo together and adds the velocity change it causes. The link frames
   // are those of updateKinematics() at the start of the step (positions have not moved).
@@ -254,6 +278,9 @@ struct CreatureBody {
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btMultiBodyLinkCollider>> colliders;
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
+  // Per model link: distance from its COM to the farthest corner of its boxes (0 if none).
+  std::vector<double> reach;
+  bool ground = false;
   std::vector<double> max_effort;  // per model joint
   std::vector<double> damping;     // per model joint: URDF damping, capped for stability
   // Joint servos (wing motors, velocity targets, feathering, Coulomb friction), indexed
@@ -359,9 +386,15 @@ class World::Impl {
     mb->forwardKinematics(body->world_to_local, body->local_origin);
 
     // Collision shapes (boxes, in the COM frame) and aero surfaces.
+    body->ground = params_.ground;
+    body->reach.assign(n + 1, 0.0);
     for (int k = 0; k <= n; ++k) {
       const LinkModel& l = m.links[k];
       const Pose com_inv{-l.com, Quat::Identity()};
+      for (const Box& b : l.boxes) {
+        const double corner = (com_inv * b.origin).position.norm() + 0.5 * b.size.norm();
+        body->reach[k] = std::max(body->reach[k], corner);
+      }
       if (!l.boxes.empty()) {
         btCollisionShape* shape = nullptr;
         const Pose first = com_inv * l.boxes[0].origin;
@@ -439,6 +472,7 @@ class World::Impl {
     }
     CreatureBody* b = body.get();
     body->scene->world->servos = [b] { b->applyServos(); };
+    body->scene->world->may_touch = [b] { return b->mayTouch(); };
     return body;
   }
 
@@ -519,7 +553,7 @@ class World::Impl {
   }
 
   void stepOne(size_t i) {
-    bodies_[i]->updateKinematics();  // for the air and the servos
+    bodies_[i]->updateKinematics();  // for the air, the servos and the ground check
     applyDrives(records_[i], *bodies_[i]);
     if (params_.air.enabled) applyAir(*bodies_[i]);
     bodies_[i]->scene->world->stepSimulation(params_.step_size, 0, params_.step_size);
