@@ -135,7 +135,6 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   if (cell_forces) cell_forces->assign(surface.cells.size(), Vec3::Zero());
   for (const SurfaceFace& face : surface.faces) {
-    if (!flow.advances(face)) continue;
     double sum = 0.0;
     Vec3 moment = Vec3::Zero();
     if (face.nu > 0) {
@@ -146,8 +145,12 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
       const Vec3& n = face.normal;
       const Vec3 u0 = flow.at(first.centre);
       const Vec3 du = flow.w.cross(face.step_u), dv = flow.w.cross(face.step_v);
-      const double k = 0.5 * air.density * cd * first.area;
       const double n0 = u0.dot(n), n_i = du.dot(n), n_j = dv.dot(n);
+      // The largest u.n over the cell centres: if none advances into the air, none is pushed.
+      if (n0 + std::max(0.0, (face.nu - 1) * n_i) + std::max(0.0, (face.nv - 1) * n_j) <= 0.0) {
+        continue;
+      }
+      const double k = 0.5 * air.density * cd * first.area;
       const double q00 = u0.squaredNorm(), q0i = 2.0 * u0.dot(du), q0j = 2.0 * u0.dot(dv);
       const double qii = du.squaredNorm(), qij = 2.0 * du.dot(dv), qjj = dv.squaredNorm();
       double sum_i = 0.0, sum_j = 0.0;
@@ -169,6 +172,7 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
       }
       moment = sum * first.centre + sum_i * face.step_u + sum_j * face.step_v;
     } else {
+      if (!flow.advances(face)) continue;
       for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
         const SurfaceCell& cell = surface.cells[i];
         const double p =
