@@ -16,6 +16,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "flapsim/joint_servo.h"
 
@@ -64,21 +65,25 @@ AeroSurface linkSurface(const LinkModel& l, const AirParams& air) {
 class ServoWorld : public btMultiBodyDynamicsWorld {
  public:
   using btMultiBodyDynamicsWorld::btMultiBodyDynamicsWorld;
-  std::function<void()> servos;
-  // False while the creature cannot touch anything this step; collision detection (bounding
-  // boxes, broadphase, narrowphase) is then skipped: it would find nothing.
-  std::function<bool()> may_touch;
+  void setServos(std::function<void()> servos) { servos_ = std::move(servos); }
+  // `may_touch` answers false while the creature cannot touch anything this step; collision
+  // detection (bounding boxes, broadphase, narrowphase) is then skipped: it would find nothing.
+  void setGroundCheck(std::function<bool()> may_touch) { may_touch_ = std::move(may_touch); }
 
   void performDiscreteCollisionDetection() override {
-    if (may_touch && !may_touch()) return;
+    if (may_touch_ && !may_touch_()) return;
     btMultiBodyDynamicsWorld::performDiscreteCollisionDetection();
   }
 
  protected:
   void solveExternalForces(btContactSolverInfo& info) override {
     btMultiBodyDynamicsWorld::solveExternalForces(info);
-    if (servos) servos();
+    if (servos_) servos_();
   }
+
+ private:
+  std::function<void()> servos_;
+  std::function<bool()> may_touch_;
 };
 
 // Joint damping is applied as an explicit torque -d qdot, stable while d dt stays well
@@ -471,8 +476,8 @@ class World::Impl {
                                                   : ServoJointType::kRevolute;
     }
     CreatureBody* b = body.get();
-    body->scene->world->servos = [b] { b->applyServos(); };
-    body->scene->world->may_touch = [b] { return b->mayTouch(); };
+    body->scene->world->setServos([b] { b->applyServos(); });
+    body->scene->world->setGroundCheck([b] { return b->mayTouch(); });
     return body;
   }
 
