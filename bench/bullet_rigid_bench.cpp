@@ -55,6 +55,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench_common.h"
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
@@ -318,12 +319,6 @@ struct EndState {
   int contact_steps = 0;
 };
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 // Steps per second of one run of `steps` steps in a fresh world.
 double timeRun(const CreatureModel& m, int steps, EndState* end) {
   RigidCreature creature(m);
@@ -339,74 +334,30 @@ double timeRun(const CreatureModel& m, int steps, EndState* end) {
   return steps / std::chrono::duration<double>(t1 - t0).count();
 }
 
-bool parseInt(const char* s, int* out) {
-  char* end = nullptr;
-  const long v = std::strtol(s, &end, 10);
-  if (end == s || *end != '\0' || v < 1 || v > 1000000) return false;
-  *out = static_cast<int>(v);
-  return true;
-}
-
-bool parseSeconds(const char* s, double* out) {
-  char* end = nullptr;
-  const double v = std::strtod(s, &end);
-  if (end == s || *end != '\0' || !std::isfinite(v) || v <= 0.0 || v > 1e5) return false;
-  *out = v;
-  return true;
-}
-
-int usage() {
-  std::fprintf(stderr,
-               "usage: bullet_rigid_bench [--runs N] [--seconds S] [--only NAME]\n"
-               "  NAME: flap_unit, chain_4, chain_6, chain_12 or chain_25\n");
-  return 2;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  int runs = 5;
-  double seconds = 2.0;
-  std::string only;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--runs" && i + 1 < argc) {
-      if (!parseInt(argv[++i], &runs)) return usage();
-    } else if (a == "--seconds" && i + 1 < argc) {
-      if (!parseSeconds(argv[++i], &seconds)) return usage();
-    } else if (a == "--only" && i + 1 < argc) {
-      only = argv[++i];
-    } else {
-      return usage();
-    }
+  flapsim_bench::BenchOptions o;
+  if (!flapsim_bench::parseBenchOptions(argc, argv, &o)) {
+    return flapsim_bench::referenceUsage("bullet_rigid_bench");
   }
-  std::vector<std::pair<int, std::string>> creatures;  // units, name
-  for (int n : {1, 4, 6, 12, 25}) {
-    creatures.emplace_back(n, n == 1 ? "flap_unit" : "chain_" + std::to_string(n));
-  }
-  if (!only.empty() && std::none_of(creatures.begin(), creatures.end(),
-                                    [&only](const auto& c) { return c.second == only; })) {
-    return usage();
-  }
-
-  const int steps = std::max(1, static_cast<int>(std::lround(seconds / kStep)));
+  const int steps = std::max(1, static_cast<int>(std::lround(o.seconds / kStep)));
   std::printf(
       "bullet_rigid_bench: btRigidBody + btHingeConstraint, sequential impulses; %d runs of %g s "
       "simulated (%d steps of %g ms), medians\n",
-      runs, seconds, steps, kStep * 1e3);
-  std::printf("%-14s %7s %14s %10s %14s\n", "creature", "bodies", "steps/s", "RTF", "us/body/step");
+      o.runs, o.seconds, steps, kStep * 1e3);
+  flapsim_bench::printTableHeader();
   std::string reported;
   EndState report;
-  for (const auto& [n, name] : creatures) {
-    if (!only.empty() && name != only) continue;
-    CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(n, "c"));
+  for (const flapsim_bench::BenchCreature& c : flapsim_bench::benchCreatures()) {
+    const std::string& name = c.name;
+    if (!o.only.empty() && name != o.only) continue;
+    CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(c.units, "c"));
     const int bodies = static_cast<int>(model->links.size());
     std::vector<double> sps;
     EndState end;
-    for (int r = 0; r < runs; ++r) sps.push_back(timeRun(*model, steps, &end));
-    const double s = median(sps);
-    std::printf("%-14s %7d %14.0f %10.1f %14.3f\n", name.c_str(), bodies, s, s * kStep,
-                1e6 / (s * bodies));
+    for (int r = 0; r < o.runs; ++r) sps.push_back(timeRun(*model, steps, &end));
+    flapsim_bench::printTableRow(name, bodies, flapsim_bench::median(sps), kStep);
     if (reported.empty()) {
       reported = name;
       report = end;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
 
@@ -29,6 +30,7 @@ using flapsim::Twist;
 using flapsim::Vec3;
 using flapsim::World;
 using flapsim::WorldParams;
+using flapsim_bench::median;
 
 struct Scenario {
   std::string name;
@@ -80,8 +82,9 @@ std::vector<Scenario> scenarios() {
                    w.spawn("c", copter, Pose{Vec3(0, 0, 50), Quat::Identity()}, spin);
                  },
                  3});
-  out.push_back(flapper("flap_unit", 1));
-  for (int n : {4, 6, 12, 25}) out.push_back(flapper("chain_" + std::to_string(n), n));
+  for (const flapsim_bench::BenchCreature& c : flapsim_bench::benchCreatures()) {
+    out.push_back(flapper(c.name, c.units));
+  }
   return out;
 }
 
@@ -96,12 +99,6 @@ double residentMb() {
   }
   std::fclose(f);
   return kb / 1024.0;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // Steps per second of one run of `steps` steps, after `skip` untimed ones.

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_common.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/stroke.h"
@@ -48,11 +49,6 @@ constexpr double kStartHeight = 50.0;
 // the wing).
 constexpr double kWingKv = 0.1;
 const flapsim::StrokeCommand kStroke{30.0, 10.0, 0.8};
-
-struct Scenario {
-  std::string name;
-  int pairs = 1;
-};
 
 // Suppresses MuJoCo's default warning handler (it writes MUJOCO_LOG.TXT in the working
 // directory); warnings go to stderr instead.
@@ -168,9 +164,9 @@ struct Creature {
   ~Creature() { mj_deleteModel(model); }
 };
 
-std::unique_ptr<Creature> build(const Scenario& s) {
+std::unique_ptr<Creature> build(const flapsim_bench::BenchCreature& s) {
   const flapsim::CreatureModelPtr cm =
-      flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(s.pairs, "c"));
+      flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(s.units, "c"));
   auto c = std::make_unique<Creature>();
   c->xml = toMjcf(*cm);
   c->bodies = static_cast<int>(cm->links.size());
@@ -221,55 +217,22 @@ RunResult run(const Creature& c, int steps) {
   return r;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-int usage() {
-  std::fprintf(stderr,
-               "usage: mujoco_bench [--runs N] [--seconds S] [--only NAME]\n"
-               "  NAME: flap_unit, chain_4, chain_6, chain_12 or chain_25\n");
-  return 2;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  int runs = 5;
-  double seconds = 2.0;
-  std::string only;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    char* end = nullptr;
-    if (a == "--runs" && i + 1 < argc) {
-      runs = static_cast<int>(std::strtol(argv[++i], &end, 10));
-      if (*end != '\0' || runs < 1) return usage();
-    } else if (a == "--seconds" && i + 1 < argc) {
-      seconds = std::strtod(argv[++i], &end);
-      if (*end != '\0' || !(seconds > 0.0)) return usage();
-    } else if (a == "--only" && i + 1 < argc) {
-      only = argv[++i];
-    } else {
-      return usage();
-    }
-  }
-  std::vector<Scenario> scenarios{{"flap_unit", 1}};
-  for (int n : {4, 6, 12, 25}) scenarios.push_back({"chain_" + std::to_string(n), n});
-  if (!only.empty() && std::none_of(scenarios.begin(), scenarios.end(),
-                                    [&](const Scenario& s) { return s.name == only; })) {
-    return usage();
+  flapsim_bench::BenchOptions o;
+  if (!flapsim_bench::parseBenchOptions(argc, argv, &o)) {
+    return flapsim_bench::referenceUsage("mujoco_bench");
   }
   mju_user_warning = warningToStderr;
-  const int steps = std::max(1, static_cast<int>(seconds / kTimestep + 0.5));
+  const int steps = std::max(1, static_cast<int>(o.seconds / kTimestep + 0.5));
   std::printf("mujoco_bench: MuJoCo %s, %d runs of %g s simulated (%d steps of %g ms), medians\n",
-              mj_versionString(), runs, steps * kTimestep, steps, kTimestep * 1e3);
-  std::printf("%-14s %7s %14s %10s %14s\n", "creature", "bodies", "steps/s", "RTF", "us/body/step");
+              mj_versionString(), o.runs, steps * kTimestep, steps, kTimestep * 1e3);
+  flapsim_bench::printTableHeader();
   bool have_unit = false;
   RunResult unit;
-  for (const Scenario& s : scenarios) {
-    if (!only.empty() && s.name != only) continue;
+  for (const flapsim_bench::BenchCreature& s : flapsim_bench::benchCreatures()) {
+    if (!o.only.empty() && s.name != o.only) continue;
     std::unique_ptr<Creature> c;
     try {
       c = build(s);
@@ -279,14 +242,12 @@ int main(int argc, char** argv) {
     }
     std::vector<double> sps;
     RunResult last;
-    for (int r = 0; r < runs; ++r) {
+    for (int r = 0; r < o.runs; ++r) {
       last = run(*c, steps);
       sps.push_back(last.steps_per_second);
     }
-    const double m = median(sps);
-    std::printf("%-14s %7d %14.0f %10.1f %14.3f\n", s.name.c_str(), c->bodies, m, m * kTimestep,
-                1e6 / (m * c->bodies));
-    if (s.pairs == 1) {
+    flapsim_bench::printTableRow(s.name, c->bodies, flapsim_bench::median(sps), kTimestep);
+    if (s.units == 1) {
       have_unit = true;
       unit = last;
     }
