@@ -6,21 +6,17 @@ namespace flapsim_ros {
 
 namespace {
 
-geometry_msgs::Point toPoint(const flapsim::Vec3& v) {
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
+// Any message with x, y, z fields (Point, Vector3).
+template <typename Msg>
+Msg toXyz(const flapsim::Vec3& v) {
+  Msg m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
 }
-
-geometry_msgs::Vector3 toVector(const flapsim::Vec3& v) {
-  geometry_msgs::Vector3 p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
+geometry_msgs::Point toPoint(const flapsim::Vec3& v) { return toXyz<geometry_msgs::Point>(v); }
+geometry_msgs::Vector3 toVector(const flapsim::Vec3& v) { return toXyz<geometry_msgs::Vector3>(v); }
 
 geometry_msgs::Quaternion toQuaternion(const flapsim::Quat& q) {
   geometry_msgs::Quaternion m;
