@@ -222,7 +222,7 @@ struct CreatureBody {
   // those of updateKinematics() at the start of the step). Creatures do not collide with
   // themselves, so without ground, or well above it, there is nothing to detect.
   bool mayTouch() const {
-    if (!ground) return false;
+    if (!scene->ground) return false;
     if (scene->dispatcher->getNumManifolds() > 0) return true;
     constexpr double kClearance = 0.1;  // m: well beyond Bullet's contact margins
     const double dt = scene->world->getSolverInfo().m_timeStep;
@@ -285,7 +285,6 @@ struct CreatureBody {
   std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
   // Per model link: distance from its COM to the farthest corner of its boxes (0 if none).
   std::vector<double> reach;
-  bool ground = false;
   std::vector<double> max_effort;  // per model joint
   std::vector<double> damping;     // per model joint: URDF damping, capped for stability
   // Joint servos (wing motors, velocity targets, feathering, Coulomb friction), indexed
@@ -391,7 +390,6 @@ class World::Impl {
     mb->forwardKinematics(body->world_to_local, body->local_origin);
 
     // Collision shapes (boxes, in the COM frame) and aero surfaces.
-    body->ground = params_.ground;
     body->reach.assign(n + 1, 0.0);
     for (int k = 0; k <= n; ++k) {
       const LinkModel& l = m.links[k];
