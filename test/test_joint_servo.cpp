@@ -40,10 +40,12 @@ struct Dense {
 // others push with known[k] (zero on fixed joints).
 Dense denseSolve(const std::vector<ServoLink>& links, bool fixed_root,
                  const std::vector<ServoDemand>& demands,
-                 const std::vector<double>& known = std::vector<double>(7, 0.0)) {
+                 const std::vector<double>& known = std::vector<double>(7, 0.0),
+                 const ServoLoads& loads = ServoLoads()) {
   int ndof = 0;
   const std::vector<int> dof = dofIndex(links, fixed_root, &ndof);
   MatrixXd h = MatrixXd::Zero(ndof, ndof);
+  VectorXd f = VectorXd::Zero(ndof);
   for (size_t k = 0; k < links.size(); ++k) {
     MatrixXd j = MatrixXd::Zero(6, ndof);
     if (!fixed_root) j.leftCols(6).setIdentity();
@@ -52,15 +54,16 @@ Dense denseSolve(const std::vector<ServoLink>& links, bool fixed_root,
     }
     const ServoLink& l = links[k];
     h += j.transpose() * spatialInertia(l.mass, l.com, l.inertia) * j;
+    if (!loads.extra_inertia.empty()) h += j.transpose() * loads.extra_inertia[k] * j;
+    if (!loads.impulse.empty()) f += j.transpose() * loads.impulse[k];
   }
   std::vector<int> driven;
-  VectorXd f = VectorXd::Zero(ndof);
   for (size_t k = 1; k < links.size(); ++k) {
     if (dof[k] < 0) continue;
     if (demands[k].active) {
       driven.push_back(static_cast<int>(k));
     } else {
-      f(dof[k]) = known[k];
+      f(dof[k]) += known[k];
     }
   }
   const int nd = static_cast<int>(driven.size());
@@ -191,6 +194,62 @@ TEST(JointServo, MatchesDenseSolveOnRandomTree) {
     EXPECT_EQ(s.impulse[5], 0.0);
     for (int k : {1, 2, 6}) EXPECT_DOUBLE_EQ(s.velocity_change[k], demands[k].velocity_change);
     for (size_t k = 0; k < links.size(); ++k) EXPECT_FALSE(s.saturated[k]);
+  }
+}
+
+// Extra inertias (w f f^T, as the fluid adds) and known spatial impulses on the links enter
+// the joint-space equations as J^T A J and J^T p: the O(links) solve agrees with the dense
+// one, with and without servos, and each link's spatial velocity change is J dq.
+TEST(JointServo, ExtraInertiaAndImpulsesMatchDenseSolve) {
+  const std::vector<ServoLink> links = randomTree(11);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  ServoLoads loads;
+  for (size_t k = 0; k < links.size(); ++k) {
+    Vec6 f, p;
+    for (int i = 0; i < 6; ++i) {
+      f(i) = u(rng);
+      p(i) = u(rng);
+    }
+    loads.extra_inertia.push_back((k % 2 == 0 ? 5.0 : 0.0) * f * f.transpose());
+    loads.impulse.push_back(0.3 * p);
+  }
+  for (bool with_servos : {false, true}) {
+    for (bool fixed_root : {false, true}) {
+      SCOPED_TRACE(std::string(fixed_root ? "fixed root" : "floating root") +
+                   (with_servos ? ", servos" : ", no servos"));
+      const std::vector<ServoDemand> demands =
+          with_servos ? treeDemands() : std::vector<ServoDemand>(links.size());
+      JointServoSolver solver;
+      ServoSolution s;
+      solver.solve(links, fixed_root, demands, loads, s);
+      const Dense d = denseSolve(links, fixed_root, demands, std::vector<double>(7, 0.0), loads);
+      expectMatchesDense(links, fixed_root, s, d, 1e-9);
+      ASSERT_EQ(s.link_velocity_change.size(), links.size());
+      int ndof = 0;
+      const std::vector<int> dof = dofIndex(links, fixed_root, &ndof);
+      for (size_t k = 0; k < links.size(); ++k) {
+        Vec6 expected = fixed_root ? Vec6::Zero() : Vec6(d.dq.head<6>());
+        for (int a = static_cast<int>(k); a > 0; a = links[a].parent) {
+          if (dof[a] >= 0) expected += motionSubspace(links[a]) * d.dq(dof[a]);
+        }
+        EXPECT_LT((s.link_velocity_change[k] - expected).norm(), 1e-9) << "link " << k;
+      }
+    }
+  }
+}
+
+TEST(JointServo, WrongNumberOfLoadsIsNamed) {
+  const std::vector<ServoLink> links = randomTree(7);
+  ServoLoads loads;
+  loads.impulse.resize(3, Vec6::Zero());
+  JointServoSolver solver;
+  ServoSolution s;
+  try {
+    solver.solve(links, false, std::vector<ServoDemand>(links.size()), loads, s);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("3 loads for 7 links"), std::string::npos) << e.what();
   }
 }
 

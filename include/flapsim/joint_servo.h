@@ -46,12 +46,24 @@ struct ServoDemand {
   double max_impulse = 0.0;      // bound on |impulse| (N m s or N s), >= 0
 };
 
+/// Optional per-link terms of a solve, each in the common frame about its origin (empty
+/// vectors: none). `extra_inertia` adds to a link's spatial inertia (the fluid's added mass
+/// and its linearised drag times the step, treated implicitly: symmetric, positive
+/// semi-definite); `impulse` is a known spatial impulse [moment about the origin; force]
+/// applied to the link in this step.
+struct ServoLoads {
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> extra_inertia;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> impulse;
+};
+
 struct ServoSolution {
   std::vector<double> impulse;               // per link: along its joint (0 if fixed or root)
   std::vector<double> velocity_change;       // per link: of its joint velocity
   Vec6 root_velocity_change = Vec6::Zero();  // [angular; linear at the frame origin]
-  std::vector<bool> saturated;               // per link: pushing with its bound
-  int passes = 0;                            // active-set passes (each O(links))
+  /// Per link: the change of its spatial velocity [angular; linear at the frame origin].
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> link_velocity_change;
+  std::vector<bool> saturated;  // per link: pushing with its bound
+  int passes = 0;               // active-set passes (each O(links))
 };
 
 /// Spatial inertia about the frame origin, for velocities [angular; linear at origin].
@@ -66,11 +78,15 @@ class JointServoSolver {
   /// link. Keeps its scratch between calls: no allocation once warm.
   void solve(const std::vector<ServoLink>& links, bool fixed_root,
              const std::vector<ServoDemand>& demands, ServoSolution& out);
+  /// The same with extra inertias and known impulses on the links (see ServoLoads); throws
+  /// std::invalid_argument if a non-empty vector of `loads` has not one entry per link.
+  void solve(const std::vector<ServoLink>& links, bool fixed_root,
+             const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
 
  private:
   enum class Status { kFixed, kFree, kPrescribed };
   void pass(const std::vector<ServoLink>& links, bool fixed_root,
-            const std::vector<ServoDemand>& demands, ServoSolution& out);
+            const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
 
   std::vector<Status> status_;
   std::vector<double> tau_;  // known impulse of a free joint

@@ -29,8 +29,12 @@ class StrokeGenerator {
   Phase phase() const { return phase_; }
   void reset() { phase_ = Phase::kDown; }
 
-  /// Joint-velocity target for the current joint angle (updates the phase).
-  double target(double joint_position);
+  /// Joint-velocity target for the current joint angle (updates the phase). With a step
+  /// `dt` > 0 it is the mean velocity over the next step of the ideal stroke from this
+  /// angle: a step in which the stroke would reach its turning point goes there and back
+  /// for the rest of the step, so the turn falls where the command says whatever the step
+  /// size (without it, a wing overshoots by up to one step's travel, w dt).
+  double target(double joint_position, double dt = 0.0);
 
  private:
   StrokeCommand command_;

@@ -45,15 +45,29 @@ Vec6 motionSubspace(const ServoLink& link) {
 
 void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
                              const std::vector<ServoDemand>& demands, ServoSolution& out) {
+  static const ServoLoads kNone;
+  solve(links, fixed_root, demands, kNone, out);
+}
+
+void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
+                             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
+                             ServoSolution& out) {
   const size_t n = links.size();
   if (demands.size() != n) {
     throw std::invalid_argument("JointServoSolver: " + std::to_string(demands.size()) +
                                 " demands for " + std::to_string(n) + " links");
   }
+  for (size_t size : {loads.extra_inertia.size(), loads.impulse.size()}) {
+    if (size != 0 && size != n) {
+      throw std::invalid_argument("JointServoSolver: " + std::to_string(size) + " loads for " +
+                                  std::to_string(n) + " links");
+    }
+  }
   out.root_velocity_change.setZero();
   if (n == 0) {
     out.impulse.clear();
     out.velocity_change.clear();
+    out.link_velocity_change.clear();
     out.saturated.clear();
     out.passes = 0;
     return;
@@ -77,6 +91,7 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   for (size_t k = 0; k < n; ++k) {
     const ServoLink& l = links[k];
     body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
+    if (!loads.extra_inertia.empty()) body_inertia_[k] += loads.extra_inertia[k];
     s_[k] = motionSubspace(l);
     if (k == 0 || l.joint == ServoJointType::kFixed) {
       status_[k] = Status::kFixed;
@@ -93,7 +108,7 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   const int max_passes = std::min(2 * driven + 2, 32);
   bool changed = true;
   while (changed && out.passes < max_passes) {
-    pass(links, fixed_root, demands, out);
+    pass(links, fixed_root, demands, loads, out);
     changed = false;
     for (size_t k = 1; k < n; ++k) {
       const ServoDemand& d = demands[k];
@@ -126,16 +141,22 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
         out.saturated[k] = true;
       }
     }
-    pass(links, fixed_root, demands, out);
+    pass(links, fixed_root, demands, loads, out);
   }
 }
 
 void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root,
-                            const std::vector<ServoDemand>& demands, ServoSolution& out) {
+                            const std::vector<ServoDemand>& demands, const ServoLoads& loads,
+                            ServoSolution& out) {
   const size_t n = links.size();
   for (size_t k = 0; k < n; ++k) {
     articulated_[k] = body_inertia_[k];
-    bias_[k].setZero();
+    // The bias impulse is what must act for no velocity change: minus the applied one.
+    if (loads.impulse.empty()) {
+      bias_[k].setZero();
+    } else {
+      bias_[k] = -loads.impulse[k];
+    }
   }
   // Leaves to root: articulated inertias and bias impulses.
   for (size_t k = n - 1; k >= 1; --k) {
@@ -196,6 +217,7 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
     out.velocity_change[k] = dq;
   }
   out.root_velocity_change = dv_[0];
+  out.link_velocity_change.assign(dv_.begin(), dv_.begin() + static_cast<long>(n));
   ++out.passes;
 }
 

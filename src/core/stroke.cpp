@@ -20,13 +20,28 @@ std::string validateStroke(const StrokeCommand& c) {
   return "";
 }
 
-double StrokeGenerator::target(double q) {
-  if (phase_ == Phase::kDown && q <= -command_.amplitude) {
+double StrokeGenerator::target(double q, double dt) {
+  const double a = command_.amplitude;
+  const double w1 = command_.downstroke_rate, w2 = command_.upstroke_rate;
+  if (phase_ == Phase::kDown && q <= -a) {
     phase_ = Phase::kUp;
-  } else if (phase_ == Phase::kUp && q >= command_.amplitude) {
+  } else if (phase_ == Phase::kUp && q >= a) {
     phase_ = Phase::kDown;
   }
-  return phase_ == Phase::kDown ? -command_.downstroke_rate : command_.upstroke_rate;
+  if (dt > 0.0) {
+    // Time to the turning point at the current rate, then back at the other rate.
+    if (phase_ == Phase::kDown && w1 > 0.0 && q - w1 * dt < -a) {
+      const double to_turn = (q + a) / w1;
+      phase_ = Phase::kUp;
+      return (-a - q + w2 * (dt - to_turn)) / dt;
+    }
+    if (phase_ == Phase::kUp && w2 > 0.0 && q + w2 * dt > a) {
+      const double to_turn = (a - q) / w2;
+      phase_ = Phase::kDown;
+      return (a - q - w1 * (dt - to_turn)) / dt;
+    }
+  }
+  return phase_ == Phase::kDown ? -w1 : w2;
 }
 
 }  // namespace flapsim
