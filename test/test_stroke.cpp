@@ -45,6 +45,32 @@ TEST(Stroke, PeriodFollowsRates) {
   EXPECT_NEAR(t, 2 * a / w1 + 2 * a / w2 + 2 * a / w1, 9 * dt);
 }
 
+// With the step given, the targets integrate to the ideal triangle wave at any step size:
+// every sample lies on the wave (turns on +-theta0, period 2 theta0 (1/w1 + 1/w2)) to
+// rounding, also when a turn falls inside a step.
+TEST(Stroke, TurnsExactlyWithinAStep) {
+  const double w1 = 40.0, w2 = 10.0, a = 0.8;
+  for (double dt : {0.002, 0.001, 0.0007, 0.00025}) {
+    SCOPED_TRACE(dt);
+    StrokeGenerator g;
+    g.setCommand(StrokeCommand{w1, w2, a});
+    double q = 0.0;
+    const double period = 2 * a / w1 + 2 * a / w2;
+    const int steps = static_cast<int>(std::lround(3.0 * period / dt));
+    // The ideal wave from q = 0: down to -a by a / w1, up to +a, and so on.
+    auto ideal = [&](double t) {
+      const double s = std::fmod(t + a / w1, period);  // time since the last top
+      return s < 2 * a / w1 ? a - w1 * s : -a + w2 * (s - 2 * a / w1);
+    };
+    double worst = 0.0;
+    for (int i = 1; i <= steps; ++i) {
+      q += g.target(q, dt) * dt;
+      worst = std::max(worst, std::abs(q - ideal(i * dt)));
+    }
+    EXPECT_LT(worst, 1e-12);
+  }
+}
+
 TEST(Stroke, ValidationNamesTheField) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(validateStroke(StrokeCommand{1, 1, 0.5}), "");
