@@ -6,6 +6,8 @@
 #include <set>
 #include <sstream>
 
+#include "flapsim/air_models.h"
+
 namespace flapsim_ros {
 
 namespace {
@@ -134,7 +136,7 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.enabled = d.boolean("enabled", air.enabled);
   air.model = d.string("model", air.model);
   if (!flapsim::makeAirModel(air.model)) {
-    fail(d.key("model"), "unknown air model '" + air.model + "' (pressure, quasi_steady)");
+    fail(d.key("model"), flapsim::unknownAirModelMessage(air.model));
   }
   if (d.has("quasi_steady")) {
     Dict q(d.at("quasi_steady"), d.key("quasi_steady"));

@@ -1,0 +1,88 @@
+// The Bullet scene of one creature: its dynamics world (with the servo hook and the ground
+// check), the serialised Dantzig LCP solver, the ground, and conversions to and from Bullet.
+// Private to flapsim_core.
+#pragma once
+
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <functional>
+#include <memory>
+#include <utility>
+
+#include "flapsim/types.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+
+inline btVector3 toBt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
+inline btQuaternion toBt(const Quat& q) { return btQuaternion(q.x(), q.y(), q.z(), q.w()); }
+inline btTransform toBt(const Pose& p) {
+  return btTransform(toBt(p.orientation), toBt(p.position));
+}
+inline Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+inline Quat fromBt(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+
+// A multibody world that lets its creature's joint servos act between Bullet's
+// unconstrained velocity update (gravity, air, damping) and its constraint solve (limits,
+// contacts), which is where Bullet's own joint motors act.
+class ServoWorld : public btMultiBodyDynamicsWorld {
+ public:
+  using btMultiBodyDynamicsWorld::btMultiBodyDynamicsWorld;
+  void setServos(std::function<void()> servos) { servos_ = std::move(servos); }
+  // `may_touch` answers false while the creature cannot touch anything this step; collision
+  // detection (bounding boxes, broadphase, narrowphase) is then skipped: it would find nothing.
+  void setGroundCheck(std::function<bool()> may_touch) { may_touch_ = std::move(may_touch); }
+
+  void performDiscreteCollisionDetection() override;
+
+ protected:
+  void solveExternalForces(btContactSolverInfo& info) override;
+
+ private:
+  std::function<void()> servos_;
+  std::function<bool()> may_touch_;
+};
+
+// Bullet's Dantzig LCP keeps its failure flag in a global variable (s_error in
+// btDantzigLCP.cpp), so two solves at once in different threads can fail each other and
+// fall back to another solver. One solve at a time keeps parallel runs bit-identical to
+// serial ones; the rest of the step still runs in parallel.
+class SerialDantzigSolver : public btDantzigSolver {
+ public:
+  bool solveMLCP(const btMatrixXu& A, const btVectorXu& b, btVectorXu& x, const btVectorXu& lo,
+                 const btVectorXu& hi, const btAlignedObjectArray<int>& limit_dependency,
+                 int iterations, bool use_sparsity) override;
+};
+
+// A Bullet world of its own for each creature: creatures do not touch one another, so
+// they can be stepped in parallel, and adding one never perturbs another's trajectory.
+class Scene {
+ public:
+  explicit Scene(const WorldParams& params);
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
+  ServoWorld& world() const { return *world_; }
+  bool hasGround() const { return ground_ != nullptr; }
+  // Whether the last collision detection left any contact manifold.
+  bool hasContacts() const { return dispatcher_->getNumManifolds() > 0; }
+  double timeStep() const { return world_->getSolverInfo().m_timeStep; }
+
+ private:
+  void addGround(const WorldParams& params);
+
+  std::unique_ptr<btDefaultCollisionConfiguration> config_;
+  std::unique_ptr<btCollisionDispatcher> dispatcher_;
+  std::unique_ptr<btBroadphaseInterface> broadphase_;
+  std::unique_ptr<SerialDantzigSolver> lcp_;
+  std::unique_ptr<btMultiBodyConstraintSolver> solver_;
+  std::unique_ptr<ServoWorld> world_;
+  std::unique_ptr<btCollisionShape> ground_shape_;
+  std::unique_ptr<btCollisionObject> ground_;
+};
+
+}  // namespace flapsim

@@ -1,0 +1,73 @@
+#include "joint_drives.h"
+
+#include "creature_body.h"
+
+namespace flapsim {
+
+double dampingLimit(const CreatureModel& m, const JointModel& j, double dt) {
+  const LinkModel& child = m.links[j.child_link];
+  if (j.type == JointType::kPrismatic) return 0.25 * child.mass / dt;
+  const Vec3 r = child.com - child.com.dot(j.axis) * j.axis;  // COM off the axis
+  const double inertia = child.inertia.dot(j.axis.cwiseAbs2()) + child.mass * r.squaredNorm();
+  return 0.25 * inertia / dt;
+}
+
+namespace {
+
+// A servo on the joint to `joint_link` with target velocity `target` and torque bound
+// `effort`.
+void demand(CreatureBody& b, int joint_link, double target, double effort, double dt) {
+  ServoDemand& d = b.demands[joint_link];
+  d.active = true;
+  d.max_impulse = effort * dt;
+  b.servo_target[joint_link] = target;
+}
+
+void driveJoint(const JointModel& j, size_t ji, JointDrive& d, CreatureBody& b, double dt) {
+  btMultiBody* mb = b.mb.get();
+  const int link = j.child_link - 1;
+  b.demands[j.child_link].active = false;
+  switch (d.mode) {
+    case JointDrive::Mode::kStroke:
+      demand(b, j.child_link, d.stroke.target(mb->getJointPos(link)), b.max_effort[ji], dt);
+      break;
+    case JointDrive::Mode::kVelocity:
+      demand(b, j.child_link, d.velocity, b.max_effort[ji], dt);
+      break;
+    case JointDrive::Mode::kPassive:
+      // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
+      if (j.friction > 0.0) demand(b, j.child_link, 0.0, j.friction, dt);
+      if (b.damping[ji] > 0.0) mb->addJointTorque(link, -b.damping[ji] * mb->getJointVel(link));
+      break;
+  }
+}
+
+// Feathering: a stroking wing pitches its feather joint to the commanded angle during the
+// upstroke and back to flat for the downstroke (a stiff position servo).
+void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives, CreatureBody& b,
+                   double dt) {
+  for (int wi : m.wing_joints) {
+    const JointModel& wing = m.joints[wi];
+    const JointDrive& d = drives[wi];
+    if (wing.feather_joint < 0 || d.mode != JointDrive::Mode::kStroke) continue;
+    const JointModel& feather = m.joints[wing.feather_joint];
+    const double target =
+        d.stroke.phase() == StrokeGenerator::Phase::kUp ? d.stroke.command().feather : 0.0;
+    const double position = b.mb->getJointPos(feather.child_link - 1);
+    demand(b, feather.child_link, (target - position) / kFeatherTime,
+           b.max_effort[wing.feather_joint], dt);
+  }
+}
+
+}  // namespace
+
+void applyDrives(const CreatureModel& m, std::vector<JointDrive>& drives, CreatureBody& b,
+                 double dt) {
+  for (size_t ji = 0; ji < m.joints.size(); ++ji) {
+    const JointModel& j = m.joints[ji];
+    if (j.movable()) driveJoint(j, ji, drives[ji], b, dt);
+  }
+  driveFeathers(m, drives, b, dt);
+}
+
+}  // namespace flapsim

@@ -1,0 +1,55 @@
+// The air stage of a step: the aero bodies of a creature and the air wrenches applied to
+// them once per step. Private to flapsim_core.
+#pragma once
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "flapsim/air_model.h"
+#include "flapsim/creature_model.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+
+struct CreatureBody;
+
+// A link that the air acts on (aero enabled, with boxes); other links have none.
+struct AeroBody {
+  int link = 0;       // model link index (0 = root = Bullet base)
+  std::string model;  // the link's own air model, empty for the world's
+  AeroSurface surface;
+  LinkAero last;  // the wrench of the last step
+};
+
+// Cells (in the COM frame), drag coefficient and volume of a link's boxes.
+AeroSurface linkSurface(const LinkModel& l, const AirParams& air);
+
+// The aero bodies of a creature, in link order.
+std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& air);
+
+// Rebuilds the surfaces of `aero` for new air parameters, keeping everything else.
+void resurface(std::vector<AeroBody>& aero, const CreatureModel& m, const AirParams& air);
+
+// The air models in use: the world's default and the built-in ones that links may name.
+class AirStage {
+ public:
+  explicit AirStage(const std::string& default_model);
+
+  void setDefaultModel(AirModelPtr model) { default_model_ = std::move(model); }
+  void setRecordCells(bool on) { record_cells_ = on; }
+
+  // Adds this step's air wrench (and buoyancy) to every aero body of `b`, and records it in
+  // the body's AeroBody::last. Needs the link frames of b.updateKinematics().
+  void apply(CreatureBody& b, const WorldParams& params) const;
+
+ private:
+  const AirModel& modelOf(const AeroBody& a) const;
+
+  AirModelPtr default_model_;
+  std::map<std::string, AirModelPtr> named_models_;  // for links that name their own
+  bool record_cells_ = false;
+};
+
+}  // namespace flapsim
