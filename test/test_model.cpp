@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
 #include "test_util.h"
@@ -143,6 +144,54 @@ void expectError(const std::string& xml, std::initializer_list<std::string> culp
     EXPECT_NE(what.find("test.urdf"), std::string::npos) << what;
     for (const auto& c : culprits) EXPECT_NE(what.find(c), std::string::npos) << what;
   }
+}
+
+// ---- span axes ---------------------------------------------------------------------------
+
+// |dot| = 1: the span's sign does not matter to the air models.
+void expectSpan(const std::optional<Vec3>& span, const Vec3& axis, const std::string& what) {
+  ASSERT_TRUE(span.has_value()) << what;
+  EXPECT_NEAR(span->norm(), 1.0, 1e-12) << what;
+  EXPECT_NEAR(std::abs(span->dot(axis)), 1.0, 1e-12) << what;
+}
+
+// A flap-unit wing hinges about x at its root and reaches out along y to its COM: its span is
+// y, and every face of its plate that contains y gets it (the tip faces keep their longer
+// edge, x). The body hangs from no wing joint and names no span.
+TEST(SpanAxis, FlapUnitWingsSpanTheirYAxis) {
+  auto m = loadUrdf("flap_unit.urdf");
+  for (const char* wing : {"unit0_wing_left", "unit0_wing_right"}) {
+    expectSpan(spanAxis(*m, m->findLink(wing)), Vec3::UnitY(), wing);
+    const AeroSurface s = linkAeroSurface(*m, m->findLink(wing), AirParams());
+    ASSERT_EQ(s.faces.size(), 6u);
+    for (const SurfaceFace& f : s.faces) {
+      const Vec3 expected = std::abs(f.normal.y()) > 0.5 ? Vec3::UnitX() : Vec3::UnitY();
+      EXPECT_NEAR(std::abs(f.span.dot(expected)), 1.0, 1e-12) << wing;
+      EXPECT_NEAR(f.chord.dot(f.span), 0.0, 1e-12);
+    }
+    EXPECT_TRUE(s.pitch_axis_point.isZero(0.0));  // no feather joint: the COM
+  }
+  EXPECT_FALSE(spanAxis(*m, m->findLink("unit0_body")).has_value());
+}
+
+// A feathering wing hangs from its pitch joint: the span is that joint's axis (y), and the
+// wing pitches about the joint's line through the link origin, 0.175 m from its COM.
+TEST(SpanAxis, FeatheringWingSpansItsPitchAxis) {
+  auto m = loadUrdf("feather_unit.urdf");
+  const int wing = m->findLink("unit0_wing_left");
+  expectSpan(spanAxis(*m, wing), Vec3::UnitY(), "feathering wing");
+  EXPECT_TRUE(linkAeroSurface(*m, wing, AirParams()).pitch_axis_point.isApprox(Vec3(0, -0.175, 0)));
+  // The root cube's COM is on the flapping axis: no direction out to it.
+  EXPECT_FALSE(spanAxis(*m, m->findLink("unit0_wing_left_root")).has_value());
+}
+
+TEST(SpanAxis, AeroSpanAttributeNamesALinkAxis) {
+  const std::string tail = R"(<aero link="body" span="z"/>)";
+  auto m = parseCreatureModel(robot(std::string(kLink) + hinge("hinge", "fixed") + tail));
+  expectSpan(spanAxis(*m, m->findLink("body")), Vec3::UnitZ(), "body");
+  EXPECT_FALSE(spanAxis(*m, m->findLink("wing")).has_value());
+  expectError(robot(std::string(kLink) + hinge() + R"(<aero link="wing" span="w"/>)"),
+              {"wing", "span", "'w'"});
 }
 
 TEST(ModelErrors, ValidReferenceParses) {

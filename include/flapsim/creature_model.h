@@ -11,13 +11,16 @@
 namespace flapsim {
 
 /// Per-link air settings from `<aero link=... drag_coefficient=... subdivisions="nu nv"
-/// enabled=... model="pressure|quasi_steady"/>`. Unset values fall back to the world's AirParams.
+/// enabled=... model="pressure|quasi_steady" span="x|y|z"/>`. Unset values fall back to the
+/// world's AirParams.
 struct AeroSettings {
   bool enabled = true;
   std::optional<double> drag_coefficient;
   std::string model;       // air model name; empty: world default
   int subdivisions_u = 0;  // 0: world default
   int subdivisions_v = 0;
+  std::optional<Vec3> span;  // span="x|y|z": that unit axis of the link frame (see spanAxis)
+  std::optional<bool> added_mass;  // added_mass="true|false"; unset: the world's setting
 };
 
 /// A box of the link's geometry, in the link frame.
@@ -82,5 +85,12 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
 
 /// Reads and parses a URDF file. Throws ModelError naming the file.
 CreatureModelPtr loadCreatureModel(const std::string& path);
+
+/// The spanwise axis (unit, sign arbitrary) of link `link` in its COM frame, whose axes are the
+/// link frame's: for a link hanging from a wing joint, the direction from the joint's axis out
+/// to the link's COM (none if the COM is on the axis); for a link hanging from a wing's
+/// feather joint, that joint's axis; else the link's `<aero span="x|y|z">`; else none (the
+/// quasi-steady model then takes each face's longer edge).
+std::optional<Vec3> spanAxis(const CreatureModel& model, int link);
 
 }  // namespace flapsim

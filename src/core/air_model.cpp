@@ -30,7 +30,30 @@ std::vector<SurfaceCell> boxSurfaceCells(const Vec3& size, const Pose& origin, i
   return cells;
 }
 
-void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv) {
+namespace {
+
+// A face's span and chord axes: `span` projected onto the face if enough of it lies in the
+// face plane, else `longer_edge`; the chord normal x span and the face's extent along it.
+void setFaceAxes(SurfaceFace& face, const Vec3& longer_edge, const std::optional<Vec3>& span) {
+  face.span = longer_edge;
+  if (span) {
+    const Vec3 in_plane = *span - span->dot(face.normal) * face.normal;
+    if (in_plane.norm() >= 0.1 * span->norm()) face.span = in_plane.normalized();
+  }
+  face.chord = face.normal.cross(face.span).normalized();
+  face.chord_min = face.chord_max = face.corners[0].dot(face.chord);
+  for (const Vec3& corner : face.corners) {
+    face.chord_min = std::min(face.chord_min, corner.dot(face.chord));
+    face.chord_max = std::max(face.chord_max, corner.dot(face.chord));
+  }
+}
+
+// Adds the faces of a box to `surface`, without the cells for which hidden(centre) holds: a
+// face that keeps every cell is a regular grid, one that keeps some a plain list, one that
+// keeps none is left out.
+template <typename Hidden>
+void addBoxFaces(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv,
+                 const std::optional<Vec3>& span, Hidden hidden) {
   const std::vector<SurfaceCell> cells = boxSurfaceCells(size, origin, nu, nv);
   const int per_face = static_cast<int>(cells.size()) / 6;
   for (int f = 0; f < 6 && per_face > 0; ++f) {
@@ -39,9 +62,6 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
     const int b = (axis + 1) % 3, c = (axis + 2) % 3;
     SurfaceFace face;
     face.normal = cells[f * per_face].normal;
-    Vec3 edge = Vec3::Zero();
-    edge[size[b] >= size[c] ? b : c] = 1.0;
-    face.span = origin.orientation * edge;
     for (int k = 0; k < 4; ++k) {
       Vec3 p = Vec3::Zero();
       p[axis] = sign * 0.5 * size[axis];
@@ -49,20 +69,226 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
       p[c] = (k & 2 ? 0.5 : -0.5) * size[c];
       face.corners[k] = origin.apply(p);
     }
-    face.first_cell = static_cast<int>(surface.cells.size()) + f * per_face;
-    face.cell_count = per_face;
-    face.nu = nu;
-    face.nv = nv;
-    Vec3 step = Vec3::Zero();
-    step[b] = size[b] / nu;
-    face.step_u = origin.orientation * step;
-    step = Vec3::Zero();
-    step[c] = size[c] / nv;
-    face.step_v = origin.orientation * step;
+    Vec3 edge = Vec3::Zero();
+    edge[size[b] >= size[c] ? b : c] = 1.0;
+    setFaceAxes(face, origin.orientation * edge, span);
+    face.first_cell = static_cast<int>(surface.cells.size());
+    for (int i = f * per_face; i < (f + 1) * per_face; ++i) {
+      if (!hidden(cells[i].centre)) surface.cells.push_back(cells[i]);
+    }
+    face.cell_count = static_cast<int>(surface.cells.size()) - face.first_cell;
+    if (face.cell_count == 0) continue;
+    if (face.cell_count == per_face) {
+      face.nu = nu;
+      face.nv = nv;
+      Vec3 step = Vec3::Zero();
+      step[b] = size[b] / nu;
+      face.step_u = origin.orientation * step;
+      step = Vec3::Zero();
+      step[c] = size[c] / nv;
+      face.step_v = origin.orientation * step;
+    }
     surface.faces.push_back(face);
   }
-  surface.cells.insert(surface.cells.end(), cells.begin(), cells.end());
-  surface.volume += size.prod();
+}
+
+// p in the frame of box `box` (centre at the origin, edges along the axes).
+Vec3 inBox(const Box& box, const Vec3& p) {
+  return box.origin.orientation.conjugate() * (p - box.origin.position);
+}
+
+// Whether p lies inside `box` or within `tolerance` of it.
+bool insideBox(const Box& box, const Vec3& p, double tolerance) {
+  return (inBox(box, p).cwiseAbs() - 0.5 * box.size).maxCoeff() <= tolerance;
+}
+
+// The body-frame axis-aligned bounds of a box.
+Eigen::AlignedBox3d bounds(const Box& box) {
+  const Vec3 half = box.origin.orientation.toRotationMatrix().cwiseAbs() * (0.5 * box.size);
+  return Eigen::AlignedBox3d(box.origin.position - half, box.origin.position + half);
+}
+
+// Whether `m` only permutes axes and flips their signs.
+bool isSignedPermutation(const Eigen::Matrix3d& m) {
+  for (int i = 0; i < 9; ++i) {
+    const double a = std::abs(m.data()[i]);
+    if (a > 1e-9 && std::abs(a - 1.0) > 1e-9) return false;
+  }
+  return true;
+}
+
+// Exact union of boxes that are axis-aligned in the frame `frame`: the coordinates of all
+// their faces cut space into cuboids, each wholly inside some box or outside all of them.
+BoxUnion alignedUnion(const std::vector<Box>& boxes, const Pose& frame) {
+  const Eigen::Matrix3d to_frame = frame.orientation.conjugate().toRotationMatrix();
+  std::vector<Vec3> lo, hi;
+  std::vector<double> cuts[3];
+  for (const Box& box : boxes) {
+    const Vec3 centre = to_frame * (box.origin.position - frame.position);
+    const Vec3 half =
+        (to_frame * box.origin.orientation.toRotationMatrix()).cwiseAbs() * (0.5 * box.size);
+    lo.push_back(centre - half);
+    hi.push_back(centre + half);
+    for (int a = 0; a < 3; ++a) {
+      cuts[a].push_back(lo.back()[a]);
+      cuts[a].push_back(hi.back()[a]);
+    }
+  }
+  for (auto& c : cuts) {
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+  }
+  double volume = 0.0;
+  Vec3 moment = Vec3::Zero();
+  for (size_t i = 0; i + 1 < cuts[0].size(); ++i) {
+    for (size_t j = 0; j + 1 < cuts[1].size(); ++j) {
+      for (size_t k = 0; k + 1 < cuts[2].size(); ++k) {
+        const Vec3 a(cuts[0][i], cuts[1][j], cuts[2][k]);
+        const Vec3 b(cuts[0][i + 1], cuts[1][j + 1], cuts[2][k + 1]);
+        const Vec3 mid = 0.5 * (a + b);
+        bool inside = false;
+        for (size_t n = 0; n < boxes.size() && !inside; ++n) {
+          inside = (mid.array() > lo[n].array()).all() && (mid.array() < hi[n].array()).all();
+        }
+        if (!inside) continue;
+        const double v = (b - a).prod();
+        volume += v;
+        moment += v * mid;
+      }
+    }
+  }
+  BoxUnion u;
+  u.volume = volume;
+  if (volume > 0.0) u.centroid = frame.apply(moment / volume);
+  return u;
+}
+
+constexpr int kUnionLines = 128;  // per edge of the face of a box that overlaps an earlier one
+
+}  // namespace
+
+BoxUnion unionOfBoxes(const std::vector<Box>& boxes) {
+  BoxUnion u;
+  if (boxes.empty()) return u;
+  bool aligned = true;
+  const Eigen::Matrix3d first = boxes[0].origin.orientation.conjugate().toRotationMatrix();
+  for (const Box& box : boxes) {
+    aligned = aligned && isSignedPermutation(first * box.origin.orientation.toRotationMatrix());
+  }
+  if (aligned) return alignedUnion(boxes, boxes[0].origin);
+  // Each box adds the part of it that no earlier box holds: all of it unless their bounds
+  // overlap, else what lines through it along one edge find (below).
+  double volume = 0.0;
+  Vec3 moment = Vec3::Zero();
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    const Box& box = boxes[i];
+    std::vector<const Box*> earlier;
+    for (size_t j = 0; j < i; ++j) {
+      if (!bounds(box).intersection(bounds(boxes[j])).isEmpty()) earlier.push_back(&boxes[j]);
+    }
+    if (earlier.empty()) {
+      volume += box.size.prod();
+      moment += box.size.prod() * box.origin.position;
+      continue;
+    }
+    // Along lines parallel to the box's x edge, on an n x n grid over its y-z face, the
+    // earlier boxes cover intervals found exactly; only the grid over the face is discrete.
+    const int n = kUnionLines;
+    const double dx = box.size.x(), area = box.size.y() * box.size.z() / (n * n);
+    const Vec3 along = box.origin.orientation * Vec3::UnitX();
+    std::vector<std::pair<double, double>> covered;
+    for (int b = 0; b < n; ++b) {
+      for (int c = 0; c < n; ++c) {
+        const Vec3 mid = box.origin.apply(
+            Vec3(0.0, box.size.y() * ((b + 0.5) / n - 0.5), box.size.z() * ((c + 0.5) / n - 0.5)));
+        covered.clear();
+        for (const Box* other : earlier) {
+          double t0 = -0.5 * dx, t1 = 0.5 * dx;
+          const Vec3 o = inBox(*other, mid);
+          const Vec3 d = other->origin.orientation.conjugate() * along;
+          for (int k = 0; k < 3 && t0 < t1; ++k) {
+            const double half = 0.5 * other->size[k];
+            if (std::abs(d[k]) < 1e-15) {
+              if (std::abs(o[k]) > half) t1 = t0;
+              continue;
+            }
+            const double ta = (-half - o[k]) / d[k], tb = (half - o[k]) / d[k];
+            t0 = std::max(t0, std::min(ta, tb));
+            t1 = std::min(t1, std::max(ta, tb));
+          }
+          if (t0 < t1) covered.emplace_back(t0, t1);
+        }
+        std::sort(covered.begin(), covered.end());
+        // What is left of the line [-dx/2, dx/2]: its length and first moment in t.
+        double length = dx, first_moment = 0.0, end = -0.5 * dx;
+        for (const auto& [t0, t1] : covered) {
+          const double from = std::max(t0, end);
+          if (t1 <= from) continue;
+          length -= t1 - from;
+          first_moment -= 0.5 * (t1 * t1 - from * from);
+          end = t1;
+        }
+        volume += area * length;
+        moment += area * (length * mid + first_moment * along);
+      }
+    }
+  }
+  u.volume = volume;
+  if (volume > 0.0) u.centroid = moment / volume;
+  return u;
+}
+
+void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv) {
+  addBoxFaces(surface, size, origin, nu, nv, std::nullopt, [](const Vec3&) { return false; });
+  const double v = size.prod(), total = surface.volume + v;
+  if (total > 0.0)
+    surface.centroid = (surface.volume * surface.centroid + v * origin.position) / total;
+  surface.volume = total;
+}
+
+AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
+                         const std::optional<Vec3>& span) {
+  AeroSurface surface;
+  double largest = 0.0;
+  for (const Box& box : boxes) largest = std::max(largest, box.size.maxCoeff());
+  const double tolerance = 1e-6 * largest;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    auto hidden = [&](const Vec3& centre) {
+      for (size_t j = 0; j < boxes.size(); ++j) {
+        if (j != i && insideBox(boxes[j], centre, tolerance)) return true;
+      }
+      return false;
+    };
+    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, hidden);
+  }
+  const BoxUnion u = unionOfBoxes(boxes);
+  surface.volume = u.volume;
+  surface.centroid = u.centroid;
+  return surface;
+}
+
+AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParams& air) {
+  const LinkModel& l = model.links.at(static_cast<size_t>(link));
+  const int nu = l.aero.subdivisions_u > 0 ? l.aero.subdivisions_u : air.subdivisions_u;
+  const int nv = l.aero.subdivisions_v > 0 ? l.aero.subdivisions_v : air.subdivisions_v;
+  const Pose com_inv{-l.com, Quat::Identity()};
+  std::vector<Box> boxes;
+  for (const Box& b : l.boxes) boxes.push_back(Box{b.size, com_inv * b.origin});
+  AeroSurface surface = buildSurface(boxes, nu, nv, spanAxis(model, link));
+  surface.drag_coefficient =
+      l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
+  if (l.parent_joint >= 0) {
+    for (int w : model.wing_joints) {
+      if (model.joints[w].feather_joint == l.parent_joint) surface.pitch_axis_point = -l.com;
+    }
+  }
+  return surface;
+}
+
+Wrench buoyancyWrench(const AeroSurface& surface, const BodyKinematics& body, double density,
+                      const Vec3& gravity) {
+  const Vec3 force = buoyancyForce(surface.volume, density, gravity);
+  return Wrench{force, (body.orientation * surface.centroid).cross(force)};
 }
 
 namespace {
@@ -202,8 +428,12 @@ double dragCoefficient(double a, const QuasiSteadyCoefficients& c) {
   return c.drag_mean - c.drag_amplitude * std::cos((c.drag_frequency * a + c.drag_phase) * kDeg);
 }
 
-Vec3 quasiSteadyForce(const Vec3& u, const Vec3& n, const Vec3& span, double area, double density,
-                      const QuasiSteadyCoefficients& c) {
+namespace {
+
+// quasiSteadyForce, and the angle of attack in degrees in *alpha_deg when the force is not
+// zero.
+Vec3 quasiSteadyForceAt(const Vec3& u, const Vec3& n, const Vec3& span, double area, double density,
+                        const QuasiSteadyCoefficients& c, double* alpha_deg) {
   // Edge-on within rounding counts as edge-on: C_D(0) > 0 would otherwise give a full
   // face's drag to whichever face rounding happens to tilt forward.
   if (u.dot(n) <= 1e-12 * u.norm()) return Vec3::Zero();
@@ -212,6 +442,7 @@ Vec3 quasiSteadyForce(const Vec3& u, const Vec3& n, const Vec3& span, double are
   if (speed2 == 0.0) return Vec3::Zero();
   const Vec3 drag_dir = -chordwise / std::sqrt(speed2);
   const double alpha = angleOfAttack(chordwise, n);
+  *alpha_deg = alpha;
   const double q = 0.5 * density * area * speed2;
   Vec3 force = q * dragCoefficient(alpha, c) * drag_dir;
   Vec3 lift_dir = -n - (-n).dot(drag_dir) * drag_dir;  // -n without its part along the flow
@@ -221,13 +452,77 @@ Vec3 quasiSteadyForce(const Vec3& u, const Vec3& n, const Vec3& span, double are
   return force;
 }
 
+}  // namespace
+
+Vec3 quasiSteadyForce(const Vec3& u, const Vec3& n, const Vec3& span, double area, double density,
+                      const QuasiSteadyCoefficients& c) {
+  double alpha = 0.0;
+  return quasiSteadyForceAt(u, n, span, area, density, c, &alpha);
+}
+
+double centreOfPressureFraction(double alpha_deg) {
+  return 0.82 * std::abs(alpha_deg) / 180.0 + 0.05;
+}
+
+double rotationalLiftCoefficient(double x0) { return M_PI * (0.75 - x0); }
+
 Wrench QuasiSteadyAirModel::bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
                                        const AirParams& air, std::vector<Vec3>* cell_forces) const {
-  return sumCells(body, surface, air, cell_forces,
-                  [&](const Vec3& u, const SurfaceCell& cell, const Vec3& span) {
-                    return quasiSteadyForce(u, cell.normal, span, cell.area, air.density,
-                                            air.quasi_steady);
-                  });
+  if (surface.faces.empty()) {
+    return sumCells(body, surface, air, cell_forces,
+                    [&](const Vec3& u, const SurfaceCell& cell, const Vec3& span) {
+                      return quasiSteadyForce(u, cell.normal, span, cell.area, air.density,
+                                              air.quasi_steady);
+                    });
+  }
+  const BodyFlow flow(body, air);
+  Vec3 total = Vec3::Zero(), torque = Vec3::Zero();
+  if (cell_forces) cell_forces->assign(surface.cells.size(), Vec3::Zero());
+  for (const SurfaceFace& face : surface.faces) {
+    if (!flow.advances(face)) continue;
+    const Vec3 &n = face.normal, &s = face.span, &e = face.chord;
+    const double chord = face.chord_max - face.chord_min;
+    const double axis = surface.pitch_axis_point.dot(e);  // the pitch axis' chord coordinate
+    // Turning about n x e raises the angle of attack of this face when it advances towards +e
+    // (and lowers it towards -e).
+    const double spin = flow.w.dot(n.cross(e));
+    const bool rotational = air.rotational_lift && chord > 0.0 && spin != 0.0;
+    for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
+      const SurfaceCell& cell = surface.cells[i];
+      const Vec3 u = flow.at(cell.centre);
+      double alpha = 0.0;
+      Vec3 f = quasiSteadyForceAt(u, n, s, cell.area, air.density, air.quasi_steady, &alpha);
+      if (f.isZero(0.0)) continue;
+      Vec3 at = cell.centre;
+      if (air.centre_of_pressure_shift && chord > 0.0) {
+        const Vec3 chordwise = u - u.dot(s) * s;
+        const double ahead = chordwise.dot(e);  // > 0: the leading edge is on the +e side
+        if (ahead != 0.0) {
+          at += (0.5 - centreOfPressureFraction(alpha)) * chord * std::copysign(1.0, ahead) * e;
+        }
+      }
+      torque += at.cross(f);
+      if (rotational) {
+        // The strip's motion at the pitch axis: its speed U, and its leading edge.
+        const Vec3 p = cell.centre + (axis - cell.centre.dot(e)) * e;
+        Vec3 up = flow.at(p);
+        up -= up.dot(s) * s;
+        const double ahead = up.dot(e);
+        if (ahead != 0.0) {
+          const double sign = std::copysign(1.0, ahead);
+          const double x0 =
+              sign > 0.0 ? (face.chord_max - axis) / chord : (axis - face.chord_min) / chord;
+          const Vec3 rot = -rotationalLiftCoefficient(x0) * air.density * up.norm() * chord *
+                           cell.area * sign * spin * n;
+          f += rot;
+          torque += cell.centre.cross(rot);
+        }
+      }
+      total += f;
+      if (cell_forces) (*cell_forces)[i] = flow.rot * f;
+    }
+  }
+  return Wrench{flow.rot * total, flow.rot * torque};
 }
 
 AirModelPtr makeAirModel(const std::string& name) {

@@ -150,16 +150,30 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
       }
       s.model = model;
     }
-    if (const char* en = e->Attribute("enabled")) {
-      std::string v(en);
-      if (v == "true" || v == "1") {
-        s.enabled = true;
-      } else if (v == "false" || v == "0") {
-        s.enabled = false;
+    if (const char* span = e->Attribute("span")) {
+      const std::string v(span);
+      if (v == "x") {
+        s.span = Vec3::UnitX();
+      } else if (v == "y") {
+        s.span = Vec3::UnitY();
+      } else if (v == "z") {
+        s.span = Vec3::UnitZ();
       } else {
-        fail(source, where + ": enabled must be true or false, got '" + v + "'");
+        fail(source, where + ": span must be x, y or z, got '" + v + "'");
       }
     }
+    // A boolean attribute: true/1 or false/0, else an error naming it.
+    auto flag = [&](const char* name) -> std::optional<bool> {
+      const char* text = e->Attribute(name);
+      if (!text) return std::nullopt;
+      const std::string v(text);
+      if (v == "true" || v == "1") return true;
+      if (v == "false" || v == "0") return false;
+      fail(source, where + ": " + name + " must be true or false, got '" + v + "'");
+      return std::nullopt;
+    };
+    if (const std::optional<bool> en = flag("enabled")) s.enabled = *en;
+    s.added_mass = flag("added_mass");
     if (!a.aero.emplace(link, s).second)
       fail(source, "two <aero> elements for link '" + std::string(link) + "'");
   }
@@ -325,6 +339,23 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
     if (model->joints[i].wing) model->wing_joints.push_back(static_cast<int>(i));
   }
   return model;
+}
+
+std::optional<Vec3> spanAxis(const CreatureModel& model, int link) {
+  const LinkModel& l = model.links.at(static_cast<size_t>(link));
+  if (l.parent_joint >= 0) {
+    const JointModel& j = model.joints[l.parent_joint];
+    if (j.wing) {
+      // The joint's axis passes through the link frame's origin (URDF: joint frame = child
+      // link frame), along j.axis: the span runs from that line out to the COM.
+      const Vec3 out = l.com - l.com.dot(j.axis) * j.axis;
+      if (out.norm() > 1e-9) return Vec3(out.normalized());
+    }
+    for (int w : model.wing_joints) {
+      if (model.joints[w].feather_joint == l.parent_joint) return j.axis;
+    }
+  }
+  return l.aero.span;
 }
 
 CreatureModelPtr loadCreatureModel(const std::string& path) {
