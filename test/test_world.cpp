@@ -96,7 +96,7 @@ TEST(World, DensePlateSinksAtTerminalSpeedInWater) {
     <inertial><mass value="0.5"/><inertia ixx="1.67e-3" ixy="0" ixz="0" iyy="1.67e-3" iyz="0" izz="3.33e-3"/></inertial>
     <collision><geometry><box size="0.2 0.2 0.002"/></geometry></collision></link></robot>)");
   w.spawn("steel", steel, at(0, 0, 0));
-  w.step(2000);
+  w.step(5000);  // its added mass (6.3 kg) makes the approach slow: tanh(t / 0.69 s)
   const double volume = 0.2 * 0.2 * 0.002;
   const double vt = std::sqrt(2 * (0.5 - 1000.0 * volume) * kG / (1000.0 * 1.15 * 0.04));
   EXPECT_NEAR(-w.rootTwist("steel").linear.z(), vt, 1e-3 * vt);
@@ -203,42 +203,7 @@ TEST(Servo, JointFrictionHoldsOrSlows) {
   EXPECT_NEAR(w.state("slipping").joint_velocities[0], expected, 1e-3 * std::abs(expected));
 }
 
-// Largest linear momentum of a flapping unit in vacuum without gravity over 0.5 s.
-double largestMomentum(double step_size) {
-  WorldParams p = vacuum();
-  p.gravity = Vec3::Zero();
-  p.step_size = step_size;
-  World w(p);
-  auto model = loadUrdf("flap_unit.urdf");
-  w.spawn("u", model, at(0, 0, 10, Quat(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()))));
-  w.setWingCommands("u", {}, {StrokeCommand{35, 10, 0.7}, StrokeCommand{30, 12, 0.8}});
-  const int steps = static_cast<int>(std::lround(0.5 / step_size));
-  double largest = 0.0;
-  for (int i = 0; i < steps; ++i) {
-    w.step(1);
-    const CreatureState s = w.state("u");
-    Vec3 momentum = Vec3::Zero();
-    for (size_t k = 0; k < model->links.size(); ++k) {
-      const Vec3 r = s.link_poses[k].orientation * model->links[k].com;
-      momentum +=
-          model->links[k].mass * (s.link_twists[k].linear + s.link_twists[k].angular.cross(r));
-    }
-    largest = std::max(largest, momentum.norm());
-  }
-  return largest;
-}
-
-// The servos' impulses are internal: a flapping unit in vacuum without gravity keeps zero
-// linear momentum, however asymmetric its strokes, up to the integrator's first-order
-// error (semi-implicit Euler in joint coordinates), which halves with the step. A wing's
-// own momentum is about 0.004 kg x 35 rad/s x 0.175 m = 0.025 kg m/s.
-TEST(Servo, FlappingInVacuumConservesMomentum) {
-  const double coarse = largestMomentum(0.001);
-  const double fine = largestMomentum(0.0005);
-  EXPECT_LT(coarse, 0.004);
-  EXPECT_LT(fine, 0.6 * coarse);
-  EXPECT_GT(fine, 0.4 * coarse);
-}
+// Momentum conservation of a flapping creature: test_momentum.cpp.
 
 TEST(World, PositiveWingAngleLiftsTheTip) {
   World w(openSky());

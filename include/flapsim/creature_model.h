@@ -19,7 +19,7 @@ struct AeroSettings {
   std::string model;       // air model name; empty: world default
   int subdivisions_u = 0;  // 0: world default
   int subdivisions_v = 0;
-  std::optional<Vec3> span;  // span="x|y|z": that unit axis of the link frame (see spanAxis)
+  std::optional<Vec3> span;        // span="x|y|z": that unit axis of the link frame (see spanAxis)
   std::optional<bool> added_mass;  // added_mass="true|false"; unset: the world's setting
 };
 

@@ -29,28 +29,35 @@ struct BodyMotion {
   Vec3 angular_velocity = Vec3::Zero();
 };
 
-/// The momentum of a set of bodies about their common centre of mass.
+/// The momentum of a set of bodies about their common centre of mass, and optionally that
+/// of the fluid they carry along (their added mass): with it, `linear` and `angular` are
+/// Kirchhoff's impulse of body and fluid, which internal forces do not change either.
 struct SystemMomentum {
   double mass = 0.0;
   Vec3 com = Vec3::Zero();
-  Vec3 linear = Vec3::Zero();
-  Vec3 angular = Vec3::Zero();  // about `com`
-  Mat3 inertia = Mat3::Zero();  // composite, about `com` (the tree as if rigid)
+  Vec3 linear = Vec3::Zero();       // bodies and fluid
+  Vec3 angular = Vec3::Zero();      // bodies and fluid, about `com`
+  Vec3 body_linear = Vec3::Zero();  // the bodies' own: mass x velocity of `com`
+  Mat3 inertia = Mat3::Zero();      // the bodies' composite, about `com` (the tree as if rigid)
+  Mat6 fluid = Mat6::Zero();        // the added mass, spatial, about `com`, world axes
 };
 
 SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies);
 
-/// The rigid motion that brings a tree from `actual` to the target momentum and centre of
-/// mass: add `angular_velocity` and `velocity` + angular_velocity x (x - com) to the
-/// velocity of every point x, and `shift` to every position.
+/// Adds the fluid carried by one body: its added mass `added` (spatial, about the body's
+/// COM `com`, world axes) moving with the body's `velocity` [angular; linear of the COM].
+void addFluidMomentum(SystemMomentum& s, const Mat6& added, const Vec3& com, const Vec6& velocity);
+
+/// The rigid motion that brings a tree from `actual` to the target momentum: add
+/// `angular_velocity` and `velocity` + angular_velocity x (x - com) to the velocity of every
+/// point x (the fluid's share of the momentum moves along).
 struct RigidCorrection {
   Vec3 velocity = Vec3::Zero();  // at the centre of mass
   Vec3 angular_velocity = Vec3::Zero();
-  Vec3 shift = Vec3::Zero();
 };
 
 RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& linear,
-                                   const Vec3& angular, const Vec3& com);
+                                   const Vec3& angular);
 
 /// The moment about `point` of a spatial impulse [moment about `origin`; force].
 inline Vec3 momentAbout(const Vec6& impulse, const Vec3& origin, const Vec3& point) {

@@ -182,6 +182,7 @@ std::unique_ptr<CreatureBody> buildBody(const CreatureModel& m, const Pose& pose
   CreatureBody* b = body.get();
   body->scene->world().setServos([b] { b->applyServos(); });
   body->scene->world().setGroundCheck([b] { return b->mayTouch(); });
+  body->updateKinematics();  // frames and velocities for the first step
   return body;
 }
 

@@ -1,5 +1,7 @@
 #include "creature_body.h"
 
+#include "flapsim/fluid_inertia.h"
+
 namespace flapsim {
 
 BodyKinematics LinkFrames::kinematics(int k) const {
@@ -84,6 +86,16 @@ void CreatureBody::updateServoLinks() {
   }
 }
 
+Vec6 CreatureBody::spatialVelocity(int k, const btVector3& omega, const btVector3& vel) const {
+  const btQuaternion to_world = frames.world_to_local[k].inverse();
+  const Vec3 w = fromBt(quatRotate(to_world, omega));
+  const Vec3 v = fromBt(quatRotate(to_world, vel));
+  const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
+  Vec6 out;
+  out << w, v - w.cross(offset);  // the velocity of the point at the root's COM
+  return out;
+}
+
 void CreatureBody::applyServos() {
   bool any = false;
   for (size_t k = 1; k < demands.size(); ++k) {
@@ -91,12 +103,45 @@ void CreatureBody::applyServos() {
     demands[k].velocity_change = servo_target[k] - mb->getJointVel(static_cast<int>(k) - 1);
     any = true;
   }
-  if (!any) {
+  drag_impulse_.setZero();
+  if (!any && !fluid_active) {
     solution.impulse.assign(demands.size(), 0.0);
     return;
   }
   updateServoLinks();
-  servo.solve(servo_links, model->fixed_base, demands, solution);
+  if (fluid_active) {
+    // (M + A) (v1 - v0) = M (vb - v0) + servo impulses, with A the fluid's implicit part
+    // and vb Bullet's velocities after this step's forces: solved for v1 - vb, it is the
+    // tree with inertia M + A under the impulses -A (vb - v0) on the aero bodies.
+    const size_t n = servo_links.size();
+    omega_now_.resize(n);
+    vel_now_.resize(n);
+    mb->compTreeLinkVelocities(omega_now_.data(), vel_now_.data());
+    loads_.extra_inertia.assign(n, Mat6::Zero());
+    loads_.impulse.assign(n, Vec6::Zero());
+    for (const AeroBody& a : aero) {
+      const int k = a.link;
+      const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
+      const Mat6 inertia = spatialToCommonFrame(a.added + a.drag, Quat::Identity(), offset);
+      const Vec6 change = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
+                          spatialVelocity(k, frames.omega[k], frames.vel[k]);
+      loads_.extra_inertia[k] = inertia;
+      loads_.impulse[k] = -inertia * change;
+    }
+    servo.solve(servo_links, model->fixed_base, demands, loads_, solution);
+    // The implicit drag's impulse over the step, -step D (v1 - v0) on each aero body (the
+    // added mass is part of the momentum itself: see measureMomentum()).
+    for (const AeroBody& a : aero) {
+      const int k = a.link;
+      const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
+      const Vec6 change = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
+                          spatialVelocity(k, frames.omega[k], frames.vel[k]) +
+                          solution.link_velocity_change[k];
+      drag_impulse_ -= spatialToCommonFrame(a.drag, Quat::Identity(), offset) * change;
+    }
+  } else {
+    servo.solve(servo_links, model->fixed_base, demands, solution);
+  }
   for (size_t k = 1; k < demands.size(); ++k) {
     if (servo_links[k].joint == ServoJointType::kFixed) continue;
     const int link = static_cast<int>(k) - 1;
@@ -106,6 +151,80 @@ void CreatureBody::applyServos() {
     const Vec6& dv = solution.root_velocity_change;
     mb->setBaseOmega(mb->getBaseOmega() + toBt(Vec3(dv.head<3>())));
     mb->setBaseVel(mb->getBaseVel() + toBt(Vec3(dv.tail<3>())));
+  }
+}
+
+Mat6 CreatureBody::addedMass(const AeroBody& a, const Quat& orientation) const {
+  if (added_mass_density_ <= 0.0) return Mat6::Zero();
+  return spatialToCommonFrame(added_mass_density_ * a.added_mass, orientation, Vec3::Zero());
+}
+
+SystemMomentum CreatureBody::measureMomentum() {
+  const CreatureModel& m = *model;
+  motions_.resize(m.links.size());
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    const BodyKinematics kin = frames.kinematics(static_cast<int>(k));
+    const Mat3 r = kin.orientation.toRotationMatrix();
+    BodyMotion& b = motions_[k];
+    b.mass = m.links[k].mass;
+    b.com = kin.com;
+    b.inertia = r * m.links[k].inertia.asDiagonal() * r.transpose();
+    b.velocity = kin.linear_velocity;
+    b.angular_velocity = kin.angular_velocity;
+  }
+  SystemMomentum s = systemMomentum(motions_);
+  if (added_mass_density_ <= 0.0) return s;
+  for (const AeroBody& a : aero) {
+    const BodyMotion& b = motions_[a.link];
+    Vec6 velocity;
+    velocity << b.angular_velocity, b.velocity;
+    addFluidMomentum(s, addedMass(a, frames.kinematics(a.link).orientation), b.com, velocity);
+  }
+  return s;
+}
+
+void CreatureBody::beginStep(double added_mass_density) {
+  external_force_.setZero();
+  external_moment_.setZero();
+  drag_impulse_.setZero();
+  added_mass_density_ = added_mass_density;
+  if (model->fixed_base) return;
+  start_ = measureMomentum();
+}
+
+void CreatureBody::addExternal(const Vec3& com, const Wrench& wrench) {
+  external_force_ += wrench.force;
+  external_moment_ += (com - fromBt(frames.local_origin[0])).cross(wrench.force) + wrench.torque;
+}
+
+void CreatureBody::endStep(const Vec3& gravity, double dt) {
+  const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step
+  updateKinematics();
+  if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) return;
+  // What the momentum must be: the start plus the external impulses (gravity has no moment
+  // about the centre of mass).
+  const Vec3 linear =
+      start_.linear + dt * (start_.mass * gravity + external_force_) + drag_impulse_.tail<3>();
+  Vec6 air;
+  air << external_moment_, external_force_;
+  const Vec3 angular = start_.angular + dt * momentAbout(air, origin, start_.com) +
+                       momentAbout(drag_impulse_, origin, start_.com);
+  const SystemMomentum now = measureMomentum();
+  const RigidCorrection c = momentumCorrection(now, linear, angular);
+  // The centre of mass moves with the bodies' new momentum.
+  const Vec3 body_velocity = now.body_linear / now.mass + c.velocity;
+  const Vec3 shift = start_.com + dt * body_velocity - now.com;
+  // The same rigid motion on the multibody's base and on the cached frames.
+  const Vec3 base = fromBt(mb->getBasePos());
+  mb->setBasePos(toBt(base + shift));
+  mb->setBaseOmega(mb->getBaseOmega() + toBt(c.angular_velocity));
+  mb->setBaseVel(mb->getBaseVel() + toBt(c.velocity + c.angular_velocity.cross(base - now.com)));
+  for (int k = 0; k < frames.local_origin.size(); ++k) {
+    const Vec3 x = fromBt(frames.local_origin[k]);
+    const btQuaternion& to_local = frames.world_to_local[k];
+    frames.vel[k] += quatRotate(to_local, toBt(c.velocity + c.angular_velocity.cross(x - now.com)));
+    frames.omega[k] += quatRotate(to_local, toBt(c.angular_velocity));
+    frames.local_origin[k] += toBt(shift);
   }
 }
 

@@ -14,6 +14,7 @@
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/joint_servo.h"
+#include "flapsim/momentum.h"
 #include "world_air.h"
 
 namespace flapsim {
@@ -45,9 +46,23 @@ struct CreatureBody {
   bool mayTouch() const;
 
   // Called by Bullet once the velocities hold gravity, air and damping for this step:
-  // solves every servo together and adds the velocity change it causes. The link frames
-  // are those of updateKinematics() at the start of the step (positions have not moved).
+  // solves every servo and the fluid's implicit part (added mass, linearised drag) together
+  // and adds the velocity change they cause. The link frames are those of the start of the
+  // step (positions have not moved).
   void applyServos();
+
+  // The momentum bookkeeping of a step (see flapsim/momentum.h). beginStep() takes the
+  // momentum at the start (frames of the start of the step); the air stage adds its
+  // wrenches with addExternal(); endStep() refreshes the frames after Bullet's step and,
+  // unless the creature touches something (contact impulses are not known here) or is
+  // anchored, gives the base the rigid correction that makes the momentum and the centre of
+  // mass those of the external impulses.
+  // `added_mass_density`: the density the plates' added mass is taken at (0: none).
+  void beginStep(double added_mass_density);
+  void addExternal(const Vec3& com, const Wrench& wrench);
+  // This step's added mass of an aero body, world axes, about its COM.
+  Mat6 addedMass(const AeroBody& a, const Quat& orientation) const;
+  void endStep(const Vec3& gravity, double dt);
 
   std::unique_ptr<Scene> scene;  // declared first: destroyed last
   std::unique_ptr<btMultiBody> mb;
@@ -67,10 +82,27 @@ struct CreatureBody {
   JointServoSolver servo;
   ServoSolution solution;  // of the last step; impulses all zero if no servo acted
   std::vector<AeroBody> aero;
-  LinkFrames frames;  // of the last updateKinematics()
+  bool fluid_active = false;  // this step's aero bodies carry implicit fluid matrices
+  LinkFrames frames;          // of the last updateKinematics()
 
  private:
   void updateServoLinks();
+  // Spatial velocity [angular; linear at the root COM of the step's start] of link k.
+  Vec6 spatialVelocity(int k, const btVector3& omega, const btVector3& vel) const;
+  // The momentum of the tree and of the fluid it carries, from `frames`.
+  SystemMomentum measureMomentum();
+
+  // This step's momentum balance: the start, and the external impulses so far (moments
+  // about the root COM at the start of the step).
+  SystemMomentum start_;
+  Vec3 external_force_ = Vec3::Zero();
+  Vec3 external_moment_ = Vec3::Zero();
+  Vec6 drag_impulse_ = Vec6::Zero();  // of the implicit part of the drag
+  double added_mass_density_ = 0.0;
+  // Scratch, kept between steps: no allocation once warm.
+  std::vector<BodyMotion> motions_;
+  ServoLoads loads_;
+  std::vector<btVector3> omega_now_, vel_now_;
 };
 
 }  // namespace flapsim

@@ -29,7 +29,7 @@ void driveJoint(const JointModel& j, size_t ji, JointDrive& d, CreatureBody& b, 
   b.demands[j.child_link].active = false;
   switch (d.mode) {
     case JointDrive::Mode::kStroke:
-      demand(b, j.child_link, d.stroke.target(mb->getJointPos(link)), b.max_effort[ji], dt);
+      demand(b, j.child_link, d.stroke.target(mb->getJointPos(link), dt), b.max_effort[ji], dt);
       break;
     case JointDrive::Mode::kVelocity:
       demand(b, j.child_link, d.velocity, b.max_effort[ji], dt);

@@ -1,6 +1,7 @@
 #include "flapsim/momentum.h"
 
 #include <Eigen/Cholesky>
+#include <Eigen/Dense>
 
 namespace flapsim {
 
@@ -12,6 +13,7 @@ SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies) {
     weighted += b.mass * b.com;
     s.linear += b.mass * b.velocity;
   }
+  s.body_linear = s.linear;
   if (s.mass <= 0.0) return s;
   s.com = weighted / s.mass;
   for (const BodyMotion& b : bodies) {
@@ -24,15 +26,41 @@ SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies) {
   return s;
 }
 
+namespace {
+
+Mat3 skew(const Vec3& v) {
+  Mat3 m;
+  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return m;
+}
+
+}  // namespace
+
+void addFluidMomentum(SystemMomentum& s, const Mat6& added, const Vec3& com, const Vec6& velocity) {
+  const Vec6 h = added * velocity;  // [moment about the body's COM; force]
+  const Vec3 r = com - s.com;
+  s.linear += h.tail<3>();
+  s.angular += h.head<3>() + r.cross(h.tail<3>());
+  // Moved to be about the common centre: forces get the moment r x f.
+  Mat6 x = Mat6::Identity();
+  x.topRightCorner<3, 3>() = skew(r);
+  s.fluid += x * added * x.transpose();
+}
+
 RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& linear,
-                                   const Vec3& angular, const Vec3& com) {
+                                   const Vec3& angular) {
   RigidCorrection c;
   if (actual.mass <= 0.0) return c;
-  c.velocity = (linear - actual.linear) / actual.mass;
-  // A rigid spin about the centre of mass adds inertia x spin to the angular momentum
-  // about it and nothing to the linear momentum.
-  c.angular_velocity = actual.inertia.ldlt().solve(angular - actual.angular);
-  c.shift = com - actual.com;
+  // A rigid twist [w; v] about the centre of mass adds [I w; M v] to the bodies' momentum
+  // and fluid x [w; v] to the fluid's.
+  Mat6 k = actual.fluid;
+  k.topLeftCorner<3, 3>() += actual.inertia;
+  k.bottomRightCorner<3, 3>() += actual.mass * Mat3::Identity();
+  Vec6 change;
+  change << angular - actual.angular, linear - actual.linear;
+  const Vec6 twist = k.ldlt().solve(change);
+  c.angular_velocity = twist.head<3>();
+  c.velocity = twist.tail<3>();
   return c;
 }
 

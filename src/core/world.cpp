@@ -142,7 +142,8 @@ class World::Impl {
 
   // ---- air -----------------------------------------------------------------------
   void setAirParams(const AirParams& air) {
-    const bool grid_changed = air.subdivisions_u != params_.air.subdivisions_u ||
+    const bool grid_changed = air.added_mass != params_.air.added_mass ||
+                              air.subdivisions_u != params_.air.subdivisions_u ||
                               air.subdivisions_v != params_.air.subdivisions_v ||
                               air.drag_coefficient != params_.air.drag_coefficient;
     if (air.model != params_.air.model) air_.setDefaultModel(makeAirModel(air.model));
@@ -232,13 +233,18 @@ class World::Impl {
     return buildBody(*r.model, r.pose, r.twist, params_);
   }
 
-  // One step of creature i: drives, air, then Bullet's step (with the servos inside).
+  // One step of creature i: drives, air, then Bullet's step (with the servos and the
+  // fluid's implicit part inside), then the momentum correction. The link frames of the
+  // start of the step (for the air, the servos and the ground check) are those the last
+  // step ended with, or the body was built with.
   void stepOne(size_t i) {
     CreatureBody& b = *bodies_[i];
-    b.updateKinematics();  // for the air, the servos and the ground check
+    b.beginStep(params_.air.enabled ? params_.air.density : 0.0);
     applyDrives(*records_[i].model, records_[i].drives, b, params_.step_size);
+    b.fluid_active = false;
     if (params_.air.enabled) air_.apply(b, params_);
     b.scene->world().stepSimulation(params_.step_size, 0, params_.step_size);
+    b.endStep(params_.gravity, params_.step_size);
   }
 
   void jointState(const CreatureModel& m, const CreatureBody& b, CreatureState& s) const {

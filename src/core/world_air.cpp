@@ -5,18 +5,18 @@
 #include "bullet_scene.h"
 #include "creature_body.h"
 #include "flapsim/air_models.h"
+#include "flapsim/fluid_inertia.h"
 
 namespace flapsim {
 
-AeroSurface linkSurface(const LinkModel& l, const AirParams& air) {
-  AeroSurface surface;
+Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
+  if (!l.aero.added_mass.value_or(air.added_mass)) return Mat6::Zero();
   const int nu = l.aero.subdivisions_u > 0 ? l.aero.subdivisions_u : air.subdivisions_u;
   const int nv = l.aero.subdivisions_v > 0 ? l.aero.subdivisions_v : air.subdivisions_v;
   const Pose com_inv{-l.com, Quat::Identity()};
-  for (const Box& b : l.boxes) appendBox(surface, b.size, com_inv * b.origin, nu, nv);
-  surface.drag_coefficient =
-      l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
-  return surface;
+  std::vector<NormalMass> masses;
+  for (const Box& b : l.boxes) appendPlateAddedMass(masses, b.size, com_inv * b.origin, nu, nv);
+  return normalInertia(masses, 1.0);
 }
 
 std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& air) {
@@ -27,7 +27,8 @@ std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& ai
     AeroBody a;
     a.link = static_cast<int>(k);
     a.model = l.aero.model;
-    a.surface = linkSurface(l, air);
+    a.surface = linkAeroSurface(m, static_cast<int>(k), air);
+    a.added_mass = linkAddedMass(l, air);
     a.last.link = a.link;
     aero.push_back(std::move(a));
   }
@@ -35,7 +36,10 @@ std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& ai
 }
 
 void resurface(std::vector<AeroBody>& aero, const CreatureModel& m, const AirParams& air) {
-  for (AeroBody& a : aero) a.surface = linkSurface(m.links[a.link], air);
+  for (AeroBody& a : aero) {
+    a.surface = linkAeroSurface(m, a.link, air);
+    a.added_mass = linkAddedMass(m.links[a.link], air);
+  }
 }
 
 AirStage::AirStage(const std::string& default_model) : default_model_(makeAirModel(default_model)) {
@@ -49,14 +53,22 @@ const AirModel& AirStage::modelOf(const AeroBody& a) const {
 void AirStage::apply(CreatureBody& b, const WorldParams& params) const {
   btMultiBody* mb = b.mb.get();
   const AirParams& air = params.air;
+  b.fluid_active = air.density > 0.0;
   for (AeroBody& a : b.aero) {
     const int k = a.link;
     const BodyKinematics kin = b.frames.kinematics(k);
     Wrench w =
         modelOf(a).bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
-    if (air.buoyancy) w.force += buoyancyForce(a.surface.volume, air.density, params.gravity);
+    if (air.buoyancy) w += buoyancyWrench(a.surface, kin, air.density, params.gravity);
     a.last.com = kin.com;
     a.last.wrench = w;
+    b.addExternal(kin.com, w);
+    if (b.fluid_active) {
+      a.added = b.addedMass(a, kin.orientation);
+      // Half the step: the trapezoidal rule, second order, and still no face-on drag can
+      // reverse a cell's normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
+      a.drag = 0.5 * params.step_size * dragDamping(kin, a.surface, air);
+    }
     if (record_cells_) {
       a.last.cell_centres.resize(a.surface.cells.size());
       for (size_t i = 0; i < a.surface.cells.size(); ++i) {

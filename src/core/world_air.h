@@ -9,6 +9,7 @@
 
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
+#include "flapsim/joint_servo.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -20,11 +21,17 @@ struct AeroBody {
   int link = 0;       // model link index (0 = root = Bullet base)
   std::string model;  // the link's own air model, empty for the world's
   AeroSurface surface;
+  // The fluid's implicit part (flapsim/fluid_inertia.h), spatial, about the COM: the added
+  // mass of the link's plates at density 1 in body axes; this step's added mass and step x
+  // linearised drag, in world axes.
+  Mat6 added_mass = Mat6::Zero();
+  Mat6 added = Mat6::Zero();
+  Mat6 drag = Mat6::Zero();
   LinkAero last;  // the wrench of the last step
 };
 
-// Cells (in the COM frame), drag coefficient and volume of a link's boxes.
-AeroSurface linkSurface(const LinkModel& l, const AirParams& air);
+// The added mass of a link's plate-like boxes at density 1 (AeroBody::added_mass).
+Mat6 linkAddedMass(const LinkModel& l, const AirParams& air);
 
 // The aero bodies of a creature, in link order.
 std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& air);

@@ -133,6 +133,7 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.drag_coefficient = d.number("drag_coefficient", air.drag_coefficient);
   air.wind = d.vec3("wind", air.wind);
   air.buoyancy = d.boolean("buoyancy", air.buoyancy);
+  air.added_mass = d.boolean("added_mass", air.added_mass);
   air.enabled = d.boolean("enabled", air.enabled);
   air.model = d.string("model", air.model);
   if (!flapsim::makeAirModel(air.model)) {
