@@ -83,6 +83,25 @@ AeroSurface plateSurface(double lx, double ly, int nu, int nv) {
   return s;
 }
 
+// The k-th of a fixed sequence of tumbling motions: arbitrary orientation, velocity, spin.
+BodyKinematics tumbling(int k) {
+  BodyKinematics b;
+  b.orientation = Quat(Eigen::AngleAxisd(0.3 * k, Vec3(1, k, 2).normalized()));
+  b.linear_velocity = Vec3(std::sin(k), std::cos(2 * k), -1.0 + 0.1 * k);
+  b.angular_velocity = Vec3(5 * std::cos(k), -3.0 + k, 2 * std::sin(3 * k));
+  return b;
+}
+
+// `fast` equals the reference wrench `a` to 1e-12 of its size (which must not be zero);
+// returns that size.
+double expectSameWrench(const Wrench& a, const Wrench& fast, int k) {
+  const double scale = a.force.norm() + a.torque.norm();
+  EXPECT_GT(scale, 0.0) << k;
+  EXPECT_NEAR((a.force - fast.force).norm(), 0.0, 1e-12 * scale) << k;
+  EXPECT_NEAR((a.torque - fast.torque).norm(), 0.0, 1e-12 * scale) << k;
+  return scale;
+}
+
 // The world's surfaces (appendBox: faces on regular grids, summed per face) give the forces
 // of the plain per-cell sum, for arbitrary motion, wind and box pose.
 TEST(PressureAirModel, FaceGridSumsEqualThePerCellSum) {
@@ -96,17 +115,11 @@ TEST(PressureAirModel, FaceGridSumsEqualThePerCellSum) {
   AirParams air;
   air.wind = Vec3(1.0, -0.5, 0.2);
   for (int k = 0; k < 20; ++k) {
-    BodyKinematics b;
-    b.orientation = Quat(Eigen::AngleAxisd(0.3 * k, Vec3(1, k, 2).normalized()));
-    b.linear_velocity = Vec3(std::sin(k), std::cos(2 * k), -1.0 + 0.1 * k);
-    b.angular_velocity = Vec3(5 * std::cos(k), -3.0 + k, 2 * std::sin(3 * k));
+    const BodyKinematics b = tumbling(k);
     std::vector<Vec3> cells_a, cells_b;
     const Wrench a = model.bodyWrench(b, plain, air, &cells_a);
     const Wrench f = model.bodyWrench(b, faces, air, &cells_b);
-    const double scale = a.force.norm() + a.torque.norm();
-    ASSERT_GT(scale, 0.0);
-    EXPECT_NEAR((a.force - f.force).norm(), 0.0, 1e-12 * scale) << k;
-    EXPECT_NEAR((a.torque - f.torque).norm(), 0.0, 1e-12 * scale) << k;
+    const double scale = expectSameWrench(a, f, k);
     for (size_t i = 0; i < cells_a.size(); ++i) {
       EXPECT_NEAR((cells_a[i] - cells_b[i]).norm(), 0.0, 1e-12 * scale) << k << " cell " << i;
     }
@@ -245,16 +258,9 @@ TEST(BuildSurface, PartlyHiddenFaceSumsEqualThePerCellSum) {
   AirParams air;
   air.wind = Vec3(0.3, -0.5, 0.2);
   for (int k = 0; k < 10; ++k) {
-    BodyKinematics b;
-    b.orientation = Quat(Eigen::AngleAxisd(0.4 * k, Vec3(2, k, 1).normalized()));
-    b.linear_velocity = Vec3(std::sin(k), std::cos(3 * k), -0.5 + 0.2 * k);
-    b.angular_velocity = Vec3(4 * std::cos(k), -2.0 + k, 3 * std::sin(2 * k));
-    const Wrench a = model.bodyWrench(b, plain, air, nullptr);
-    const Wrench f = model.bodyWrench(b, s, air, nullptr);
-    const double scale = a.force.norm() + a.torque.norm();
-    ASSERT_GT(scale, 0.0);
-    EXPECT_NEAR((a.force - f.force).norm(), 0.0, 1e-12 * scale) << k;
-    EXPECT_NEAR((a.torque - f.torque).norm(), 0.0, 1e-12 * scale) << k;
+    const BodyKinematics b = tumbling(k);
+    expectSameWrench(model.bodyWrench(b, plain, air, nullptr), model.bodyWrench(b, s, air, nullptr),
+                     k);
   }
 }
 

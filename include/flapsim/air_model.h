@@ -127,6 +127,12 @@ BoxUnion unionOfBoxes(const std::vector<Box>& boxes);
 AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
                          const std::optional<Vec3>& span = std::nullopt);
 
+/// A link's boxes in its COM frame, and its cells per face edge (its AeroSettings', else the
+/// world's), as its aero surface and its added mass use them.
+std::vector<Box> comFrameBoxes(const LinkModel& link);
+int subdivisionsU(const LinkModel& link, const AirParams& air);
+int subdivisionsV(const LinkModel& link, const AirParams& air);
+
 /// The aero surface of link `link` of `model`, as the world uses it: its boxes in its COM
 /// frame, subdivisions and drag coefficient from its AeroSettings else from `air`, the span
 /// of spanAxis(model, link), and the pitch axis through the link frame's origin when its

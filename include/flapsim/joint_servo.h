@@ -66,6 +66,8 @@ struct ServoSolution {
   int passes = 0;               // active-set passes (each O(links))
 };
 
+/// The cross-product matrix: skew(v) * x = v x x.
+Mat3 skew(const Vec3& v);
 /// Spatial inertia about the frame origin, for velocities [angular; linear at origin].
 Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia);
 /// The joint's motion subspace: the spatial velocity of a unit joint rate.

@@ -267,14 +267,25 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
   return surface;
 }
 
+std::vector<Box> comFrameBoxes(const LinkModel& link) {
+  const Pose com_inv{-link.com, Quat::Identity()};
+  std::vector<Box> boxes;
+  for (const Box& b : link.boxes) boxes.push_back(Box{b.size, com_inv * b.origin});
+  return boxes;
+}
+
+int subdivisionsU(const LinkModel& link, const AirParams& air) {
+  return link.aero.subdivisions_u > 0 ? link.aero.subdivisions_u : air.subdivisions_u;
+}
+
+int subdivisionsV(const LinkModel& link, const AirParams& air) {
+  return link.aero.subdivisions_v > 0 ? link.aero.subdivisions_v : air.subdivisions_v;
+}
+
 AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParams& air) {
   const LinkModel& l = model.links.at(static_cast<size_t>(link));
-  const int nu = l.aero.subdivisions_u > 0 ? l.aero.subdivisions_u : air.subdivisions_u;
-  const int nv = l.aero.subdivisions_v > 0 ? l.aero.subdivisions_v : air.subdivisions_v;
-  const Pose com_inv{-l.com, Quat::Identity()};
-  std::vector<Box> boxes;
-  for (const Box& b : l.boxes) boxes.push_back(Box{b.size, com_inv * b.origin});
-  AeroSurface surface = buildSurface(boxes, nu, nv, spanAxis(model, link));
+  AeroSurface surface = buildSurface(comFrameBoxes(l), subdivisionsU(l, air), subdivisionsV(l, air),
+                                     spanAxis(model, link));
   surface.drag_coefficient =
       l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
   if (l.parent_joint >= 0) {

@@ -119,25 +119,23 @@ void CreatureBody::applyServos() {
     mb->compTreeLinkVelocities(omega_now_.data(), vel_now_.data());
     loads_.extra_inertia.assign(n, Mat6::Zero());
     loads_.impulse.assign(n, Vec6::Zero());
-    for (const AeroBody& a : aero) {
-      const int k = a.link;
+    drag_.resize(aero.size());
+    change_.resize(aero.size());
+    for (size_t i = 0; i < aero.size(); ++i) {
+      const int k = aero[i].link;
       const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
-      const Mat6 inertia = spatialToCommonFrame(a.added + a.drag, Quat::Identity(), offset);
-      const Vec6 change = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
-                          spatialVelocity(k, frames.omega[k], frames.vel[k]);
-      loads_.extra_inertia[k] = inertia;
-      loads_.impulse[k] = -inertia * change;
+      drag_[i] = spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
+      change_[i] = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
+                   spatialVelocity(k, frames.omega[k], frames.vel[k]);
+      loads_.extra_inertia[k] = spatialToCommonFrame(aero[i].added, Quat::Identity(), offset);
+      loads_.extra_inertia[k] += drag_[i];
+      loads_.impulse[k] = -loads_.extra_inertia[k] * change_[i];
     }
     servo.solve(servo_links, model->fixed_base, demands, loads_, solution);
     // The implicit drag's impulse over the step, -step D (v1 - v0) on each aero body (the
     // added mass is part of the momentum itself: see measureMomentum()).
-    for (const AeroBody& a : aero) {
-      const int k = a.link;
-      const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
-      const Vec6 change = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
-                          spatialVelocity(k, frames.omega[k], frames.vel[k]) +
-                          solution.link_velocity_change[k];
-      drag_impulse_ -= spatialToCommonFrame(a.drag, Quat::Identity(), offset) * change;
+    for (size_t i = 0; i < aero.size(); ++i) {
+      drag_impulse_ -= drag_[i] * (change_[i] + solution.link_velocity_change[aero[i].link]);
     }
   } else {
     servo.solve(servo_links, model->fixed_base, demands, solution);
@@ -162,8 +160,10 @@ Mat6 CreatureBody::addedMass(const AeroBody& a, const Quat& orientation) const {
 SystemMomentum CreatureBody::measureMomentum() {
   const CreatureModel& m = *model;
   motions_.resize(m.links.size());
+  orientations_.resize(m.links.size());
   for (size_t k = 0; k < m.links.size(); ++k) {
     const BodyKinematics kin = frames.kinematics(static_cast<int>(k));
+    orientations_[k] = kin.orientation;
     const Mat3 r = kin.orientation.toRotationMatrix();
     BodyMotion& b = motions_[k];
     b.mass = m.links[k].mass;
@@ -178,7 +178,7 @@ SystemMomentum CreatureBody::measureMomentum() {
     const BodyMotion& b = motions_[a.link];
     Vec6 velocity;
     velocity << b.angular_velocity, b.velocity;
-    addFluidMomentum(s, addedMass(a, frames.kinematics(a.link).orientation), b.com, velocity);
+    addFluidMomentum(s, addedMass(a, orientations_[a.link]), b.com, velocity);
   }
   return s;
 }

@@ -103,6 +103,11 @@ struct CreatureBody {
   std::vector<BodyMotion> motions_;
   ServoLoads loads_;
   std::vector<btVector3> omega_now_, vel_now_;
+  // Per aero body in applyServos(): its drag matrix about the root COM, and Bullet's change
+  // of its spatial velocity in this step.
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
+  std::vector<Quat, Eigen::aligned_allocator<Quat>> orientations_;  // per link, of the frames
 };
 
 }  // namespace flapsim

@@ -170,7 +170,6 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
       if (v == "true" || v == "1") return true;
       if (v == "false" || v == "0") return false;
       fail(source, where + ": " + name + " must be true or false, got '" + v + "'");
-      return std::nullopt;
     };
     if (const std::optional<bool> en = flag("enabled")) s.enabled = *en;
     s.added_mass = flag("added_mass");

@@ -7,12 +7,6 @@ namespace flapsim {
 
 namespace {
 
-Mat3 skew(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
 // w f f^T for f = [a; n], a = r x n, added to `out`.
 void addNormalWeight(Mat6& out, const Vec3& a, const Vec3& n, double w) {
   out.topLeftCorner<3, 3>().noalias() += w * a * a.transpose();

@@ -7,15 +7,11 @@
 
 namespace flapsim {
 
-namespace {
-
 Mat3 skew(const Vec3& v) {
   Mat3 m;
   m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
   return m;
 }
-
-}  // namespace
 
 Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia) {
   const Mat3 c = skew(com);

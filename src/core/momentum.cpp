@@ -3,6 +3,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
 
+#include "flapsim/fluid_inertia.h"
+
 namespace flapsim {
 
 SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies) {
@@ -26,25 +28,12 @@ SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies) {
   return s;
 }
 
-namespace {
-
-Mat3 skew(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
-}  // namespace
-
 void addFluidMomentum(SystemMomentum& s, const Mat6& added, const Vec3& com, const Vec6& velocity) {
   const Vec6 h = added * velocity;  // [moment about the body's COM; force]
   const Vec3 r = com - s.com;
   s.linear += h.tail<3>();
   s.angular += h.head<3>() + r.cross(h.tail<3>());
-  // Moved to be about the common centre: forces get the moment r x f.
-  Mat6 x = Mat6::Identity();
-  x.topRightCorner<3, 3>() = skew(r);
-  s.fluid += x * added * x.transpose();
+  s.fluid += spatialToCommonFrame(added, Quat::Identity(), r);  // about the common centre
 }
 
 RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& linear,

@@ -142,13 +142,13 @@ class World::Impl {
 
   // ---- air -----------------------------------------------------------------------
   void setAirParams(const AirParams& air) {
-    const bool grid_changed = air.added_mass != params_.air.added_mass ||
-                              air.subdivisions_u != params_.air.subdivisions_u ||
-                              air.subdivisions_v != params_.air.subdivisions_v ||
-                              air.drag_coefficient != params_.air.drag_coefficient;
+    const bool surfaces_changed = air.added_mass != params_.air.added_mass ||
+                                  air.subdivisions_u != params_.air.subdivisions_u ||
+                                  air.subdivisions_v != params_.air.subdivisions_v ||
+                                  air.drag_coefficient != params_.air.drag_coefficient;
     if (air.model != params_.air.model) air_.setDefaultModel(makeAirModel(air.model));
     params_.air = air;
-    if (grid_changed) {
+    if (surfaces_changed) {
       // Rebuild the aero surfaces of every creature, keeping its motion state.
       for (size_t i = 0; i < records_.size(); ++i) {
         resurface(bodies_[i]->aero, *records_[i].model, air);

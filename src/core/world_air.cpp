@@ -11,11 +11,9 @@ namespace flapsim {
 
 Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
   if (!l.aero.added_mass.value_or(air.added_mass)) return Mat6::Zero();
-  const int nu = l.aero.subdivisions_u > 0 ? l.aero.subdivisions_u : air.subdivisions_u;
-  const int nv = l.aero.subdivisions_v > 0 ? l.aero.subdivisions_v : air.subdivisions_v;
-  const Pose com_inv{-l.com, Quat::Identity()};
+  const int nu = subdivisionsU(l, air), nv = subdivisionsV(l, air);
   std::vector<NormalMass> masses;
-  for (const Box& b : l.boxes) appendPlateAddedMass(masses, b.size, com_inv * b.origin, nu, nv);
+  for (const Box& b : comFrameBoxes(l)) appendPlateAddedMass(masses, b.size, b.origin, nu, nv);
   return normalInertia(masses, 1.0);
 }
 
