@@ -30,6 +30,8 @@ using flapsim::Twist;
 using flapsim::Vec3;
 using flapsim::World;
 using flapsim::WorldParams;
+using flapsim_bench::benchSeconds;
+using flapsim_bench::cpuTimeClock;
 using flapsim_bench::median;
 
 struct Scenario {
@@ -108,10 +110,9 @@ double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldPara
   World w(p);
   s.setup(w);
   w.step(skip);
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = benchSeconds();
   w.step(steps);
-  const auto t1 = std::chrono::steady_clock::now();
-  return steps / std::chrono::duration<double>(t1 - t0).count();
+  return steps / (benchSeconds() - t0);
 }
 
 }  // namespace
@@ -130,6 +131,8 @@ int main(int argc, char** argv) {
       seconds = std::atof(argv[++i]);
     } else if (a == "--only" && i + 1 < argc) {
       only = argv[++i];
+    } else if (a == "--cpu-time") {
+      cpuTimeClock() = true;
     } else if (a == "--json") {
       json = true;
     } else if (a == "--urdf" && i + 1 < argc) {
@@ -141,10 +144,11 @@ int main(int argc, char** argv) {
     } else if (a == "--no-ground") {
       ground = false;
     } else {
-      std::fprintf(stderr,
-                   "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json]\n"
-                   "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
-                   "[--runs N] [--seconds S]\n");
+      std::fprintf(
+          stderr,
+          "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
+          "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
+          "[--runs N] [--seconds S]\n");
       return 2;
     }
   }

@@ -16,7 +16,6 @@
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -193,7 +192,7 @@ RunResult run(const Creature& c, int steps) {
   int switches = 0;
   bool was_up = false;
   double lo = 0.0, hi = 0.0;
-  const auto t0 = std::chrono::steady_clock::now();
+  const double t0 = flapsim_bench::benchSeconds();
   for (int i = 0; i < steps; ++i) {
     for (int u = 0; u < nu; ++u) d->ctrl[u] = gens[u].target(d->qpos[c.wing_qpos[u]]);
     if (nu > 0) {
@@ -206,9 +205,8 @@ RunResult run(const Creature& c, int steps) {
     }
     mj_step(c.model, d);
   }
-  const auto t1 = std::chrono::steady_clock::now();
   RunResult r;
-  r.steps_per_second = steps / std::chrono::duration<double>(t1 - t0).count();
+  r.steps_per_second = steps / (flapsim_bench::benchSeconds() - t0);
   r.root_height = d->qpos[2];
   r.strokes = switches / 2;
   r.min_wing = lo;

@@ -95,7 +95,7 @@ class JointServoSolver {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
   std::vector<double> d_, u_;
-  Eigen::LDLT<Mat6> root_;
+  Eigen::LLT<Mat6> root_;
 };
 
 }  // namespace flapsim

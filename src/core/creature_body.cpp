@@ -153,7 +153,7 @@ void CreatureBody::applyServos() {
 }
 
 Mat6 CreatureBody::addedMass(const AeroBody& a, const Quat& orientation) const {
-  if (added_mass_density_ <= 0.0) return Mat6::Zero();
+  if (added_mass_density_ <= 0.0 || !a.has_added_mass) return Mat6::Zero();
   return spatialToCommonFrame(added_mass_density_ * a.added_mass, orientation, Vec3::Zero());
 }
 
@@ -175,6 +175,7 @@ SystemMomentum CreatureBody::measureMomentum() {
   SystemMomentum s = systemMomentum(motions_);
   if (added_mass_density_ <= 0.0) return s;
   for (const AeroBody& a : aero) {
+    if (!a.has_added_mass) continue;
     const BodyMotion& b = motions_[a.link];
     Vec6 velocity;
     velocity << b.angular_velocity, b.velocity;

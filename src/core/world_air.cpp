@@ -17,6 +17,28 @@ Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
   return normalInertia(masses, 1.0);
 }
 
+bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
+                       double reach, double step) {
+  if (a.mass <= 0.0) return true;
+  const double speed =
+      (kin.linear_velocity - air.wind).norm() + kin.angular_velocity.norm() * reach;
+  const double rate = air.density * a.surface.drag_coefficient * a.area * speed;
+  return step * rate > kImplicitDragRatio * a.mass;
+}
+
+namespace {
+
+void setSurface(AeroBody& a, const CreatureModel& m, const AirParams& air) {
+  a.surface = linkAeroSurface(m, a.link, air);
+  a.added_mass = linkAddedMass(m.links[a.link], air);
+  a.has_added_mass = !a.added_mass.isZero(0.0);
+  a.mass = m.links[a.link].mass;
+  a.area = 0.0;
+  for (const SurfaceCell& c : a.surface.cells) a.area += c.area;
+}
+
+}  // namespace
+
 std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& air) {
   std::vector<AeroBody> aero;
   for (size_t k = 0; k < m.links.size(); ++k) {
@@ -25,8 +47,7 @@ std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& ai
     AeroBody a;
     a.link = static_cast<int>(k);
     a.model = l.aero.model;
-    a.surface = linkAeroSurface(m, static_cast<int>(k), air);
-    a.added_mass = linkAddedMass(l, air);
+    setSurface(a, m, air);
     a.last.link = a.link;
     aero.push_back(std::move(a));
   }
@@ -34,10 +55,7 @@ std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& ai
 }
 
 void resurface(std::vector<AeroBody>& aero, const CreatureModel& m, const AirParams& air) {
-  for (AeroBody& a : aero) {
-    a.surface = linkAeroSurface(m, a.link, air);
-    a.added_mass = linkAddedMass(m.links[a.link], air);
-  }
+  for (AeroBody& a : aero) setSurface(a, m, air);
 }
 
 AirStage::AirStage(const std::string& default_model) : default_model_(makeAirModel(default_model)) {
@@ -51,7 +69,7 @@ const AirModel& AirStage::modelOf(const AeroBody& a) const {
 void AirStage::apply(CreatureBody& b, const WorldParams& params) const {
   btMultiBody* mb = b.mb.get();
   const AirParams& air = params.air;
-  b.fluid_active = air.density > 0.0;
+  b.fluid_active = false;
   for (AeroBody& a : b.aero) {
     const int k = a.link;
     const BodyKinematics kin = b.frames.kinematics(k);
@@ -61,12 +79,14 @@ void AirStage::apply(CreatureBody& b, const WorldParams& params) const {
     a.last.com = kin.com;
     a.last.wrench = w;
     b.addExternal(kin.com, w);
-    if (b.fluid_active) {
-      a.added = b.addedMass(a, kin.orientation);
-      // Half the step: the trapezoidal rule, second order, and still no face-on drag can
-      // reverse a cell's normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
-      a.drag = 0.5 * params.step_size * dragDamping(kin, a.surface, air);
-    }
+    a.added = b.addedMass(a, kin.orientation);
+    const bool implicit =
+        air.density > 0.0 && needsImplicitDrag(a, kin, air, b.reach[k], params.step_size);
+    // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
+    // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
+    a.drag =
+        implicit ? Mat6(0.5 * params.step_size * dragDamping(kin, a.surface, air)) : Mat6::Zero();
+    b.fluid_active = b.fluid_active || implicit || (a.has_added_mass && air.density > 0.0);
     if (record_cells_) {
       a.last.cell_centres.resize(a.surface.cells.size());
       for (size_t i = 0; i < a.surface.cells.size(); ++i) {

@@ -25,10 +25,25 @@ struct AeroBody {
   // mass of the link's plates at density 1 in body axes; this step's added mass and step x
   // linearised drag, in world axes.
   Mat6 added_mass = Mat6::Zero();
+  bool has_added_mass = false;  // added_mass is not zero
   Mat6 added = Mat6::Zero();
   Mat6 drag = Mat6::Zero();
-  LinkAero last;  // the wrench of the last step
+  double mass = 0.0;  // the link's own (a lower bound of its effective mass in the tree)
+  double area = 0.0;  // of all its air-facing cells
+  LinkAero last;      // the wrench of the last step
 };
+
+// A drag rate (kg/s) above this many link masses per step is treated implicitly.
+constexpr double kImplicitDragRatio = 1.0;
+
+// Whether the drag on aero body `a` is stiff enough for the implicit treatment: if step x
+// rho Cd A |u|max / m (A: all its cells, |u|max: its fastest point relative to the air,
+// reach: from its COM to its farthest corner) exceeds kImplicitDragRatio. That bounds
+// step x (d|F|/du) / m, and the explicit step reverses a face-on cell's normal speed only
+// when this reaches 2; below the bound the drag is explicit, first order, and cheaper and
+// more accurate than its linearisation across a stroke's turn.
+bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
+                       double reach, double step);
 
 // The added mass of a link's plate-like boxes at density 1 (AeroBody::added_mass).
 Mat6 linkAddedMass(const LinkModel& l, const AirParams& air);
