@@ -71,6 +71,22 @@ TEST(Stroke, TurnsExactlyWithinAStep) {
   }
 }
 
+// The time to the next turning point at the phase's rate: from 0 down at 40 rad/s to -0.8
+// takes 20 ms; past the point it is 0 (the turn is due); up at 10 rad/s from -0.8 to +0.8
+// takes 160 ms; a stroke that does not move never turns.
+TEST(Stroke, TimeToTurnAtThePhasesRate) {
+  StrokeGenerator g;
+  g.setCommand(StrokeCommand{40, 10, 0.8});
+  EXPECT_DOUBLE_EQ(g.timeToTurn(0.0), 0.02);
+  EXPECT_EQ(g.timeToTurn(-0.85), 0.0);
+  g.target(-0.8);  // turns: now the upstroke
+  ASSERT_EQ(g.phase(), StrokeGenerator::Phase::kUp);
+  EXPECT_DOUBLE_EQ(g.timeToTurn(-0.8), 0.16);
+  StrokeGenerator still;
+  still.setCommand(StrokeCommand{0, 0, 0.8});
+  EXPECT_TRUE(std::isinf(still.timeToTurn(0.0)));
+}
+
 TEST(Stroke, ValidationNamesTheField) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(validateStroke(StrokeCommand{1, 1, 0.5}), "");

@@ -378,6 +378,14 @@ TEST(BadInput, InvalidWorldParamsAreNamed) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("subdivisions"), std::string::npos);
   }
+  p = WorldParams();
+  p.turn_substep = -0.001;
+  try {
+    World w(p);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("turn_substep"), std::string::npos);
+  }
 }
 
 // A plate without an <aero> override, so the world's grid applies.

@@ -35,6 +35,9 @@ class StrokeGenerator {
   /// for the rest of the step, so the turn falls where the command says whatever the step
   /// size (without it, a wing overshoots by up to one step's travel, w dt).
   double target(double joint_position, double dt = 0.0);
+  /// Time until the stroke reaches its next turning point from this angle at the current
+  /// phase's rate (0 if it is there or past it; infinity at rate 0). Changes nothing.
+  double timeToTurn(double joint_position) const;
 
  private:
   StrokeCommand command_;

@@ -16,6 +16,11 @@ namespace flapsim {
 
 struct WorldParams {
   double step_size = 0.001;  // s, fixed
+  /// A step in which a wing's stroke turns, or whose stroke servo was saturated in the
+  /// last step (the wing reversing under its effort limit), is taken in equal substeps of
+  /// at most this (s; 0: never). First-order steps resolve the reversal poorly: without it
+  /// the flap unit climbs 5.6% less in 3 s at 1 ms than at 0.125 ms, with it 0.3% more.
+  double turn_substep = 0.00025;
   Vec3 gravity = Vec3(0.0, 0.0, -9.81);
   bool ground = true;  // flat ground, top face at z = 0, 2 km x 2 km, with contact
   double ground_friction = 0.8;

@@ -106,6 +106,7 @@ void CreatureBody::applyServos() {
   drag_impulse_.setZero();
   if (!any && !fluid_active) {
     solution.impulse.assign(demands.size(), 0.0);
+    solution.saturated.assign(demands.size(), false);
     return;
   }
   updateServoLinks();
@@ -185,6 +186,9 @@ SystemMomentum CreatureBody::measureMomentum() {
 }
 
 void CreatureBody::beginStep(double added_mass_density) {
+  const int links = mb->getNumLinks();
+  start_joint_velocity_.resize(static_cast<size_t>(links));
+  for (int l = 0; l < links; ++l) start_joint_velocity_[l] = mb->getJointVel(l);
   external_force_.setZero();
   external_moment_.setZero();
   drag_impulse_.setZero();
@@ -199,6 +203,19 @@ void CreatureBody::addExternal(const Vec3& com, const Wrench& wrench) {
 }
 
 void CreatureBody::endStep(const Vec3& gravity, double dt) {
+  last_step = dt;
+  // A saturated servo pushed with its bound all step: a constant torque, under which (with
+  // the air and gravity) its joint moves by the trapezoid of its velocities, where Bullet's
+  // semi-implicit step takes the end velocity. A servo that holds its target velocity
+  // moves at the end velocity all step, as Bullet has it. Not in contact: impulses there.
+  if (!scene->hasContacts()) {
+    for (size_t k = 1; k < solution.saturated.size(); ++k) {
+      if (!solution.saturated[k]) continue;
+      const int l = static_cast<int>(k) - 1;
+      const double v1 = mb->getJointVel(l);
+      mb->setJointPos(l, mb->getJointPos(l) - 0.5 * dt * (v1 - start_joint_velocity_[l]));
+    }
+  }
   const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step
   updateKinematics();
   if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) return;

@@ -53,10 +53,11 @@ struct CreatureBody {
 
   // The momentum bookkeeping of a step (see flapsim/momentum.h). beginStep() takes the
   // momentum at the start (frames of the start of the step); the air stage adds its
-  // wrenches with addExternal(); endStep() refreshes the frames after Bullet's step and,
-  // unless the creature touches something (contact impulses are not known here) or is
-  // anchored, gives the base the rigid correction that makes the momentum and the centre of
-  // mass those of the external impulses.
+  // wrenches with addExternal(); endStep() moves each joint whose servo was saturated by the
+  // trapezoid of its velocities (a constant torque), refreshes the frames after Bullet's
+  // step and, unless the creature touches something (contact impulses are not known here)
+  // or is anchored, gives the base the rigid correction that makes the momentum and the
+  // centre of mass those of the external impulses.
   // `added_mass_density`: the density the plates' added mass is taken at (0: none).
   void beginStep(double added_mass_density);
   void addExternal(const Vec3& com, const Wrench& wrench);
@@ -84,6 +85,7 @@ struct CreatureBody {
   std::vector<AeroBody> aero;
   bool fluid_active = false;  // this step's aero bodies carry implicit fluid matrices
   LinkFrames frames;          // of the last updateKinematics()
+  double last_step = 1.0;     // s: the last (sub)step taken, for efforts from impulses
 
  private:
   void updateServoLinks();
@@ -101,6 +103,7 @@ struct CreatureBody {
   double added_mass_density_ = 0.0;
   // Scratch, kept between steps: no allocation once warm.
   std::vector<BodyMotion> motions_;
+  std::vector<double> start_joint_velocity_;  // per Bullet link
   ServoLoads loads_;
   std::vector<btVector3> omega_now_, vel_now_;
   // Per aero body in applyServos(): its drag matrix about the root COM, and Bullet's change

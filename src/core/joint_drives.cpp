@@ -1,5 +1,7 @@
 #include "joint_drives.h"
 
+#include <algorithm>
+
 #include "creature_body.h"
 
 namespace flapsim {
@@ -60,6 +62,26 @@ void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives
 }
 
 }  // namespace
+
+StrokeTurn strokeTurn(const CreatureModel& m, const std::vector<JointDrive>& drives,
+                      const CreatureBody& b, double dt) {
+  StrokeTurn turn;
+  turn.first_turn = dt;
+  for (int ji : m.wing_joints) {
+    const JointDrive& d = drives[ji];
+    if (d.mode != JointDrive::Mode::kStroke) continue;
+    const int k = m.joints[ji].child_link;
+    if (static_cast<size_t>(k) < b.solution.saturated.size() && b.solution.saturated[k]) {
+      turn.reversing = true;
+    }
+    const double t = d.stroke.timeToTurn(b.mb->getJointPos(k - 1));
+    if (t <= dt) {
+      turn.reversing = true;
+      turn.first_turn = std::min(turn.first_turn, t);
+    }
+  }
+  return turn;
+}
 
 void applyDrives(const CreatureModel& m, std::vector<JointDrive>& drives, CreatureBody& b,
                  double dt) {

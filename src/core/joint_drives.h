@@ -29,6 +29,17 @@ struct JointDrive {
 // and a large URDF damping cannot make the step blow up.
 double dampingLimit(const CreatureModel& m, const JointModel& j, double dt);
 
+// A wing reversing in the next step of `b`: whether a stroke reaches its turning point
+// within the step or a stroke's servo was saturated in the last one (the stretch in which a
+// wing reverses under its effort limit), and when into the step the first stroke turns (the
+// step itself if none does).
+struct StrokeTurn {
+  bool reversing = false;
+  double first_turn = 0.0;
+};
+StrokeTurn strokeTurn(const CreatureModel& m, const std::vector<JointDrive>& drives,
+                      const CreatureBody& b, double dt);
+
 // Sets this step's servo demands and damping torques of every movable joint of `b` from
 // `drives` (one per model joint; strokes advance their phase), then the feathering servos.
 void applyDrives(const CreatureModel& m, std::vector<JointDrive>& drives, CreatureBody& b,

@@ -1,6 +1,8 @@
 #include "flapsim/stroke.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace flapsim {
 
@@ -42,6 +44,15 @@ double StrokeGenerator::target(double q, double dt) {
     }
   }
   return phase_ == Phase::kDown ? -w1 : w2;
+}
+
+double StrokeGenerator::timeToTurn(double q) const {
+  const double a = command_.amplitude;
+  const bool down = phase_ == Phase::kDown;
+  const double rate = down ? command_.downstroke_rate : command_.upstroke_rate;
+  const double distance = std::max(0.0, down ? q + a : a - q);
+  if (rate <= 0.0) return distance > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
+  return distance / rate;
 }
 
 }  // namespace flapsim

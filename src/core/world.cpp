@@ -48,6 +48,9 @@ std::string validateWorldParams(const WorldParams& p) {
   if (!std::isfinite(p.step_size) || p.step_size <= 0.0 || p.step_size > 0.1) {
     return "step_size must be in (0, 0.1] s";
   }
+  if (!std::isfinite(p.turn_substep) || p.turn_substep < 0.0) {
+    return "turn_substep must be finite and >= 0 s";
+  }
   if (!finite(p.gravity)) return "gravity must be finite";
   if (!std::isfinite(p.ground_friction) || p.ground_friction < 0.0) {
     return "ground_friction must be >= 0";
@@ -237,14 +240,36 @@ class World::Impl {
   // fluid's implicit part inside), then the momentum correction. The link frames of the
   // start of the step (for the air, the servos and the ground check) are those the last
   // step ended with, or the body was built with.
+  // A step in which a wing reverses is taken in substeps of at most turn_substep, the
+  // first ending where the first stroke turns.
   void stepOne(size_t i) {
+    const double dt = params_.step_size, most = params_.turn_substep;
+    const StrokeTurn turn =
+        most > 0.0 ? strokeTurn(*records_[i].model, records_[i].drives, *bodies_[i], dt)
+                   : StrokeTurn();
+    if (!turn.reversing) {
+      subStep(i, dt);
+      return;
+    }
+    // Pieces shorter than this are merged into the next: a turn at the very start or end.
+    const double shortest = 1e-6 * dt;
+    const double first =
+        turn.first_turn < shortest || turn.first_turn > dt - shortest ? 0.0 : turn.first_turn;
+    for (double length : {first, dt - first}) {
+      if (length <= 0.0) continue;
+      const int pieces = static_cast<int>(std::ceil(length / most * (1.0 - 1e-12)));
+      for (int s = 0; s < pieces; ++s) subStep(i, length / pieces);
+    }
+  }
+
+  void subStep(size_t i, double h) {
     CreatureBody& b = *bodies_[i];
     b.beginStep(params_.air.enabled ? params_.air.density : 0.0);
-    applyDrives(*records_[i].model, records_[i].drives, b, params_.step_size);
+    applyDrives(*records_[i].model, records_[i].drives, b, h);
     b.fluid_active = false;
-    if (params_.air.enabled) air_.apply(b, params_);
-    b.scene->world().stepSimulation(params_.step_size, 0, params_.step_size);
-    b.endStep(params_.gravity, params_.step_size);
+    if (params_.air.enabled) air_.apply(b, params_, h);
+    b.scene->world().stepSimulation(h, 0, h);
+    b.endStep(params_.gravity, h);
   }
 
   void jointState(const CreatureModel& m, const CreatureBody& b, CreatureState& s) const {
@@ -258,7 +283,7 @@ class World::Impl {
       s.joint_positions[j] = b.mb->getJointPos(k - 1);
       s.joint_velocities[j] = b.mb->getJointVel(k - 1);
       if (static_cast<size_t>(k) < impulse.size()) {
-        s.joint_efforts[j] = impulse[k] / params_.step_size;
+        s.joint_efforts[j] = impulse[k] / b.last_step;
       }
     }
   }

@@ -66,7 +66,7 @@ const AirModel& AirStage::modelOf(const AeroBody& a) const {
   return a.model.empty() ? *default_model_ : *named_models_.at(a.model);
 }
 
-void AirStage::apply(CreatureBody& b, const WorldParams& params) const {
+void AirStage::apply(CreatureBody& b, const WorldParams& params, double step) const {
   btMultiBody* mb = b.mb.get();
   const AirParams& air = params.air;
   b.fluid_active = false;
@@ -80,12 +80,10 @@ void AirStage::apply(CreatureBody& b, const WorldParams& params) const {
     a.last.wrench = w;
     b.addExternal(kin.com, w);
     a.added = b.addedMass(a, kin.orientation);
-    const bool implicit =
-        air.density > 0.0 && needsImplicitDrag(a, kin, air, b.reach[k], params.step_size);
+    const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, b.reach[k], step);
     // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
     // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
-    a.drag =
-        implicit ? Mat6(0.5 * params.step_size * dragDamping(kin, a.surface, air)) : Mat6::Zero();
+    a.drag = implicit ? Mat6(0.5 * step * dragDamping(kin, a.surface, air)) : Mat6::Zero();
     b.fluid_active = b.fluid_active || implicit || (a.has_added_mass && air.density > 0.0);
     if (record_cells_) {
       a.last.cell_centres.resize(a.surface.cells.size());

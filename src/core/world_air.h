@@ -34,14 +34,15 @@ struct AeroBody {
 };
 
 // A drag rate (kg/s) above this many link masses per step is treated implicitly.
-constexpr double kImplicitDragRatio = 1.0;
+constexpr double kImplicitDragRatio = 2.0;
 
 // Whether the drag on aero body `a` is stiff enough for the implicit treatment: if step x
 // rho Cd A |u|max / m (A: all its cells, |u|max: its fastest point relative to the air,
-// reach: from its COM to its farthest corner) exceeds kImplicitDragRatio. That bounds
-// step x (d|F|/du) / m, and the explicit step reverses a face-on cell's normal speed only
-// when this reaches 2; below the bound the drag is explicit, first order, and cheaper and
-// more accurate than its linearisation across a stroke's turn.
+// reach: from its COM to its farthest corner) exceeds kImplicitDragRatio. With at most
+// about half of a body's cells advancing, that bounds step x (d|F|/du) / m by 1, half of
+// the 2 at which the explicit step reverses a face-on cell's normal speed. Below it the
+// drag is explicit, first order, cheaper, and more accurate than its linearisation across
+// a stroke's turn.
 bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
                        double reach, double step);
 
@@ -64,7 +65,8 @@ class AirStage {
 
   // Adds this step's air wrench (and buoyancy) to every aero body of `b`, and records it in
   // the body's AeroBody::last. Needs the link frames of b.updateKinematics().
-  void apply(CreatureBody& b, const WorldParams& params) const;
+  // `step`: the (sub)step the wrenches act over.
+  void apply(CreatureBody& b, const WorldParams& params, double step) const;
 
  private:
   const AirModel& modelOf(const AeroBody& a) const;

@@ -266,6 +266,7 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   Dict d(params, "");
   flapsim::WorldParams& w = p.world;
   w.step_size = d.number("step_size", w.step_size);
+  w.turn_substep = d.number("turn_substep", w.turn_substep);
   w.gravity = d.vec3("gravity", w.gravity);
   w.ground = d.boolean("ground", w.ground);
   w.ground_friction = d.number("ground_friction", w.ground_friction);
