@@ -192,10 +192,14 @@ void CreatureBody::beginStep(double added_mass_density) {
   external_force_.setZero();
   external_moment_.setZero();
   drag_impulse_.setZero();
+  const bool carried = carried_valid_ && carried_density_ == added_mass_density;
+  carried_valid_ = false;
   added_mass_density_ = added_mass_density;
   if (model->fixed_base) return;
-  start_ = measureMomentum();
+  start_ = carried ? carried_ : measureMomentum();
 }
+
+void CreatureBody::forgetMomentum() { carried_valid_ = false; }
 
 void CreatureBody::addExternal(const Vec3& com, const Wrench& wrench) {
   external_force_ += wrench.force;
@@ -204,6 +208,7 @@ void CreatureBody::addExternal(const Vec3& com, const Wrench& wrench) {
 
 void CreatureBody::endStep(const Vec3& gravity, double dt) {
   last_step = dt;
+  carried_valid_ = false;
   // A saturated servo pushed with its bound all step: a constant torque, under which (with
   // the air and gravity) its joint moves by the trapezoid of its velocities, where Bullet's
   // semi-implicit step takes the end velocity. A servo that holds its target velocity
@@ -244,6 +249,14 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
     frames.omega[k] += quatRotate(to_local, toBt(c.angular_velocity));
     frames.local_origin[k] += toBt(shift);
   }
+  // The momentum is now the target, about the shifted centre of mass: the next step starts
+  // from it instead of measuring it again.
+  carried_.mass = now.mass;
+  carried_.com = now.com + shift;
+  carried_.linear = linear;
+  carried_.angular = angular - shift.cross(linear);
+  carried_valid_ = true;
+  carried_density_ = added_mass_density_;
 }
 
 }  // namespace flapsim

@@ -64,6 +64,9 @@ struct CreatureBody {
   // This step's added mass of an aero body, world axes, about its COM.
   Mat6 addedMass(const AeroBody& a, const Quat& orientation) const;
   void endStep(const Vec3& gravity, double dt);
+  // A corrected step ends with a known momentum, which the next beginStep() takes instead of
+  // measuring it; call this after changing the multibody's state between steps.
+  void forgetMomentum();
 
   std::unique_ptr<Scene> scene;  // declared first: destroyed last
   std::unique_ptr<btMultiBody> mb;
@@ -97,6 +100,9 @@ struct CreatureBody {
   // This step's momentum balance: the start, and the external impulses so far (moments
   // about the root COM at the start of the step).
   SystemMomentum start_;
+  SystemMomentum carried_;  // of the end of the last corrected step
+  bool carried_valid_ = false;
+  double carried_density_ = 0.0;
   Vec3 external_force_ = Vec3::Zero();
   Vec3 external_moment_ = Vec3::Zero();
   Vec6 drag_impulse_ = Vec6::Zero();  // of the implicit part of the drag

@@ -42,12 +42,17 @@ RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& lin
   if (actual.mass <= 0.0) return c;
   // A rigid twist [w; v] about the centre of mass adds [I w; M v] to the bodies' momentum
   // and fluid x [w; v] to the fluid's.
+  if (actual.fluid.isZero(0.0)) {  // no fluid: the angular and linear parts apart
+    c.angular_velocity = actual.inertia.llt().solve(angular - actual.angular);
+    c.velocity = (linear - actual.linear) / actual.mass;
+    return c;
+  }
   Mat6 k = actual.fluid;
   k.topLeftCorner<3, 3>() += actual.inertia;
   k.bottomRightCorner<3, 3>() += actual.mass * Mat3::Identity();
   Vec6 change;
   change << angular - actual.angular, linear - actual.linear;
-  const Vec6 twist = k.ldlt().solve(change);
+  const Vec6 twist = k.llt().solve(change);
   c.angular_velocity = twist.head<3>();
   c.velocity = twist.tail<3>();
   return c;
