@@ -18,6 +18,11 @@ import signal
 import subprocess
 import sys
 
+import rosbag
+import rosgraph
+import rospy
+from rosgraph_msgs.msg import Clock
+
 import flapsim_views as views
 
 
@@ -45,7 +50,6 @@ def main(argv):
 
 
 def bag_end(bag_path):
-    import rosbag
     with rosbag.Bag(bag_path) as bag:
         last = 0.0
         for _, msg, _ in bag.read_messages(topics=["/clock"]):
@@ -66,9 +70,6 @@ def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=2.5, 
                                   f"distance:={distance}", views.rviz_args(width, height)],
                                  display, os.path.join(work, "roslaunch.log")) as (proc, env):
                 views.use_master(env)
-                import rosgraph
-                import rospy
-                from rosgraph_msgs.msg import Clock
                 views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
                 rospy.init_node("flapsim_movie", anonymous=True, disable_signals=True)
                 latest = [-1.0]

@@ -39,9 +39,10 @@ flapsim::Vec3 centreOfMass(const flapsim::CreatureModel& model, const flapsim::C
 geometry_msgs::TransformStamped viewTransform(const flapsim::Vec3& position, const ros::Time& stamp,
                                               const std::string& world_frame);
 
-/// Exponential smoothing of the creatures' centroid over sim time: the first sample is taken
-/// as it is; later ones pull the position with time constant `time_constant` (s). Going back
-/// in time (a reset) starts afresh.
+/// Double exponential smoothing of the creatures' centroid over sim time (s1 = EMA of the
+/// samples, s2 = EMA of s1, position 2 s1 - s2): it hides the flapping yet follows a climb or
+/// a fall at constant speed without lag. The first sample is taken as it is; going back in
+/// time (a reset) starts afresh.
 class ViewFollower {
  public:
   explicit ViewFollower(double time_constant) : time_constant_(time_constant) {}
@@ -49,12 +50,12 @@ class ViewFollower {
   /// Feeds the centroid at sim time `t` (s); returns the smoothed position.
   const flapsim::Vec3& update(const flapsim::Vec3& centroid, double t);
   const flapsim::Vec3& position() const { return position_; }
-  bool started() const { return started_; }
 
  private:
   double time_constant_;
   bool started_ = false;
   double t_ = 0.0;
+  flapsim::Vec3 s1_ = flapsim::Vec3::Zero(), s2_ = flapsim::Vec3::Zero();
   flapsim::Vec3 position_ = flapsim::Vec3::Zero();
 };
 

@@ -121,13 +121,15 @@ geometry_msgs::TransformStamped viewTransform(const flapsim::Vec3& position, con
 
 const flapsim::Vec3& ViewFollower::update(const flapsim::Vec3& centroid, double t) {
   if (!started_ || t < t_ || time_constant_ <= 0.0) {
-    position_ = centroid;
+    s1_ = s2_ = centroid;
   } else {
     const double a = 1.0 - std::exp(-(t - t_) / time_constant_);
-    position_ += a * (centroid - position_);
+    s1_ += a * (centroid - s1_);
+    s2_ += a * (s1_ - s2_);
   }
   started_ = true;
   t_ = t;
+  position_ = 2.0 * s1_ - s2_;
   return position_;
 }
 
