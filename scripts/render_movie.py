@@ -8,7 +8,7 @@ Plays the bag (launch/replay.launch) into a bare, full-screen rviz on a private 
 without a cursor, following the creatures (frame flapsim/view), and films the screen with
 ffmpeg while the bag plays. The bag plays at --rate (sim seconds per wall second: below 1
 when rviz cannot draw in real time) and the movie shows the flight at --speed; frames
-before rviz first draws a creature are cut. --gif also writes an animated GIF (8 frames per
+before rviz first draws a creature are cut. --gif also writes an animated GIF (6 frames per
 second, 320 pixels wide). Needs the package on ROS_PACKAGE_PATH.
 """
 import argparse
@@ -119,10 +119,10 @@ def frame_count(video):
     return int(result.stdout.strip())
 
 
-def gif(video, out, fps=8, width=320):
+def gif(video, out, fps=6, width=320):
     subprocess.run(
         ["ffmpeg", "-loglevel", "error", "-y", "-i", video, "-vf",
-         f"fps={fps},scale={width}:-1:flags=lanczos,split[a][b];[a]palettegen=max_colors=64[p];"
+         f"fps={fps},scale={width}:-1:flags=lanczos,split[a][b];[a]palettegen=max_colors=32[p];"
          f"[b][p]paletteuse=dither=bayer", out], check=True)
 
 
