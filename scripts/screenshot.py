@@ -74,8 +74,12 @@ def shoot(launch, out, at, size="800x600", min_pixels=50, timeout=120.0, log=Non
             seen = Seen()
             master = rosgraph.Master(rospy.get_name())
             pattern = re.compile(TOPICS)
-            views.wait_for(lambda: not starter.unconnected(master, "/flapsim", "/rviz", pattern),
-                           timeout, "rviz to receive flapsim's topics", poll=0.1)
+            # rviz, and with record:=true the recorder too, before the flight starts
+            listeners = ["/rviz"] + (["/record"] if "record:=true" in launch else [])
+            views.wait_for(lambda: not any(starter.unconnected(master, "/flapsim", n, pattern)
+                                           for n in listeners),
+                           timeout, f"{' and '.join(listeners)} to receive flapsim's topics",
+                           poll=0.1)
             rospy.wait_for_service("/flapsim/unpause", timeout=timeout)
             rospy.ServiceProxy("/flapsim/unpause", Empty)()
             views.wait_for(lambda: latest[0] >= at, timeout, f"sim time {at} s")
