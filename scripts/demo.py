@@ -3,7 +3,8 @@
 
 roslaunch flapsim flap_unit.launch (paused, as fast as possible, recording), unpauses once
 the recorder listens, stops after --duration seconds of sim time, then turns the bag into a
-CSV of the root trajectory and a PNG of its height, and prints a summary.
+CSV of the root trajectory, a PNG of its height, a movie of the flight as rviz shows it
+(MP4, scripts/render_movie.py) and an animated GIF of it, and prints a summary.
 
 Needs the package on ROS_PACKAGE_PATH (source build/devel/setup.bash).
 """
@@ -60,6 +61,7 @@ def main():
     parser.add_argument("--duration", type=float, default=10.0, help="sim seconds to fly")
     parser.add_argument("--timeout", type=float, default=120.0, help="wall seconds at most")
     parser.add_argument("--rtf", type=float, default=5.0, help="real-time factor of the run")
+    parser.add_argument("--no-movie", action="store_true", help="skip the MP4 and GIF")
     args = parser.parse_args()
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
@@ -122,6 +124,17 @@ def main():
     if not rows:
         print("demo: no odometry recorded", file=sys.stderr)
         return 1
+    movie_path, gif_path = os.path.join(out, f"{CREATURE}.mp4"), os.path.join(out, f"{CREATURE}.gif")
+    movie = "skipped (--no-movie)"
+    if not args.no_movie:
+        # a process of its own: rospy initialises one node per process
+        rendered = subprocess.run(
+            ["/usr/bin/python3", os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                              "render_movie.py"),
+             "--bag", bag_path, "--out", movie_path, "--gif", gif_path],
+            capture_output=True, text=True)
+        movie = (rendered.stdout.strip().replace("\n", "; ") if rendered.returncode == 0
+                 else f"failed: {rendered.stderr.strip()[-500:]}")
     z0, z1 = rows[0][3], rows[-1][3]
     print(f"flapsim demo: {CREATURE} flapped {rows[-1][0]:.2f} s of sim time in {fly_wall:.2f} s "
           f"wall (real-time factor {rows[-1][0] / fly_wall:.1f}, whole run {time.monotonic() - wall_start:.1f} s)")
@@ -130,6 +143,7 @@ def main():
     print(f"  bag  {bag_path}: " + ", ".join(f"{t} ({n})" for t, n in sorted(counts.items())))
     print(f"  csv  {csv_path} ({len(rows)} rows)")
     print(f"  plot {png_path}" + ("" if plotted else " (gnuplot failed)"))
+    print(f"  movie {movie}")
     missing = [t for t in TOPICS if counts.get(t, 0) == 0]
     if missing:
         print(f"demo: nothing recorded on {missing}", file=sys.stderr)

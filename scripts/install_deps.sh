@@ -22,6 +22,8 @@ PACKAGES=(
   libyaml-cpp-dev
   # tests and plots
   libgtest-dev googletest gnuplot-nox
+  # seeing it: rviz, rosrun, headless X for rviz, screenshots, movies and their checks
+  rviz rosbash xvfb xauth imagemagick ffmpeg python3-pil
   # side-by-side benchmark against MuJoCo (bench/mujoco_bench.cpp)
   libmujoco-dev
 )

@@ -39,9 +39,9 @@ struct CreatureSpec {
 /// Force arrows on `~aero_markers`.
 struct MarkerParams {
   bool enabled = true;
-  double scale = 0.5;     // arrow length per force, m/N
+  double scale = 2.0;     // arrow length per force, m/N
   bool per_cell = false;  // also one arrow per surface cell (costs time)
-  double width = 0.004;   // arrow shaft diameter, m
+  double width = 0.012;   // arrow shaft diameter, m
 };
 
 struct NodeParams {

@@ -5,7 +5,10 @@
 
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
 #include <std_srvs/Empty.h>
+#include <tf2_msgs/TFMessage.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <cstdint>
 #include <map>
@@ -21,6 +24,7 @@
 #include "flapsim/world.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/params.h"
+#include "flapsim_ros/visuals.h"
 
 namespace flapsim_ros {
 
@@ -47,7 +51,9 @@ class SimulatorNode {
     ros::Publisher joint_states;
     ros::Publisher odom;
     ros::Subscriber wing_command;
-    std::optional<WingCommandRequest> command;  // last valid one, re-applied after reset
+    ros::Publisher description;  // latched URDF text: what a replay needs to draw it
+    std::vector<visualization_msgs::Marker> geometry;  // its boxes, for creature_markers
+    std::optional<WingCommandRequest> command;         // last valid one, re-applied after reset
   };
 
   void spawn(const std::string& name, const std::string& urdf_xml, const std::string& source,
@@ -61,6 +67,13 @@ class SimulatorNode {
   /// Steps `steps` fixed steps, publishing at every publish boundary crossed.
   void advance(std::uint64_t steps);
   void publishAll();
+  /// What a new subscriber of /clock, /tf or ~aero_markers gets at once (so a paused world
+  /// is seen as soon as rviz or a recorder connects): the messages of the current step.
+  rosgraph_msgs::Clock clockMsg() const;
+  tf2_msgs::TFMessage tfMsg(const ros::Time& stamp) const;
+  visualization_msgs::MarkerArray aeroMarkerArray(const ros::Time& stamp) const;
+  /// Latched ~creature_markers: every creature's geometry (after each spawn and delete).
+  void publishCreatureMarkers();
   void publishCreature(const Creature& c, const ros::Time& stamp,
                        std::vector<geometry_msgs::TransformStamped>* tf);
   ros::Time now() const;
@@ -86,7 +99,8 @@ class SimulatorNode {
   std::uint64_t published_step_ = UINT64_MAX;  // step count of the last publication
 
   std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
-  ros::Publisher clock_pub_, tf_pub_, marker_pub_;
+  ros::Publisher clock_pub_, tf_pub_, marker_pub_, creature_marker_pub_;
+  ViewFollower view_{kViewTimeConstant};  // the view frame, updated at each publication
   std::vector<ros::ServiceServer> services_;
 
   ros::WallTime pace_wall_;                      // wall time at the pacing anchor

@@ -1,8 +1,6 @@
 #include "flapsim_ros/simulator_node.h"
 
-#include <rosgraph_msgs/Clock.h>
-#include <tf2_msgs/TFMessage.h>
-#include <visualization_msgs/MarkerArray.h>
+#include <std_msgs/String.h>
 
 #include <algorithm>
 #include <cmath>
@@ -54,9 +52,17 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
     ROS_WARN_STREAM("flapsim: ignoring unknown parameter '" << pnh_.resolveName(k) << "'");
   }
 
-  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
-  tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>("/tf", 100);
-  marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>("aero_markers", 2);
+  // A new subscriber gets the current step's message at once: a paused world is seen.
+  clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>(
+      "/clock", 10, [this](const ros::SingleSubscriberPublisher& p) { p.publish(clockMsg()); });
+  tf_pub_ = nh_.advertise<tf2_msgs::TFMessage>(
+      "/tf", 100, [this](const ros::SingleSubscriberPublisher& p) { p.publish(tfMsg(now())); });
+  marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>(
+      "aero_markers", 2, [this](const ros::SingleSubscriberPublisher& p) {
+        if (params_.markers.enabled) p.publish(aeroMarkerArray(now()));
+      });
+  creature_marker_pub_ =
+      pnh_.advertise<visualization_msgs::MarkerArray>("creature_markers", 1, /*latch=*/true);
   services_.push_back(pnh_.advertiseService("reset", &SimulatorNode::onReset, this));
   services_.push_back(pnh_.advertiseService("pause", &SimulatorNode::onPause, this));
   services_.push_back(pnh_.advertiseService("unpause", &SimulatorNode::onUnpause, this));
@@ -89,6 +95,7 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
                               << params_.world.step_size << " s, publishing every "
                               << publish_every_ << " steps, real-time factor "
                               << params_.real_time_factor << (paused_ ? ", paused" : ""));
+  publishCreatureMarkers();
   publishAll();
 }
 
@@ -110,6 +117,11 @@ void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
   c->name = name;
   c->model = model;
   try {
+    c->geometry = creatureMarkers(name, urdf_xml, source);
+    c->description = nh_.advertise<std_msgs::String>(name + "/robot_description", 1, true);
+    std_msgs::String text;
+    text.data = urdf_xml;
+    c->description.publish(text);
     c->joint_states = nh_.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
     c->odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 10);
     c->wing_command = nh_.subscribe<flapsim::WingCommand>(
@@ -121,6 +133,7 @@ void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
     throw flapsim::InputError("creature '" + name + "': " + e.what());
   }
   creatures_.push_back(std::move(c));
+  publishCreatureMarkers();
 }
 
 void SimulatorNode::remove(const std::string& name) {
@@ -131,8 +144,10 @@ void SimulatorNode::remove(const std::string& name) {
   (*it)->joint_states.shutdown();
   (*it)->odom.shutdown();
   (*it)->wing_command.shutdown();
+  (*it)->description.shutdown();
   nh_.deleteParam(name + "/robot_description");
   creatures_.erase(it);
+  publishCreatureMarkers();
 }
 
 SimulatorNode::Creature* SimulatorNode::find(const std::string& name) {
@@ -175,29 +190,65 @@ void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp,
 
 void SimulatorNode::publishAll() {
   const ros::Time stamp = now();
-  rosgraph_msgs::Clock clock;
-  clock.clock = stamp;
-  clock_pub_.publish(clock);
+  clock_pub_.publish(clockMsg());
+
+  flapsim::Vec3 centroid = flapsim::Vec3::Zero();
+  for (const auto& c : creatures_) centroid += centreOfMass(*c->model, world_.state(c->name));
+  if (!creatures_.empty())
+    view_.update(centroid / static_cast<double>(creatures_.size()), stamp.toSec());
 
   const bool need_tf = tf_pub_.getNumSubscribers() > 0;
   tf2_msgs::TFMessage tf;
   for (const auto& c : creatures_) publishCreature(*c, stamp, need_tf ? &tf.transforms : nullptr);
-  if (need_tf && !tf.transforms.empty()) tf_pub_.publish(tf);
-
+  if (need_tf) {
+    tf.transforms.push_back(viewTransform(view_.position(), stamp, params_.world_frame));
+    tf_pub_.publish(tf);
+  }
   if (params_.markers.enabled && marker_pub_.getNumSubscribers() > 0) {
-    visualization_msgs::MarkerArray markers;
-    markers.markers.emplace_back();
-    markers.markers.back().header.stamp = stamp;
-    markers.markers.back().header.frame_id = params_.world_frame;
-    markers.markers.back().action = visualization_msgs::Marker::DELETEALL;
-    for (const auto& c : creatures_) {
-      auto m = aeroMarkers(c->name, world_.aeroForces(c->name), params_.markers, stamp,
-                           params_.world_frame);
-      markers.markers.insert(markers.markers.end(), m.begin(), m.end());
-    }
-    marker_pub_.publish(markers);
+    marker_pub_.publish(aeroMarkerArray(stamp));
   }
   published_step_ = world_.stepCount();
+}
+
+rosgraph_msgs::Clock SimulatorNode::clockMsg() const {
+  rosgraph_msgs::Clock clock;
+  clock.clock = now();
+  return clock;
+}
+
+tf2_msgs::TFMessage SimulatorNode::tfMsg(const ros::Time& stamp) const {
+  tf2_msgs::TFMessage tf;
+  for (const auto& c : creatures_) {
+    auto t = linkTransforms(c->name, *c->model, world_.state(c->name), stamp, params_.world_frame);
+    tf.transforms.insert(tf.transforms.end(), t.begin(), t.end());
+  }
+  tf.transforms.push_back(viewTransform(view_.position(), stamp, params_.world_frame));
+  return tf;
+}
+
+visualization_msgs::MarkerArray SimulatorNode::aeroMarkerArray(const ros::Time& stamp) const {
+  visualization_msgs::MarkerArray markers;
+  markers.markers.emplace_back();
+  markers.markers.back().header.stamp = stamp;
+  markers.markers.back().header.frame_id = params_.world_frame;
+  markers.markers.back().action = visualization_msgs::Marker::DELETEALL;
+  for (const auto& c : creatures_) {
+    auto m = aeroMarkers(c->name, world_.aeroForces(c->name), params_.markers, stamp,
+                         params_.world_frame);
+    markers.markers.insert(markers.markers.end(), m.begin(), m.end());
+  }
+  return markers;
+}
+
+void SimulatorNode::publishCreatureMarkers() {
+  visualization_msgs::MarkerArray markers;
+  markers.markers.emplace_back();
+  markers.markers.back().header.frame_id = params_.world_frame;
+  markers.markers.back().action = visualization_msgs::Marker::DELETEALL;
+  for (const auto& c : creatures_) {
+    markers.markers.insert(markers.markers.end(), c->geometry.begin(), c->geometry.end());
+  }
+  creature_marker_pub_.publish(markers);
 }
 
 void SimulatorNode::restartPacing() {

@@ -88,7 +88,7 @@ TEST(Params, ShippedConfigParsesToItsNumbers) {
   EXPECT_EQ(p.world.air.drag_coefficient, 1.15);
   EXPECT_EQ(p.world.air.subdivisions_u, 4);
   EXPECT_EQ(p.world.air.subdivisions_v, 4);
-  EXPECT_EQ(p.markers.scale, 0.5);
+  EXPECT_EQ(p.markers.scale, 2.0);
   EXPECT_FALSE(p.markers.per_cell);
 }
 

@@ -17,7 +17,9 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <map>
 #include <memory>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -473,6 +475,75 @@ TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
   EXPECT_GE(*std::min_element(v.begin(), v.end()), -31.0);
   EXPECT_GT(std::count_if(v.begin(), v.end(), [](double x) { return std::abs(x + 30) < 0.5; }), 0);
   EXPECT_EQ(std::count_if(v.begin(), v.end(), [](double x) { return std::abs(x + 20) < 0.5; }), 0);
+}
+
+/// The first message on `topic` as a new subscriber in a process of its own sees it (this
+/// process's subscription already exists, and a node connects to a topic once).
+std::string firstMessageOf(const std::string& topic) {
+  const std::string cmd = "timeout 20 /usr/bin/python3 /usr/bin/rostopic echo -n 1 " + topic;
+  std::string out;
+  if (FILE* p = popen(cmd.c_str(), "r")) {
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    pclose(p);
+  }
+  return out;
+}
+
+TEST_F(Node, ALateSubscriberOfAPausedNodeGetsTheCurrentStepAtOnce) {
+  reset();
+  const ros::Time t = stepOk(7);  // between two publication boundaries (every 10 steps)
+  ASSERT_EQ(t.toNSec(), 7 * kStepNs);
+  // rviz or a recorder connecting now, with no further step: it gets t = 0.007 s
+  const std::string clock = firstMessageOf("/clock");
+  const std::regex at_t("secs: +0\\s+nsecs: +7000000\\b");
+  EXPECT_TRUE(std::regex_search(clock, at_t)) << clock;
+  const std::string tf = firstMessageOf("/tf");
+  for (const char* frame : {"flap_unit/unit0_body", "plate/plate", "flapsim/view"}) {
+    EXPECT_NE(tf.find(std::string("child_frame_id: \"") + frame + "\""), std::string::npos)
+        << frame << " missing in\n"
+        << tf;
+  }
+  EXPECT_TRUE(std::regex_search(tf, at_t)) << tf;
+}
+
+TEST_F(Node, CreatureMarkersAreLatchedAndFollowSpawnAndDelete) {
+  // latest latched creature_markers: the creatures (namespaces) and markers per creature
+  auto latest = [&](std::map<std::string, int>* per_creature) {
+    Recorder<visualization_msgs::MarkerArray> r;
+    r.start(*nh_, "/flapsim/creature_markers");
+    if (!waitUntil([&] { return !r.msgs.empty(); })) return false;
+    per_creature->clear();
+    const auto& markers = r.msgs.back()->markers;
+    EXPECT_EQ(markers.at(0).action, visualization_msgs::Marker::DELETEALL);
+    for (const auto& m : markers) {
+      if (m.action != visualization_msgs::Marker::ADD) continue;
+      ++(*per_creature)[m.ns];
+      EXPECT_EQ(m.header.frame_id.rfind(m.ns + "/", 0), 0u) << m.header.frame_id;
+    }
+    return true;
+  };
+  std::map<std::string, int> per_creature;
+  ASSERT_TRUE(latest(&per_creature));
+  EXPECT_EQ(per_creature, (std::map<std::string, int>{{"flap_unit", 3}, {"plate", 1}}));
+
+  flapsim::SpawnCreature s;
+  s.request.name = "shown";
+  s.request.urdf_file = sourcePath("urdf/plate.urdf");
+  s.request.initial_pose.position.z = 5.0;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(s.response.success) << s.response.status_message;
+  ASSERT_TRUE(latest(&per_creature));
+  EXPECT_EQ(per_creature,
+            (std::map<std::string, int>{{"flap_unit", 3}, {"plate", 1}, {"shown", 1}}));
+
+  flapsim::DeleteCreature d;
+  d.request.name = "shown";
+  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(d.response.success) << d.response.status_message;
+  ASSERT_TRUE(latest(&per_creature));
+  EXPECT_EQ(per_creature, (std::map<std::string, int>{{"flap_unit", 3}, {"plate", 1}}));
 }
 
 TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {

@@ -1,0 +1,140 @@
+"""Shared by screenshot.py, render_movie.py and the rviz tests: a private X server (Xvfb),
+a roslaunch with its own master, screenshots and a count of the creatures' pixels.
+
+Nothing here is ROS-launch specific beyond `roslaunch`; it needs Xvfb, ImageMagick's
+`import`, ffmpeg and python3-pil (scripts/install_deps.sh).
+"""
+import colorsys
+import contextlib
+import os
+import signal
+import socket
+import subprocess
+import tempfile
+import time
+
+from PIL import Image
+
+# Colours of rviz's background (48, 48, 48) and grid are grey; the creatures' materials
+# (wings and plates 0.95 0.8 0.3, bodies 0.25 0.3 0.45) are not, nor are the force arrows
+# (1 0.5 0, hue 30 degrees).
+SATURATION = 40  # max - min of r, g, b (0..255) above which a pixel is not grey
+ARROW_HUES = (20.0, 38.0)  # degrees: the orange of the force arrows
+
+
+def pixel_counts(png):
+    """(creature pixels, arrow pixels) of an image: coloured pixels, split by hue."""
+    creature = arrows = 0
+    with Image.open(png) as im:
+        for (r, g, b), n in _colours(im.convert("RGB")):
+            if max(r, g, b) - min(r, g, b) <= SATURATION:
+                continue
+            hue = 360.0 * colorsys.rgb_to_hsv(r / 255, g / 255, b / 255)[0]
+            if ARROW_HUES[0] <= hue <= ARROW_HUES[1]:
+                arrows += n
+            else:
+                creature += n
+    return creature, arrows
+
+
+def _colours(im):
+    colours = im.getcolors(maxcolors=im.width * im.height)
+    return [(c, n) for n, c in colours]
+
+
+def wait_for(predicate, timeout, what, poll=0.05):
+    """Polls `predicate` until it holds; raises TimeoutError after `timeout` wall seconds."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise TimeoutError(f"timed out after {timeout:.0f} s waiting for {what}")
+        time.sleep(poll)
+
+
+@contextlib.contextmanager
+def xvfb(width, height):
+    """A private X server of width x height; yields its DISPLAY (":N")."""
+    read_fd, write_fd = os.pipe()
+    proc = subprocess.Popen(
+        ["Xvfb", "-displayfd", str(write_fd), "-screen", "0", f"{width}x{height}x24",
+         "-nolisten", "tcp", "-nocursor"],
+        pass_fds=(write_fd,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write_fd)
+    try:
+        with os.fdopen(read_fd) as f:
+            number = f.readline().strip()
+        if not number:
+            raise RuntimeError("Xvfb did not start")
+        yield f":{number}"
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("localhost", 0))
+        return s.getsockname()[1]
+
+
+@contextlib.contextmanager
+def roslaunch(args, display, log_path):
+    """roslaunch flapsim ARGS with a master of its own on a free port and DISPLAY set.
+    Yields the environment (ROS_MASTER_URI) for the caller's ROS clients; the caller's own
+    process must use that master too (see use_master)."""
+    port = free_port()
+    env = dict(os.environ, DISPLAY=display, ROS_MASTER_URI=f"http://localhost:{port}")
+    with open(log_path, "w") as log:
+        proc = subprocess.Popen(["roslaunch", "-p", str(port), "flapsim"] + list(args), env=env,
+                                stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        yield proc, env
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGINT)
+            try:
+                proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.wait()
+
+
+def use_master(env):
+    """Points this process's rospy at the master of `env` (before rospy.init_node)."""
+    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
+
+
+def screenshot(display, path):
+    subprocess.run(["import", "-display", display, "-window", "root", path], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return path
+
+
+def shoot_until_drawn(display, path, min_pixels, timeout):
+    """Takes screenshots until one shows at least `min_pixels` creature pixels (rviz has drawn
+    the creatures); returns its (creature, arrow) pixel counts. On timeout the last shot is
+    kept at `path` and TimeoutError raised with its counts."""
+    counts = [(0, 0)]
+
+    def drawn():
+        counts[0] = pixel_counts(screenshot(display, path))
+        return counts[0][0] >= min_pixels
+
+    try:
+        wait_for(drawn, timeout, "rviz to draw the creatures", poll=0.2)
+    except TimeoutError as e:
+        raise TimeoutError(f"{e}; last screenshot {path} has {counts[0][0]} creature and "
+                           f"{counts[0][1]} arrow pixels") from None
+    return counts[0]
+
+
+def rviz_args(width, height):
+    """rviz.py arguments for a bare, full-screen 3D view (no panels, menus or cursor)."""
+    return f"rviz_args:=--bare --size {width}x{height} --fullscreen"
+
+
+def temp_dir(prefix):
+    return tempfile.mkdtemp(prefix=prefix)

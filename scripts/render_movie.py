@@ -1,0 +1,130 @@
+#!/usr/bin/python3
+"""Renders a bag of a flight (record:=true) into a movie with rviz, headless.
+
+render_movie.py --bag FILE.bag --out FILE.mp4 [--size 640x480] [--speed 1] [--rate 0.5]
+                [--fps 25] [--distance 2.5] [--gif FILE.gif]
+
+Plays the bag (launch/replay.launch) into a bare, full-screen rviz on a private X server
+without a cursor, following the creatures (frame flapsim/view), and films the screen with
+ffmpeg while the bag plays. The bag plays at --rate (sim seconds per wall second: below 1
+when rviz cannot draw in real time) and the movie shows the flight at --speed; frames
+before rviz first draws a creature are cut. --gif also writes an animated GIF (6 frames per
+second, 320 pixels wide). Needs the package on ROS_PACKAGE_PATH.
+"""
+import argparse
+import os
+import shutil
+import signal
+import subprocess
+import sys
+
+import rosbag
+import rosgraph
+import rospy
+from rosgraph_msgs.msg import Clock
+
+import flapsim_views as views
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--bag", required=True)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--size", default="640x480")
+    parser.add_argument("--speed", type=float, default=1.0, help="sim seconds per movie second")
+    parser.add_argument("--rate", type=float, default=0.5, help="playback rate while filming")
+    parser.add_argument("--fps", type=int, default=25)
+    parser.add_argument("--distance", type=float, default=2.5, help="camera distance (m)")
+    parser.add_argument("--gif", help="also an animated GIF")
+    parser.add_argument("--timeout", type=float, default=600.0, help="wall seconds at most")
+    args = parser.parse_args(argv)
+    frames, cut = render(args.bag, args.out, args.size, args.speed, args.rate, args.fps,
+                         args.distance, args.timeout)
+    print(f"{args.out}: {frames} frames at {args.fps} fps ({args.speed}x), "
+          f"{cut:.2f} s cut before the first drawn frame")
+    if args.gif:
+        gif(args.out, args.gif)
+        print(f"{args.gif}: {os.path.getsize(args.gif) // 1024} KiB")
+    return 0
+
+
+def bag_end(bag_path):
+    with rosbag.Bag(bag_path) as bag:
+        last = 0.0
+        for _, msg, _ in bag.read_messages(topics=["/clock"]):
+            last = msg.clock.to_sec()
+        return last
+
+
+def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=2.5, timeout=600.0):
+    """Films the replayed bag; returns (frames in the movie, seconds cut at the start)."""
+    width, height = (int(v) for v in size.split("x"))
+    bag, out = os.path.abspath(bag), os.path.abspath(out)
+    end = bag_end(bag)
+    work = views.temp_dir("flapsim_movie_")
+    raw = os.path.join(work, "raw.mkv")
+    try:
+        with views.xvfb(width, height) as display:
+            with views.roslaunch(["replay.launch", f"bag:={bag}", f"rate:={rate}",
+                                  f"distance:={distance}", views.rviz_args(width, height)],
+                                 display, os.path.join(work, "roslaunch.log")) as (proc, env):
+                views.use_master(env)
+                views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
+                rospy.init_node("flapsim_movie", anonymous=True, disable_signals=True)
+                latest = [-1.0]
+                rospy.Subscriber("/clock", Clock,
+                                 lambda m: latest.__setitem__(0, m.clock.to_sec()))
+                # playback starts once rviz listens: film from its first /clock
+                views.wait_for(lambda: latest[0] >= 0.0, timeout, "the replay to start")
+                ffmpeg = subprocess.Popen(
+                    ["ffmpeg", "-loglevel", "error", "-y", "-f", "x11grab", "-draw_mouse", "0",
+                     "-framerate", str(fps), "-video_size", f"{width}x{height}", "-i", display,
+                     "-c:v", "libx264", "-preset", "ultrafast", "-qp", "0", raw],
+                    stdin=subprocess.PIPE)
+                try:
+                    views.wait_for(lambda: latest[0] >= end - 0.01 or proc.poll() is not None,
+                                   timeout, "the replay to end", poll=0.1)
+                finally:
+                    ffmpeg.communicate(b"q", timeout=60)
+                rospy.signal_shutdown("done")
+        cut = first_drawn(raw, fps, work)
+        stretch = rate / speed  # movie seconds per wall second of filming
+        subprocess.run(
+            ["ffmpeg", "-loglevel", "error", "-y", "-ss", f"{cut:.3f}", "-i", raw,
+             "-vf", f"setpts={stretch:.6f}*(PTS-STARTPTS)", "-r", str(fps),
+             "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "23", out], check=True)
+        return frame_count(out), cut
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def first_drawn(video, fps, work, min_pixels=50):
+    """Seconds into `video` of the first frame with creature pixels (0 if none)."""
+    frames = os.path.join(work, "head")
+    os.makedirs(frames)
+    subprocess.run(["ffmpeg", "-loglevel", "error", "-t", "20", "-i", video,
+                    os.path.join(frames, "%05d.png")], check=True)
+    for i, name in enumerate(sorted(os.listdir(frames))):
+        if views.pixel_counts(os.path.join(frames, name))[0] >= min_pixels:
+            return i / fps
+    return 0.0
+
+
+def frame_count(video):
+    result = subprocess.run(
+        ["ffprobe", "-v", "error", "-count_frames", "-select_streams", "v:0",
+         "-show_entries", "stream=nb_read_frames", "-of", "csv=p=0", video],
+        check=True, capture_output=True, text=True)
+    return int(result.stdout.strip())
+
+
+def gif(video, out, fps=6, width=320):
+    subprocess.run(
+        ["ffmpeg", "-loglevel", "error", "-y", "-i", video, "-vf",
+         f"fps={fps},scale={width}:-1:flags=lanczos,split[a][b];[a]palettegen=max_colors=32[p];"
+         f"[b][p]paletteuse=dither=bayer", out], check=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

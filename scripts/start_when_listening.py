@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""Starts a paused source once a listener receives it: a bag from t = 0, a replay or a
+flight that rviz sees from its first frame.
+
+start_when_listening.py --listener NODE [--source /flapsim] [--topics REGEX] [--stay-paused]
+                        [--timeout S]
+
+Waits until NODE is subscribed, and connected, to every topic that the source node
+publishes and REGEX matches (matched as rosbag record -e does: the whole name), then
+starts the source and exits: flapsim through <source>/unpause (std_srvs/Empty), rosbag play
+through <source>/pause_playback (std_srvs/SetBool false). With --stay-paused it only waits.
+Exits 1 if that takes longer than the timeout (wall seconds).
+"""
+import argparse
+import re
+import sys
+import time
+from xmlrpc.client import ServerProxy
+
+import rosgraph
+import rospy
+import rosservice
+from std_srvs.srv import Empty, SetBool
+
+
+def unconnected(master, source, listener, pattern):
+    """Topics of `source` that `pattern` matches and `listener` does not yet receive."""
+    publishers, subscribers, _ = master.getSystemState()
+    topics = sorted(t for t, nodes in publishers if source in nodes and pattern.fullmatch(t))
+    if not topics:
+        return [f"(nothing from {source} yet)"]
+    subscribed = {t for t, nodes in subscribers if listener in nodes}
+    try:
+        code, _, bus = ServerProxy(master.lookupNode(source)).getBusInfo(rospy.get_name())
+    except Exception:  # the source is still starting up
+        return topics
+    connected = {c[4] for c in bus if c[1] == listener and c[2] == "o"} if code == 1 else set()
+    return [t for t in topics if t not in subscribed or t not in connected]
+
+
+def start(source, timeout):
+    """Unpauses flapsim, or resumes rosbag play, whichever `source` is."""
+    playback, unpause = source + "/pause_playback", source + "/unpause"
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        services = rosservice.get_service_list(node=source)
+        if playback in services:
+            rospy.ServiceProxy(playback, SetBool)(False)
+            return
+        if unpause in services:
+            rospy.ServiceProxy(unpause, Empty)()
+            return
+        time.sleep(0.1)  # polling the master; nothing to wait on
+    raise RuntimeError(f"{source} offers neither {playback} nor {unpause}")
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--listener", required=True, help="e.g. /record or /rviz")
+    parser.add_argument("--source", default="/flapsim", help="/flapsim or a rosbag play node")
+    parser.add_argument("--topics", default="/clock|/tf")
+    parser.add_argument("--stay-paused", action="store_true")
+    parser.add_argument("--timeout", type=float, default=120.0)
+    args, _ = parser.parse_known_args(rospy.myargv(argv))
+    rospy.init_node("start_when_listening", anonymous=True, disable_signals=True)
+    master = rosgraph.Master(rospy.get_name())
+    pattern = re.compile(args.topics)
+    deadline = time.monotonic() + args.timeout
+    while True:
+        missing = unconnected(master, args.source, args.listener, pattern)
+        if not missing:
+            break
+        if time.monotonic() > deadline or rospy.is_shutdown():
+            rospy.logerr("%s does not receive %s after %.0f s: %s stays paused", args.listener,
+                         ", ".join(missing), args.timeout, args.source)
+            return 1
+        time.sleep(0.1)  # polling the master; nothing to wait on
+    if args.stay_paused:
+        rospy.loginfo("%s receives %s, which stays paused", args.listener, args.source)
+        return 0
+    start(args.source, args.timeout)
+    rospy.loginfo("%s receives %s: started", args.listener, args.source)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

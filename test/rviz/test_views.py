@@ -1,0 +1,137 @@
+#!/usr/bin/python3
+"""What a user sees, checked on screenshots: rviz under a private Xvfb, through the scripts a
+user runs (scripts/screenshot.py, scripts/render_movie.py). An empty grid has no coloured
+pixels; the creatures (yellow wings, blue bodies) and the force arrows (orange) do.
+
+Run by `run_tests` (CMakeLists.txt); screenshots and logs stay in --out-dir.
+"""
+import argparse
+import os
+import re
+import subprocess
+import sys
+import unittest
+
+import rosbag
+import rospkg
+import yaml
+
+PKG = rospkg.RosPack().get_path("flapsim")
+SCRIPTS = os.path.join(PKG, "scripts")
+sys.path.insert(0, SCRIPTS)
+import flapsim_views as views  # noqa: E402
+
+OUT = os.path.join(os.environ.get("ROS_HOME", os.path.expanduser("~/.ros")), "flapsim_views")
+MIN_CREATURE = 300  # pixels of 800 x 600: a flap unit at 2.5 m covers a few thousand
+TIMEOUT = 180
+
+
+def run(script, *args):
+    """Runs a script of the package; returns its stdout (raises on failure, with its output)."""
+    result = subprocess.run(["/usr/bin/python3", os.path.join(SCRIPTS, script)] + list(args),
+                            capture_output=True, text=True, timeout=TIMEOUT)
+    if result.returncode != 0:
+        raise AssertionError(f"{script} failed ({result.returncode}):\n{result.stdout}\n"
+                             f"{result.stderr[-3000:]}")
+    return result.stdout
+
+
+def shot_time(stdout):
+    return float(re.search(r"t = ([0-9.]+) s", stdout).group(1))
+
+
+class Views(unittest.TestCase):
+    bag = None
+
+    @classmethod
+    def setUpClass(cls):
+        os.makedirs(OUT, exist_ok=True)
+
+    @classmethod
+    def flight_bag(cls):
+        """A 10.5 s flap-unit flight recorded with record:=true (as fast as possible, no rviz)."""
+        if cls.bag:
+            return cls.bag
+        bag = os.path.join(OUT, "flap_unit.bag")
+        if os.path.exists(bag):
+            os.remove(bag)
+        # screenshot.py's flight, with the recorder: the shot ends the run at t = 10.5
+        run("screenshot.py", "--out", os.path.join(OUT, "recording.png"), "--at", "10.5",
+            "--size", "320x240", "flap_unit.launch", "record:=true", f"bag:={bag}", "rtf:=0")
+        cls.bag = bag
+        return bag
+
+    def test_flap_unit_at_10s_has_the_creature_in_frame(self):
+        png = os.path.join(OUT, "flap_unit_10s.png")
+        out = run("screenshot.py", "--out", png, "--at", "10", "flap_unit.launch", "rtf:=2")
+        self.assertGreaterEqual(shot_time(out), 10.0)
+        creature, arrows = views.pixel_counts(png)
+        self.assertGreaterEqual(creature, MIN_CREATURE, f"{png}: the creature is not in view")
+
+    def test_recorded_bag_starts_at_t0_with_what_a_replay_needs(self):
+        with rosbag.Bag(self.flight_bag()) as bag:
+            first_clock = next(m for _, m, _ in bag.read_messages(topics=["/clock"])).clock
+            topics = bag.get_type_and_topic_info().topics
+        self.assertEqual(first_clock.to_nsec(), 0)
+        for topic in ("/tf", "/flapsim/creature_markers", "/flapsim/aero_markers",
+                      "/flap_unit/robot_description"):
+            self.assertIn(topic, topics)
+        self.assertEqual(topics["/flap_unit/robot_description"].message_count, 1)
+
+    def test_replayed_bag_at_10s_has_the_creature_in_frame(self):
+        png = os.path.join(OUT, "replay_10s.png")
+        out = run("screenshot.py", "--out", png, "--at", "10", "--bag", self.flight_bag(),
+                  "rate:=2")
+        self.assertGreaterEqual(shot_time(out), 10.0)
+        creature, _ = views.pixel_counts(png)
+        self.assertGreaterEqual(creature, MIN_CREATURE, f"{png}: the replay shows no creature")
+
+    def test_movie_of_the_bag_shows_the_creature_in_every_sampled_frame(self):
+        movie = os.path.join(OUT, "flap_unit.mp4")
+        run("render_movie.py", "--bag", self.flight_bag(), "--out", movie, "--size", "480x360",
+            "--rate", "2", "--fps", "10")
+        duration = float(subprocess.run(
+            ["ffprobe", "-v", "error", "-show_entries", "format=duration", "-of", "csv=p=0",
+             movie], check=True, capture_output=True, text=True).stdout)
+        self.assertGreater(duration, 9.0)  # about the 10.5 s flight at speed 1
+        self.assertLess(duration, 12.0)
+        for i, t in enumerate((0.0, duration / 2, duration - 0.5)):
+            png = os.path.join(OUT, f"movie_frame_{i}.png")
+            subprocess.run(["ffmpeg", "-loglevel", "error", "-y", "-ss", f"{t:.2f}", "-i", movie,
+                            "-frames:v", "1", png], check=True)
+            creature, _ = views.pixel_counts(png)
+            self.assertGreaterEqual(creature, MIN_CREATURE * 480 * 360 // (800 * 600),
+                                    f"{png} (t = {t:.2f} s): no creature")
+
+    def test_flock_of_4_is_drawn_from_markers_without_per_creature_displays(self):
+        with open(os.path.join(PKG, "config", "flapsim.rviz")) as f:
+            config = yaml.safe_load(f)
+        displays = config["Visualization Manager"]["Displays"]
+        # no display names a creature, so none can show an error for a missing one
+        self.assertEqual(sorted(d["Class"] for d in displays),
+                         ["rviz/Grid", "rviz/MarkerArray", "rviz/MarkerArray"])
+        png = os.path.join(OUT, "flock_4.png")
+        summary = os.path.join(OUT, "flock_4.yaml")
+        run("screenshot.py", "--out", png, "--summary", summary, "--at", "1", "flock.launch",
+            "count:=4")
+        with open(summary) as f:
+            markers = yaml.safe_load(f)
+        self.assertEqual(sorted(markers["namespaces"]), ["afc0", "afc1", "afc2", "afc3"])
+        self.assertEqual(markers["frames_without_tf"], [])
+        self.assertEqual(markers["per_namespace"], {f"afc{i}": 3 for i in range(4)})
+        creature, _ = views.pixel_counts(png)
+        self.assertGreaterEqual(creature, 4 * 100, f"{png}: fewer creature pixels than 4 units")
+
+
+def main():
+    global OUT
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--out-dir", default=OUT)
+    args, rest = parser.parse_known_args()
+    OUT = os.path.abspath(args.out_dir)
+    import rosunit
+    rosunit.unitrun("flapsim", "views", Views, sysargs=[sys.argv[0]] + rest)
+
+
+if __name__ == "__main__":
+    main()
