@@ -104,6 +104,24 @@ TEST(FlapUnitController, ARollCorrectingNetStrokesTheLowWingHarder) {
   EXPECT_DOUBLE_EQ(level.left.downstroke_rate, level.right.downstroke_rate);
 }
 
+// Phase lock: whatever the downstroke rate, the stroke period 2 a (1/w1 + 1/w2) stays that
+// of the middle rate (40 rad/s) with the upstroke rate (10 rad/s): 0.3 s at a = 1.2; the
+// paper's controller keeps the upstroke rate.
+TEST(FlapUnitController, PhaseLockKeepsTheStrokePeriod) {
+  FlapControllerParams p;
+  p.phase_lock = true;
+  for (double w1 : {20.0, 33.0, 40.0, 60.0}) {
+    const double w2 = upstrokeRate(p, w1);
+    EXPECT_NEAR(2.0 * p.amplitude * (1.0 / w1 + 1.0 / w2), 0.3, 1e-12) << w1;
+  }
+  EXPECT_DOUBLE_EQ(upstrokeRate(p, 40.0), 10.0);
+  p.phase_lock = false;
+  EXPECT_EQ(upstrokeRate(p, 60.0), 10.0);
+  p.phase_lock = true;
+  p.min_downstroke_rate = 5.0;  // its downstroke (0.48 s) would not fit in the period
+  EXPECT_NE(validateFlapControllerParams(p).find("phase_lock"), std::string::npos);
+}
+
 TEST(FlapUnitController, BadParamsAreRefused) {
   FlapControllerParams p;
   p.max_downstroke_rate = p.min_downstroke_rate - 1.0;

@@ -1,17 +1,18 @@
 // Flight episodes, the fitness, the evolution, and the committed evolved
-// flap-unit controller (config/flap_unit_weights.yaml) in flight.
+// controller of the one-pair creature (config/afc_1_weights.yaml) in flight.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 
 #include "flapsim/evolve.h"
+#include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
 
 namespace flapsim {
 namespace {
 
-const std::string kWeights = std::string(FLAPSIM_SOURCE_DIR) + "/config/flap_unit_weights.yaml";
+const std::string kWeights = std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_weights.yaml";
 
 CreatureModelPtr creature(int pairs) {
   return parseCreatureModel(makeCreatureUrdf(pairs, "afc"), "afc" + std::to_string(pairs));
@@ -33,6 +34,65 @@ TEST(Episodes, StartsAreSeededAndAlternateTheirRoll) {
   }
   p.seed = 10;
   EXPECT_NE(episodeStarts(p)[0].roll, a[0].roll);
+}
+
+// The robust preset's draws: start rates within +-1 rad/s, gusts horizontal and at most
+// 1 m/s in the first half of the episode, step sizes from the list (both seen in 16
+// episodes), all the same again from the same seed; the paper's starts are not changed by
+// them.
+TEST(Episodes, RobustDrawsStayInTheirRangesAndAreSeeded) {
+  EpisodeParams p = robustPreset().episode;
+  p.episodes = 16;
+  p.seed = 5;
+  const auto a = episodeStarts(p), b = episodeStarts(p);
+  int small_steps = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_LE(a[k].rate.cwiseAbs().maxCoeff(), 1.0);
+    EXPECT_EQ(a[k].gust.z(), 0.0);
+    EXPECT_LE(a[k].gust.norm(), 1.0);
+    EXPECT_GE(a[k].gust_time, 0.0);
+    EXPECT_LE(a[k].gust_time, 0.5 * p.duration);
+    EXPECT_TRUE(a[k].step_size == 0.001 || a[k].step_size == 0.0005) << a[k].step_size;
+    small_steps += a[k].step_size == 0.0005;
+    EXPECT_EQ(a[k].rate, b[k].rate);
+    EXPECT_EQ(a[k].gust, b[k].gust);
+    EXPECT_EQ(a[k].noise_seed, b[k].noise_seed);
+  }
+  EXPECT_GT(small_steps, 0);
+  EXPECT_LT(small_steps, 16);
+  EpisodeParams paper = paperPreset().episode;
+  paper.seed = 5;
+  EpisodeParams paper_robust = paper;
+  paper_robust.max_gust = 1.0;
+  paper_robust.max_start_rate = 1.0;
+  EXPECT_EQ(episodeStarts(paper)[3].roll, episodeStarts(paper_robust)[3].roll);
+}
+
+// With a flip penalty, a flip ends the episode: the samples left score the height at the
+// flip less the penalty. The open-loop unit without ballast (40/10/1.2) rolled 0.3 rad flips
+// within 20 s;
+// its fitness with a 20 m penalty is (sum of the samples up to the flip + the rest x (z at
+// the flip - 20)) / samples, and its flight ends there.
+TEST(Episodes, AFlipEndsTheEpisodeAtThePenalty) {
+  EpisodeParams p;
+  p.duration = 20.0;
+  FlapUnitParams no_ballast;
+  no_ballast.body_com_drop = 0.0;
+  const auto unit = parseCreatureModel(makeCreatureUrdf(1, "afc", no_ballast), "no ballast");
+  const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
+  const EpisodeResult free_run = runEpisode(unit, open, 0.02, p, EpisodeStart{0.3, 0.0}, true);
+  ASSERT_TRUE(free_run.flipped) << "min up " << free_run.min_upright;
+  size_t flip = 0;
+  while (free_run.trace[flip].upright >= 0.0) ++flip;
+  double before = 0.0;
+  for (size_t i = 0; i < flip; ++i) before += free_run.trace[i].height;
+  p.flip_penalty = 20.0;
+  const EpisodeResult penalised = runEpisode(unit, open, 0.02, p, EpisodeStart{0.3, 0.0});
+  EXPECT_TRUE(penalised.flipped);
+  const double n = static_cast<double>(free_run.trace.size());
+  const double expected = (before + (n - flip) * (free_run.trace[flip].height - 20.0)) / n;
+  EXPECT_NEAR(penalised.fitness, expected, 1e-9);
+  EXPECT_EQ(penalised.final_height, free_run.trace[flip].height);
 }
 
 TEST(Episodes, FitnessIsTheMeanSampledHeight) {
@@ -122,99 +182,87 @@ bool uprightAndClimbing(const EpisodeResult& r, double start_height) {
          r.fitness > start_height + 1.0;
 }
 
-// The comparison is over 8 perturbed starts (roll 2-5 deg, alternating side,
-// pitch within 2 deg) that the evolution never saw. The symmetric stroke open
-// loop (the controller's upstroke rate and amplitude, downstroke rates across
-// its range) never makes it; the network does in nearly every start.
-// DISABLED: the committed controller was evolved with the integrator that leaked momentum
-// (about 3% of the unit's weight as a spurious force, first order in the step); with
-// momentum-true steps it keeps the unit upright in 0 of 8 starts (printed when run with
-// --gtest_also_run_disabled_tests). Re-enable once a controller is evolved on the current
-// physics (the robust-flight issue).
-TEST(EvolvedController, DISABLED_KeepsTheUnitUprightAndClimbingWhereTheOpenLoopStrokeDoesNot) {
+// Held-out starts of the flight check: roll and pitch uniform in +-15 deg.
+EpisodeParams heldOutTilted(double duration, int episodes) {
+  EpisodeParams p = heldOut(duration, episodes);
+  p.min_roll = 0.0;
+  p.max_roll = 0.26;
+  p.max_pitch = 0.26;
+  return p;
+}
+
+// A controller that always gives the network's output for a level unit.
+struct LevelOutput : WingController {
+  WingPairCommand c;
+  std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const override {
+    std::vector<StrokeCommand> out;
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      out.push_back(c.left);
+      out.push_back(c.right);
+    }
+    return out;
+  }
+};
+
+// From 8 held-out starts tilted up to 15 deg in roll and pitch, 30 s at 1 ms: the network
+// keeps the unit upright (up-component above 0.5 throughout) and climbing (2 m above the
+// start at the end); its own output for a level unit, held fixed, flips in every one: the
+// balance is the network's feedback, not a lucky constant stroke.
+TEST(EvolvedController, FliesFromHeldOutStartsWhereItsLevelOutputFlips) {
   const ControllerSpec spec = loadControllerYaml(kWeights);
   const AnnWingController ann(FlapUnitController(spec.params, spec.weights));
-  const EpisodeParams p = heldOut(30.0, 8);
+  LevelOutput level;
+  level.c = FlapUnitController(spec.params, spec.weights).command(Quat::Identity());
+  const EpisodeParams p = heldOutTilted(30.0, 8);
   const auto model = creature(1);
-  std::vector<double> open_rates;
-  for (double f : {0.25, 0.5, 0.75, 1.0}) {
-    open_rates.push_back(spec.params.min_downstroke_rate +
-                         f * (spec.params.max_downstroke_rate - spec.params.min_downstroke_rate));
-  }
-  int evolved_ok = 0;
-  std::vector<int> open_ok(open_rates.size(), 0);
+  int network_ok = 0, level_flips = 0;
   for (const EpisodeStart& start : episodeStarts(p)) {
-    const EpisodeResult evolved = runEpisode(model, ann, spec.params.control_period, p, start);
-    std::printf("roll %+.3f pitch %+.3f  evolved: mean %.2f final %.2f min upright %.2f\n",
-                start.roll, start.pitch, evolved.fitness, evolved.final_height,
-                evolved.min_upright);
-    evolved_ok += uprightAndClimbing(evolved, p.start_height);
-    for (size_t i = 0; i < open_rates.size(); ++i) {
-      const OpenLoopWingController open(
-          StrokeCommand{open_rates[i], spec.params.upstroke_rate, spec.params.amplitude});
-      const EpisodeResult o = runEpisode(model, open, spec.params.control_period, p, start);
-      std::printf("    open loop w1 = %4.1f: mean %.2f final %.2f min upright %.2f\n",
-                  open_rates[i], o.fitness, o.final_height, o.min_upright);
-      open_ok[i] += uprightAndClimbing(o, p.start_height);
+    const EpisodeResult r = runEpisode(model, ann, spec.params.control_period, p, start);
+    const EpisodeResult o = runEpisode(model, level, spec.params.control_period, p, start);
+    std::printf("roll %+.3f pitch %+.3f: network final %.2f m, min up %.3f; level output %s\n",
+                start.roll, start.pitch, r.final_height, r.min_upright,
+                o.flipped ? "flips" : "does not flip");
+    network_ok += !r.flipped && uprightAndClimbing(r, p.start_height);
+    level_flips += o.flipped;
+  }
+  EXPECT_EQ(network_ok, 8);
+  EXPECT_EQ(level_flips, 8);
+}
+
+// The flight check (flight_check's core) at 1, 0.5 and 0.25 ms: 8 held-out starts of 30 s
+// each, every one without a flip, up-component never below 0.5, ending above its start.
+TEST(EvolvedController, FlightCheckPassesAtEveryStepSize) {
+  const ControllerSpec spec = loadControllerYaml(kWeights);
+  for (double dt : {0.001, 0.0005, 0.00025}) {
+    FlightCheckParams p;
+    p.starts = 8;
+    p.duration = 30.0;
+    p.step_size = dt;
+    p.threads = 2;
+    const std::vector<FlightCheckRun> runs = flightCheck(creature(1), spec, p);
+    ASSERT_EQ(runs.size(), 8u);
+    for (const FlightCheckRun& r : runs) {
+      EXPECT_TRUE(r.passed(p.start_height))
+          << "step " << dt << " roll " << r.start.roll << " pitch " << r.start.pitch << ": flipped "
+          << r.flipped << ", min up " << r.min_upright << ", final " << r.final_height;
+      EXPECT_EQ(r.upright_fraction, 1.0);
     }
   }
-  // Diagnostic, not a claim: what the evolution found. The network holds the
-  // left wing at the top of its range and the right one ~2 rad/s lower unless
-  // the unit pitches nose down and rolls left; the same two rates open loop
-  // (the network's output when level) fly about as well on these starts: the
-  // steady rate difference, which keeps the two wings' strokes drifting
-  // through each other, is most of the balance.
-  const WingPairCommand level_cmd = FlapUnitController(spec.params, spec.weights).command(Quat());
-  struct Fixed : WingController {
-    WingPairCommand c;
-    std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const override {
-      std::vector<StrokeCommand> out;
-      for (size_t i = 0; i < bodies.size(); ++i) {
-        out.push_back(c.left);
-        out.push_back(c.right);
-      }
-      return out;
-    }
-  } fixed;
-  fixed.c = level_cmd;
-  int fixed_ok = 0;
-  for (const EpisodeStart& start : episodeStarts(p)) {
-    fixed_ok += uprightAndClimbing(runEpisode(model, fixed, spec.params.control_period, p, start),
-                                   p.start_height);
-  }
-  std::printf(
-      "upright and climbing: network %d/8, its level output open loop (left %.2f, right "
-      "%.2f) %d/8\n",
-      evolved_ok, level_cmd.left.downstroke_rate, level_cmd.right.downstroke_rate, fixed_ok);
-  EXPECT_GE(evolved_ok, 7) << "of 8";
-  for (size_t i = 0; i < open_rates.size(); ++i) {
-    EXPECT_EQ(open_ok[i], 0) << "open loop at w1 = " << open_rates[i];
-  }
-  // Control: unperturbed, the open-loop stroke does climb: what it lacks is
-  // balance, not lift.
-  const OpenLoopWingController open(
-      StrokeCommand{open_rates[1], spec.params.upstroke_rate, spec.params.amplitude});
-  EpisodeParams level = p;
-  level.duration = 5.0;
-  const EpisodeResult calm =
-      runEpisode(model, open, spec.params.control_period, level, EpisodeStart());
-  EXPECT_GT(calm.final_height, level.start_height + 2.0);
-  EXPECT_GT(calm.min_upright, 0.999);
 }
 
 TEST(EvolvedController, ARightRollGetsARelativelyStrongerRightDownstroke) {
-  // The network's right-minus-left downstroke rate never falls as the unit
-  // rolls further to the right (right wing low: world_up . body_left > 0),
-  // at any pitch, and is clearly larger rolled right than rolled left when
-  // the nose is down, where the network acts most (it holds the left wing at
-  // the top of the range and modulates the right one).
+  // The network's right-minus-left downstroke rate never falls as the unit rolls further to
+  // the right (right wing low: world_up . body_left > 0), nose up, level or down, and is
+  // more than 20 rad/s larger rolled 17 deg right than 17 deg left: the faster (phase-locked)
+  // wing lifts its side.
   const ControllerSpec spec = loadControllerYaml(kWeights);
+  ASSERT_TRUE(spec.params.phase_lock);
   const FlapUnitController c(spec.params, spec.weights);
   auto difference = [&](double forward_up, double wing_up) {
     const std::vector<double> r = c.rates({forward_up, wing_up});
     return r[0] - r[1];
   };
-  for (double forward_up : {-0.4, -0.2, 0.0, 0.2}) {
+  for (double forward_up : {-0.2, 0.0, 0.2}) {
     double last = difference(forward_up, -0.4);
     for (double wing_up : {-0.2, -0.1, 0.0, 0.1, 0.2, 0.4}) {
       const double d = difference(forward_up, wing_up);
@@ -222,20 +270,14 @@ TEST(EvolvedController, ARightRollGetsARelativelyStrongerRightDownstroke) {
       last = d;
     }
   }
-  EXPECT_GT(difference(-0.4, 0.2), difference(-0.4, -0.2) + 0.5);
-  EXPECT_GT(difference(-0.4, 0.4), difference(-0.4, -0.4) + 20.0);
+  EXPECT_GT(difference(0.0, 0.3), difference(0.0, -0.3) + 20.0);
 }
 
-// The paper flies creatures of 1, 4, 6 and 12 pairs with the flap unit's
-// network on every unit (Fig. 9-12). Here they take off and climb (checked:
-// at least 2 m), but only the single unit stays upright: chains tilt further
-// and fold at their passive pitch joints within a few seconds, then fall
-// (printed below). Not reproduced: sustained flight of the chains.
-// DISABLED: the committed controller was evolved with the integrator that leaked momentum
-// (about 3% of the unit's weight as a spurious force, first order in the step); with
-// momentum-true steps it keeps the unit upright in 0 of 8 starts (printed when run with
-// --gtest_also_run_disabled_tests). Re-enable once a controller is evolved on the current
-// physics (the robust-flight issue).
+// The paper flies creatures of 1, 4, 6 and 12 pairs with the flap unit's network on every
+// unit (Fig. 9-12). DISABLED, a known failure: with the unit's controller on every unit,
+// the chains of 4, 6 and 12 units flip within 30 s from every held-out start at 1 ms (their
+// units fold at the passive pitch joints; a rigid 4-unit chain flies 3 of 4 starts). Chains
+// need controllers of their own (the robust-flight issue stays open for them).
 TEST(EvolvedController, DISABLED_CreaturesOf1_4_6_12PairsTakeOffAndClimb) {
   const ControllerSpec spec = loadControllerYaml(kWeights);
   const AnnWingController ann(FlapUnitController(spec.params, spec.weights));

@@ -84,6 +84,7 @@ TEST(Generator, ChainsOfUnitsLoad) {
 TEST(Generator, FeatheringWingsHangFromPitchJoints) {
   FlapUnitParams p;
   p.feathering = true;
+  p.body_com_drop = 0.0;  // make_creature --feathering --com-drop 0
   auto m = parseCreatureModel(makeCreatureUrdf(2, "f", p));
   EXPECT_EQ(m->links.size(), 2u * 5u);  // body, 2 roots, 2 wings per unit
   ASSERT_EQ(m->wing_joints.size(), 4u);
@@ -95,14 +96,21 @@ TEST(Generator, FeatheringWingsHangFromPitchJoints) {
   EXPECT_EQ(readFile(sourcePath("urdf/feather_unit.urdf")), makeCreatureUrdf(1, "feather_unit", p));
 }
 
+// The open-loop creatures (the paper's Fig. 5 unit, the swimmer, the feathering unit) carry
+// no ballast; the controlled afc_<n> creatures carry the default 2 cm.
 TEST(Generator, CommittedUrdfsAreItsOutput) {
   FlapUnitParams swimmer;
   swimmer.body_mass = 0.3;
   swimmer.wing_mass = 0.076;
   swimmer.wing_effort = 100;
+  swimmer.body_com_drop = 0.0;
   EXPECT_EQ(readFile(sourcePath("urdf/swimmer.urdf")), makeCreatureUrdf(1, "swimmer", swimmer))
-      << "make_creature --name swimmer --body-mass 0.3 --wing-mass 0.076 --wing-effort 100";
-  EXPECT_EQ(readFile(sourcePath("urdf/flap_unit.urdf")), makeCreatureUrdf(1, "flap_unit"));
+      << "make_creature --name swimmer --body-mass 0.3 --wing-mass 0.076 --wing-effort 100 "
+         "--com-drop 0";
+  FlapUnitParams unit;
+  unit.body_com_drop = 0.0;
+  EXPECT_EQ(readFile(sourcePath("urdf/flap_unit.urdf")), makeCreatureUrdf(1, "flap_unit", unit))
+      << "make_creature --name flap_unit --com-drop 0";
   for (int n : {1, 4, 6, 12}) {
     EXPECT_EQ(readFile(sourcePath("urdf/afc_" + std::to_string(n) + ".urdf")),
               makeCreatureUrdf(n, "afc" + std::to_string(n)))

@@ -60,7 +60,18 @@ struct FlapControllerParams {
   double upstroke_rate = 10.0;        // rad/s
   double amplitude = 1.2;             // rad (at 0.8 the unit rolls over within ~2 s)
   double control_period = 0.02;       // s between network updates
+  /// Phase lock (an extension of the paper's controller): each wing's upstroke rate follows
+  /// its downstroke rate so that its stroke period stays that of the middle downstroke rate
+  /// with upstroke_rate, 2 theta0 (1/w1 + 1/w2). Without it a wing beating faster than the
+  /// other drifts out of phase with it, and the body rocks in roll with a growing amplitude
+  /// instead of turning (flap unit at 30/10 vs 60/10: +-35 deg within 3 s, mean roll 2 deg);
+  /// locked, the faster wing lifts its side.
+  bool phase_lock = false;
 };
+
+/// The upstroke rate of a wing whose downstroke rate is `downstroke` under `params`: the
+/// fixed upstroke_rate, or with phase_lock the one that keeps the stroke period.
+double upstrokeRate(const FlapControllerParams& params, double downstroke);
 
 /// Empty if valid, else a message naming the bad field.
 std::string validateFlapControllerParams(const FlapControllerParams& params);

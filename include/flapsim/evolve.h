@@ -10,14 +10,16 @@
 #include <vector>
 
 #include "flapsim/ann.h"
+#include "flapsim/controller_file.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/ga.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
 
-/// One flight. The creature starts at rest, its root body at
-/// (0, 0, start_height), rolled and pitched by the episode's start angles;
+/// One flight. The creature starts at its root body at (0, 0, start_height),
+/// rolled and pitched by the episode's start angles and turning at its start
+/// rate;
 /// every control period the controller reads the unit bodies' orientations
 /// and sets the wing strokes, the world advances one control period, and the
 /// root body's height z is sampled. Samples are taken at t = P, 2P, ..., T
@@ -28,10 +30,9 @@ namespace flapsim {
 /// scores high; one that tumbles falls (open sky by default: no ground) and
 /// scores below its start height.
 ///
-/// Why no ground by default: with ground contact, Bullet 3.24's constraint
-/// solver is not thread-safe across worlds (parallel episodes that touch the
-/// ground give results that depend on the other threads), and a creature
-/// bouncing along the ground scores by accident.
+/// Why no ground by default: a creature bouncing along the ground would score
+/// by accident. Episodes run in parallel threads, each in a World of its own;
+/// the results do not depend on the thread count, with or without ground.
 struct EpisodeParams {
   EpisodeParams() { world.ground = false; }
 
@@ -45,6 +46,15 @@ struct EpisodeParams {
   double min_roll = 0.035;  // rad (2 deg)
   double max_roll = 0.087;  // rad (5 deg)
   double max_pitch = 0.035;
+  // Robust flight (all off in the paper's preset): each episode draws its own.
+  double max_start_rate = 0.0;     // rad/s: start angular velocity, uniform per axis
+  double max_gust = 0.0;           // m/s: a horizontal wind step of up to this speed
+  double input_noise = 0.0;        // rad: attitude-sensor noise (a random tilt, normal)
+  std::vector<double> step_sizes;  // s: drawn per episode (empty: world.step_size)
+  // The body's up axis below the horizon ends the episode: every sample left
+  // scores the height at the flip less this (m). 0: flips are not detected
+  // (the paper's accumulated height).
+  double flip_penalty = 0.0;
   int episodes = 8;        // per fitness evaluation
   std::uint64_t seed = 1;  // draws the start attitudes
   WorldParams world;       // ground off (see above)
@@ -54,8 +64,13 @@ struct EpisodeParams {
 std::string validateEpisodeParams(const EpisodeParams& params);
 
 struct EpisodeStart {
-  double roll = 0.0;   // rad about body x; > 0 = right wing low
-  double pitch = 0.0;  // rad about body y; > 0 = nose down
+  double roll = 0.0;         // rad about body x; > 0 = right wing low
+  double pitch = 0.0;        // rad about body y; > 0 = nose down
+  Vec3 rate = Vec3::Zero();  // rad/s, world frame
+  Vec3 gust = Vec3::Zero();  // m/s, horizontal wind from gust_time on
+  double gust_time = 0.0;    // s
+  double step_size = 0.0;    // s; 0: the world's
+  std::uint64_t noise_seed = 0;
 };
 
 /// The `episodes` start attitudes drawn from `params.seed` (deterministic).
@@ -69,11 +84,14 @@ struct EpisodeSample {
 };
 
 struct EpisodeResult {
-  double fitness = 0.0;       // mean sampled height
+  double fitness = 0.0;  // mean sampled height (after a flip: less the penalty)
+  bool flipped = false;  // the root's up axis went below the horizon
+  double min_height = 0.0;
   double final_height = 0.0;  // at t = T
   double max_height = 0.0;
   double min_upright = 1.0;  // over all samples
   double final_upright = 1.0;
+  double upright_fraction = 0.0;     // of the samples with the up axis within 60 deg of vertical
   std::vector<EpisodeSample> trace;  // one per sample if asked for
 };
 
@@ -97,6 +115,20 @@ struct EvolveParams {
   EpisodeParams episode;  // episode.seed is set from ga.seed by evolveFlapController
 };
 
+/// The paper's settings (sec. IV.A): 10 individuals, elitism, rank selection,
+/// crossover 0.1, mutation 0.05, 200 generations, fitness = accumulated height
+/// over 8 episodes of 30 s from small rolled starts (2-5 deg), its network
+/// (no phase lock), one step size, no flip detection.
+EvolveParams paperPreset(int pairs = 1);
+
+/// Robust flight (evolve's default): the paper's GA operators on 16
+/// individuals for 40 generations, the network with phase_lock, and 8 episodes
+/// of 15 s, each drawing its own start roll and pitch (up to +-20 deg), start
+/// angular velocity (up to 1 rad/s per axis), a horizontal gust (up to 1 m/s,
+/// in the first half), attitude-sensor noise (0.02 rad) and step size (1 or
+/// 0.5 ms); a flip ends the episode at the height there less 20 m.
+EvolveParams robustPreset(int pairs = 1);
+
 struct EvolveResult {
   std::vector<GenerationStats> history;
   std::vector<double> best_weights;
@@ -115,24 +147,7 @@ EvolveResult evolveFlapController(
 /// The episode start-attitude seed used by evolveFlapController for `ga_seed`.
 std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed);
 
-// ---- Files ---------------------------------------------------------------------------------
-
-/// A controller as stored in a weights YAML file.
-struct ControllerSpec {
-  FlapControllerParams params;
-  std::vector<double> weights;
-};
-
-/// YAML text of a controller (key `flap_unit_controller`), preceded by the
-/// `header` lines as comments and followed by `metadata` (key `evolution`).
-std::string controllerToYaml(const ControllerSpec& spec, const std::string& header = "",
-                             const std::map<std::string, std::string>& metadata = {});
-/// Parses controllerToYaml() output; checks the weight count. Throws
-/// std::runtime_error naming `source` and the bad key.
-ControllerSpec controllerFromYaml(const std::string& text, const std::string& source = "<string>");
-ControllerSpec loadControllerYaml(const std::string& path);
-/// Throws std::runtime_error if the file cannot be written.
-void writeTextFile(const std::string& path, const std::string& text);
+// ---- Files (the weights YAML is in flapsim/controller_file.h) -------------------------------
 
 /// CSV: generation,best,mean,worst.
 std::string fitnessCsv(const std::vector<GenerationStats>& history);

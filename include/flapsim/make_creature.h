@@ -11,6 +11,11 @@ struct FlapUnitParams {
   double body_width = 0.06;   // along y
   double body_height = 0.03;  // along z
   double body_mass = 0.015;
+  /// The body's centre of mass lies this far below the wing hinges (a ballast under the
+  /// body; the box stays where it is). Without it the unit is unstable in pitch: from a
+  /// 0.1 rad pitch at 40/10/1.2 it drifts forward and pitches 30 deg within 6 s; with 2 cm
+  /// it levels out (see README, creatures).
+  double body_com_drop = 0.02;
   double wing_span = 0.35;   // along y, from the hinge to the tip
   double wing_chord = 0.22;  // along x
   double wing_thickness = 0.002;

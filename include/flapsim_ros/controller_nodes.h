@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "flapsim/ann.h"
-#include "flapsim/evolve.h"
+#include "flapsim/controller_file.h"
 #include "flapsim_ros/controller_params.h"
 
 namespace flapsim_ros {

@@ -113,7 +113,22 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
   if (!std::isfinite(p.control_period) || p.control_period <= 0.0) {
     return "control_period must be > 0";
   }
+  if (p.phase_lock &&
+      !(p.min_downstroke_rate > 0.0 && p.upstroke_rate > 0.0 &&
+        1.0 / p.min_downstroke_rate <
+            2.0 / (p.min_downstroke_rate + p.max_downstroke_rate) + 1.0 / p.upstroke_rate)) {
+    return "phase_lock needs min_downstroke_rate > 0, upstroke_rate > 0 and a downstroke at "
+           "min_downstroke_rate shorter than the locked period";
+  }
   return "";
+}
+
+double upstrokeRate(const FlapControllerParams& p, double downstroke) {
+  if (!p.phase_lock) return p.upstroke_rate;
+  // Period T = 2 a (1/w_mid + 1/w_up); the wing's upstroke takes what its downstroke leaves.
+  const double middle = 0.5 * (p.min_downstroke_rate + p.max_downstroke_rate);
+  const double up_time = 1.0 / middle + 1.0 / p.upstroke_rate - 1.0 / downstroke;
+  return 1.0 / up_time;
 }
 
 std::vector<double> flapInputs(const Quat& body) {
@@ -151,8 +166,8 @@ std::vector<double> FlapUnitController::rates(const std::vector<double>& inputs)
 WingPairCommand FlapUnitController::command(const Quat& body) const {
   const std::vector<double> r = rates(flapInputs(body));
   WingPairCommand c;
-  c.right = StrokeCommand{r[0], params_.upstroke_rate, params_.amplitude};
-  c.left = StrokeCommand{r[1], params_.upstroke_rate, params_.amplitude};
+  c.right = StrokeCommand{r[0], upstrokeRate(params_, r[0]), params_.amplitude};
+  c.left = StrokeCommand{r[1], upstrokeRate(params_, r[1]), params_.amplitude};
   return c;
 }
 

@@ -1,7 +1,5 @@
 #include "flapsim/evolve.h"
 
-#include <yaml-cpp/yaml.h>
-
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -23,6 +21,17 @@ std::string validateEpisodeParams(const EpisodeParams& p) {
     return "need 0 <= min_roll <= max_roll";
   }
   if (!std::isfinite(p.max_pitch) || p.max_pitch < 0.0) return "max_pitch must be >= 0";
+  if (!std::isfinite(p.max_start_rate) || p.max_start_rate < 0.0) {
+    return "max_start_rate must be >= 0";
+  }
+  if (!std::isfinite(p.max_gust) || p.max_gust < 0.0) return "max_gust must be >= 0";
+  if (!std::isfinite(p.input_noise) || p.input_noise < 0.0) return "input_noise must be >= 0";
+  if (!std::isfinite(p.flip_penalty) || p.flip_penalty < 0.0) return "flip_penalty must be >= 0";
+  for (double dt : p.step_sizes) {
+    WorldParams w = p.world;
+    w.step_size = dt;
+    if (!validateWorldParams(w).empty()) return "step_sizes: " + validateWorldParams(w);
+  }
   if (p.episodes < 1) return "episodes must be >= 1";
   const std::string w = validateWorldParams(p.world);
   return w.empty() ? "" : "world: " + w;
@@ -36,6 +45,17 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p) {
     starts[k].roll = k % 2 == 0 ? roll : -roll;
     starts[k].pitch = rng.uniform(-p.max_pitch, p.max_pitch);
   }
+  // The robust draws come from streams of their own, so the paper's starts stay the same.
+  Rng robust(mixSeed(p.seed, 0x20B057ULL));
+  for (EpisodeStart& s : starts) {
+    for (int a = 0; a < 3; ++a) s.rate[a] = robust.uniform(-p.max_start_rate, p.max_start_rate);
+    const double heading = robust.uniform(0.0, 2.0 * M_PI);
+    const double speed = robust.uniform(0.0, p.max_gust);
+    s.gust = Vec3(speed * std::cos(heading), speed * std::sin(heading), 0.0);
+    s.gust_time = robust.uniform(0.0, 0.5 * p.duration);
+    if (!p.step_sizes.empty()) s.step_size = p.step_sizes[robust.index(p.step_sizes.size())];
+    s.noise_seed = robust.next();
+  }
   return starts;
 }
 
@@ -44,7 +64,9 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
                          bool record_trace) {
   const std::string err = validateEpisodeParams(p);
   if (!err.empty()) throw InputError("episode: " + err);
-  const double step = p.world.step_size;
+  WorldParams world_params = p.world;
+  if (start.step_size > 0.0) world_params.step_size = start.step_size;
+  const double step = world_params.step_size;
   const double steps_real = control_period / step;
   const int steps = static_cast<int>(std::lround(steps_real));
   if (!(control_period > 0.0) || steps < 1 || std::abs(steps_real - steps) > 1e-9 * steps_real) {
@@ -55,22 +77,40 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   std::vector<int> bodies;
   for (const auto& name : layout.body_links) bodies.push_back(model->findLink(name));
 
-  World world(p.world);
+  World world(world_params);
   // As a launch file's pose {xyz: [0, 0, h], rpy: [roll, pitch, 0]} gives it.
   const Pose pose =
       poseFromXyzRpy(Vec3(0.0, 0.0, p.start_height), Vec3(start.roll, start.pitch, 0.0));
   const std::string name = "creature";
-  world.spawn(name, model, pose);
+  Twist twist;
+  twist.angular = start.rate;
+  world.spawn(name, model, pose, twist);
 
   const int samples = static_cast<int>(std::lround(p.duration / control_period));
+  const int gust_sample = static_cast<int>(std::floor(start.gust_time / control_period));
+  Rng noise(start.noise_seed);
   EpisodeResult result;
   result.max_height = -std::numeric_limits<double>::infinity();
+  result.min_height = std::numeric_limits<double>::infinity();
   double sum = 0.0;
   std::vector<Quat> orientations(bodies.size());
   for (int s = 0; s < samples; ++s) {
+    if (s == gust_sample && start.gust.squaredNorm() > 0.0) {
+      AirParams air = world.params().air;
+      air.wind += start.gust;
+      world.setAirParams(air);
+    }
     CreatureState state = world.state(name);
     for (size_t u = 0; u < bodies.size(); ++u) {
       orientations[u] = state.link_poses[bodies[u]].orientation;
+      if (p.input_noise > 0.0) {
+        // A noisy attitude sensor: the reading tilted by a small random rotation.
+        const Vec3 tilt(p.input_noise * noise.normal(), p.input_noise * noise.normal(), 0.0);
+        orientations[u] =
+            Quat(Eigen::AngleAxisd(tilt.norm(),
+                                   tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitX())) *
+            orientations[u];
+      }
     }
     const std::vector<StrokeCommand> commands = controller.commands(orientations);
     world.setWingCommands(name, layout.wing_joints, commands);
@@ -79,7 +119,21 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
     const Pose root = world.rootPose(name);
     const double z = root.position.z();
     const double up = (root.orientation * Vec3::UnitZ()).z();
+    if (p.flip_penalty > 0.0 && up < 0.0) {
+      // Upside down: the rest of the flight scores the height here less the penalty.
+      result.flipped = true;
+      sum += (samples - s) * (z - p.flip_penalty);
+      result.min_upright = std::min(result.min_upright, up);
+      result.min_height = std::min(result.min_height, z);
+      result.max_height = std::max(result.max_height, z);
+      result.final_height = z;
+      result.final_upright = up;
+      break;
+    }
+    result.flipped = result.flipped || up < 0.0;
+    if (up >= 0.5) result.upright_fraction += 1.0;
     sum += z;
+    result.min_height = std::min(result.min_height, z);
     result.max_height = std::max(result.max_height, z);
     result.min_upright = std::min(result.min_upright, up);
     result.final_height = z;
@@ -94,6 +148,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
     }
   }
   result.fitness = samples > 0 ? sum / samples : 0.0;
+  if (samples > 0) result.upright_fraction /= samples;
   return result;
 }
 
@@ -106,6 +161,32 @@ double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& co
     sum += runEpisode(model, ann, controller.control_period, params, start).fitness;
   }
   return sum / static_cast<double>(starts.size());
+}
+
+EvolveParams paperPreset(int pairs) {
+  EvolveParams p;  // the defaults are the paper's
+  p.pairs = pairs;
+  return p;
+}
+
+EvolveParams robustPreset(int pairs) {
+  EvolveParams p;
+  p.pairs = pairs;
+  p.ga.population = 16;
+  p.ga.generations = 40;
+  p.controller.phase_lock = true;
+  EpisodeParams& e = p.episode;
+  e.duration = 15.0;
+  e.min_roll = 0.0;
+  e.max_roll = 0.35;
+  e.max_pitch = 0.35;
+  e.max_start_rate = 1.0;
+  e.max_gust = 1.0;
+  e.input_noise = 0.02;
+  e.step_sizes = {0.001, 0.0005};
+  e.flip_penalty = 20.0;
+  e.episodes = 8;
+  return p;
 }
 
 std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed) { return mixSeed(ga_seed, 0xE915ULL); }
@@ -155,107 +236,6 @@ EvolveResult evolveFlapController(const EvolveParams& params,
 
 // ---- Files ---------------------------------------------------------------------------------
 
-std::string controllerToYaml(const ControllerSpec& spec, const std::string& header,
-                             const std::map<std::string, std::string>& metadata) {
-  std::ostringstream out;
-  std::istringstream lines(header);
-  for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
-  YAML::Emitter e;
-  e.SetDoublePrecision(17);
-  const FlapControllerParams& p = spec.params;
-  e << YAML::BeginMap << YAML::Key << "flap_unit_controller" << YAML::Value << YAML::BeginMap;
-  e << YAML::Key << "inputs" << YAML::Value << YAML::Flow << YAML::BeginSeq
-    << "world_up.body_forward"
-    << "world_up.body_left" << YAML::EndSeq;
-  e << YAML::Key << "outputs" << YAML::Value << YAML::Flow << YAML::BeginSeq
-    << "right_downstroke_rate"
-    << "left_downstroke_rate" << YAML::EndSeq;
-  e << YAML::Key << "hidden" << YAML::Value << p.hidden;
-  e << YAML::Key << "hidden_activation" << YAML::Value << toString(p.hidden_activation);
-  e << YAML::Key << "output_activation" << YAML::Value << "sigmoid";
-  e << YAML::Key << "min_downstroke_rate" << YAML::Value << p.min_downstroke_rate;
-  e << YAML::Key << "max_downstroke_rate" << YAML::Value << p.max_downstroke_rate;
-  e << YAML::Key << "upstroke_rate" << YAML::Value << p.upstroke_rate;
-  e << YAML::Key << "amplitude" << YAML::Value << p.amplitude;
-  e << YAML::Key << "control_period" << YAML::Value << p.control_period;
-  e << YAML::Key << "weights" << YAML::Value << YAML::Flow << spec.weights;
-  e << YAML::EndMap;
-  if (!metadata.empty()) {
-    e << YAML::Key << "evolution" << YAML::Value << YAML::BeginMap;
-    for (const auto& kv : metadata) e << YAML::Key << kv.first << YAML::Value << kv.second;
-    e << YAML::EndMap;
-  }
-  e << YAML::EndMap;
-  out << e.c_str() << "\n";
-  return out.str();
-}
-
-ControllerSpec controllerFromYaml(const std::string& text, const std::string& source) {
-  auto fail = [&](const std::string& what) {
-    return std::runtime_error("controller YAML " + source + ": " + what);
-  };
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw fail(e.what());
-  }
-  const YAML::Node c = root["flap_unit_controller"];
-  if (!c || !c.IsMap()) throw fail("no map 'flap_unit_controller'");
-  ControllerSpec spec;
-  FlapControllerParams& p = spec.params;
-  auto get = [&](const char* key, auto& value) {
-    const YAML::Node n = c[key];
-    if (!n) return;  // keep the default
-    try {
-      value = n.as<std::remove_reference_t<decltype(value)>>();
-    } catch (const YAML::Exception&) {
-      throw fail(std::string("bad value of '") + key + "'");
-    }
-  };
-  get("hidden", p.hidden);
-  std::string act = toString(p.hidden_activation);
-  get("hidden_activation", act);
-  try {
-    p.hidden_activation = activationFromString(act);
-  } catch (const std::invalid_argument& e) {
-    throw fail(e.what());
-  }
-  get("min_downstroke_rate", p.min_downstroke_rate);
-  get("max_downstroke_rate", p.max_downstroke_rate);
-  get("upstroke_rate", p.upstroke_rate);
-  get("amplitude", p.amplitude);
-  get("control_period", p.control_period);
-  if (!c["weights"]) throw fail("no 'weights'");
-  get("weights", spec.weights);
-  const std::string err = validateFlapControllerParams(p);
-  if (!err.empty()) throw fail(err);
-  const int n = FlapUnitController::weightCount(p);
-  if (static_cast<int>(spec.weights.size()) != n) {
-    throw fail("'weights' has " + std::to_string(spec.weights.size()) + " numbers, the net takes " +
-               std::to_string(n));
-  }
-  for (double w : spec.weights) {
-    if (!std::isfinite(w)) throw fail("a weight is not finite");
-  }
-  return spec;
-}
-
-ControllerSpec loadControllerYaml(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read controller YAML '" + path + "'");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return controllerFromYaml(buf.str(), path);
-}
-
-void writeTextFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-}
-
 std::string fitnessCsv(const std::vector<GenerationStats>& history) {
   std::ostringstream out;
   out << std::setprecision(10) << "generation,best,mean,worst\n";
@@ -289,7 +269,8 @@ std::string gnuplotScript(const std::string& dir, double window) {
     << "plot '" << dir << "/fitness.csv' using 1:2 skip 1 with lines lw 2 title 'best', \\\n"
     << "     '' using 1:3 skip 1 with lines lw 1 title 'mean'\n"
     << "set output '" << dir << "/rates.png'\n"
-    << "set key top right\n"
+    << "set key bottom right box opaque\n"
+    << "set yrange [*:*] writeback\n"
     << "set title 'Downstroke rates of the best individual (unit 0)'\n"
     << "set xlabel 'time (s)'\nset ylabel 'downstroke rate (rad/s)'\n"
     << "set xrange [0:" << window << "]\n"

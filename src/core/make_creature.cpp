@@ -8,15 +8,16 @@ namespace flapsim {
 
 namespace {
 
-// Appends a box link whose centre of mass is at the box centre `at`.
+// Appends a box link centred at `at` whose centre of mass lies `com_dz` below the box centre.
 void boxLink(std::ostringstream& out, const std::string& name, const char* material, double mass,
-             double sx, double sy, double sz, double ax, double ay, double az) {
+             double sx, double sy, double sz, double ax, double ay, double az,
+             double com_dz = 0.0) {
   const double ixx = mass / 12.0 * (sy * sy + sz * sz);
   const double iyy = mass / 12.0 * (sx * sx + sz * sz);
   const double izz = mass / 12.0 * (sx * sx + sy * sy);
   out << "  <link name=\"" << name << "\">\n"
       << "    <inertial>\n"
-      << "      <origin xyz=\"" << ax << " " << ay << " " << az << "\"/>\n"
+      << "      <origin xyz=\"" << ax << " " << ay << " " << az - com_dz << "\"/>\n"
       << "      <mass value=\"" << mass << "\"/>\n"
       << "      <inertia ixx=\"" << ixx << "\" ixy=\"0\" ixz=\"0\" iyy=\"" << iyy
       << "\" iyz=\"0\" izz=\"" << izz << "\"/>\n"
@@ -49,6 +50,10 @@ void joint(std::ostringstream& out, const std::string& name, const std::string& 
 
 std::string makeCreatureUrdf(int pairs, const std::string& name, const FlapUnitParams& p) {
   if (pairs < 1) throw std::invalid_argument("pairs must be >= 1, got " + std::to_string(pairs));
+  if (!(p.body_com_drop >= 0.0) || p.body_com_drop > 1.0) {
+    throw std::invalid_argument("body_com_drop must be in [0, 1] m, got " +
+                                std::to_string(p.body_com_drop));
+  }
   std::ostringstream out;
   out << std::setprecision(10);
   out << "<?xml version=\"1.0\"?>\n"
@@ -60,7 +65,7 @@ std::string makeCreatureUrdf(int pairs, const std::string& name, const FlapUnitP
   for (int k = 0; k < pairs; ++k) {
     const std::string u = "unit" + std::to_string(k);
     boxLink(out, u + "_body", "body", p.body_mass, p.body_length, p.body_width, p.body_height, 0, 0,
-            0);
+            0, p.body_com_drop);
     if (k > 0) {
       joint(out, u + "_link_joint", "unit" + std::to_string(k - 1) + "_body", u + "_body",
             -p.unit_spacing, 0, 0, "0 1 0", p.link_limit, 0.0, p.link_damping);

@@ -19,6 +19,8 @@ namespace {
 
 const char* kUsage =
     "usage: evolve [options]\n"
+    "  --preset NAME      robust (default) or paper; the options below change it\n"
+    "                     (defaults shown are the paper preset's)\n"
     "  --pairs N          wing pairs of the creature (1)\n"
     "  --generations G    generations after the initial one (200)\n"
     "  --population P     individuals (10)\n"
@@ -31,7 +33,14 @@ const char* kUsage =
     "  --upstroke-rate R  upstroke rate, rad/s (10)\n"
     "  --amplitude A      stroke amplitude, rad (1.2)\n"
     "  --control-period P network update period, s (0.02)\n"
-    "  --roll LO HI       start roll range, rad (0.035 0.087)\n"
+    "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.35)\n"
+    "  --pitch P          start pitch range +-P, rad (0.035; robust 0.35)\n"
+    "  --start-rate W     start angular velocity, up to W rad/s per axis (0; robust 1)\n"
+    "  --gust G           a horizontal wind step of up to G m/s (0; robust 1)\n"
+    "  --input-noise N    attitude-sensor noise, rad (0; robust 0.02)\n"
+    "  --step-sizes LIST  step sizes drawn per episode, e.g. 0.001,0.0005 (robust)\n"
+    "  --flip-penalty P   a flip ends the episode, less P m (0: off; robust 20)\n"
+    "  --phase-lock B     on/off: upstroke follows downstroke, fixed period (robust on)\n"
     "  --gene-range G     initial range and bound of every weight, +-G (10)\n"
     "  --air-model M      air model of the episodes: pressure or quasi_steady (pressure)\n"
     "  --out DIR          output directory (evolve_out)\n"
@@ -47,15 +56,25 @@ std::string formatDuration(double s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  flapsim::EvolveParams params;
+  flapsim::EvolveParams params = flapsim::robustPreset();
+  std::string preset = "robust";
+  for (int i = 1; i + 1 < argc; ++i) {
+    if (std::string(argv[i]) == "--preset") preset = argv[i + 1];
+  }
+  if (preset == "paper") {
+    params = flapsim::paperPreset();
+  } else if (preset != "robust") {
+    std::cerr << "evolve: unknown preset '" << preset << "' (robust or paper)\n";
+    return 2;
+  }
   params.ga.threads = std::max(1u, std::thread::hardware_concurrency());
   std::string out_dir = "evolve_out", weights_path;
   bool plot = true;
   std::ostringstream command;
-  command << "evolve";
+  command << "evolve --preset " << preset;
   for (int i = 1; i < argc; ++i) {  // the reproducing command: all but where to write, threads
     const std::string a = argv[i];
-    if ((a == "--threads" || a == "--out" || a == "--weights") && i + 1 < argc)
+    if ((a == "--threads" || a == "--out" || a == "--weights" || a == "--preset") && i + 1 < argc)
       ++i;
     else if (a != "--no-plot" && a.find(":=") == std::string::npos)
       command << " " << a;
@@ -74,7 +93,9 @@ int main(int argc, char** argv) {
       }
       if (i + 1 >= argc) throw std::invalid_argument("missing value after " + a);
       const std::string v = argv[++i];
-      if (a == "--pairs")
+      if (a == "--preset")
+        continue;  // applied first
+      else if (a == "--pairs")
         params.pairs = std::stoi(v);
       else if (a == "--generations")
         params.ga.generations = std::stoi(v);
@@ -99,6 +120,25 @@ int main(int argc, char** argv) {
       else if (a == "--roll" && i + 1 < argc) {
         params.episode.min_roll = std::stod(v);
         params.episode.max_roll = std::stod(argv[++i]);
+      } else if (a == "--pitch")
+        params.episode.max_pitch = std::stod(v);
+      else if (a == "--start-rate")
+        params.episode.max_start_rate = std::stod(v);
+      else if (a == "--gust")
+        params.episode.max_gust = std::stod(v);
+      else if (a == "--input-noise")
+        params.episode.input_noise = std::stod(v);
+      else if (a == "--flip-penalty")
+        params.episode.flip_penalty = std::stod(v);
+      else if (a == "--phase-lock") {
+        if (v != "on" && v != "off") throw std::invalid_argument("--phase-lock takes on or off");
+        params.controller.phase_lock = v == "on";
+      } else if (a == "--step-sizes") {
+        params.episode.step_sizes.clear();
+        std::istringstream list(v);
+        for (std::string item; std::getline(list, item, ',');) {
+          params.episode.step_sizes.push_back(std::stod(item));
+        }
       } else if (a == "--control-period")
         params.controller.control_period = std::stod(v);
       else if (a == "--gene-range") {

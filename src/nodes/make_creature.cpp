@@ -39,6 +39,15 @@ int main(int argc, char** argv) {
       (a == "--body-mass"   ? params.body_mass
        : a == "--wing-mass" ? params.wing_mass
                             : params.wing_effort) = x;
+    } else if (a == "--com-drop") {
+      const std::string v = value();
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (*end != '\0' || !(x >= 0.0) || x > 1.0) {
+        std::cerr << "make_creature: --com-drop must be a number in [0, 1] m, got '" << v << "'\n";
+        return 2;
+      }
+      params.body_com_drop = x;
     } else if (a == "--feathering") {
       params.feathering = true;
     } else if (a == "--name") {
@@ -48,10 +57,12 @@ int main(int argc, char** argv) {
     } else if (a == "--help" || a == "-h") {
       std::cout
           << "usage: make_creature [--pairs N] [--name NAME] [--feathering] [--body-mass KG]\n"
-             "                     [--wing-mass KG] [--wing-effort NM] [--output FILE]\n"
+             "                     [--wing-mass KG] [--wing-effort NM] [--com-drop M]\n"
+             "                     [--output FILE]\n"
              "Writes the URDF of N flapping units (body + two wings) chained by passive\n"
              "pitch joints; to stdout unless --output is given. --feathering hangs each\n"
-             "wing from a pitch joint (its feather_joint).\n";
+             "wing from a pitch joint (its feather_joint). --com-drop puts each body's centre\n"
+             "of mass that far below the wing hinges (default 0.02 m; 0: at the hinges).\n";
       return 0;
     } else {
       std::cerr << "make_creature: unknown argument '" << a << "' (see --help)\n";
