@@ -5,9 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "flapsim/air_model.h"
 #include "flapsim/world.h"
 #include "test_util.h"
 
@@ -87,6 +90,77 @@ TEST(JointLimits, FlapUnitAt250RadPerSecondStaysBounded) {
   EXPECT_TRUE(r.finite);
   EXPECT_LT(r.limit_excess, 1e-9);
   EXPECT_LT(r.max_speed, 250.0 * 0.35);
+}
+
+// ---- the divergence watchdog ----------------------------------------------------------
+
+// In vacuum a dropped plate's speed after step n is exactly g n dt; with max_speed 3 m/s the
+// step that would pass it (n = 306) is refused and the plate keeps the state of step 305.
+TEST(Watchdog, FreezesACreatureFasterThanMaxSpeedAtTheStepThatPassesIt) {
+  WorldParams p = test::openSky();
+  p.air.enabled = false;
+  p.max_speed = 3.0;
+  World w(p);
+  w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 100));
+  w.step(400);
+  const std::optional<Divergence> d = w.divergence("plate");
+  ASSERT_TRUE(d.has_value());
+  EXPECT_EQ(d->creature, "plate");
+  EXPECT_EQ(d->step, 306u);
+  EXPECT_NE(d->quantity.find("link 'plate'"), std::string::npos) << d->quantity;
+  EXPECT_NE(d->quantity.find("max_speed 3 m/s"), std::string::npos) << d->quantity;
+  EXPECT_NEAR(w.rootTwist("plate").linear.z(), -9.81 * 305 * p.step_size, 1e-9);
+  EXPECT_EQ(w.stepCount(), 400u);  // the world's time goes on
+  // Reported once, then reset brings it back to life.
+  EXPECT_EQ(w.takeDivergences().size(), 1u);
+  EXPECT_TRUE(w.takeDivergences().empty());
+  w.reset();
+  EXPECT_FALSE(w.divergence("plate").has_value());
+  w.step(10);
+  EXPECT_NEAR(w.rootTwist("plate").linear.z(), -9.81 * 10 * p.step_size, 1e-9);
+}
+
+// The pressure model, but NaN for any body below z = 99.9 east of x = 5: a stand-in for a
+// model (or a state) going non-finite.
+class PoisonedAir : public AirModel {
+ public:
+  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
+                    std::vector<Vec3>* cells) const override {
+    if (body.com.x() > 5.0 && body.com.z() < 99.9) {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      return Wrench{Vec3(nan, nan, nan), Vec3::Zero()};
+    }
+    return pressure_.bodyWrench(body, surface, air, cells);
+  }
+
+ private:
+  PressureAirModel pressure_;
+};
+
+TEST(Watchdog, ANonFiniteCreatureIsFrozenAndTheOthersGoOnUntouched) {
+  World w(test::openSky());
+  w.setAirModel(std::make_shared<PoisonedAir>());
+  w.spawn("good", loadUrdf("plate.urdf"), at(0, 0, 100));
+  w.spawn("bad", loadUrdf("plate.urdf"), at(10, 0, 100));
+  World alone(test::openSky());
+  alone.setAirModel(std::make_shared<PoisonedAir>());
+  alone.spawn("good", loadUrdf("plate.urdf"), at(0, 0, 100));
+  w.step(1000);
+  alone.step(1000);
+
+  const std::optional<Divergence> d = w.divergence("bad");
+  ASSERT_TRUE(d.has_value());
+  EXPECT_NE(d->quantity.find("non-finite"), std::string::npos) << d->quantity;
+  // Frozen with the state of the step before, bit for bit, just below z = 99.9.
+  World before(test::openSky());
+  before.setAirModel(std::make_shared<PoisonedAir>());
+  before.spawn("bad", loadUrdf("plate.urdf"), at(10, 0, 100));
+  before.step(static_cast<int>(d->step) - 1);
+  EXPECT_TRUE(test::bitIdentical(w.state("bad"), before.state("bad")));
+  EXPECT_LT(w.rootPose("bad").position.z(), 99.9);
+  // The good plate falls exactly as if it were alone.
+  EXPECT_FALSE(w.divergence("good").has_value());
+  EXPECT_TRUE(test::bitIdentical(w.state("good"), alone.state("good")));
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ struct WorldParams {
   /// live in Bullet worlds of their own: they touch the ground but not one another.
   int threads = 1;
   double default_wing_effort = 5.0;  // N m, when a wing joint has no URDF effort limit
+  /// The divergence watchdog: a creature with a point of a link faster than this (m/s), or
+  /// with a non-finite state, is frozen (see World::divergence).
+  double max_speed = 1000.0;
 };
 
 /// Empty string if valid, else a message naming the bad parameter.
@@ -59,6 +63,14 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
                                    const std::vector<std::string>& joints,
                                    const std::vector<StrokeCommand>& commands);
 
+/// Why the watchdog froze a creature: the step whose result it refused and the quantity at
+/// fault, e.g. "link 'wing' moves at 1.7e+06 m/s (max_speed 1000 m/s)".
+struct Divergence {
+  std::string creature;
+  std::uint64_t step = 0;
+  std::string quantity;
+};
+
 class World {
  public:
   /// Throws InputError if the parameters are invalid.
@@ -81,8 +93,14 @@ class World {
   /// commands are kept) and sets time to zero: bit-identical to a freshly built world
   /// given the same commands.
   void reset();
-  /// Advances `steps` fixed steps.
+  /// Advances `steps` fixed steps. A creature whose state after a step would be non-finite
+  /// or faster than `max_speed` anywhere keeps the state before that step and is not stepped
+  /// again until reset() (it is "frozen"); the others go on.
   void step(int steps = 1);
+  /// The watchdog's verdict on a creature: none while it runs normally.
+  std::optional<Divergence> divergence(const std::string& creature) const;
+  /// Creatures frozen since the last call, each reported once, in the order found.
+  std::vector<Divergence> takeDivergences();
   double time() const;
   std::uint64_t stepCount() const;
   const WorldParams& params() const;

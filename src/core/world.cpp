@@ -39,8 +39,67 @@ struct CreatureRecord {
   CreatureModelPtr model;
   Pose pose;
   Twist twist;
-  std::vector<JointDrive> drives;  // per model joint
+  std::vector<JointDrive> drives;        // per model joint
+  std::optional<Divergence> divergence;  // set by the watchdog: not stepped until reset
+  bool reported = false;                 // handed out by takeDivergences()
 };
+
+// What a step may change in a multibody: enough to put it back bit for bit.
+struct BodySnapshot {
+  btVector3 position, velocity, omega;
+  btQuaternion orientation;
+  std::vector<double> q, qdot;
+
+  void take(const btMultiBody& mb) {
+    position = mb.getBasePos();
+    orientation = mb.getWorldToBaseRot();
+    velocity = mb.getBaseVel();
+    omega = mb.getBaseOmega();
+    q.resize(static_cast<size_t>(mb.getNumLinks()));
+    qdot.resize(q.size());
+    for (int k = 0; k < mb.getNumLinks(); ++k) {
+      q[k] = mb.getJointPos(k);
+      qdot[k] = mb.getJointVel(k);
+    }
+  }
+
+  void restore(btMultiBody& mb) const {
+    mb.setBasePos(position);
+    mb.setWorldToBaseRot(orientation);
+    mb.setBaseVel(velocity);
+    mb.setBaseOmega(omega);
+    for (int k = 0; k < mb.getNumLinks(); ++k) {
+      mb.setJointPos(k, q[k]);
+      mb.setJointVel(k, qdot[k]);
+    }
+  }
+};
+
+// Empty if every link of `b` has a finite pose and velocity and no point of it moves faster
+// than `max_speed`, else what is wrong (naming the link).
+std::string checkMotion(const CreatureModel& m, const CreatureBody& b, double max_speed) {
+  const LinkFrames& f = b.frames;
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    const int i = static_cast<int>(k);
+    const std::string link = "link '" + m.links[k].name + "'";
+    const btQuaternion& q = f.world_to_local[i];
+    if (!std::isfinite(f.local_origin[i].x() + f.local_origin[i].y() + f.local_origin[i].z()) ||
+        !std::isfinite(q.x() + q.y() + q.z() + q.w())) {
+      return link + " has a non-finite pose";
+    }
+    const double v = f.vel[k].length(), w = f.omega[k].length();
+    if (!std::isfinite(v) || !std::isfinite(w)) return link + " has a non-finite velocity";
+    // The fastest point of the link: its COM's speed plus the spin times its reach.
+    const double speed = v + w * b.reach[k];
+    if (speed > max_speed) {
+      std::ostringstream msg;
+      msg.precision(3);
+      msg << link << " moves at " << speed << " m/s (max_speed " << max_speed << " m/s)";
+      return msg.str();
+    }
+  }
+  return "";
+}
 
 }  // namespace
 
@@ -57,6 +116,7 @@ std::string validateWorldParams(const WorldParams& p) {
   if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0) {
     return "default_wing_effort must be > 0";
   }
+  if (!std::isfinite(p.max_speed) || p.max_speed <= 0.0) return "max_speed must be > 0 m/s";
   return checkAir(p.air);
 }
 
@@ -99,18 +159,22 @@ class World::Impl {
     auto body = makeBody(r);
     records_.push_back(std::move(r));
     bodies_.push_back(std::move(body));
+    snapshots_.emplace_back();
   }
 
   void remove(const std::string& name) {
     const size_t i = index(name);
     bodies_.erase(bodies_.begin() + static_cast<long>(i));
     records_.erase(records_.begin() + static_cast<long>(i));
+    snapshots_.erase(snapshots_.begin() + static_cast<long>(i));
   }
 
   // Restarts every stroke and rebuilds every body from its record; time back to zero.
   void reset() {
     for (auto& r : records_) {
       for (auto& d : r.drives) d.stroke.reset();
+      r.divergence.reset();
+      r.reported = false;
     }
     bodies_.clear();
     for (const auto& r : records_) bodies_.push_back(makeBody(r));
@@ -125,7 +189,8 @@ class World::Impl {
     const size_t threads = std::min<size_t>(static_cast<size_t>(params_.threads), n);
     auto run = [this, steps](size_t first, size_t last) {
       for (int s = 0; s < steps; ++s) {
-        for (size_t i = first; i < last; ++i) stepOne(i);
+        const std::uint64_t number = time_steps_ + static_cast<std::uint64_t>(s) + 1;
+        for (size_t i = first; i < last; ++i) stepOne(i, number);
       }
     };
     if (threads <= 1 || static_cast<size_t>(steps) * n < 64) {
@@ -138,6 +203,20 @@ class World::Impl {
       for (auto& th : pool) th.join();
     }
     time_steps_ += static_cast<std::uint64_t>(steps);
+  }
+
+  std::optional<Divergence> divergence(const std::string& creature) const {
+    return records_[index(creature)].divergence;
+  }
+
+  std::vector<Divergence> takeDivergences() {
+    std::vector<Divergence> out;
+    for (auto& r : records_) {
+      if (!r.divergence || r.reported) continue;
+      r.reported = true;
+      out.push_back(*r.divergence);
+    }
+    return out;
   }
 
   // ---- air -----------------------------------------------------------------------
@@ -237,14 +316,24 @@ class World::Impl {
   // fluid's implicit part inside), then the momentum correction. The link frames of the
   // start of the step (for the air, the servos and the ground check) are those the last
   // step ended with, or the body was built with.
-  void stepOne(size_t i) {
+  // A creature whose step ends non-finite or too fast is put back as it was before the
+  // step and frozen (the watchdog).
+  void stepOne(size_t i, std::uint64_t number) {
+    CreatureRecord& r = records_[i];
+    if (r.divergence) return;
     CreatureBody& b = *bodies_[i];
+    snapshots_[i].take(*b.mb);
     b.beginStep(params_.air.enabled ? params_.air.density : 0.0);
-    applyDrives(*records_[i].model, records_[i].drives, b, params_.step_size);
+    applyDrives(*r.model, r.drives, b, params_.step_size);
     b.fluid_active = false;
     if (params_.air.enabled) air_.apply(b, params_);
     b.scene->world().stepSimulation(params_.step_size, 0, params_.step_size);
     b.endStep(params_.gravity, params_.step_size);
+    std::string fault = checkMotion(*r.model, b, params_.max_speed);
+    if (fault.empty()) return;
+    snapshots_[i].restore(*b.mb);
+    b.updateKinematics();
+    r.divergence = Divergence{r.name, number, std::move(fault)};
   }
 
   void jointState(const CreatureModel& m, const CreatureBody& b, CreatureState& s) const {
@@ -281,6 +370,7 @@ class World::Impl {
   AirStage air_;
   std::vector<CreatureRecord> records_;
   std::vector<std::unique_ptr<CreatureBody>> bodies_;
+  std::vector<BodySnapshot> snapshots_;  // per creature: its state before the current step
   std::uint64_t time_steps_ = 0;
 };
 
@@ -327,6 +417,11 @@ double World::time() const {
 }
 std::uint64_t World::stepCount() const { return impl_->stepCount(); }
 const WorldParams& World::params() const { return impl_->params(); }
+
+std::optional<Divergence> World::divergence(const std::string& creature) const {
+  return impl_->divergence(creature);
+}
+std::vector<Divergence> World::takeDivergences() { return impl_->takeDivergences(); }
 
 void World::setAirParams(const AirParams& air) {
   std::string err = checkAir(air);
