@@ -1,12 +1,17 @@
 // Reliability: joint limits that hold, the divergence watchdog, and bad or extreme input
 // refused with a named error instead of a blow-up, a NaN or a hang.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -161,6 +166,182 @@ TEST(Watchdog, ANonFiniteCreatureIsFrozenAndTheOthersGoOnUntouched) {
   // The good plate falls exactly as if it were alone.
   EXPECT_FALSE(w.divergence("good").has_value());
   EXPECT_TRUE(test::bitIdentical(w.state("good"), alone.state("good")));
+}
+
+// ---- numbers that enter: a named error instead of NaN ----------------------------------
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The flap unit's URDF with the first occurrence of `from` replaced by `to`.
+std::string flapUnitWith(const std::string& from, const std::string& to) {
+  std::string text = readText(test::sourcePath("urdf/flap_unit.urdf"));
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+std::string modelError(const std::string& urdf) {
+  try {
+    parseCreatureModel(urdf, "unit.urdf");
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "(parsed)";
+}
+
+TEST(ModelNumbers, BadNumbersAreNamedWithTheirLinkOrJoint) {
+  struct Case {
+    std::string from, to, expect;
+  };
+  const std::string wing_box =
+      "<geometry><box size=\"0.22 0.35 0.002\"/></geometry>\n    </collision>";
+  const Case cases[] = {
+      // urdfdom dropped a <collision> it could not read: the wing had no boxes, no air.
+      {wing_box, "<geometry><box size=\"nan 0.35 0.002\"/></geometry>\n    </collision>",
+       "link 'unit0_wing_left' <collision>: <geometry/box size='nan 0.35 0.002'>"},
+      {"<collision>\n      <origin xyz=\"0 0.175 0\"/>",
+       "<collision>\n      <origin xyz=\"0 inf 0\"/>",
+       "link 'unit0_wing_left' <collision>: <origin xyz='0 inf 0'>"},
+      // was "has no positive mass"
+      {"<origin xyz=\"0 0.175 0\"/>\n      <mass", "<origin xyz=\"nan 0.175 0\"/>\n      <mass",
+       "link 'unit0_wing_left': <inertial/origin xyz='nan 0.175 0'>"},
+      {"<mass value=\"0.004\"/>", "<mass value=\"1e300\"/>",
+       "link 'unit0_wing_left': <inertial/mass value='1e300'>"},
+      {"<origin xyz=\"0 0.03 0\"/>", "<origin xyz=\"0 1e200 0\"/>",
+       "joint 'unit0_wing_left_joint': <origin xyz='0 1e200 0'>"},
+      // was silently the world's default 5 N m
+      {"effort=\"2\"", "effort=\"-2\"", "joint 'unit0_wing_left_joint': <limit effort='-2'>"},
+      // was accepted: a wing pitching itself
+      {"<wing joint=\"unit0_wing_left_joint\"/>",
+       "<wing joint=\"unit0_wing_left_joint\" feather_joint=\"unit0_wing_left_joint\"/>",
+       "names itself as its feather_joint"},
+  };
+  for (const Case& c : cases) {
+    const std::string err = modelError(flapUnitWith(c.from, c.to));
+    EXPECT_NE(err.find("unit.urdf: "), std::string::npos) << err;
+    EXPECT_NE(err.find(c.expect), std::string::npos)
+        << "'" << err << "' lacks '" << c.expect << "'";
+  }
+}
+
+std::string loadError(const std::string& path) {
+  try {
+    loadCreatureModel(path);
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+
+// A directory was "EMPTY_DOCUMENT"; a FIFO blocked the reader for ever; /dev/zero was read
+// until std::bad_alloc.
+TEST(UrdfFiles, OnlyRegularFilesUpTo16MiBAreRead) {
+  char dir_template[] = "/tmp/flapsim_files_XXXXXX";
+  const std::string dir = ::mkdtemp(dir_template);
+  const std::string fifo = dir + "/pipe.urdf", big = dir + "/big.urdf";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  {
+    std::ofstream out(big);
+    out << "<robot name='big'>";
+  }
+  ASSERT_EQ(::truncate(big.c_str(), static_cast<off_t>(kMaxUrdfFileBytes) + 1), 0);
+  EXPECT_EQ(loadError(dir), dir + ": not a regular file");
+  EXPECT_EQ(loadError(fifo), fifo + ": not a regular file");
+  EXPECT_EQ(loadError("/dev/zero"), "/dev/zero: not a regular file");
+  EXPECT_EQ(loadError(big), big + ": 16777217 bytes, over the limit of 16777216 bytes");
+  EXPECT_EQ(loadError(dir + "/missing.urdf"), dir + "/missing.urdf: cannot open file");
+  ::unlink(fifo.c_str());
+  ::unlink(big.c_str());
+  ::rmdir(dir.c_str());
+}
+
+std::string spawnError(World& w, const Pose& pose, const Twist& twist = Twist()) {
+  try {
+    w.spawn("c", loadUrdf("flap_unit.urdf"), pose, twist);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(spawned)";
+}
+
+TEST(SpawnNumbers, AbsurdPosesAndTwistsAreRefusedByName) {
+  World w;
+  const double big = 1e300;
+  Pose tiny = at(0, 0, 1);
+  tiny.orientation = Quat(1e-10, 0, 0, 0);
+  Pose huge_q = at(0, 0, 1);
+  huge_q.orientation = Quat(big, big, 0, 0);
+  // was "pose is not finite"
+  EXPECT_EQ(spawnError(w, tiny),
+            "creature 'c': orientation quaternion has norm 1e-10 (must be finite and between "
+            "1e-6 and 1e6; it is normalised)");
+  // was accepted and made NaN
+  EXPECT_NE(spawnError(w, huge_q).find("orientation quaternion has norm inf"), std::string::npos);
+  EXPECT_NE(spawnError(w, at(0, 0, big)).find("position must be finite"), std::string::npos);
+  EXPECT_NE(spawnError(w, at(0, 0, 1), Twist{Vec3(big, 0, 0), Vec3::Zero()})
+                .find("linear twist must be finite and at most max_speed"),
+            std::string::npos);
+  EXPECT_NE(spawnError(w, at(0, 0, 1), Twist{Vec3::Zero(), Vec3(0, 0, big)}).find("angular twist"),
+            std::string::npos);
+  EXPECT_TRUE(w.creatureNames().empty());
+}
+
+TEST(Cells, TooManyAirCellsAreRefusedNamingTheCreatureAndLink) {
+  WorldParams p;
+  p.air.subdivisions_u = p.air.subdivisions_v = 1000;  // 6e6 cells per box: ~340 MB a link
+  World w(p);
+  EXPECT_EQ(spawnError(w, at(0, 0, 1)),
+            "creature 'c' would have 18000000 air cells (link 'unit0_body' alone 6000000), over "
+            "max_cells 200000 (boxes x 6 faces x subdivisions)");
+  EXPECT_TRUE(w.creatureNames().empty());
+
+  World ok;
+  ok.spawn("c", loadUrdf("flap_unit.urdf"), at(0, 0, 1));
+  AirParams fine = ok.params().air;
+  fine.subdivisions_u = fine.subdivisions_v = 1000;
+  try {
+    ok.setAirParams(fine);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("air change refused: creature 'c' would have"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(ok.params().air.subdivisions_u, 4);
+}
+
+TEST(AirNumbers, AbsurdWindAndDensityAreRefused) {
+  World w;
+  AirParams air = w.params().air;
+  air.wind = Vec3(1e300, 0, 0);  // made every cell's force NaN
+  EXPECT_THROW(w.setAirParams(air), InputError);
+  air = w.params().air;
+  air.density = 1e300;
+  EXPECT_THROW(w.setAirParams(air), InputError);
+  EXPECT_EQ(w.params().air.wind, Vec3::Zero());
+  EXPECT_EQ(w.params().air.density, 1.204);
+}
+
+// Duplicate joint names in a command: the last one won, silently.
+TEST(WingCommands, AJointNamedTwiceIsRefused) {
+  World w;
+  w.spawn("c", loadUrdf("flap_unit.urdf"), at(0, 0, 1));
+  const StrokeCommand a{10, 10, 0.5}, b{20, 20, 0.5};
+  try {
+    w.setWingCommands("c", {"unit0_wing_left_joint", "unit0_wing_left_joint"}, {a, b});
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "creature 'c': joint 'unit0_wing_left_joint' is named twice");
+  }
+  EXPECT_EQ(w.wingCommand("c", "unit0_wing_left_joint").downstroke_rate, 0.0);
+  EXPECT_EQ(validateStroke(StrokeCommand{1e300, 10, 0.5}),
+            "stroke rates must be at most 1e5 rad/s");
 }
 
 }  // namespace

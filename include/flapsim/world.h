@@ -29,7 +29,17 @@ struct WorldParams {
   /// The divergence watchdog: a creature with a point of a link faster than this (m/s), or
   /// with a non-finite state, is frozen (see World::divergence).
   double max_speed = 1000.0;
+  /// Air cells a creature may have (boxes x 6 faces x subdivisions, over its aero links):
+  /// a spawn or an air change beyond it is refused, naming the creature and its links.
+  int max_cells = 200000;
 };
+
+/// Largest magnitudes a world accepts: a position or wind component, gravity, density.
+constexpr double kMaxPosition = 1e6;  // m
+constexpr double kMaxGravity = 1e4;   // m/s^2
+constexpr double kMaxDensity = 1e5;   // kg/m^3
+constexpr double kMaxDragCoefficient = 1e3;
+constexpr double kMaxSpin = 1e5;  // rad/s, of a spawned creature
 
 /// Empty string if valid, else a message naming the bad parameter.
 std::string validateWorldParams(const WorldParams& params);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <sstream>
 #include <thread>
 #include <utility>
@@ -17,14 +18,18 @@ namespace flapsim {
 namespace {
 
 bool finite(const Vec3& v) { return v.allFinite(); }
-bool finite(const Pose& p) { return p.position.allFinite() && p.orientation.coeffs().allFinite(); }
 
 std::string checkAir(const AirParams& a) {
-  if (!std::isfinite(a.density) || a.density < 0.0) return "air density must be finite and >= 0";
-  if (!std::isfinite(a.drag_coefficient) || a.drag_coefficient < 0.0) {
-    return "air drag_coefficient must be finite and >= 0";
+  if (!std::isfinite(a.density) || a.density < 0.0 || a.density > kMaxDensity) {
+    return "air density must be in [0, 1e5] kg/m^3";
   }
-  if (!finite(a.wind)) return "air wind must be finite";
+  if (!std::isfinite(a.drag_coefficient) || a.drag_coefficient < 0.0 ||
+      a.drag_coefficient > kMaxDragCoefficient) {
+    return "air drag_coefficient must be in [0, 1000]";
+  }
+  if (!finite(a.wind) || a.wind.cwiseAbs().maxCoeff() > 1e3) {
+    return "air wind must be finite, each component within +-1000 m/s";
+  }
   if (!makeAirModel(a.model)) return unknownAirModelMessage(a.model);
   if (a.subdivisions_u < 1 || a.subdivisions_v < 1 || a.subdivisions_u > 1000 ||
       a.subdivisions_v > 1000) {
@@ -101,22 +106,53 @@ std::string checkMotion(const CreatureModel& m, const CreatureBody& b, double ma
   return "";
 }
 
+// Empty if creature `name` has at most `max_cells` air cells under `air`, else a message naming
+// it, its count and its largest link.
+std::string checkCells(const std::string& name, const CreatureModel& m, const AirParams& air,
+                       int max_cells) {
+  double total = 0.0, largest = 0.0;
+  std::string largest_link;
+  for (const LinkModel& l : m.links) {
+    if (!l.aero.enabled || l.boxes.empty()) continue;
+    const double cells =
+        6.0 * static_cast<double>(l.boxes.size()) * subdivisionsU(l, air) * subdivisionsV(l, air);
+    total += cells;
+    if (cells > largest) {
+      largest = cells;
+      largest_link = l.name;
+    }
+  }
+  if (total <= max_cells) return "";
+  std::ostringstream msg;
+  msg.precision(10);
+  msg << "creature '" << name << "' would have " << total << " air cells (link '" << largest_link
+      << "' alone " << largest << "), over max_cells " << max_cells
+      << " (boxes x 6 faces x subdivisions)";
+  return msg.str();
+}
+
 }  // namespace
 
 std::string validateWorldParams(const WorldParams& p) {
-  if (!std::isfinite(p.step_size) || p.step_size <= 0.0 || p.step_size > 0.1) {
-    return "step_size must be in (0, 0.1] s";
+  if (!std::isfinite(p.step_size) || p.step_size < 1e-6 || p.step_size > 0.1) {
+    return "step_size must be in [1e-6, 0.1] s";
   }
-  if (!finite(p.gravity)) return "gravity must be finite";
-  if (!std::isfinite(p.ground_friction) || p.ground_friction < 0.0) {
-    return "ground_friction must be >= 0";
+  if (!finite(p.gravity) || p.gravity.norm() > kMaxGravity) {
+    return "gravity must be finite and at most 1e4 m/s^2";
+  }
+  if (!std::isfinite(p.ground_friction) || p.ground_friction < 0.0 || p.ground_friction > 1e3) {
+    return "ground_friction must be in [0, 1000]";
   }
   if (p.solver_iterations < 1) return "solver_iterations must be >= 1";
   if (p.threads < 1 || p.threads > 256) return "threads must be in 1..256";
-  if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0) {
-    return "default_wing_effort must be > 0";
+  if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0 ||
+      p.default_wing_effort > 1e9) {
+    return "default_wing_effort must be in (0, 1e9] N m";
   }
-  if (!std::isfinite(p.max_speed) || p.max_speed <= 0.0) return "max_speed must be > 0 m/s";
+  if (p.max_cells < 1) return "max_cells must be >= 1";
+  if (!std::isfinite(p.max_speed) || p.max_speed <= 0.0 || p.max_speed > 3e8) {
+    return "max_speed must be in (0, 3e8] m/s";
+  }
   return checkAir(p.air);
 }
 
@@ -392,13 +428,34 @@ void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& p
   if (name.empty()) throw InputError("creature name is empty");
   if (!model) throw InputError("creature '" + name + "': no model");
   if (has(name)) throw InputError("creature name '" + name + "' is taken");
-  if (!finite(pose) || pose.orientation.norm() < 1e-9) {
-    throw InputError("creature '" + name + "': pose is not finite");
+  if (!finite(pose.position) || pose.position.cwiseAbs().maxCoeff() > kMaxPosition) {
+    throw InputError("creature '" + name + "': position must be finite, each coordinate within " +
+                     "+-1e6 m");
   }
-  if (!finite(twist.linear) || !finite(twist.angular)) {
-    throw InputError("creature '" + name + "': twist is not finite");
+  const double norm = pose.orientation.coeffs().allFinite() ? pose.orientation.norm() : NAN;
+  if (!(norm >= 1e-6 && norm <= 1e6)) {
+    std::ostringstream msg;
+    msg << "creature '" << name << "': orientation quaternion has norm " << norm
+        << " (must be finite and between 1e-6 and 1e6; it is normalised)";
+    throw InputError(msg.str());
   }
-  impl_->spawn(name, model, pose, twist);
+  const double max_speed = impl_->params().max_speed;
+  if (!finite(twist.linear) || twist.linear.norm() > max_speed) {
+    throw InputError("creature '" + name +
+                     "': linear twist must be finite and at most max_speed (" +
+                     std::to_string(max_speed) + " m/s)");
+  }
+  if (!finite(twist.angular) || twist.angular.norm() > kMaxSpin) {
+    throw InputError("creature '" + name + "': angular twist must be finite and at most 1e5 rad/s");
+  }
+  const std::string cells =
+      checkCells(name, *model, impl_->params().air, impl_->params().max_cells);
+  if (!cells.empty()) throw InputError(cells);
+  try {
+    impl_->spawn(name, model, pose, twist);
+  } catch (const std::bad_alloc&) {
+    throw InputError("creature '" + name + "': out of memory while building it");
+  }
 }
 
 void World::remove(const std::string& name) { impl_->remove(name); }
@@ -426,6 +483,10 @@ std::vector<Divergence> World::takeDivergences() { return impl_->takeDivergences
 void World::setAirParams(const AirParams& air) {
   std::string err = checkAir(air);
   if (!err.empty()) throw InputError(err);
+  for (const std::string& name : impl_->names()) {
+    err = checkCells(name, *impl_->model(name), air, impl_->params().max_cells);
+    if (!err.empty()) throw InputError("air change refused: " + err);
+  }
   impl_->setAirParams(air);
 }
 
@@ -445,6 +506,9 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
       const int j = model.findJoint(name);
       if (j < 0) throw InputError("no joint '" + name + "'");
       if (!model.joints[j].wing) throw InputError("joint '" + name + "' is not a wing joint");
+      if (std::find(targets.begin(), targets.end(), j) != targets.end()) {
+        throw InputError("joint '" + name + "' is named twice");
+      }
       targets.push_back(j);
     }
   }
