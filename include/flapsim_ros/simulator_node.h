@@ -21,6 +21,7 @@
 #include "flapsim/world.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/params.h"
+#include "flapsim_ros/warning_limiter.h"
 
 namespace flapsim_ros {
 
@@ -58,14 +59,21 @@ class SimulatorNode {
                          const std::vector<flapsim::WingCommand>& commands);
   Creature* find(const std::string& name);
 
-  /// Steps `steps` fixed steps, publishing at every publish boundary crossed.
-  void advance(std::uint64_t steps);
+  /// Steps up to `steps` fixed steps in slices, publishing at every publish boundary crossed
+  /// and reporting creatures the watchdog froze; stops early on shutdown or once
+  /// `wall_budget` seconds of wall time have passed (<= 0: no budget). Returns the steps
+  /// taken.
+  std::uint64_t advance(std::uint64_t steps, double wall_budget = 0.0);
+  /// Logs each creature the watchdog froze, once, and republishes the diagnostics.
+  void reportDivergences();
+  void publishDiagnostics();
   void publishAll();
   void publishCreature(const Creature& c, const ros::Time& stamp,
                        std::vector<geometry_msgs::TransformStamped>* tf);
   ros::Time now() const;
   void restartPacing();
-  void warnOnce(const std::string& key, const std::string& message);
+  /// Logs `message` unless a warning of this kind about this creature was logged lately.
+  void warnOnce(const std::string& kind, const std::string& creature, const std::string& message);
 
   void onWingCommand(const std::string& creature, const flapsim::WingCommand::ConstPtr& msg);
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
@@ -86,12 +94,13 @@ class SimulatorNode {
   std::uint64_t published_step_ = UINT64_MAX;  // step count of the last publication
 
   std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
-  ros::Publisher clock_pub_, tf_pub_, marker_pub_;
+  ros::Publisher clock_pub_, tf_pub_, marker_pub_, diagnostics_pub_;
+  ros::WallTime diagnostics_wall_;  // of the last diagnostics
   std::vector<ros::ServiceServer> services_;
 
-  ros::WallTime pace_wall_;                      // wall time at the pacing anchor
-  std::uint64_t pace_step_ = 0;                  // step count at the pacing anchor
-  std::map<std::string, ros::WallTime> warned_;  // throttled warnings by cause
+  ros::WallTime pace_wall_;      // wall time at the pacing anchor
+  std::uint64_t pace_step_ = 0;  // step count at the pacing anchor
+  WarningLimiter warnings_;      // throttled warnings by cause
 };
 
 }  // namespace flapsim_ros
