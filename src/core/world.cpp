@@ -98,7 +98,7 @@ std::string checkMotion(const CreatureModel& m, const CreatureBody& b, double ma
     const double speed = v + w * b.reach[k];
     if (speed > max_speed) {
       std::ostringstream msg;
-      msg.precision(3);
+      msg.precision(4);
       msg << link << " moves at " << speed << " m/s (max_speed " << max_speed << " m/s)";
       return msg.str();
     }
