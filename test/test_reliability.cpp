@@ -230,6 +230,15 @@ TEST(ModelNumbers, BadNumbersAreNamedWithTheirLinkOrJoint) {
   }
 }
 
+// Found by the fuzzer: a joint whose child is the root link escaped as std::out_of_range
+// ("map::at"), naming nothing.
+TEST(ModelErrors, AJointOutsideTheTreeIsNamed) {
+  const std::string err =
+      modelError(flapUnitWith("<child link=\"unit0_wing_left\"/>", "<child link=\"unit0_body\"/>"));
+  EXPECT_NE(err.find("unit.urdf: "), std::string::npos) << err;
+  EXPECT_NE(err.find("joint 'unit0_wing_left_joint'"), std::string::npos) << err;
+}
+
 std::string loadError(const std::string& path) {
   try {
     loadCreatureModel(path);

@@ -397,8 +397,14 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
       default:
         fail(source, where + ": type not supported (use fixed, revolute, continuous or prismatic)");
     }
-    jm.parent_link = link_index.at(j->parent_link_name);
-    jm.child_link = link_index.at(j->child_link_name);
+    const auto parent = link_index.find(j->parent_link_name);
+    const auto child = link_index.find(j->child_link_name);
+    if (parent == link_index.end() || child == link_index.end() || child->second == 0) {
+      fail(source, where + ": links '" + j->parent_link_name + "' -> '" + j->child_link_name +
+                       "' are not a parent and child in the tree from the root link");
+    }
+    jm.parent_link = parent->second;
+    jm.child_link = child->second;
     jm.origin = toPose(j->parent_to_joint_origin_transform);
     jm.axis = Vec3(j->axis.x, j->axis.y, j->axis.z);
     if (jm.movable()) {
