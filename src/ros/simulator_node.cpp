@@ -323,32 +323,12 @@ bool SimulatorNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Respon
 
 void SimulatorNode::applyWingCommands(const std::vector<std::string>& creatures,
                                       const std::vector<flapsim::WingCommand>& commands) {
-  if (creatures.size() != commands.size()) {
-    throw flapsim::InputError("step request has " + std::to_string(creatures.size()) +
-                              " creatures but " + std::to_string(commands.size()) +
-                              " wing_commands");
-  }
-  std::vector<WingCommandRequest> requests;
-  for (size_t i = 0; i < creatures.size(); ++i) {
-    if (!find(creatures[i])) throw flapsim::InputError("unknown creature '" + creatures[i] + "'");
-    if (std::find(creatures.begin(), creatures.begin() + static_cast<long>(i), creatures[i]) !=
-        creatures.begin() + static_cast<long>(i)) {
-      throw flapsim::InputError("creature '" + creatures[i] + "' is named twice");
-    }
-    try {
-      requests.push_back(fromMsg(commands[i]));
-    } catch (const flapsim::InputError& e) {
-      throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
-    }
-  }
   // All checked first, so that no creature is commanded unless all can be.
-  for (size_t i = 0; i < creatures.size(); ++i) {
-    try {
-      checkWingCommand(*find(creatures[i])->model, requests[i]);
-    } catch (const flapsim::InputError& e) {
-      throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
-    }
-  }
+  const std::vector<WingCommandRequest> requests =
+      checkStepCommands(creatures, commands, [this](const std::string& name) {
+        const Creature* c = find(name);
+        return c ? c->model : nullptr;
+      });
   for (size_t i = 0; i < creatures.size(); ++i) {
     world_.setWingCommands(creatures[i], requests[i].joints, requests[i].strokes);
   }
