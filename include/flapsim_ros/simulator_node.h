@@ -43,6 +43,10 @@ class SimulatorNode {
 
  private:
   struct Creature {
+    // The creature's own handle (a copy of the node's): roscpp keeps a weak pointer to every
+    // publisher and subscriber a handle made until the handle goes, which held each deleted
+    // creature's (about 0.7 KB a spawn and delete). Declared first: destroyed last.
+    ros::NodeHandle nh;
     std::string name;
     flapsim::CreatureModelPtr model;
     ros::Publisher joint_states;

@@ -105,12 +105,13 @@ void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
   flapsim::CreatureModelPtr model = flapsim::parseCreatureModel(urdf_xml, source);
   world_.spawn(name, model, pose, twist);
   auto c = std::make_unique<Creature>();
+  c->nh = nh_;
   c->name = name;
   c->model = model;
   try {
-    c->joint_states = nh_.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
-    c->odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 10);
-    c->wing_command = nh_.subscribe<flapsim::WingCommand>(
+    c->joint_states = c->nh.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
+    c->odom = c->nh.advertise<nav_msgs::Odometry>(name + "/odom", 10);
+    c->wing_command = c->nh.subscribe<flapsim::WingCommand>(
         name + "/wing_command", 10,
         [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });
     nh_.setParam(name + "/robot_description", urdf_xml);

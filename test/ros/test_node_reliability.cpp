@@ -6,13 +6,17 @@
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
+#include <xmlrpcpp/XmlRpcClient.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "flapsim/DeleteCreature.h"
 #include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
@@ -195,6 +199,57 @@ TEST_F(NodeGuards, DistinctBadCommandsAreOneWarning) {
   const std::string text = "rejected wing command for 'low': creature 'low': no joint 'j";
   EXPECT_TRUE(waitUntil([&] { return logged(rosgraph_msgs::Log::WARN, text) == 1; }));
   EXPECT_FALSE(waitUntil([&] { return logged(rosgraph_msgs::Log::WARN, text) > 1; }, 1.0));
+}
+
+// The node's resident memory (kB), found through the master and its getPid call.
+long nodeRssKb() {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = "/flapsim";
+  if (!ros::master::execute("lookupNode", args, result, payload, true)) return -1;
+  std::string uri = payload;
+  const std::string host_port = uri.substr(uri.find("//") + 2);
+  const std::string host = host_port.substr(0, host_port.find(':'));
+  const int port = std::stoi(host_port.substr(host_port.find(':') + 1));
+  XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
+  XmlRpc::XmlRpcValue pid_args, pid_result;
+  pid_args[0] = ros::this_node::getName();
+  if (!client.execute("getPid", pid_args, pid_result)) return -1;
+  const int pid = pid_result[2];
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  }
+  return -1;
+}
+
+// roscpp's node handle kept a weak pointer to every publisher and subscriber it made: each
+// spawn and delete of a creature held about 0.7 KB (3,000 cycles: +2.2 MB).
+TEST_F(NodeGuards, SpawnDeleteChurnDoesNotGrowTheNode) {
+  ros::ServiceClient spawn = nh_->serviceClient<flapsim::SpawnCreature>("/flapsim/spawn", true);
+  ros::ServiceClient remove = nh_->serviceClient<flapsim::DeleteCreature>("/flapsim/delete", true);
+  const std::string urdf =
+      "<robot name='p'><link name='plate'><inertial><mass value='0.01'/>"
+      "<inertia ixx='1e-5' iyy='1e-5' izz='2e-5' ixy='0' ixz='0' iyz='0'/>"
+      "</inertial><collision><geometry><box size='0.2 0.2 0.002'/>"
+      "</geometry></collision></link></robot>";
+  long after_100 = -1;
+  for (int i = 1; i <= 3000; ++i) {
+    flapsim::SpawnCreature s;
+    s.request.name = "churn";
+    s.request.urdf_xml = urdf;
+    s.request.initial_pose.position.z = 50;
+    ASSERT_TRUE(spawn.call(s) && s.response.success) << i << ": " << s.response.status_message;
+    flapsim::DeleteCreature d;
+    d.request.name = "churn";
+    ASSERT_TRUE(remove.call(d) && d.response.success) << i;
+    if (i == 100) after_100 = nodeRssKb();
+  }
+  const long after_3000 = nodeRssKb();
+  ASSERT_GT(after_100, 0);
+  std::printf("flapsim_node RSS: %ld kB after 100 cycles, %ld kB after 3000\n", after_100,
+              after_3000);
+  EXPECT_LT(after_3000 - after_100, 200);
 }
 
 }  // namespace
