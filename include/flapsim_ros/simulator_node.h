@@ -96,6 +96,7 @@ class SimulatorNode {
   std::uint64_t publish_every_;  // steps between publications
   bool paused_;
   std::uint64_t published_step_ = UINT64_MAX;  // step count of the last publication
+  std::uint64_t slice_steps_ = 1;              // steps per slice (see advance())
 
   std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
   ros::Publisher clock_pub_, tf_pub_, marker_pub_, diagnostics_pub_;

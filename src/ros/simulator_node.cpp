@@ -16,10 +16,14 @@ namespace flapsim_ros {
 
 namespace {
 
-constexpr double kMaxPacingLag = 0.25;      // s (wall) behind schedule before pacing restarts
-constexpr double kPausedPoll = 0.1;         // s (wall) longest callback wait (shutdown is seen)
-constexpr double kRunSlice = 0.05;          // s (wall) of stepping between callback rounds
-constexpr std::uint64_t kSliceSteps = 10;   // steps between checks of the wall time and shutdown
+constexpr double kMaxPacingLag = 0.25;  // s (wall) behind schedule before pacing restarts
+constexpr double kPausedPoll = 0.1;     // s (wall) longest callback wait (shutdown is seen)
+constexpr double kRunSlice = 0.05;      // s (wall) of stepping between callback rounds
+// Steps between checks of the wall time and shutdown: at most this many, and as many as take
+// about kSliceTarget of wall time (one, for a creature whose step is slow: a long chain on
+// the ground).
+constexpr std::uint64_t kSliceSteps = 10;
+constexpr double kSliceTarget = 0.01;       // s (wall)
 constexpr double kDiagnosticsPeriod = 1.0;  // s (wall) between unchanged diagnostics
 
 std::string formatTime(const ros::Time& t) {
@@ -150,10 +154,15 @@ std::uint64_t SimulatorNode::advance(std::uint64_t steps, double wall_budget) {
   std::uint64_t taken = 0;
   while (taken < steps && ros::ok()) {
     const std::uint64_t to_boundary = publish_every_ - world_.stepCount() % publish_every_;
-    const std::uint64_t k = std::min({steps - taken, to_boundary, kSliceSteps});
+    const std::uint64_t k = std::min({steps - taken, to_boundary, slice_steps_});
     world_.setRecordCellForces(params_.markers.enabled && params_.markers.per_cell &&
                                marker_pub_.getNumSubscribers() > 0);
+    const ros::WallTime chunk_start = ros::WallTime::now();
     world_.step(static_cast<int>(k));
+    const double per_step = (ros::WallTime::now() - chunk_start).toSec() / static_cast<double>(k);
+    slice_steps_ = std::clamp<std::uint64_t>(
+        per_step > 0.0 ? static_cast<std::uint64_t>(kSliceTarget / per_step) : kSliceSteps, 1,
+        kSliceSteps);
     taken += k;
     reportDivergences();
     if (world_.stepCount() % publish_every_ == 0) publishAll();
