@@ -325,7 +325,7 @@ TEST(Cells, TooManyAirCellsAreRefusedNamingTheCreatureAndLink) {
   EXPECT_EQ(ok.params().air.subdivisions_u, 4);
 }
 
-TEST(AirNumbers, AbsurdWindAndDensityAreRefused) {
+TEST(AirNumbers, AbsurdAirAndSolverNumbersAreRefused) {
   World w;
   AirParams air = w.params().air;
   air.wind = Vec3(1e300, 0, 0);  // made every cell's force NaN
@@ -333,8 +333,21 @@ TEST(AirNumbers, AbsurdWindAndDensityAreRefused) {
   air = w.params().air;
   air.density = 1e300;
   EXPECT_THROW(w.setAirParams(air), InputError);
+  air = w.params().air;
+  air.quasi_steady.lift_amplitude = 1e300;
+  EXPECT_THROW(w.setAirParams(air), InputError);
   EXPECT_EQ(w.params().air.wind, Vec3::Zero());
   EXPECT_EQ(w.params().air.density, 1.204);
+  EXPECT_EQ(w.params().air.quasi_steady.lift_amplitude, 1.58);
+  EXPECT_EQ(modelError(flapUnitWith("<wing joint=\"unit0_wing_left_joint\"/>",
+                                    "<wing joint=\"unit0_wing_left_joint\"/><aero "
+                                    "link=\"unit0_body\" drag_coefficient=\"1e300\"/>")),
+            "unit.urdf: <aero link='unit0_body'>: drag_coefficient must be in [0, 1000]");
+  w.spawn("c", loadUrdf("flap_unit.urdf"), at(0, 0, 1));
+  EXPECT_THROW(w.setJointVelocityTarget("c", "unit0_wing_left_joint", 1e300), InputError);
+  WorldParams p;
+  p.solver_iterations = 2000000000;  // Bullet's iterations: a step that never ends
+  EXPECT_EQ(validateWorldParams(p), "solver_iterations must be in 1..1000");
 }
 
 // Duplicate joint names in a command: the last one won, silently.

@@ -244,7 +244,7 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
     AeroSettings s;
     if (e->Attribute("drag_coefficient")) {
       double cd = parseDoubleAttr(e, "drag_coefficient", where, source);
-      if (cd < 0.0) fail(source, where + ": drag_coefficient must be >= 0");
+      if (cd < 0.0 || cd > 1e3) fail(source, where + ": drag_coefficient must be in [0, 1000]");
       s.drag_coefficient = cd;
     }
     if (const char* sub = e->Attribute("subdivisions")) {

@@ -31,6 +31,13 @@ std::string checkAir(const AirParams& a) {
     return "air wind must be finite, each component within +-1000 m/s";
   }
   if (!makeAirModel(a.model)) return unknownAirModelMessage(a.model);
+  const QuasiSteadyCoefficients& q = a.quasi_steady;
+  for (double c : {q.lift_mean, q.lift_amplitude, q.lift_frequency, q.lift_phase, q.drag_mean,
+                   q.drag_amplitude, q.drag_frequency, q.drag_phase}) {
+    if (!std::isfinite(c) || std::abs(c) > 1e3) {
+      return "air quasi_steady coefficients must be finite and within +-1000";
+    }
+  }
   if (a.subdivisions_u < 1 || a.subdivisions_v < 1 || a.subdivisions_u > 1000 ||
       a.subdivisions_v > 1000) {
     return "air subdivisions must be in 1..1000";
@@ -143,7 +150,9 @@ std::string validateWorldParams(const WorldParams& p) {
   if (!std::isfinite(p.ground_friction) || p.ground_friction < 0.0 || p.ground_friction > 1e3) {
     return "ground_friction must be in [0, 1000]";
   }
-  if (p.solver_iterations < 1) return "solver_iterations must be >= 1";
+  if (p.solver_iterations < 1 || p.solver_iterations > 1000) {
+    return "solver_iterations must be in 1..1000";
+  }
   if (p.threads < 1 || p.threads > 256) return "threads must be in 1..256";
   if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0 ||
       p.default_wing_effort > 1e9) {
@@ -301,8 +310,8 @@ class World::Impl {
     if (!records_[c].model->joints[j].movable()) {
       throw InputError("joint '" + joint + "' of creature '" + creature + "' is fixed");
     }
-    if (!std::isfinite(velocity)) {
-      throw InputError("joint '" + joint + "': velocity is not finite");
+    if (!std::isfinite(velocity) || std::abs(velocity) > kMaxStrokeRate) {
+      throw InputError("joint '" + joint + "': velocity must be finite and within +-1e5");
     }
     JointDrive& d = records_[c].drives[j];
     d.mode = JointDrive::Mode::kVelocity;
