@@ -97,6 +97,15 @@ TEST(JointLimits, FlapUnitAt250RadPerSecondStaysBounded) {
   EXPECT_LT(r.max_speed, 250.0 * 0.35);
 }
 
+// Strokes of 1e4 rad/s (valid, if far beyond what the 2 N m wing motors reach): afc_12 went
+// non-finite at step 156 and its passive joints thousands of radians past their stops.
+TEST(JointLimits, TwelveUnitChainAt1e4RadPerSecondStaysBounded) {
+  const RunExtremes r = run("afc_12.urdf", 1600, 1e4, 1.0);
+  EXPECT_TRUE(r.finite);
+  EXPECT_LT(r.limit_excess, 1e-9);
+  EXPECT_LT(r.max_speed, 9.81 * 1.6);  // slower than a free fall for 1.6 s
+}
+
 // ---- the divergence watchdog ----------------------------------------------------------
 
 // In vacuum a dropped plate's speed after step n is exactly g n dt; with max_speed 3 m/s the
