@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -260,8 +261,9 @@ std::string loadError(const std::string& path) {
 // A directory was "EMPTY_DOCUMENT"; a FIFO blocked the reader for ever; /dev/zero was read
 // until std::bad_alloc.
 TEST(UrdfFiles, OnlyRegularFilesUpTo16MiBAreRead) {
-  char dir_template[] = "/tmp/flapsim_files_XXXXXX";
-  const std::string dir = ::mkdtemp(dir_template);
+  std::string dir_template =
+      (std::filesystem::temp_directory_path() / "flapsim_files_XXXXXX").string();
+  const std::string dir = ::mkdtemp(&dir_template[0]);
   const std::string fifo = dir + "/pipe.urdf", big = dir + "/big.urdf";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
   {

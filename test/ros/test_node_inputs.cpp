@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -51,8 +52,8 @@ TEST(WarningLimiter, DistinctBadNamesAreOneCauseAndTheTableIsBounded) {
 class SpawnFiles : public ::testing::Test {
  protected:
   void SetUp() override {
-    char dir[] = "/tmp/flapsim_roots_XXXXXX";
-    root_ = ::mkdtemp(dir);
+    std::string dir = (std::filesystem::temp_directory_path() / "flapsim_roots_XXXXXX").string();
+    root_ = ::mkdtemp(&dir[0]);
     ::mkdir((root_ + "/allowed").c_str(), 0700);
     write(root_ + "/allowed/plate.urdf", "<robot name='p'/>");
     write(root_ + "/outside.urdf", "<robot name='o'/>");

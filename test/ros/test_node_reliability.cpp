@@ -6,13 +6,16 @@
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
+#include <unistd.h>
 #include <xmlrpcpp/XmlRpcClient.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -25,6 +28,13 @@
 namespace {
 
 constexpr double kWait = 20.0;  // s (wall), upper bound of any wait
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 bool waitUntil(const std::function<bool()>& done, double timeout = kWait) {
   const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
@@ -169,8 +179,14 @@ TEST_F(NodeGuards, ACreatureNamedTwiceInOneStepIsRefused) {
 // graph cannot probe the host's files; a file under a root spawns.
 TEST_F(NodeGuards, RefusedSpawnFilesShareOneText) {
   const std::string urdf = std::string(FLAPSIM_SOURCE_DIR) + "/urdf";
+  // A readable URDF outside the roots (the temporary directory).
+  std::string outside = (std::filesystem::temp_directory_path() / "flapsim_XXXXXX").string();
+  const int fd = ::mkstemp(&outside[0]);
+  ASSERT_GE(fd, 0);
+  ::close(fd);
+  std::ofstream(outside) << readText(urdf + "/plate.urdf");
   for (const std::string& path :
-       {urdf + "/missing.urdf", urdf, std::string("/etc/hostname"), std::string("/dev/zero")}) {
+       {urdf + "/missing.urdf", urdf, outside, std::string("/dev/zero")}) {
     flapsim::SpawnCreature s;
     s.request.name = "probe";
     s.request.urdf_file = path;
@@ -178,6 +194,7 @@ TEST_F(NodeGuards, RefusedSpawnFilesShareOneText) {
     EXPECT_FALSE(s.response.success) << path;
     EXPECT_EQ(s.response.status_message, flapsim_ros::refusedUrdfFileMessage(path));
   }
+  ::unlink(outside.c_str());
   flapsim::SpawnCreature ok;
   ok.request.name = "probe";
   ok.request.urdf_file = urdf + "/plate.urdf";
