@@ -11,7 +11,7 @@ PACKAGES=(
   catkin ros-core ros-core-dev ros-message-generation python3-gencpp
   libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-msgs-dev libtf2-geometry-msgs-dev
   libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
-  libvisualization-msgs-dev libros-rosgraph-msgs-dev
+  libvisualization-msgs-dev libros-rosgraph-msgs-dev libdiagnostic-msgs-dev
   python3-rosbag python3-rosnode python3-rostopic python3-roslaunch python3-rosservice
   python3-rostest librostest-dev
   # simulator node: Python message classes, so rostopic/rosservice/rosbag can show them

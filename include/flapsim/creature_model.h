@@ -1,6 +1,7 @@
 // CreatureModel: an immutable description of a creature, read from URDF.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -83,7 +84,20 @@ using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
                                     const std::string& source = "<string>");
 
-/// Reads and parses a URDF file. Throws ModelError naming the file.
+/// Largest URDF file read (bytes): 16 MiB, far beyond any creature's description.
+constexpr std::size_t kMaxUrdfFileBytes = 16u << 20;
+
+/// Largest magnitudes a URDF may give (beyond them a model is refused, naming the value): a
+/// length or coordinate (m), a mass (kg), a moment of inertia (kg m^2).
+constexpr double kMaxUrdfLength = 1e3;
+constexpr double kMaxUrdfMass = 1e6;
+constexpr double kMaxUrdfInertia = 1e6;
+
+/// The text of a URDF file: a regular file (not a directory, FIFO or device) of at most
+/// kMaxUrdfFileBytes. Throws ModelError naming the file and what is wrong.
+std::string readUrdfFile(const std::string& path);
+
+/// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.
 CreatureModelPtr loadCreatureModel(const std::string& path);
 
 /// The spanwise axis (unit, sign arbitrary) of link `link` in its COM frame, whose axes are the

@@ -15,6 +15,10 @@ struct StrokeCommand {
   double feather = 0.0;
 };
 
+/// Largest stroke rate (rad/s) and amplitude (rad) a command may give.
+constexpr double kMaxStrokeRate = 1e5;
+constexpr double kMaxStrokeAmplitude = 1e3;
+
 /// Empty string if valid, else a message naming the bad field.
 std::string validateStroke(const StrokeCommand& command);
 

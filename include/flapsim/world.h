@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,20 @@ struct WorldParams {
   /// live in Bullet worlds of their own: they touch the ground but not one another.
   int threads = 1;
   double default_wing_effort = 5.0;  // N m, when a wing joint has no URDF effort limit
+  /// The divergence watchdog: a creature with a point of a link faster than this (m/s), or
+  /// with a non-finite state, is frozen (see World::divergence).
+  double max_speed = 1000.0;
+  /// Air cells a creature may have (boxes x 6 faces x subdivisions, over its aero links):
+  /// a spawn or an air change beyond it is refused, naming the creature and its links.
+  int max_cells = 200000;
 };
+
+/// Largest magnitudes a world accepts: a position or wind component, gravity, density.
+constexpr double kMaxPosition = 1e6;  // m
+constexpr double kMaxGravity = 1e4;   // m/s^2
+constexpr double kMaxDensity = 1e5;   // kg/m^3
+constexpr double kMaxDragCoefficient = 1e3;
+constexpr double kMaxSpin = 1e5;  // rad/s, of a spawned creature
 
 /// Empty string if valid, else a message naming the bad parameter.
 std::string validateWorldParams(const WorldParams& params);
@@ -64,6 +78,14 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
                                    const std::vector<std::string>& joints,
                                    const std::vector<StrokeCommand>& commands);
 
+/// Why the watchdog froze a creature: the step whose result it refused and the quantity at
+/// fault, e.g. "link 'wing' moves at 1.7e+06 m/s (max_speed 1000 m/s)".
+struct Divergence {
+  std::string creature;
+  std::uint64_t step = 0;
+  std::string quantity;
+};
+
 class World {
  public:
   /// Throws InputError if the parameters are invalid.
@@ -86,8 +108,14 @@ class World {
   /// commands are kept) and sets time to zero: bit-identical to a freshly built world
   /// given the same commands.
   void reset();
-  /// Advances `steps` fixed steps.
+  /// Advances `steps` fixed steps. A creature whose state after a step would be non-finite
+  /// or faster than `max_speed` anywhere keeps the state before that step and is not stepped
+  /// again until reset() (it is "frozen"); the others go on.
   void step(int steps = 1);
+  /// The watchdog's verdict on a creature: none while it runs normally.
+  std::optional<Divergence> divergence(const std::string& creature) const;
+  /// Creatures frozen since the last call, each reported once, in the order found.
+  std::vector<Divergence> takeDivergences();
   double time() const;
   std::uint64_t stepCount() const;
   const WorldParams& params() const;

@@ -12,6 +12,7 @@
 #include <visualization_msgs/Marker.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,14 @@ flapsim::WingCommand toMsg(const WingCommandRequest& request);
 /// (flapsim::checkWingCommands), without a world: lets several creatures be commanded all or
 /// nothing. Throws flapsim::InputError naming the problem.
 void checkWingCommand(const flapsim::CreatureModel& model, const WingCommandRequest& request);
+
+/// The wing commands of a flapsim/step request, checked all or nothing: as many commands as
+/// creatures, each creature known (`model_of` gives null for an unknown name) and named
+/// once, each command valid for its creature's model. Throws flapsim::InputError naming
+/// the cause (and the creature).
+std::vector<WingCommandRequest> checkStepCommands(
+    const std::vector<std::string>& creatures, const std::vector<flapsim::WingCommand>& commands,
+    const std::function<flapsim::CreatureModelPtr(const std::string&)>& model_of);
 
 /// Movable joints in URDF order with positions and velocities.
 sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,

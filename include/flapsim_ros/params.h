@@ -46,9 +46,16 @@ struct MarkerParams {
 
 struct NodeParams {
   flapsim::WorldParams world;
-  double publish_rate = 100.0;    // Hz of sim time (rounded to whole steps)
+  double publish_rate = 100.0;    // Hz of sim time (rounded to whole steps), in [0.01, 1e6]
   double real_time_factor = 1.0;  // sim seconds per wall second; 0 = as fast as possible
-  bool paused = false;            // start paused
+  /// flapsim/step requests for more steps are refused (the node serves nothing while it
+  /// steps a request).
+  int max_steps_per_call = 100000;
+  /// Directories flapsim/spawn may read `urdf_file` from (and below). Not set: the
+  /// directories on ROS_PACKAGE_PATH and the node's working directory (the loader's
+  /// defaults; the parser leaves it empty).
+  std::vector<std::string> urdf_roots;
+  bool paused = false;  // start paused
   std::string world_frame = "world";
   MarkerParams markers;
   std::vector<CreatureSpec> creatures;

@@ -1,11 +1,11 @@
 #include "body_builder.h"
 
-#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
-
 #include <algorithm>
 #include <utility>
+#include <vector>
 
 #include "joint_drives.h"
+#include "joint_limit.h"
 
 namespace flapsim {
 
@@ -128,22 +128,23 @@ void addColliders(CreatureBody& body, const CreatureModel& m, double friction) {
   }
 }
 
-// Joint limits (Bullet constraints), servo effort bounds and capped damping.
+// Joint limits (one Bullet constraint for all, see joint_limit.h), servo effort bounds and
+// capped damping.
 void addLimits(CreatureBody& body, const CreatureModel& m, const WorldParams& params) {
   body.max_effort.assign(m.joints.size(), 0.0);
   body.damping.assign(m.joints.size(), 0.0);
+  std::vector<JointLimits::Limit> limits;
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const JointModel& j = m.joints[ji];
     if (!j.movable()) continue;
-    if (j.limited && j.lower < j.upper) {
-      auto lim = std::make_unique<btMultiBodyJointLimitConstraint>(body.mb.get(), j.child_link - 1,
-                                                                   j.lower, j.upper);
-      body.scene->world().addMultiBodyConstraint(lim.get());
-      body.limits.push_back(std::move(lim));
-    }
+    if (j.limited && j.lower < j.upper) limits.push_back({j.child_link - 1, j.lower, j.upper});
     body.max_effort[ji] = j.effort > 0.0 ? j.effort : params.default_wing_effort;
     body.damping[ji] = std::min(j.damping, dampingLimit(m, j, params.step_size));
   }
+  if (limits.empty()) return;
+  auto constraint = std::make_unique<JointLimits>(body.mb.get(), std::move(limits));
+  body.scene->world().addMultiBodyConstraint(constraint.get());
+  body.limits.push_back(std::move(constraint));
 }
 
 // The joint servos (ours, see CreatureBody::applyServos), one per model link.

@@ -1,11 +1,16 @@
 #include "flapsim/creature_model.h"
 
 #include <console_bridge/console.h>
+#include <sys/stat.h>
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <fstream>
+#include <iterator>
+#include <locale>
 #include <map>
 #include <mutex>
 #include <queue>
@@ -98,6 +103,113 @@ double parseDoubleAttr(const tinyxml2::XMLElement* e, const char* attr, const st
   return value;
 }
 
+// The numbers an element may carry, checked on the XML before urdfdom (which drops a
+// <collision> whose numbers it cannot read, and passes on NaN, inf and 1e300): each listed
+// attribute, where present, must hold `count` finite numbers within [low, high].
+struct NumberRule {
+  const char* path;  // child elements from the link or joint, '/'-separated
+  const char* attr;
+  int count;
+  double low, high;
+  const char* what;  // the range in words
+};
+
+constexpr double kHuge = 1e9;  // efforts, speeds, damping, friction: any sane value fits
+
+const NumberRule kLinkRules[] = {
+    {"inertial/origin", "xyz", 3, -kMaxUrdfLength, kMaxUrdfLength, "within +-1000 m"},
+    {"inertial/origin", "rpy", 3, -kMaxUrdfLength, kMaxUrdfLength, "within +-1000 rad"},
+    {"inertial/mass", "value", 1, 0.0, kMaxUrdfMass, "in [0, 1e6] kg"},
+    {"inertial/inertia", "ixx", 1, -kMaxUrdfInertia, kMaxUrdfInertia, "within +-1e6 kg m^2"},
+    {"inertial/inertia", "iyy", 1, -kMaxUrdfInertia, kMaxUrdfInertia, "within +-1e6 kg m^2"},
+    {"inertial/inertia", "izz", 1, -kMaxUrdfInertia, kMaxUrdfInertia, "within +-1e6 kg m^2"},
+    {"inertial/inertia", "ixy", 1, -kMaxUrdfInertia, kMaxUrdfInertia, "within +-1e6 kg m^2"},
+    {"inertial/inertia", "ixz", 1, -kMaxUrdfInertia, kMaxUrdfInertia, "within +-1e6 kg m^2"},
+    {"inertial/inertia", "iyz", 1, -kMaxUrdfInertia, kMaxUrdfInertia, "within +-1e6 kg m^2"},
+};
+// Under each <collision> and <visual>.
+const NumberRule kShapeRules[] = {
+    {"origin", "xyz", 3, -kMaxUrdfLength, kMaxUrdfLength, "within +-1000 m"},
+    {"origin", "rpy", 3, -kMaxUrdfLength, kMaxUrdfLength, "within +-1000 rad"},
+    {"geometry/box", "size", 3, 0.0, kMaxUrdfLength, "in (0, 1000] m"},
+    {"geometry/cylinder", "radius", 1, 0.0, kMaxUrdfLength, "in (0, 1000] m"},
+    {"geometry/cylinder", "length", 1, 0.0, kMaxUrdfLength, "in (0, 1000] m"},
+    {"geometry/sphere", "radius", 1, 0.0, kMaxUrdfLength, "in (0, 1000] m"},
+};
+const NumberRule kJointRules[] = {
+    {"origin", "xyz", 3, -kMaxUrdfLength, kMaxUrdfLength, "within +-1000 m"},
+    {"origin", "rpy", 3, -kMaxUrdfLength, kMaxUrdfLength, "within +-1000 rad"},
+    {"axis", "xyz", 3, -kMaxUrdfLength, kMaxUrdfLength, "within +-1000"},
+    {"limit", "lower", 1, -kHuge, kHuge, "within +-1e9"},
+    {"limit", "upper", 1, -kHuge, kHuge, "within +-1e9"},
+    {"limit", "effort", 1, 0.0, kHuge, "in [0, 1e9]"},
+    {"limit", "velocity", 1, 0.0, kHuge, "in [0, 1e9]"},
+    {"dynamics", "damping", 1, 0.0, kHuge, "in [0, 1e9]"},
+    {"dynamics", "friction", 1, 0.0, kHuge, "in [0, 1e9]"},
+};
+
+// Every element at `path` below `e` ('/'-separated names), in document order.
+void findAll(const tinyxml2::XMLElement* e, const std::string& path,
+             std::vector<const tinyxml2::XMLElement*>& out) {
+  const size_t slash = path.find('/');
+  const std::string first = path.substr(0, slash);
+  for (auto* c = e->FirstChildElement(first.c_str()); c; c = c->NextSiblingElement(first.c_str())) {
+    if (slash == std::string::npos) {
+      out.push_back(c);
+    } else {
+      findAll(c, path.substr(slash + 1), out);
+    }
+  }
+}
+
+void checkNumbers(const tinyxml2::XMLElement* e, const NumberRule* rules, size_t n,
+                  const std::string& where, const std::string& source) {
+  for (size_t r = 0; r < n; ++r) {
+    const NumberRule& rule = rules[r];
+    std::vector<const tinyxml2::XMLElement*> found;
+    findAll(e, rule.path, found);
+    for (const tinyxml2::XMLElement* x : found) {
+      const char* text = x->Attribute(rule.attr);
+      if (!text) continue;
+      std::istringstream in(text);
+      in.imbue(std::locale::classic());
+      std::string word;
+      int count = 0;
+      bool ok = true;
+      while (in >> word) {
+        ++count;
+        char* end = nullptr;
+        const double v = std::strtod(word.c_str(), &end);
+        ok = ok && end && *end == '\0' && std::isfinite(v) && v >= rule.low && v <= rule.high;
+      }
+      if (!ok || count != rule.count) {
+        std::string tag = "<" + std::string(rule.path) + " " + rule.attr + "='" + text + "'>";
+        fail(source, where + ": " + tag + " must be " + std::to_string(rule.count) +
+                         (rule.count == 1 ? " finite number " : " finite numbers ") + rule.what);
+      }
+    }
+  }
+}
+
+// The numbers of every <link> and <joint> of `robot` (see NumberRule).
+void checkAllNumbers(const tinyxml2::XMLElement* robot, const std::string& source) {
+  for (auto* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) {
+    const char* name = l->Attribute("name");
+    const std::string where = "link '" + std::string(name ? name : "") + "'";
+    checkNumbers(l, kLinkRules, std::size(kLinkRules), where, source);
+    for (const char* shape : {"collision", "visual"}) {
+      for (auto* c = l->FirstChildElement(shape); c; c = c->NextSiblingElement(shape)) {
+        checkNumbers(c, kShapeRules, std::size(kShapeRules), where + " <" + shape + ">", source);
+      }
+    }
+  }
+  for (auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+    const char* name = j->Attribute("name");
+    const std::string where = "joint '" + std::string(name ? name : "") + "'";
+    checkNumbers(j, kJointRules, std::size(kJointRules), where, source);
+  }
+}
+
 // Reads <wing joint=.../> and <aero link=.../> and the document order of joints.
 struct Annotations {
   std::vector<std::string> joint_order;
@@ -113,6 +225,7 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
   }
   const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
   if (!robot) fail(source, "no <robot> element");
+  checkAllNumbers(robot, source);
   Annotations a;
   for (auto* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
     if (const char* n = j->Attribute("name")) a.joint_order.push_back(n);
@@ -131,7 +244,7 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
     AeroSettings s;
     if (e->Attribute("drag_coefficient")) {
       double cd = parseDoubleAttr(e, "drag_coefficient", where, source);
-      if (cd < 0.0) fail(source, where + ": drag_coefficient must be >= 0");
+      if (cd < 0.0 || cd > 1e3) fail(source, where + ": drag_coefficient must be in [0, 1000]");
       s.drag_coefficient = cd;
     }
     if (const char* sub = e->Attribute("subdivisions")) {
@@ -284,8 +397,14 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
       default:
         fail(source, where + ": type not supported (use fixed, revolute, continuous or prismatic)");
     }
-    jm.parent_link = link_index.at(j->parent_link_name);
-    jm.child_link = link_index.at(j->child_link_name);
+    const auto parent = link_index.find(j->parent_link_name);
+    const auto child = link_index.find(j->child_link_name);
+    if (parent == link_index.end() || child == link_index.end() || child->second == 0) {
+      fail(source, where + ": links '" + j->parent_link_name + "' -> '" + j->child_link_name +
+                       "' are not a parent and child in the tree from the root link");
+    }
+    jm.parent_link = parent->second;
+    jm.child_link = child->second;
     jm.origin = toPose(j->parent_to_joint_origin_transform);
     jm.axis = Vec3(j->axis.x, j->axis.y, j->axis.z);
     if (jm.movable()) {
@@ -331,6 +450,7 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
           model->joints[fi].type != JointType::kContinuous) {
         fail(source, "feather_joint '" + f + "' must be revolute or continuous");
       }
+      if (fi == idx) fail(source, "<wing joint='" + w + "'> names itself as its feather_joint");
       jm.feather_joint = fi;
     }
   }
@@ -357,12 +477,31 @@ std::optional<Vec3> spanAxis(const CreatureModel& model, int link) {
   return l.aero.span;
 }
 
-CreatureModelPtr loadCreatureModel(const std::string& path) {
-  std::ifstream in(path);
+std::string readUrdfFile(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) throw ModelError(path + ": cannot open file");
+  if (!S_ISREG(info.st_mode)) throw ModelError(path + ": not a regular file");
+  if (static_cast<std::uintmax_t>(info.st_size) > kMaxUrdfFileBytes) {
+    throw ModelError(path + ": " + std::to_string(info.st_size) + " bytes, over the limit of " +
+                     std::to_string(kMaxUrdfFileBytes) + " bytes");
+  }
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw ModelError(path + ": cannot open file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return parseCreatureModel(buffer.str(), path);
+  // In chunks, stopping past the limit: the file may have grown since stat().
+  std::string text;
+  text.reserve(static_cast<size_t>(info.st_size));
+  char chunk[65536];
+  while (text.size() <= kMaxUrdfFileBytes && in.read(chunk, sizeof chunk).gcount() > 0) {
+    text.append(chunk, static_cast<size_t>(in.gcount()));
+  }
+  if (text.size() > kMaxUrdfFileBytes) {
+    throw ModelError(path + ": over the limit of " + std::to_string(kMaxUrdfFileBytes) + " bytes");
+  }
+  return text;
+}
+
+CreatureModelPtr loadCreatureModel(const std::string& path) {
+  return parseCreatureModel(readUrdfFile(path), path);
 }
 
 }  // namespace flapsim

@@ -16,6 +16,10 @@ std::string validateStroke(const StrokeCommand& c) {
   if (!std::isfinite(c.amplitude) || c.amplitude < 0.0) {
     return "amplitude must be finite and >= 0";
   }
+  if (c.downstroke_rate > kMaxStrokeRate || c.upstroke_rate > kMaxStrokeRate) {
+    return "stroke rates must be at most 1e5 rad/s";
+  }
+  if (c.amplitude > kMaxStrokeAmplitude) return "amplitude must be at most 1000 rad";
   if (!std::isfinite(c.feather) || std::abs(c.feather) > M_PI / 2) {
     return "feather angle must be finite and within +-pi/2";
   }

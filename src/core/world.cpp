@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 #include <sstream>
 #include <thread>
 #include <utility>
@@ -17,15 +18,26 @@ namespace flapsim {
 namespace {
 
 bool finite(const Vec3& v) { return v.allFinite(); }
-bool finite(const Pose& p) { return p.position.allFinite() && p.orientation.coeffs().allFinite(); }
 
 std::string checkAir(const AirParams& a) {
-  if (!std::isfinite(a.density) || a.density < 0.0) return "air density must be finite and >= 0";
-  if (!std::isfinite(a.drag_coefficient) || a.drag_coefficient < 0.0) {
-    return "air drag_coefficient must be finite and >= 0";
+  if (!std::isfinite(a.density) || a.density < 0.0 || a.density > kMaxDensity) {
+    return "air density must be in [0, 1e5] kg/m^3";
   }
-  if (!finite(a.wind)) return "air wind must be finite";
+  if (!std::isfinite(a.drag_coefficient) || a.drag_coefficient < 0.0 ||
+      a.drag_coefficient > kMaxDragCoefficient) {
+    return "air drag_coefficient must be in [0, 1000]";
+  }
+  if (!finite(a.wind) || a.wind.cwiseAbs().maxCoeff() > 1e3) {
+    return "air wind must be finite, each component within +-1000 m/s";
+  }
   if (!makeAirModel(a.model)) return unknownAirModelMessage(a.model);
+  const QuasiSteadyCoefficients& q = a.quasi_steady;
+  for (double c : {q.lift_mean, q.lift_amplitude, q.lift_frequency, q.lift_phase, q.drag_mean,
+                   q.drag_amplitude, q.drag_frequency, q.drag_phase}) {
+    if (!std::isfinite(c) || std::abs(c) > 1e3) {
+      return "air quasi_steady coefficients must be finite and within +-1000";
+    }
+  }
   if (a.subdivisions_u < 1 || a.subdivisions_v < 1 || a.subdivisions_u > 1000 ||
       a.subdivisions_v > 1000) {
     return "air subdivisions must be in 1..1000";
@@ -39,26 +51,119 @@ struct CreatureRecord {
   CreatureModelPtr model;
   Pose pose;
   Twist twist;
-  std::vector<JointDrive> drives;  // per model joint
+  std::vector<JointDrive> drives;        // per model joint
+  std::optional<Divergence> divergence;  // set by the watchdog: not stepped until reset
+  bool reported = false;                 // handed out by takeDivergences()
 };
+
+// What a step may change in a multibody: enough to put it back bit for bit.
+struct BodySnapshot {
+  btVector3 position, velocity, omega;
+  btQuaternion orientation;
+  std::vector<double> q, qdot;
+
+  void take(const btMultiBody& mb) {
+    position = mb.getBasePos();
+    orientation = mb.getWorldToBaseRot();
+    velocity = mb.getBaseVel();
+    omega = mb.getBaseOmega();
+    q.resize(static_cast<size_t>(mb.getNumLinks()));
+    qdot.resize(q.size());
+    for (int k = 0; k < mb.getNumLinks(); ++k) {
+      q[k] = mb.getJointPos(k);
+      qdot[k] = mb.getJointVel(k);
+    }
+  }
+
+  void restore(btMultiBody& mb) const {
+    mb.setBasePos(position);
+    mb.setWorldToBaseRot(orientation);
+    mb.setBaseVel(velocity);
+    mb.setBaseOmega(omega);
+    for (int k = 0; k < mb.getNumLinks(); ++k) {
+      mb.setJointPos(k, q[k]);
+      mb.setJointVel(k, qdot[k]);
+    }
+  }
+};
+
+// Empty if every link of `b` has a finite pose and velocity and no point of it moves faster
+// than `max_speed`, else what is wrong (naming the link).
+std::string checkMotion(const CreatureModel& m, const CreatureBody& b, double max_speed) {
+  const LinkFrames& f = b.frames;
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    const int i = static_cast<int>(k);
+    const std::string link = "link '" + m.links[k].name + "'";
+    const btQuaternion& q = f.world_to_local[i];
+    if (!std::isfinite(f.local_origin[i].x() + f.local_origin[i].y() + f.local_origin[i].z()) ||
+        !std::isfinite(q.x() + q.y() + q.z() + q.w())) {
+      return link + " has a non-finite pose";
+    }
+    const double v = f.vel[k].length(), w = f.omega[k].length();
+    if (!std::isfinite(v) || !std::isfinite(w)) return link + " has a non-finite velocity";
+    // The fastest point of the link: its COM's speed plus the spin times its reach.
+    const double speed = v + w * b.reach[k];
+    if (speed > max_speed) {
+      std::ostringstream msg;
+      msg.precision(4);
+      msg << link << " moves at " << speed << " m/s (max_speed " << max_speed << " m/s)";
+      return msg.str();
+    }
+  }
+  return "";
+}
+
+// Empty if creature `name` has at most `max_cells` air cells under `air`, else a message naming
+// it, its count and its largest link.
+std::string checkCells(const std::string& name, const CreatureModel& m, const AirParams& air,
+                       int max_cells) {
+  double total = 0.0, largest = 0.0;
+  std::string largest_link;
+  for (const LinkModel& l : m.links) {
+    if (!l.aero.enabled || l.boxes.empty()) continue;
+    const double cells =
+        6.0 * static_cast<double>(l.boxes.size()) * subdivisionsU(l, air) * subdivisionsV(l, air);
+    total += cells;
+    if (cells > largest) {
+      largest = cells;
+      largest_link = l.name;
+    }
+  }
+  if (total <= max_cells) return "";
+  std::ostringstream msg;
+  msg.precision(10);
+  msg << "creature '" << name << "' would have " << total << " air cells (link '" << largest_link
+      << "' alone " << largest << "), over max_cells " << max_cells
+      << " (boxes x 6 faces x subdivisions)";
+  return msg.str();
+}
 
 }  // namespace
 
 std::string validateWorldParams(const WorldParams& p) {
-  if (!std::isfinite(p.step_size) || p.step_size <= 0.0 || p.step_size > 0.1) {
-    return "step_size must be in (0, 0.1] s";
+  if (!std::isfinite(p.step_size) || p.step_size < 1e-6 || p.step_size > 0.1) {
+    return "step_size must be in [1e-6, 0.1] s";
   }
   if (!std::isfinite(p.turn_substep) || p.turn_substep < 0.0) {
     return "turn_substep must be finite and >= 0 s";
   }
-  if (!finite(p.gravity)) return "gravity must be finite";
-  if (!std::isfinite(p.ground_friction) || p.ground_friction < 0.0) {
-    return "ground_friction must be >= 0";
+  if (!finite(p.gravity) || p.gravity.norm() > kMaxGravity) {
+    return "gravity must be finite and at most 1e4 m/s^2";
   }
-  if (p.solver_iterations < 1) return "solver_iterations must be >= 1";
+  if (!std::isfinite(p.ground_friction) || p.ground_friction < 0.0 || p.ground_friction > 1e3) {
+    return "ground_friction must be in [0, 1000]";
+  }
+  if (p.solver_iterations < 1 || p.solver_iterations > 1000) {
+    return "solver_iterations must be in 1..1000";
+  }
   if (p.threads < 1 || p.threads > 256) return "threads must be in 1..256";
-  if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0) {
-    return "default_wing_effort must be > 0";
+  if (!std::isfinite(p.default_wing_effort) || p.default_wing_effort <= 0.0 ||
+      p.default_wing_effort > 1e9) {
+    return "default_wing_effort must be in (0, 1e9] N m";
+  }
+  if (p.max_cells < 1) return "max_cells must be >= 1";
+  if (!std::isfinite(p.max_speed) || p.max_speed <= 0.0 || p.max_speed > 3e8) {
+    return "max_speed must be in (0, 3e8] m/s";
   }
   return checkAir(p.air);
 }
@@ -102,18 +207,22 @@ class World::Impl {
     auto body = makeBody(r);
     records_.push_back(std::move(r));
     bodies_.push_back(std::move(body));
+    snapshots_.emplace_back();
   }
 
   void remove(const std::string& name) {
     const size_t i = index(name);
     bodies_.erase(bodies_.begin() + static_cast<long>(i));
     records_.erase(records_.begin() + static_cast<long>(i));
+    snapshots_.erase(snapshots_.begin() + static_cast<long>(i));
   }
 
   // Restarts every stroke and rebuilds every body from its record; time back to zero.
   void reset() {
     for (auto& r : records_) {
       for (auto& d : r.drives) d.stroke.reset();
+      r.divergence.reset();
+      r.reported = false;
     }
     bodies_.clear();
     for (const auto& r : records_) bodies_.push_back(makeBody(r));
@@ -128,7 +237,8 @@ class World::Impl {
     const size_t threads = std::min<size_t>(static_cast<size_t>(params_.threads), n);
     auto run = [this, steps](size_t first, size_t last) {
       for (int s = 0; s < steps; ++s) {
-        for (size_t i = first; i < last; ++i) stepOne(i);
+        const std::uint64_t number = time_steps_ + static_cast<std::uint64_t>(s) + 1;
+        for (size_t i = first; i < last; ++i) stepOne(i, number);
       }
     };
     if (threads <= 1 || static_cast<size_t>(steps) * n < 64) {
@@ -141,6 +251,20 @@ class World::Impl {
       for (auto& th : pool) th.join();
     }
     time_steps_ += static_cast<std::uint64_t>(steps);
+  }
+
+  std::optional<Divergence> divergence(const std::string& creature) const {
+    return records_[index(creature)].divergence;
+  }
+
+  std::vector<Divergence> takeDivergences() {
+    std::vector<Divergence> out;
+    for (auto& r : records_) {
+      if (!r.divergence || r.reported) continue;
+      r.reported = true;
+      out.push_back(*r.divergence);
+    }
+    return out;
   }
 
   // ---- air -----------------------------------------------------------------------
@@ -189,8 +313,8 @@ class World::Impl {
     if (!records_[c].model->joints[j].movable()) {
       throw InputError("joint '" + joint + "' of creature '" + creature + "' is fixed");
     }
-    if (!std::isfinite(velocity)) {
-      throw InputError("joint '" + joint + "': velocity is not finite");
+    if (!std::isfinite(velocity) || std::abs(velocity) > kMaxStrokeRate) {
+      throw InputError("joint '" + joint + "': velocity must be finite and within +-1e5");
     }
     JointDrive& d = records_[c].drives[j];
     d.mode = JointDrive::Mode::kVelocity;
@@ -241,25 +365,34 @@ class World::Impl {
   // start of the step (for the air, the servos and the ground check) are those the last
   // step ended with, or the body was built with.
   // A step in which a wing reverses is taken in substeps of at most turn_substep, the
-  // first ending where the first stroke turns.
-  void stepOne(size_t i) {
+  // first ending where the first stroke turns. A creature whose step ends non-finite or too
+  // fast is put back as it was before the step and frozen (the watchdog).
+  void stepOne(size_t i, std::uint64_t number) {
+    CreatureRecord& r = records_[i];
+    if (r.divergence) return;
+    CreatureBody& b = *bodies_[i];
+    snapshots_[i].take(*b.mb);
     const double dt = params_.step_size, most = params_.turn_substep;
-    const StrokeTurn turn =
-        most > 0.0 ? strokeTurn(*records_[i].model, records_[i].drives, *bodies_[i], dt)
-                   : StrokeTurn();
+    const StrokeTurn turn = most > 0.0 ? strokeTurn(*r.model, r.drives, b, dt) : StrokeTurn();
     if (!turn.reversing) {
       subStep(i, dt);
-      return;
+    } else {
+      // Pieces shorter than this are merged into the next: a turn at the very start or end.
+      const double shortest = 1e-6 * dt;
+      const double first =
+          turn.first_turn < shortest || turn.first_turn > dt - shortest ? 0.0 : turn.first_turn;
+      for (double length : {first, dt - first}) {
+        if (length <= 0.0) continue;
+        const int pieces = static_cast<int>(std::ceil(length / most * (1.0 - 1e-12)));
+        for (int s = 0; s < pieces; ++s) subStep(i, length / pieces);
+      }
     }
-    // Pieces shorter than this are merged into the next: a turn at the very start or end.
-    const double shortest = 1e-6 * dt;
-    const double first =
-        turn.first_turn < shortest || turn.first_turn > dt - shortest ? 0.0 : turn.first_turn;
-    for (double length : {first, dt - first}) {
-      if (length <= 0.0) continue;
-      const int pieces = static_cast<int>(std::ceil(length / most * (1.0 - 1e-12)));
-      for (int s = 0; s < pieces; ++s) subStep(i, length / pieces);
-    }
+    std::string fault = checkMotion(*r.model, b, params_.max_speed);
+    if (fault.empty()) return;
+    snapshots_[i].restore(*b.mb);
+    b.updateKinematics();
+    b.forgetMomentum();
+    r.divergence = Divergence{r.name, number, std::move(fault)};
   }
 
   void subStep(size_t i, double h) {
@@ -306,6 +439,7 @@ class World::Impl {
   AirStage air_;
   std::vector<CreatureRecord> records_;
   std::vector<std::unique_ptr<CreatureBody>> bodies_;
+  std::vector<BodySnapshot> snapshots_;  // per creature: its state before the current step
   std::uint64_t time_steps_ = 0;
 };
 
@@ -327,13 +461,34 @@ void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& p
   if (name.empty()) throw InputError("creature name is empty");
   if (!model) throw InputError("creature '" + name + "': no model");
   if (has(name)) throw InputError("creature name '" + name + "' is taken");
-  if (!finite(pose) || pose.orientation.norm() < 1e-9) {
-    throw InputError("creature '" + name + "': pose is not finite");
+  if (!finite(pose.position) || pose.position.cwiseAbs().maxCoeff() > kMaxPosition) {
+    throw InputError("creature '" + name + "': position must be finite, each coordinate within " +
+                     "+-1e6 m");
   }
-  if (!finite(twist.linear) || !finite(twist.angular)) {
-    throw InputError("creature '" + name + "': twist is not finite");
+  const double norm = pose.orientation.coeffs().allFinite() ? pose.orientation.norm() : NAN;
+  if (!(norm >= 1e-6 && norm <= 1e6)) {
+    std::ostringstream msg;
+    msg << "creature '" << name << "': orientation quaternion has norm " << norm
+        << " (must be finite and between 1e-6 and 1e6; it is normalised)";
+    throw InputError(msg.str());
   }
-  impl_->spawn(name, model, pose, twist);
+  const double max_speed = impl_->params().max_speed;
+  if (!finite(twist.linear) || twist.linear.norm() > max_speed) {
+    throw InputError("creature '" + name +
+                     "': linear twist must be finite and at most max_speed (" +
+                     std::to_string(max_speed) + " m/s)");
+  }
+  if (!finite(twist.angular) || twist.angular.norm() > kMaxSpin) {
+    throw InputError("creature '" + name + "': angular twist must be finite and at most 1e5 rad/s");
+  }
+  const std::string cells =
+      checkCells(name, *model, impl_->params().air, impl_->params().max_cells);
+  if (!cells.empty()) throw InputError(cells);
+  try {
+    impl_->spawn(name, model, pose, twist);
+  } catch (const std::bad_alloc&) {
+    throw InputError("creature '" + name + "': out of memory while building it");
+  }
 }
 
 void World::remove(const std::string& name) { impl_->remove(name); }
@@ -353,9 +508,18 @@ double World::time() const {
 std::uint64_t World::stepCount() const { return impl_->stepCount(); }
 const WorldParams& World::params() const { return impl_->params(); }
 
+std::optional<Divergence> World::divergence(const std::string& creature) const {
+  return impl_->divergence(creature);
+}
+std::vector<Divergence> World::takeDivergences() { return impl_->takeDivergences(); }
+
 void World::setAirParams(const AirParams& air) {
   std::string err = checkAir(air);
   if (!err.empty()) throw InputError(err);
+  for (const std::string& name : impl_->names()) {
+    err = checkCells(name, *impl_->model(name), air, impl_->params().max_cells);
+    if (!err.empty()) throw InputError("air change refused: " + err);
+  }
   impl_->setAirParams(air);
 }
 
@@ -375,6 +539,9 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
       const int j = model.findJoint(name);
       if (j < 0) throw InputError("no joint '" + name + "'");
       if (!model.joints[j].wing) throw InputError("joint '" + name + "' is not a wing joint");
+      if (std::find(targets.begin(), targets.end(), j) != targets.end()) {
+        throw InputError("joint '" + name + "' is named twice");
+      }
       targets.push_back(j);
     }
   }

@@ -152,6 +152,33 @@ void checkWingCommand(const flapsim::CreatureModel& model, const WingCommandRequ
   flapsim::checkWingCommands(model, request.joints, request.strokes);
 }
 
+std::vector<WingCommandRequest> checkStepCommands(
+    const std::vector<std::string>& creatures, const std::vector<flapsim::WingCommand>& commands,
+    const std::function<flapsim::CreatureModelPtr(const std::string&)>& model_of) {
+  if (creatures.size() != commands.size()) {
+    throw flapsim::InputError("step request has " + std::to_string(creatures.size()) +
+                              " creatures but " + std::to_string(commands.size()) +
+                              " wing_commands");
+  }
+  std::vector<WingCommandRequest> requests;
+  for (size_t i = 0; i < creatures.size(); ++i) {
+    const flapsim::CreatureModelPtr model = model_of(creatures[i]);
+    if (!model) throw flapsim::InputError("unknown creature '" + creatures[i] + "'");
+    for (size_t k = 0; k < i; ++k) {
+      if (creatures[k] == creatures[i]) {
+        throw flapsim::InputError("creature '" + creatures[i] + "' is named twice");
+      }
+    }
+    try {
+      requests.push_back(fromMsg(commands[i]));
+      checkWingCommand(*model, requests.back());
+    } catch (const flapsim::InputError& e) {
+      throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
+    }
+  }
+  return requests;
+}
+
 sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,
                                       const flapsim::CreatureState& state, const ros::Time& stamp) {
   sensor_msgs::JointState m;

@@ -1,12 +1,16 @@
 #include "flapsim_ros/params.h"
 
+#include <limits.h>
 #include <ros/param.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <set>
 #include <sstream>
 
 #include "flapsim/air_models.h"
+#include "flapsim_ros/urdf_source.h"
 
 namespace flapsim_ros {
 
@@ -86,6 +90,20 @@ class Dict {
     for (int i = 0; i < x.size(); ++i) {
       out.push_back(
           toNumber(const_cast<XmlRpcValue&>(x)[i], key(k) + "[" + std::to_string(i) + "]"));
+    }
+    return out;
+  }
+  std::vector<std::string> strings(const std::string& k) const {
+    const XmlRpcValue& x = at(k);
+    if (x.getType() != XmlRpcValue::TypeArray)
+      fail(key(k), "must be a list of strings, got " + typeName(x));
+    std::vector<std::string> out;
+    for (int i = 0; i < x.size(); ++i) {
+      XmlRpcValue& e = const_cast<XmlRpcValue&>(x)[i];
+      if (e.getType() != XmlRpcValue::TypeString) {
+        fail(key(k) + "[" + std::to_string(i) + "]", "must be a string, got " + typeName(e));
+      }
+      out.push_back(static_cast<std::string>(e));
     }
     return out;
   }
@@ -273,14 +291,26 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   w.solver_iterations = d.integer("solver_iterations", w.solver_iterations);
   w.threads = d.integer("threads", w.threads);
   w.default_wing_effort = d.number("default_wing_effort", w.default_wing_effort);
+  w.max_speed = d.number("max_speed", w.max_speed);
+  w.max_cells = d.integer("max_cells", w.max_cells);
   if (d.has("air")) w.air = parseAir(Dict(d.at("air"), "air"), w.air);
   std::string err = flapsim::validateWorldParams(w);
   if (!err.empty()) throw ParamError("bad world parameters: " + err);
 
   p.publish_rate = d.number("publish_rate", p.publish_rate);
-  if (p.publish_rate <= 0.0) fail("publish_rate", "must be > 0 (Hz of sim time)");
+  if (p.publish_rate < 0.01 || p.publish_rate > 1e6) {
+    fail("publish_rate", "must be in [0.01, 1e6] (Hz of sim time)");
+  }
   p.real_time_factor = d.number("real_time_factor", p.real_time_factor);
-  if (p.real_time_factor < 0.0) fail("real_time_factor", "must be >= 0 (0: as fast as possible)");
+  if (p.real_time_factor != 0.0 && (p.real_time_factor < 1e-3 || p.real_time_factor > 1e6)) {
+    fail("real_time_factor", "must be 0 (as fast as possible) or in [0.001, 1e6]");
+  }
+  p.max_steps_per_call = d.integer("max_steps_per_call", p.max_steps_per_call);
+  if (p.max_steps_per_call < 1) fail("max_steps_per_call", "must be >= 1");
+  if (d.has("urdf_roots")) {
+    p.urdf_roots = d.strings("urdf_roots");
+    if (p.urdf_roots.empty()) fail("urdf_roots", "must list at least one directory");
+  }
   p.paused = d.boolean("paused", p.paused);
   p.world_frame = d.string("world_frame", p.world_frame);
   if (p.world_frame.empty()) fail("world_frame", "must not be empty");
@@ -310,6 +340,11 @@ NodeParams loadNodeParams(const ros::NodeHandle& pnh) {
   XmlRpcValue all;
   if (!ros::param::get(pnh.getNamespace(), all)) all = XmlRpcValue();
   NodeParams p = parseNodeParams(all);
+  if (p.urdf_roots.empty()) {
+    char cwd[PATH_MAX];
+    p.urdf_roots =
+        defaultUrdfRoots(std::getenv("ROS_PACKAGE_PATH"), ::getcwd(cwd, sizeof cwd) ? cwd : "");
+  }
   for (CreatureSpec& c : p.creatures) {
     if (c.urdf_param.empty()) continue;
     if (!pnh.getParam(c.urdf_param, c.urdf_xml)) {

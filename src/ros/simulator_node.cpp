@@ -1,27 +1,31 @@
 #include "flapsim_ros/simulator_node.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <rosgraph_msgs/Clock.h>
 #include <std_msgs/String.h>
+#include <tf2_msgs/TFMessage.h>
+#include <visualization_msgs/MarkerArray.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <new>
 #include <sstream>
+
+#include "flapsim_ros/urdf_source.h"
 
 namespace flapsim_ros {
 
 namespace {
 
-constexpr double kWarnPeriod = 10.0;    // s (wall) between warnings of one cause
 constexpr double kMaxPacingLag = 0.25;  // s (wall) behind schedule before pacing restarts
-constexpr double kPausedPoll = 0.1;     // s (wall) callback wait while paused
-
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw flapsim::InputError("cannot read URDF file '" + path + "'");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+constexpr double kPausedPoll = 0.1;     // s (wall) longest callback wait (shutdown is seen)
+constexpr double kRunSlice = 0.05;      // s (wall) of stepping between callback rounds
+// Steps between checks of the wall time and shutdown: at most this many, and as many as take
+// about kSliceTarget of wall time (one, for a creature whose step is slow: a long chain on
+// the ground).
+constexpr std::uint64_t kSliceSteps = 10;
+constexpr double kSliceTarget = 0.01;       // s (wall)
+constexpr double kDiagnosticsPeriod = 1.0;  // s (wall) between unchanged diagnostics
 
 std::string formatTime(const ros::Time& t) {
   std::ostringstream os;
@@ -63,6 +67,7 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
       });
   creature_marker_pub_ =
       pnh_.advertise<visualization_msgs::MarkerArray>("creature_markers", 1, /*latch=*/true);
+  diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   services_.push_back(pnh_.advertiseService("reset", &SimulatorNode::onReset, this));
   services_.push_back(pnh_.advertiseService("pause", &SimulatorNode::onPause, this));
   services_.push_back(pnh_.advertiseService("unpause", &SimulatorNode::onUnpause, this));
@@ -72,7 +77,7 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
 
   for (const CreatureSpec& spec : params_.creatures) {
     const bool from_file = !spec.urdf_file.empty();
-    const std::string text = from_file ? readFile(spec.urdf_file) : spec.urdf_xml;
+    const std::string text = from_file ? flapsim::readUrdfFile(spec.urdf_file) : spec.urdf_xml;
     const std::string source =
         from_file ? spec.urdf_file
                   : (spec.urdf_param.empty() ? "creature '" + spec.name + "' urdf_xml"
@@ -114,17 +119,18 @@ void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
   flapsim::CreatureModelPtr model = flapsim::parseCreatureModel(urdf_xml, source);
   world_.spawn(name, model, pose, twist);
   auto c = std::make_unique<Creature>();
+  c->nh = nh_;
   c->name = name;
   c->model = model;
   try {
     c->geometry = creatureMarkers(name, urdf_xml, source);
-    c->description = nh_.advertise<std_msgs::String>(name + "/robot_description", 1, true);
+    c->description = c->nh.advertise<std_msgs::String>(name + "/robot_description", 1, true);
     std_msgs::String text;
     text.data = urdf_xml;
     c->description.publish(text);
-    c->joint_states = nh_.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
-    c->odom = nh_.advertise<nav_msgs::Odometry>(name + "/odom", 10);
-    c->wing_command = nh_.subscribe<flapsim::WingCommand>(
+    c->joint_states = c->nh.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
+    c->odom = c->nh.advertise<nav_msgs::Odometry>(name + "/odom", 10);
+    c->wing_command = c->nh.subscribe<flapsim::WingCommand>(
         name + "/wing_command", 10,
         [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });
     nh_.setParam(name + "/robot_description", urdf_xml);
@@ -161,16 +167,58 @@ SimulatorNode::Creature* SimulatorNode::find(const std::string& name) {
 
 ros::Time SimulatorNode::now() const { return simTime(world_.stepCount(), step_ns_); }
 
-void SimulatorNode::advance(std::uint64_t steps) {
-  while (steps > 0) {
+std::uint64_t SimulatorNode::advance(std::uint64_t steps, double wall_budget) {
+  const ros::WallTime start = ros::WallTime::now();
+  std::uint64_t taken = 0;
+  while (taken < steps && ros::ok()) {
     const std::uint64_t to_boundary = publish_every_ - world_.stepCount() % publish_every_;
-    const std::uint64_t k = std::min(steps, to_boundary);
+    const std::uint64_t k = std::min({steps - taken, to_boundary, slice_steps_});
     world_.setRecordCellForces(params_.markers.enabled && params_.markers.per_cell &&
                                marker_pub_.getNumSubscribers() > 0);
+    const ros::WallTime chunk_start = ros::WallTime::now();
     world_.step(static_cast<int>(k));
-    steps -= k;
+    const double per_step = (ros::WallTime::now() - chunk_start).toSec() / static_cast<double>(k);
+    slice_steps_ = std::clamp<std::uint64_t>(
+        per_step > 0.0 ? static_cast<std::uint64_t>(kSliceTarget / per_step) : kSliceSteps, 1,
+        kSliceSteps);
+    taken += k;
+    reportDivergences();
     if (world_.stepCount() % publish_every_ == 0) publishAll();
+    if (wall_budget > 0.0 && (ros::WallTime::now() - start).toSec() > wall_budget) break;
   }
+  return taken;
+}
+
+void SimulatorNode::reportDivergences() {
+  const std::vector<flapsim::Divergence> frozen = world_.takeDivergences();
+  for (const flapsim::Divergence& d : frozen) {
+    ROS_ERROR_STREAM("flapsim: creature '"
+                     << d.creature << "' diverged at step " << d.step
+                     << " (t = " << formatTime(simTime(d.step, step_ns_)) << " s): " << d.quantity
+                     << "; frozen at its last good state until flapsim/reset or flapsim/delete");
+  }
+  if (!frozen.empty()) publishDiagnostics();
+}
+
+void SimulatorNode::publishDiagnostics() {
+  diagnostics_wall_ = ros::WallTime::now();
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = now();
+  for (const auto& c : creatures_) {
+    diagnostic_msgs::DiagnosticStatus s;
+    s.name = "flapsim: " + c->name;
+    s.hardware_id = c->name;
+    const std::optional<flapsim::Divergence> d = world_.divergence(c->name);
+    if (d) {
+      s.level = diagnostic_msgs::DiagnosticStatus::ERROR;
+      s.message = "frozen: diverged at step " + std::to_string(d->step) + ": " + d->quantity;
+    } else {
+      s.level = diagnostic_msgs::DiagnosticStatus::OK;
+      s.message = "running";
+    }
+    array.status.push_back(s);
+  }
+  diagnostics_pub_.publish(array);
 }
 
 void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp,
@@ -206,6 +254,9 @@ void SimulatorNode::publishAll() {
   }
   if (params_.markers.enabled && marker_pub_.getNumSubscribers() > 0) {
     marker_pub_.publish(aeroMarkerArray(stamp));
+  }
+  if ((ros::WallTime::now() - diagnostics_wall_).toSec() >= kDiagnosticsPeriod) {
+    publishDiagnostics();
   }
   published_step_ = world_.stepCount();
 }
@@ -263,7 +314,7 @@ void SimulatorNode::run() {
       queue_.callAvailable(ros::WallDuration(kPausedPoll));
       continue;
     }
-    advance(publish_every_ - world_.stepCount() % publish_every_);
+    advance(publish_every_ - world_.stepCount() % publish_every_, kRunSlice);
     queue_.callAvailable();
     if (paused_ || params_.real_time_factor <= 0.0) continue;
     const double sim_elapsed =
@@ -276,21 +327,19 @@ void SimulatorNode::run() {
       continue;
     }
     while (ros::ok() && !paused_ && wall < due) {
-      queue_.callAvailable(due - wall);
+      queue_.callAvailable(std::min(due - wall, ros::WallDuration(kPausedPoll)));
       wall = ros::WallTime::now();
     }
   }
 }
 
-void SimulatorNode::warnOnce(const std::string& key, const std::string& message) {
-  const ros::WallTime wall = ros::WallTime::now();
-  auto it = warned_.find(key);
-  if (it != warned_.end() && (wall - it->second).toSec() < kWarnPeriod) {
+void SimulatorNode::warnOnce(const std::string& kind, const std::string& creature,
+                             const std::string& message) {
+  if (warnings_.allow(kind, creature, ros::WallTime::now().toSec())) {
+    ROS_WARN_STREAM("flapsim: " << message);
+  } else {
     ROS_DEBUG_STREAM("flapsim: " << message);
-    return;
   }
-  warned_[key] = wall;
-  ROS_WARN_STREAM("flapsim: " << message);
 }
 
 // ---- callbacks -----------------------------------------------------------------------
@@ -302,9 +351,9 @@ void SimulatorNode::onWingCommand(const std::string& creature,
     world_.setWingCommands(creature, r.joints, r.strokes);
     if (Creature* c = find(creature)) c->command = std::move(r);
   } catch (const flapsim::InputError& e) {
-    warnOnce(creature + "/wing_command: " + e.what(), "rejected wing command for '" + creature +
-                                                          "': " + e.what() +
-                                                          " (keeping the previous command)");
+    warnOnce("wing_command/" + WarningLimiter::kindOf(e.what()), creature,
+             "rejected wing command for '" + creature + "': " + e.what() +
+                 " (keeping the previous command)");
   }
 }
 
@@ -315,12 +364,13 @@ bool SimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response
     try {
       world_.setWingCommands(c->name, c->command->joints, c->command->strokes);
     } catch (const flapsim::InputError& e) {
-      warnOnce("reset/" + c->name, "after reset: " + std::string(e.what()));
+      warnOnce("reset", c->name, "after reset: " + std::string(e.what()));
     }
   }
   restartPacing();
   ROS_INFO("flapsim: reset, sim time 0");
   publishAll();
+  publishDiagnostics();
   return true;
 }
 
@@ -337,28 +387,12 @@ bool SimulatorNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Respon
 
 void SimulatorNode::applyWingCommands(const std::vector<std::string>& creatures,
                                       const std::vector<flapsim::WingCommand>& commands) {
-  if (creatures.size() != commands.size()) {
-    throw flapsim::InputError("step request has " + std::to_string(creatures.size()) +
-                              " creatures but " + std::to_string(commands.size()) +
-                              " wing_commands");
-  }
-  std::vector<WingCommandRequest> requests;
-  for (size_t i = 0; i < creatures.size(); ++i) {
-    if (!find(creatures[i])) throw flapsim::InputError("unknown creature '" + creatures[i] + "'");
-    try {
-      requests.push_back(fromMsg(commands[i]));
-    } catch (const flapsim::InputError& e) {
-      throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
-    }
-  }
   // All checked first, so that no creature is commanded unless all can be.
-  for (size_t i = 0; i < creatures.size(); ++i) {
-    try {
-      checkWingCommand(*find(creatures[i])->model, requests[i]);
-    } catch (const flapsim::InputError& e) {
-      throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
-    }
-  }
+  const std::vector<WingCommandRequest> requests =
+      checkStepCommands(creatures, commands, [this](const std::string& name) {
+        const Creature* c = find(name);
+        return c ? c->model : nullptr;
+      });
   for (size_t i = 0; i < creatures.size(); ++i) {
     world_.setWingCommands(creatures[i], requests[i].joints, requests[i].strokes);
   }
@@ -370,7 +404,15 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
   if (!paused_) {
     res.success = false;
     res.status_message = "flapsim is running: call flapsim/pause before flapsim/step";
-    warnOnce("step/running", "step refused: " + res.status_message);
+    warnOnce("step/running", "", "step refused: " + res.status_message);
+    return true;
+  }
+  if (req.steps > static_cast<std::uint32_t>(params_.max_steps_per_call)) {
+    res.success = false;
+    res.status_message = "steps " + std::to_string(req.steps) + " is over max_steps_per_call " +
+                         std::to_string(params_.max_steps_per_call) +
+                         " (parameter ~max_steps_per_call): no step taken";
+    warnOnce("step/max_steps_per_call", "", "step refused: " + res.status_message);
     return true;
   }
   try {
@@ -378,16 +420,16 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = std::string("wing commands refused, no step taken: ") + e.what();
-    warnOnce("step/" + res.status_message, "step refused: " + res.status_message);
+    warnOnce("step/" + WarningLimiter::kindOf(e.what()), "", "step refused: " + res.status_message);
     return true;
   }
   published_step_ = UINT64_MAX;
-  advance(req.steps);
+  const std::uint64_t taken = advance(req.steps);
   if (published_step_ != world_.stepCount()) publishAll();
-  res.success = true;
   res.sim_time = now();
-  res.status_message =
-      "stepped " + std::to_string(req.steps) + " steps to t = " + formatTime(res.sim_time) + " s";
+  res.success = taken == req.steps;
+  res.status_message = (res.success ? "stepped " : "shutting down: stopped after ") +
+                       std::to_string(taken) + " steps at t = " + formatTime(res.sim_time) + " s";
   return true;
 }
 
@@ -399,7 +441,7 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
                                 "': give exactly one of urdf_xml and urdf_file");
     }
     const bool from_file = !req.urdf_file.empty();
-    spawn(req.name, from_file ? readFile(req.urdf_file) : req.urdf_xml,
+    spawn(req.name, from_file ? readSpawnUrdf(req.urdf_file, params_.urdf_roots) : req.urdf_xml,
           from_file ? req.urdf_file : "spawn request '" + req.name + "'", fromMsg(req.initial_pose),
           fromMsg(req.initial_twist));
     Creature* c = find(req.name);
@@ -410,10 +452,16 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
     res.status_message = "spawned '" + req.name + "': " + std::to_string(c->model->links.size()) +
                          " links, " + std::to_string(c->model->wing_joints.size()) + " wing joints";
     ROS_INFO_STREAM("flapsim: " << res.status_message);
+    publishDiagnostics();
+  } catch (const std::bad_alloc&) {
+    res.success = false;
+    res.status_message = "spawn '" + req.name + "': out of memory while reading or building it";
+    warnOnce("spawn/out_of_memory", "", "spawn refused: " + res.status_message);
   } catch (const std::exception& e) {  // InputError, ModelError
     res.success = false;
     res.status_message = e.what();
-    warnOnce("spawn/" + res.status_message, "spawn refused: " + res.status_message);
+    warnOnce("spawn/" + WarningLimiter::kindOf(e.what()), "",
+             "spawn refused: " + res.status_message);
   }
   return true;
 }
@@ -425,10 +473,11 @@ bool SimulatorNode::onDelete(flapsim::DeleteCreature::Request& req,
     res.success = true;
     res.status_message = "deleted '" + req.name + "'";
     ROS_INFO_STREAM("flapsim: " << res.status_message);
+    publishDiagnostics();
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = e.what();
-    warnOnce("delete/" + res.status_message, "delete refused: " + res.status_message);
+    warnOnce("delete", "", "delete refused: " + res.status_message);
   }
   return true;
 }

@@ -220,6 +220,39 @@ TEST(Params, BadParametersAreNamed) {
   }
 }
 
+// Values that were accepted and then froze the node (a step of 1 ns, a publication every
+// 1e7 s, a real-time factor of 1e-9 that made SIGINT wait) or made NaN (wind 1e300).
+TEST(Params, StartUpRangesAreNamed) {
+  struct Case {
+    std::string yaml, expect;
+  };
+  const Case cases[] = {
+      {"step_size: 1.0e-9", "bad world parameters: step_size must be in [1e-6, 0.1] s"},
+      {"publish_rate: 1.0e-7", "parameter 'publish_rate': must be in [0.01, 1e6] (Hz of sim time)"},
+      {"publish_rate: 1.0e-300",
+       "parameter 'publish_rate': must be in [0.01, 1e6] (Hz of sim time)"},
+      {"real_time_factor: 1.0e-9",
+       "parameter 'real_time_factor': must be 0 (as fast as possible) or in [0.001, 1e6]"},
+      {"max_steps_per_call: 0", "parameter 'max_steps_per_call': must be >= 1"},
+      {"max_speed: -1", "bad world parameters: max_speed must be in (0, 3e8] m/s"},
+      {"max_cells: 0", "bad world parameters: max_cells must be >= 1"},
+      {"air: {wind: [1.0e+300, 0, 0]}",
+       "bad world parameters: air wind must be finite, each component within +-1000 m/s"},
+      {"urdf_roots: []", "parameter 'urdf_roots': must list at least one directory"},
+      {"urdf_roots: [1]", "parameter 'urdf_roots[0]': must be a string, got an integer"},
+  };
+  for (const Case& k : cases) {
+    EXPECT_EQ(paramError(k.yaml), k.expect) << k.yaml;
+  }
+  const flapsim_ros::NodeParams p = flapsim_ros::parseNodeParams(
+      yaml("{max_speed: 50, max_cells: 1000, max_steps_per_call: 7, urdf_roots: [/a, /b]}"));
+  EXPECT_EQ(p.world.max_speed, 50.0);
+  EXPECT_EQ(p.world.max_cells, 1000);
+  EXPECT_EQ(p.max_steps_per_call, 7);
+  EXPECT_EQ(p.urdf_roots, (std::vector<std::string>{"/a", "/b"}));
+  EXPECT_TRUE(flapsim_ros::parseNodeParams(XmlRpcValue()).urdf_roots.empty());
+}
+
 TEST(Params, CreatureNames) {
   EXPECT_EQ(flapsim_ros::validateCreatureName("flap_unit"), "");
   EXPECT_EQ(flapsim_ros::validateCreatureName("Plate10"), "");

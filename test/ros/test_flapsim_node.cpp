@@ -640,7 +640,7 @@ TEST_F(Node, BadServiceCallsFailAndLeaveTheWorldAlone) {
       {"nofile", "", "/nonexistent/x.urdf", "/nonexistent/x.urdf", 1.0},
       {"a b", "", sourcePath("urdf/plate.urdf"), "'a b'", 1.0},
       {"nourdf", "", "", "exactly one of urdf_xml and urdf_file", 1.0},
-      {"nanpose", "", sourcePath("urdf/plate.urdf"), "not finite",
+      {"nanpose", "", sourcePath("urdf/plate.urdf"), "position must be finite",
        std::numeric_limits<double>::quiet_NaN()},
   };
   for (const SpawnCase& c : spawns) {

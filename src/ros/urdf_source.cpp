@@ -1,0 +1,64 @@
+#include "flapsim_ros/urdf_source.h"
+
+#include <limits.h>
+#include <stdlib.h>
+
+#include <sstream>
+
+#include "flapsim/creature_model.h"
+#include "flapsim/types.h"
+
+namespace flapsim_ros {
+
+namespace {
+
+// The canonical absolute path of `path`, or "" if it does not resolve.
+std::string canonical(const std::string& path) {
+  char resolved[PATH_MAX];
+  if (path.empty() || !::realpath(path.c_str(), resolved)) return "";
+  return resolved;
+}
+
+bool under(const std::string& file, const std::string& root) {
+  if (root.empty()) return false;
+  if (root == "/") return true;
+  return file.size() > root.size() && file.compare(0, root.size(), root) == 0 &&
+         file[root.size()] == '/';
+}
+
+}  // namespace
+
+std::string refusedUrdfFileMessage(const std::string& path) {
+  return "urdf_file '" + path +
+         "' refused: it must be a readable regular file of at most 16 MiB under an allowed "
+         "root (parameter ~urdf_roots)";
+}
+
+std::string readSpawnUrdf(const std::string& path, const std::vector<std::string>& roots) {
+  const std::string file = canonical(path);
+  bool allowed = false;
+  for (const std::string& root : roots) allowed = allowed || under(file, canonical(root));
+  if (allowed) {
+    try {
+      return flapsim::readUrdfFile(file);
+    } catch (const flapsim::ModelError&) {
+    }
+  }
+  throw flapsim::InputError(refusedUrdfFileMessage(path));
+}
+
+std::vector<std::string> defaultUrdfRoots(const char* ros_package_path,
+                                          const std::string& working_directory) {
+  std::vector<std::string> roots;
+  if (ros_package_path) {
+    std::istringstream in(ros_package_path);
+    std::string dir;
+    while (std::getline(in, dir, ':')) {
+      if (!dir.empty()) roots.push_back(dir);
+    }
+  }
+  if (!working_directory.empty()) roots.push_back(working_directory);
+  return roots;
+}
+
+}  // namespace flapsim_ros

@@ -1,0 +1,278 @@
+// flapsim_node's guards through its ROS interface (rostest: see node_reliability.test): the
+// divergence watchdog's report, the step cap, spawn file roots and the warning limiter.
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
+#include <unistd.h>
+#include <xmlrpcpp/XmlRpcClient.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "flapsim/DeleteCreature.h"
+#include "flapsim/SpawnCreature.h"
+#include "flapsim/Step.h"
+#include "flapsim/WingCommand.h"
+#include "flapsim_ros/urdf_source.h"
+
+namespace {
+
+constexpr double kWait = 20.0;  // s (wall), upper bound of any wait
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+bool waitUntil(const std::function<bool()>& done, double timeout = kWait) {
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
+  while (ros::ok()) {
+    if (done()) return true;
+    if (ros::WallTime::now() > deadline) return false;
+    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
+  }
+  return false;
+}
+
+template <class M>
+struct Recorder {
+  void start(ros::NodeHandle& nh, const std::string& topic) {
+    sub = nh.subscribe<M>(topic, 10000,
+                          [this](const boost::shared_ptr<const M>& m) { msgs.push_back(m); });
+  }
+  ros::Subscriber sub;
+  std::vector<boost::shared_ptr<const M>> msgs;
+};
+
+class NodeGuards : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    nh_ = std::make_unique<ros::NodeHandle>();
+    ASSERT_TRUE(ros::service::waitForService("/flapsim/step", ros::Duration(60)));
+    rosout_.start(*nh_, "/rosout");
+    diagnostics_.start(*nh_, "/diagnostics");
+    odom_.start(*nh_, "/low/odom");
+    high_odom_.start(*nh_, "/high/odom");
+    wing_ = nh_->advertise<flapsim::WingCommand>("/low/wing_command", 1000);
+    ASSERT_TRUE(waitUntil([] {
+      return rosout_.sub.getNumPublishers() > 0 && diagnostics_.sub.getNumPublishers() > 0 &&
+             odom_.sub.getNumPublishers() > 0 && high_odom_.sub.getNumPublishers() > 0 &&
+             wing_.getNumSubscribers() > 0;
+    }));
+  }
+  static void TearDownTestSuite() {
+    rosout_ = {};
+    diagnostics_ = {};
+    odom_ = {};
+    high_odom_ = {};
+    wing_.shutdown();
+    nh_.reset();
+  }
+  static flapsim::Step step(std::uint32_t n) {
+    flapsim::Step s;
+    s.request.steps = n;
+    EXPECT_TRUE(ros::service::call("/flapsim/step", s));
+    return s;
+  }
+  // Messages /flapsim logged at `level` that contain `text`.
+  static int logged(std::uint8_t level, const std::string& text) {
+    return static_cast<int>(std::count_if(rosout_.msgs.begin(), rosout_.msgs.end(), [&](auto& m) {
+      return m->name == "/flapsim" && m->level == level && m->msg.find(text) != std::string::npos;
+    }));
+  }
+  static const nav_msgs::Odometry* odomAt(Recorder<nav_msgs::Odometry>& r, std::uint64_t ns) {
+    const nav_msgs::Odometry* found = nullptr;
+    waitUntil([&] {
+      for (const auto& m : r.msgs) {
+        if (m->header.stamp.toNSec() == ns) found = m.get();
+      }
+      return found != nullptr;
+    });
+    return found;
+  }
+
+  static std::unique_ptr<ros::NodeHandle> nh_;
+  static Recorder<rosgraph_msgs::Log> rosout_;
+  static Recorder<diagnostic_msgs::DiagnosticArray> diagnostics_;
+  static Recorder<nav_msgs::Odometry> odom_, high_odom_;
+  static ros::Publisher wing_;
+};
+
+std::unique_ptr<ros::NodeHandle> NodeGuards::nh_;
+Recorder<rosgraph_msgs::Log> NodeGuards::rosout_;
+Recorder<diagnostic_msgs::DiagnosticArray> NodeGuards::diagnostics_;
+Recorder<nav_msgs::Odometry> NodeGuards::odom_, NodeGuards::high_odom_;
+ros::Publisher NodeGuards::wing_;
+
+// In vacuum 'high' falls from rest and passes 2 m/s at step 204 (9.81 x 0.204); 'low',
+// thrown up at 1 m/s, passes it at step 306. Each is logged once, as an error naming it,
+// the step and the quantity, and shown on /diagnostics; until then each moves freely.
+TEST_F(NodeGuards, AFrozenCreatureIsReportedOnceAndTheOthersGoOn) {
+  const flapsim::Step s = step(300);
+  ASSERT_TRUE(s.response.success) << s.response.status_message;
+  const std::string high =
+      "creature 'high' diverged at step 204 (t = 0.204000000 s): link "
+      "'plate' moves at 2.001 m/s (max_speed 2 m/s)";
+  EXPECT_TRUE(waitUntil([&] { return logged(rosgraph_msgs::Log::ERROR, high) == 1; }));
+  const nav_msgs::Odometry* h = odomAt(high_odom_, 300000000);
+  const nav_msgs::Odometry* l = odomAt(odom_, 300000000);
+  ASSERT_TRUE(h && l);
+  EXPECT_NEAR(h->twist.twist.linear.z, -9.81 * 0.203, 1e-9);  // frozen at step 203
+  EXPECT_NEAR(l->twist.twist.linear.z, 1.0 - 9.81 * 0.300, 1e-9);
+  EXPECT_TRUE(waitUntil([] {
+    const auto& d = diagnostics_.msgs;
+    if (d.empty()) return false;
+    bool high_error = false, low_ok = false;
+    for (const auto& st : d.back()->status) {
+      high_error |= st.name == "flapsim: high" && st.level == st.ERROR &&
+                    st.message.find("diverged at step 204") != std::string::npos;
+      low_ok |= st.name == "flapsim: low" && st.level == st.OK;
+    }
+    return high_error && low_ok;
+  }));
+
+  ASSERT_TRUE(step(100).response.success);
+  EXPECT_TRUE(waitUntil([&] {
+    return logged(rosgraph_msgs::Log::ERROR, "creature 'low' diverged at step 306") == 1;
+  }));
+  // No second report of 'high' in a wall second.
+  EXPECT_FALSE(
+      waitUntil([&] { return logged(rosgraph_msgs::Log::ERROR, "'high' diverged") > 1; }, 1.0));
+}
+
+// steps: 4294967295 held the node (pause, spawn, /clock, SIGINT) for hours.
+TEST_F(NodeGuards, StepsOverTheCapAreRefusedByName) {
+  const ros::Time before = step(0).response.sim_time;
+  const flapsim::Step s = step(4294967295u);
+  EXPECT_FALSE(s.response.success);
+  EXPECT_EQ(s.response.status_message,
+            "steps 4294967295 is over max_steps_per_call 1000 (parameter ~max_steps_per_call): "
+            "no step taken");
+  EXPECT_EQ(s.response.sim_time, before);
+}
+
+// The last command for a creature named twice used to win silently.
+TEST_F(NodeGuards, ACreatureNamedTwiceInOneStepIsRefused) {
+  flapsim::Step s;
+  s.request.steps = 1;
+  s.request.creatures = {"low", "low"};
+  s.request.wing_commands.resize(2);
+  ASSERT_TRUE(ros::service::call("/flapsim/step", s));
+  EXPECT_FALSE(s.response.success);
+  EXPECT_EQ(s.response.status_message,
+            "wing commands refused, no step taken: creature 'low' is named twice");
+}
+
+// Missing files, directories, files outside the roots: one text, so that any node on the
+// graph cannot probe the host's files; a file under a root spawns.
+TEST_F(NodeGuards, RefusedSpawnFilesShareOneText) {
+  const std::string urdf = std::string(FLAPSIM_SOURCE_DIR) + "/urdf";
+  // A readable URDF outside the roots (the temporary directory).
+  std::string outside = (std::filesystem::temp_directory_path() / "flapsim_XXXXXX").string();
+  const int fd = ::mkstemp(&outside[0]);
+  ASSERT_GE(fd, 0);
+  ::close(fd);
+  std::ofstream(outside) << readText(urdf + "/plate.urdf");
+  for (const std::string& path :
+       {urdf + "/missing.urdf", urdf, outside, std::string("/dev/zero")}) {
+    flapsim::SpawnCreature s;
+    s.request.name = "probe";
+    s.request.urdf_file = path;
+    ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+    EXPECT_FALSE(s.response.success) << path;
+    EXPECT_EQ(s.response.status_message, flapsim_ros::refusedUrdfFileMessage(path));
+  }
+  ::unlink(outside.c_str());
+  flapsim::SpawnCreature ok;
+  ok.request.name = "probe";
+  ok.request.urdf_file = urdf + "/plate.urdf";
+  ok.request.initial_pose.position.x = 20;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", ok));
+  EXPECT_TRUE(ok.response.success) << ok.response.status_message;
+}
+
+// A new unknown joint name in each command was a new cause: one warning per message.
+TEST_F(NodeGuards, DistinctBadCommandsAreOneWarning) {
+  for (int i = 0; i < 100; ++i) {
+    flapsim::WingCommand c;
+    c.joint_names = {"j" + std::to_string(i)};
+    c.downstroke_rate = {10};
+    c.upstroke_rate = {10};
+    c.amplitude = {0.5};
+    wing_.publish(c);
+  }
+  const std::string text = "rejected wing command for 'low': creature 'low': no joint 'j";
+  EXPECT_TRUE(waitUntil([&] { return logged(rosgraph_msgs::Log::WARN, text) == 1; }));
+  EXPECT_FALSE(waitUntil([&] { return logged(rosgraph_msgs::Log::WARN, text) > 1; }, 1.0));
+}
+
+// The node's resident memory (kB), found through the master and its getPid call.
+long nodeRssKb() {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = ros::this_node::getName();
+  args[1] = "/flapsim";
+  if (!ros::master::execute("lookupNode", args, result, payload, true)) return -1;
+  std::string uri = payload;
+  const std::string host_port = uri.substr(uri.find("//") + 2);
+  const std::string host = host_port.substr(0, host_port.find(':'));
+  const int port = std::stoi(host_port.substr(host_port.find(':') + 1));
+  XmlRpc::XmlRpcClient client(host.c_str(), port, "/");
+  XmlRpc::XmlRpcValue pid_args, pid_result;
+  pid_args[0] = ros::this_node::getName();
+  if (!client.execute("getPid", pid_args, pid_result)) return -1;
+  const int pid = pid_result[2];
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  }
+  return -1;
+}
+
+// roscpp's node handle kept a weak pointer to every publisher and subscriber it made: each
+// spawn and delete of a creature held about 0.7 KB (3,000 cycles: +2.2 MB).
+TEST_F(NodeGuards, SpawnDeleteChurnDoesNotGrowTheNode) {
+  ros::ServiceClient spawn = nh_->serviceClient<flapsim::SpawnCreature>("/flapsim/spawn", true);
+  ros::ServiceClient remove = nh_->serviceClient<flapsim::DeleteCreature>("/flapsim/delete", true);
+  const std::string urdf =
+      "<robot name='p'><link name='plate'><inertial><mass value='0.01'/>"
+      "<inertia ixx='1e-5' iyy='1e-5' izz='2e-5' ixy='0' ixz='0' iyz='0'/>"
+      "</inertial><collision><geometry><box size='0.2 0.2 0.002'/>"
+      "</geometry></collision></link></robot>";
+  long after_100 = -1;
+  for (int i = 1; i <= 3000; ++i) {
+    flapsim::SpawnCreature s;
+    s.request.name = "churn";
+    s.request.urdf_xml = urdf;
+    s.request.initial_pose.position.z = 50;
+    ASSERT_TRUE(spawn.call(s) && s.response.success) << i << ": " << s.response.status_message;
+    flapsim::DeleteCreature d;
+    d.request.name = "churn";
+    ASSERT_TRUE(remove.call(d) && d.response.success) << i;
+    if (i == 100) after_100 = nodeRssKb();
+  }
+  const long after_3000 = nodeRssKb();
+  ASSERT_GT(after_100, 0);
+  std::printf("flapsim_node RSS: %ld kB after 100 cycles, %ld kB after 3000\n", after_100,
+              after_3000);
+  EXPECT_LT(after_3000 - after_100, 200);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_node_reliability");
+  return RUN_ALL_TESTS();
+}
