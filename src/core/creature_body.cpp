@@ -1,5 +1,8 @@
 #include "creature_body.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "flapsim/fluid_inertia.h"
 
 namespace flapsim {
@@ -213,12 +216,17 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   // the air and gravity) its joint moves by the trapezoid of its velocities, where Bullet's
   // semi-implicit step takes the end velocity. A servo that holds its target velocity
   // moves at the end velocity all step, as Bullet has it. Not in contact: impulses there.
+  // Nor near a joint's stop, where the limit's impulse may have acted.
   if (!scene->hasContacts()) {
     for (size_t k = 1; k < solution.saturated.size(); ++k) {
       if (!solution.saturated[k]) continue;
       const int l = static_cast<int>(k) - 1;
-      const double v1 = mb->getJointVel(l);
-      mb->setJointPos(l, mb->getJointPos(l) - 0.5 * dt * (v1 - start_joint_velocity_[l]));
+      const double v0 = start_joint_velocity_[l], v1 = mb->getJointVel(l);
+      const double q = mb->getJointPos(l);
+      const JointModel& j = model->joints[model->links[k].parent_joint];
+      const double reach = dt * std::max(std::abs(v0), std::abs(v1));
+      if (j.limited && (q - j.lower <= reach || j.upper - q <= reach)) continue;
+      mb->setJointPos(l, q - 0.5 * dt * (v1 - v0));
     }
   }
   const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step

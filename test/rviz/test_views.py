@@ -93,8 +93,9 @@ class Views(unittest.TestCase):
         duration = float(subprocess.run(
             ["ffprobe", "-v", "error", "-show_entries", "format=duration", "-of", "csv=p=0",
              movie], check=True, capture_output=True, text=True).stdout)
-        self.assertGreater(duration, 9.0)  # about the 10.5 s flight at speed 1
-        self.assertLess(duration, 12.0)
+        # About the 10.5 s flight at speed 1, or longer: filming runs in wall time, and on a
+        # busy machine the replay falls behind its rate (no upper bound: it would test load).
+        self.assertGreater(duration, 9.0)
         for i, t in enumerate((0.0, duration / 2, duration - 0.5)):
             png = os.path.join(OUT, f"movie_frame_{i}.png")
             subprocess.run(["ffmpeg", "-loglevel", "error", "-y", "-ss", f"{t:.2f}", "-i", movie,
