@@ -1,8 +1,9 @@
 // A launch file starts and its creatures do what the scenario says. The
 // launch file is included paused; this test connects, has the t = 0 state
 // published (flapsim/step 0), steps `~duration` of sim time, checks each
-// creature's displacement against `~checks` (list of {topic, min_dz, max_dz,
-// min_dxy, max_dxy}, all optional), and checks that unpausing runs the sim.
+// creature's displacement against `~checks` (a list, required, of {topic, min_dz, max_dz,
+// min_dx, max_dx, min_abs_dx, min_dxy, max_dxy}, the bounds optional), and checks that unpausing
+// runs the sim.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/callback_queue.h>
@@ -96,7 +97,9 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
   ros::service::call("/flapsim/pause", e);
 
   XmlRpc::XmlRpcValue checks;
-  if (!pnh.getParam("checks", checks)) return;
+  ASSERT_TRUE(pnh.getParam("checks", checks)) << "~checks is missing: a scenario must say what "
+                                                 "its creatures do";
+  ASSERT_EQ(checks.getType(), XmlRpc::XmlRpcValue::TypeArray) << "~checks must be a list";
   const double inf = std::numeric_limits<double>::infinity();
   for (int i = 0; i < checks.size(); ++i) {
     const std::string t = checks[i]["topic"];
@@ -104,11 +107,16 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
     const auto& p0 = first[t].pose.pose.position;
     const auto& p1 = at_end[t].pose.pose.position;
     const double dz = p1.z - p0.z;
+    const double dx = p1.x - p0.x;
     const double dxy = std::hypot(p1.x - p0.x, p1.y - p0.y);
+    RecordProperty(t + "_dx", std::to_string(dx));
     RecordProperty(t + "_dz", std::to_string(dz));
     RecordProperty(t + "_dxy", std::to_string(dxy));
     EXPECT_GE(dz, member(checks[i], "min_dz", -inf)) << t;
     EXPECT_LE(dz, member(checks[i], "max_dz", inf)) << t;
+    EXPECT_GE(dx, member(checks[i], "min_dx", -inf)) << t;
+    EXPECT_LE(dx, member(checks[i], "max_dx", inf)) << t;
+    EXPECT_GE(std::abs(dx), member(checks[i], "min_abs_dx", -inf)) << t;
     EXPECT_GE(dxy, member(checks[i], "min_dxy", -inf)) << t;
     EXPECT_LE(dxy, member(checks[i], "max_dxy", inf)) << t;
   }
