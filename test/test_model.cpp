@@ -235,6 +235,32 @@ TEST(ModelErrors, NameTheCulprit) {
       {"tilted", "off-diagonal"});
 }
 
+// <spring joint stiffness reference>: on a passive joint; refused by name on an unknown, a
+// fixed or a wing joint, twice on one joint, without a stiffness or with a negative one.
+TEST(Spring, SetsAPassiveJointsStiffnessAndIsRefusedByName) {
+  auto m = parseCreatureModel(robot(std::string(kLink) + hinge() +
+                                    R"(<spring joint="hinge" stiffness="0.5" reference="0.1"/>)"));
+  const JointModel& j = m->joints[m->findJoint("hinge")];
+  EXPECT_EQ(j.stiffness, 0.5);
+  EXPECT_EQ(j.reference, 0.1);
+  expectError(robot(std::string(kLink) + hinge() + R"(<spring joint="elbow" stiffness="1"/>)"),
+              {"elbow"});
+  expectError(robot(std::string(kLink) + hinge("hinge", "fixed") +
+                    R"(<spring joint="hinge" stiffness="1"/>)"),
+              {"hinge", "fixed"});
+  expectError(robot(std::string(kLink) + hinge() +
+                    R"(<wing joint="hinge"/><spring joint="hinge" stiffness="1"/>)"),
+              {"hinge", "wing"});
+  expectError(
+      robot(std::string(kLink) + hinge() +
+            R"(<spring joint="hinge" stiffness="1"/><spring joint="hinge" stiffness="2"/>)"),
+      {"hinge", "two"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<spring joint="hinge"/>)"),
+              {"hinge", "stiffness"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<spring joint="hinge" stiffness="-1"/>)"),
+              {"hinge", "stiffness"});
+}
+
 TEST(ModelErrors, MissingFileIsNamed) {
   try {
     loadCreatureModel("/nonexistent/creature.urdf");

@@ -55,6 +55,10 @@ struct JointModel {
   double velocity = 0.0;  // speed limit (0: none)
   double damping = 0.0;
   double friction = 0.0;
+  /// <spring joint="..." stiffness="..." reference="..."/>: a passive joint's torsion spring
+  /// (N m/rad, or N/m if prismatic), pulling it towards `reference`.
+  double stiffness = 0.0;
+  double reference = 0.0;
   bool wing = false;       // marked by <wing joint="..."/>
   int feather_joint = -1;  // <wing joint="..." feather_joint="..."/>: pitches this wing
 

@@ -13,6 +13,7 @@
 #include "flapsim/controller_file.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/ga.h"
+#include "flapsim/make_creature.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -109,7 +110,8 @@ double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& co
 
 /// Everything an evolution needs.
 struct EvolveParams {
-  int pairs = 1;  // the creature: makeCreatureUrdf(pairs)
+  int pairs = 1;  // the creature: makeCreatureUrdf(pairs, "afc", unit)
+  FlapUnitParams unit;
   GaParams ga;
   FlapControllerParams controller;
   EpisodeParams episode;  // episode.seed is set from ga.seed by evolveFlapController

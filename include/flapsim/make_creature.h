@@ -24,7 +24,11 @@ struct FlapUnitParams {
   double wing_limit = 1.4;      // rad, hinge range +-limit
   double unit_spacing = 0.24;   // m between unit bodies along x
   double link_damping = 0.002;  // N m s/rad on the passive joints between units
-  double link_limit = 0.35;     // rad, passive joint range +-limit
+  /// N m/rad: a <spring> on each passive joint between units (0: none). Without it the
+  /// chains fold at these joints and flip; 0.5 lets the one-pair controller fly a 4-unit
+  /// chain from 6 of 8 tilted starts (README, robust flight).
+  double link_stiffness = 0.5;
+  double link_limit = 0.35;  // rad, passive joint range +-limit
   /// Feathering wings: each wing hangs from its hinge through a small root link and a pitch
   /// joint `unit<k>_wing_<side>_pitch` about its span (the wing's feather_joint).
   bool feathering = false;

@@ -133,6 +133,7 @@ void addColliders(CreatureBody& body, const CreatureModel& m, double friction) {
 void addLimits(CreatureBody& body, const CreatureModel& m, const WorldParams& params) {
   body.max_effort.assign(m.joints.size(), 0.0);
   body.damping.assign(m.joints.size(), 0.0);
+  body.stiffness.assign(m.joints.size(), 0.0);
   std::vector<JointLimits::Limit> limits;
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const JointModel& j = m.joints[ji];
@@ -140,6 +141,7 @@ void addLimits(CreatureBody& body, const CreatureModel& m, const WorldParams& pa
     if (j.limited && j.lower < j.upper) limits.push_back({j.child_link - 1, j.lower, j.upper});
     body.max_effort[ji] = j.effort > 0.0 ? j.effort : params.default_wing_effort;
     body.damping[ji] = std::min(j.damping, dampingLimit(m, j, params.step_size));
+    body.stiffness[ji] = std::min(j.stiffness, stiffnessLimit(m, j, params.step_size));
   }
   if (limits.empty()) return;
   auto constraint = std::make_unique<JointLimits>(body.mb.get(), std::move(limits));

@@ -77,6 +77,7 @@ struct CreatureBody {
   std::vector<double> reach;
   std::vector<double> max_effort;  // per model joint
   std::vector<double> damping;     // per model joint: URDF damping, capped for stability
+  std::vector<double> stiffness;   // per model joint: <spring> stiffness, capped for stability
   // Joint servos (wing motors, velocity targets, feathering, Coulomb friction), indexed
   // by model link: the servo of the joint to that link's parent.
   const CreatureModel* model = nullptr;

@@ -216,6 +216,11 @@ struct Annotations {
   std::vector<std::string> wings;
   std::vector<std::string> feathers;  // per wing, "" if none
   std::map<std::string, AeroSettings> aero;
+  struct Spring {
+    std::string joint;
+    double stiffness = 0.0, reference = 0.0;
+  };
+  std::vector<Spring> springs;
 };
 
 Annotations readAnnotations(const std::string& xml, const std::string& source) {
@@ -236,6 +241,25 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
     a.wings.push_back(joint);
     const char* feather = w->Attribute("feather_joint");
     a.feathers.push_back(feather ? feather : "");
+  }
+  for (auto* e = robot->FirstChildElement("spring"); e; e = e->NextSiblingElement("spring")) {
+    const char* joint = e->Attribute("joint");
+    if (!joint || !*joint) fail(source, "<spring> without a joint attribute");
+    const std::string where = std::string("<spring joint='") + joint + "'>";
+    if (!e->Attribute("stiffness")) fail(source, where + ": no stiffness");
+    Annotations::Spring s;
+    s.joint = joint;
+    s.stiffness = parseDoubleAttr(e, "stiffness", where, source);
+    if (s.stiffness < 0.0 || s.stiffness > kHuge) {
+      fail(source, where + ": stiffness must be in [0, 1e9]");
+    }
+    if (e->Attribute("reference")) {
+      s.reference = parseDoubleAttr(e, "reference", where, source);
+      if (std::abs(s.reference) > kMaxUrdfLength) {
+        fail(source, where + ": reference must be within +-1000");
+      }
+    }
+    a.springs.push_back(s);
   }
   for (auto* e = robot->FirstChildElement("aero"); e; e = e->NextSiblingElement("aero")) {
     const char* link = e->Attribute("link");
@@ -453,6 +477,16 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
       if (fi == idx) fail(source, "<wing joint='" + w + "'> names itself as its feather_joint");
       jm.feather_joint = fi;
     }
+  }
+  for (const Annotations::Spring& s : notes.springs) {
+    const int idx = model->findJoint(s.joint);
+    if (idx < 0) fail(source, "<spring> names unknown joint '" + s.joint + "'");
+    JointModel& jm = model->joints[idx];
+    if (!jm.movable()) fail(source, "<spring joint='" + s.joint + "'>: the joint is fixed");
+    if (jm.wing) fail(source, "<spring joint='" + s.joint + "'>: a wing joint is driven");
+    if (jm.stiffness > 0.0) fail(source, "joint '" + s.joint + "' has two <spring> elements");
+    jm.stiffness = s.stiffness;
+    jm.reference = s.reference;
   }
   for (size_t i = 0; i < model->joints.size(); ++i) {
     if (model->joints[i].wing) model->wing_joints.push_back(static_cast<int>(i));

@@ -194,7 +194,7 @@ std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed) { return mixSeed(ga_se
 EvolveResult evolveFlapController(const EvolveParams& params,
                                   const std::function<void(const GenerationStats&)>& on_gen) {
   const CreatureModelPtr model =
-      parseCreatureModel(makeCreatureUrdf(params.pairs, "afc"), "make_creature");
+      parseCreatureModel(makeCreatureUrdf(params.pairs, "afc", params.unit), "make_creature");
   EpisodeParams episode = params.episode;
   episode.seed = evolutionEpisodeSeed(params.ga.seed);
   std::string err = validateEpisodeParams(episode);

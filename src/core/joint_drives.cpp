@@ -6,12 +6,25 @@
 
 namespace flapsim {
 
-double dampingLimit(const CreatureModel& m, const JointModel& j, double dt) {
+namespace {
+
+// The child link's own inertia about the joint axis (its mass, if prismatic): a lower bound
+// of what the joint moves.
+double childInertia(const CreatureModel& m, const JointModel& j) {
   const LinkModel& child = m.links[j.child_link];
-  if (j.type == JointType::kPrismatic) return 0.25 * child.mass / dt;
+  if (j.type == JointType::kPrismatic) return child.mass;
   const Vec3 r = child.com - child.com.dot(j.axis) * j.axis;  // COM off the axis
-  const double inertia = child.inertia.dot(j.axis.cwiseAbs2()) + child.mass * r.squaredNorm();
-  return 0.25 * inertia / dt;
+  return child.inertia.dot(j.axis.cwiseAbs2()) + child.mass * r.squaredNorm();
+}
+
+}  // namespace
+
+double dampingLimit(const CreatureModel& m, const JointModel& j, double dt) {
+  return 0.25 * childInertia(m, j) / dt;
+}
+
+double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt) {
+  return 0.25 * childInertia(m, j) / (dt * dt);
 }
 
 namespace {
@@ -40,6 +53,9 @@ void driveJoint(const JointModel& j, size_t ji, JointDrive& d, CreatureBody& b, 
       // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
       if (j.friction > 0.0) demand(b, j.child_link, 0.0, j.friction, dt);
       if (b.damping[ji] > 0.0) mb->addJointTorque(link, -b.damping[ji] * mb->getJointVel(link));
+      if (b.stiffness[ji] > 0.0) {
+        mb->addJointTorque(link, -b.stiffness[ji] * (mb->getJointPos(link) - j.reference));
+      }
       break;
   }
 }

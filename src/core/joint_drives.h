@@ -28,6 +28,9 @@ struct JointDrive {
 // inertia about the axis per step: the joint is then nearly rigid in velocity either way,
 // and a large URDF damping cannot make the step blow up.
 double dampingLimit(const CreatureModel& m, const JointModel& j, double dt);
+// A <spring> is an explicit torque -k (q - reference), stable while the child link's own
+// oscillation sqrt(k / I) dt stays below 2; beyond a quarter of I / dt^2 it is capped there.
+double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt);
 
 // A wing reversing in the next step of `b`: whether a stroke reaches its turning point
 // within the step or a stroke's servo was saturated in the last one (the stretch in which a

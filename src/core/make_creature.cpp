@@ -91,6 +91,10 @@ std::string makeCreatureUrdf(int pairs, const std::string& name, const FlapUnitP
             p.feather_effort, 0.0);
     }
   }
+  for (int k = 1; k < pairs && p.link_stiffness > 0.0; ++k) {
+    out << "  <spring joint=\"unit" << k << "_link_joint\" stiffness=\"" << p.link_stiffness
+        << "\"/>\n";
+  }
   for (int k = 0; k < pairs; ++k) {
     const std::string u = "unit" + std::to_string(k);
     for (const char* side : {"_wing_left", "_wing_right"}) {

@@ -35,6 +35,7 @@ const char* kUsage =
     "  --control-period P network update period, s (0.02)\n"
     "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.35)\n"
     "  --pitch P          start pitch range +-P, rad (0.035; robust 0.35)\n"
+    "  --link-stiffness K spring on the joints between units, N m/rad (0.5)\n"
     "  --start-rate W     start angular velocity, up to W rad/s per axis (0; robust 1)\n"
     "  --gust G           a horizontal wind step of up to G m/s (0; robust 1)\n"
     "  --input-noise N    attitude-sensor noise, rad (0; robust 0.02)\n"
@@ -120,7 +121,9 @@ int main(int argc, char** argv) {
       else if (a == "--roll" && i + 1 < argc) {
         params.episode.min_roll = std::stod(v);
         params.episode.max_roll = std::stod(argv[++i]);
-      } else if (a == "--pitch")
+      } else if (a == "--link-stiffness")
+        params.unit.link_stiffness = std::stod(v);
+      else if (a == "--pitch")
         params.episode.max_pitch = std::stod(v);
       else if (a == "--start-rate")
         params.episode.max_start_rate = std::stod(v);
@@ -194,7 +197,8 @@ int main(int argc, char** argv) {
     // The best individual on the first evolution episode, for the rates plot (Fig. 7).
     flapsim::EpisodeParams episode = params.episode;
     episode.seed = flapsim::evolutionEpisodeSeed(params.ga.seed);
-    const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(params.pairs, "afc"));
+    const auto model =
+        flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(params.pairs, "afc", params.unit));
     const flapsim::AnnWingController ann(flapsim::FlapUnitController(spec.params, spec.weights));
     const flapsim::EpisodeResult ep =
         flapsim::runEpisode(model, ann, spec.params.control_period, episode,

@@ -39,6 +39,16 @@ int main(int argc, char** argv) {
       (a == "--body-mass"   ? params.body_mass
        : a == "--wing-mass" ? params.wing_mass
                             : params.wing_effort) = x;
+    } else if (a == "--link-stiffness") {
+      const std::string v = value();
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (*end != '\0' || !(x >= 0.0) || x > 1e6) {
+        std::cerr << "make_creature: --link-stiffness must be a number in [0, 1e6] N m/rad, got '"
+                  << v << "'\n";
+        return 2;
+      }
+      params.link_stiffness = x;
     } else if (a == "--com-drop") {
       const std::string v = value();
       char* end = nullptr;
@@ -58,6 +68,7 @@ int main(int argc, char** argv) {
       std::cout
           << "usage: make_creature [--pairs N] [--name NAME] [--feathering] [--body-mass KG]\n"
              "                     [--wing-mass KG] [--wing-effort NM] [--com-drop M]\n"
+             "                     [--link-stiffness NM_PER_RAD]\n"
              "                     [--output FILE]\n"
              "Writes the URDF of N flapping units (body + two wings) chained by passive\n"
              "pitch joints; to stdout unless --output is given. --feathering hangs each\n"
