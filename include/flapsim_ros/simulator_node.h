@@ -14,10 +14,16 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "flapsim/ApplyWrench.h"
+#include "flapsim/ClearWrenches.h"
+#include "flapsim/CreatureStates.h"
 #include "flapsim/DeleteCreature.h"
+#include "flapsim/GetState.h"
+#include "flapsim/SetState.h"
 #include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
@@ -55,6 +61,7 @@ class SimulatorNode {
     flapsim::CreatureModelPtr model;
     ros::Publisher joint_states;
     ros::Publisher odom;
+    ros::Publisher imu;
     ros::Subscriber wing_command;
     ros::Publisher description;  // latched URDF text: what a replay needs to draw it
     std::vector<visualization_msgs::Marker> geometry;  // its boxes, for creature_markers
@@ -99,6 +106,11 @@ class SimulatorNode {
   bool onStep(flapsim::Step::Request& req, flapsim::Step::Response& res);
   bool onSpawn(flapsim::SpawnCreature::Request& req, flapsim::SpawnCreature::Response& res);
   bool onDelete(flapsim::DeleteCreature::Request& req, flapsim::DeleteCreature::Response& res);
+  bool onGetState(flapsim::GetState::Request& req, flapsim::GetState::Response& res);
+  bool onSetState(flapsim::SetState::Request& req, flapsim::SetState::Response& res);
+  bool onApplyWrench(flapsim::ApplyWrench::Request& req, flapsim::ApplyWrench::Response& res);
+  bool onClearWrenches(flapsim::ClearWrenches::Request& req, flapsim::ClearWrenches::Response& res);
+  flapsim::CreatureStates creatureStatesMsg(const ros::Time& stamp) const;
 
   NodeParams params_;
   ros::CallbackQueue queue_;
@@ -113,8 +125,11 @@ class SimulatorNode {
 
   std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
   ros::Publisher clock_pub_, tf_pub_, marker_pub_, creature_marker_pub_, diagnostics_pub_;
+  ros::Publisher states_pub_;  // ~creature_states
+  std::mt19937_64 imu_rng_;    // the IMU noise, seeded from ~imu/seed
+  std::normal_distribution<double> imu_normal_;
   ViewFollower view_{kViewTimeConstant};  // the view frame, updated at each publication
-  ros::WallTime diagnostics_wall_;  // of the last diagnostics
+  ros::WallTime diagnostics_wall_;        // of the last diagnostics
   std::vector<ros::ServiceServer> services_;
 
   ros::WallTime pace_wall_;      // wall time at the pacing anchor

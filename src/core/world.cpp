@@ -201,13 +201,24 @@ class World::Impl {
     return names;
   }
 
-  // The frames, colliders and momentum bookkeeping of a body whose state was set from
-  // outside a step.
+  // The frames, colliders, contacts, servo history and momentum bookkeeping of a body whose
+  // state was set from outside a step: what comes next depends on the new state alone, as
+  // for a body just built.
   static void settle(CreatureBody& b) {
     b.updateKinematics();
     btAlignedObjectArray<btQuaternion> rotations;
     btAlignedObjectArray<btVector3> origins;
     b.mb->updateCollisionObjectWorldTransforms(rotations, origins);
+    btMultiBodyDynamicsWorld& world = b.scene->world();
+    for (auto& col : b.colliders) {
+      world.updateSingleAabb(col.get());
+      if (col->getBroadphaseHandle()) {
+        world.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(
+            col->getBroadphaseHandle(), world.getDispatcher());
+      }
+    }
+    b.solution = ServoSolution();
+    b.last_step = 1.0;
     b.forgetMomentum();
   }
 

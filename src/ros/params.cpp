@@ -193,6 +193,18 @@ MarkerParams parseMarkers(const Dict& d, MarkerParams m) {
   return m;
 }
 
+ImuParams parseImu(const Dict& d, ImuParams m) {
+  m.angular_velocity_noise = d.number("angular_velocity_noise", m.angular_velocity_noise);
+  m.linear_acceleration_noise = d.number("linear_acceleration_noise", m.linear_acceleration_noise);
+  m.seed = d.integer("seed", m.seed);
+  for (const char* k : {"angular_velocity_noise", "linear_acceleration_noise"}) {
+    const double v = d.number(k, 0.0);
+    if (!(v >= 0.0 && v <= 1e3)) fail(d.key(k), "must be in [0, 1000]");
+  }
+  d.rejectUnknown();
+  return m;
+}
+
 // A wing command entry: scalars (one stroke for all wings) or equal-length lists.
 std::vector<flapsim::StrokeCommand> parseWingCommand(const Dict& d) {
   const char* keys[3] = {"downstroke_rate", "upstroke_rate", "amplitude"};
@@ -315,6 +327,7 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   p.world_frame = d.string("world_frame", p.world_frame);
   if (p.world_frame.empty()) fail("world_frame", "must not be empty");
   if (d.has("markers")) p.markers = parseMarkers(Dict(d.at("markers"), "markers"), p.markers);
+  if (d.has("imu")) p.imu = parseImu(Dict(d.at("imu"), "imu"), p.imu);
 
   if (d.has("creatures")) {
     const XmlRpcValue& list = d.at("creatures");

@@ -49,7 +49,8 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
       publish_every_(std::max<std::uint64_t>(
           1, static_cast<std::uint64_t>(
                  std::llround(1.0 / (params.publish_rate * params.world.step_size))))),
-      paused_(params.paused) {
+      paused_(params.paused),
+      imu_rng_(static_cast<std::uint64_t>(params.imu.seed)) {
   nh_.setCallbackQueue(&queue_);
   pnh_.setCallbackQueue(&queue_);
   for (const std::string& k : params_.unknown_keys) {
@@ -68,12 +69,20 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
   creature_marker_pub_ =
       pnh_.advertise<visualization_msgs::MarkerArray>("creature_markers", 1, /*latch=*/true);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  states_pub_ = pnh_.advertise<flapsim::CreatureStates>(
+      "creature_states", 10,
+      [this](const ros::SingleSubscriberPublisher& p) { p.publish(creatureStatesMsg(now())); });
   services_.push_back(pnh_.advertiseService("reset", &SimulatorNode::onReset, this));
   services_.push_back(pnh_.advertiseService("pause", &SimulatorNode::onPause, this));
   services_.push_back(pnh_.advertiseService("unpause", &SimulatorNode::onUnpause, this));
   services_.push_back(pnh_.advertiseService("step", &SimulatorNode::onStep, this));
   services_.push_back(pnh_.advertiseService("spawn", &SimulatorNode::onSpawn, this));
   services_.push_back(pnh_.advertiseService("delete", &SimulatorNode::onDelete, this));
+  services_.push_back(pnh_.advertiseService("get_state", &SimulatorNode::onGetState, this));
+  services_.push_back(pnh_.advertiseService("set_state", &SimulatorNode::onSetState, this));
+  services_.push_back(pnh_.advertiseService("apply_wrench", &SimulatorNode::onApplyWrench, this));
+  services_.push_back(
+      pnh_.advertiseService("clear_wrenches", &SimulatorNode::onClearWrenches, this));
 
   for (const CreatureSpec& spec : params_.creatures) {
     const bool from_file = !spec.urdf_file.empty();
@@ -130,6 +139,7 @@ void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
     c->description.publish(text);
     c->joint_states = c->nh.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
     c->odom = c->nh.advertise<nav_msgs::Odometry>(name + "/odom", 10);
+    c->imu = c->nh.advertise<sensor_msgs::Imu>(name + "/imu", 10);
     c->wing_command = c->nh.subscribe<flapsim::WingCommand>(
         name + "/wing_command", 10,
         [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });
@@ -149,6 +159,7 @@ void SimulatorNode::remove(const std::string& name) {
   if (it == creatures_.end()) return;
   (*it)->joint_states.shutdown();
   (*it)->odom.shutdown();
+  (*it)->imu.shutdown();
   (*it)->wing_command.shutdown();
   (*it)->description.shutdown();
   nh_.deleteParam(name + "/robot_description");
@@ -226,8 +237,15 @@ void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp,
   const bool need_tf = tf != nullptr;
   const bool need_js = c.joint_states.getNumSubscribers() > 0;
   const bool need_odom = c.odom.getNumSubscribers() > 0;
-  if (!need_tf && !need_js && !need_odom) return;
+  const bool need_imu = c.imu.getNumSubscribers() > 0;
+  if (!need_tf && !need_js && !need_odom && !need_imu) return;
   const flapsim::CreatureState s = world_.state(c.name);
+  if (need_imu) {
+    const ImuNoise noise{params_.imu.angular_velocity_noise, params_.imu.linear_acceleration_noise};
+    c.imu.publish(imuMsg(c.name, *c.model, s, world_.rootAcceleration(c.name),
+                         world_.params().gravity, stamp, noise,
+                         [this] { return imu_normal_(imu_rng_); }));
+  }
   if (need_js) c.joint_states.publish(jointStateMsg(*c.model, s, stamp));
   if (need_odom) c.odom.publish(odometryMsg(c.name, *c.model, s, stamp, params_.world_frame));
   if (need_tf) {
@@ -252,6 +270,7 @@ void SimulatorNode::publishAll() {
     tf.transforms.push_back(viewTransform(view_.position(), stamp, params_.world_frame));
     tf_pub_.publish(tf);
   }
+  if (states_pub_.getNumSubscribers() > 0) states_pub_.publish(creatureStatesMsg(stamp));
   if (params_.markers.enabled && marker_pub_.getNumSubscribers() > 0) {
     marker_pub_.publish(aeroMarkerArray(stamp));
   }
@@ -289,6 +308,19 @@ visualization_msgs::MarkerArray SimulatorNode::aeroMarkerArray(const ros::Time& 
     markers.markers.insert(markers.markers.end(), m.begin(), m.end());
   }
   return markers;
+}
+
+flapsim::CreatureStates SimulatorNode::creatureStatesMsg(const ros::Time& stamp) const {
+  flapsim::CreatureStates m;
+  m.header.stamp = stamp;
+  m.header.frame_id = params_.world_frame;
+  for (const auto& c : creatures_) {
+    const flapsim::CreatureState s = world_.state(c->name);
+    m.name.push_back(c->name);
+    m.pose.push_back(toMsg(s.link_poses.at(0)));
+    m.twist.push_back(toMsg(s.link_twists.at(0)));
+  }
+  return m;
 }
 
 void SimulatorNode::publishCreatureMarkers() {
@@ -478,6 +510,83 @@ bool SimulatorNode::onDelete(flapsim::DeleteCreature::Request& req,
     res.success = false;
     res.status_message = e.what();
     warnOnce("delete", "", "delete refused: " + res.status_message);
+  }
+  return true;
+}
+
+bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetState::Response& res) {
+  res.header.stamp = now();
+  res.header.frame_id = params_.world_frame;
+  const Creature* c = find(req.name);
+  const int link = !c ? -1 : req.link.empty() ? 0 : c->model->findLink(req.link);
+  if (link < 0) {
+    res.success = false;
+    res.status_message = !c ? "unknown creature '" + req.name + "'"
+                            : "creature '" + req.name + "' has no link '" + req.link + "'";
+    warnOnce("get_state", req.name, "get_state refused: " + res.status_message);
+    return true;
+  }
+  const flapsim::CreatureState s = world_.state(req.name);
+  res.pose = toMsg(s.link_poses.at(link));
+  res.twist = toMsg(s.link_twists.at(link));
+  const sensor_msgs::JointState joints = jointStateMsg(*c->model, s, res.header.stamp);
+  res.joint_names = joints.name;
+  res.joint_positions = joints.position;
+  res.joint_velocities = joints.velocity;
+  res.success = true;
+  res.status_message = "state of '" + req.name + "' link '" + c->model->links[link].name + "'";
+  return true;
+}
+
+bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetState::Response& res) {
+  try {
+    const Creature* c = find(req.name);
+    if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
+    flapsim::StateRequest r;
+    try {
+      r = stateRequest(*c->model, world_.state(req.name), req);
+    } catch (const flapsim::InputError& e) {
+      throw flapsim::InputError("creature '" + req.name + "': " + e.what());
+    }
+    world_.setState(req.name, r);
+    res.success = true;
+    res.status_message = "set the state of '" + req.name + "' at t = " + formatTime(now()) + " s";
+    published_step_ = UINT64_MAX;
+    publishAll();
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("set_state refused, nothing changed: ") + e.what();
+    warnOnce("set_state/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
+  }
+  return true;
+}
+
+bool SimulatorNode::onApplyWrench(flapsim::ApplyWrench::Request& req,
+                                  flapsim::ApplyWrench::Response& res) {
+  try {
+    world_.applyWrench(req.name, fromMsg(req));
+    res.success = true;
+    res.status_message = "wrench on '" + req.name + "'" +
+                         (req.link.empty() ? "" : " link '" + req.link + "'") +
+                         " from t = " + formatTime(now()) + " s";
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("apply_wrench refused: ") + e.what();
+    warnOnce("apply_wrench/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
+  }
+  return true;
+}
+
+bool SimulatorNode::onClearWrenches(flapsim::ClearWrenches::Request& req,
+                                    flapsim::ClearWrenches::Response& res) {
+  try {
+    const int n = world_.clearWrenches(req.name, req.link);
+    res.success = true;
+    res.status_message = "cleared " + std::to_string(n) + " wrench(es)";
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("clear_wrenches refused: ") + e.what();
+    warnOnce("clear_wrenches/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
   }
   return true;
 }
