@@ -149,6 +149,8 @@ class World {
   /// Replaces the air parameters (validated first) or the air model.
   void setAirParams(const AirParams& air);
   void setAirModel(AirModelPtr model);
+  /// Replaces gravity (finite, at most 1e4 m/s^2, else InputError) from the next step on.
+  void setGravity(const Vec3& gravity);
 
   /// Commands wing joints. `joints` empty = all wing joints in URDF order.
   /// All-or-nothing: on any bad joint name, length or value, throws

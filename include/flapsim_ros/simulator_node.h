@@ -3,6 +3,7 @@
 // callback queue, so the world needs no lock.
 #pragma once
 
+#include <dynamic_reconfigure/server.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
@@ -22,6 +23,7 @@
 #include "flapsim/ClearWrenches.h"
 #include "flapsim/CreatureStates.h"
 #include "flapsim/DeleteCreature.h"
+#include "flapsim/FlapsimConfig.h"
 #include "flapsim/GetState.h"
 #include "flapsim/SetState.h"
 #include "flapsim/SpawnCreature.h"
@@ -111,6 +113,11 @@ class SimulatorNode {
   bool onApplyWrench(flapsim::ApplyWrench::Request& req, flapsim::ApplyWrench::Response& res);
   bool onClearWrenches(flapsim::ClearWrenches::Request& req, flapsim::ClearWrenches::Response& res);
   flapsim::CreatureStates creatureStatesMsg(const ros::Time& stamp) const;
+  /// dynamic_reconfigure: applies what can change while running, all or nothing; a refused
+  /// change is logged naming its cause and the config is put back to what runs.
+  void onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t level);
+  /// What runs, as a dynamic_reconfigure config.
+  flapsim::FlapsimConfig runningConfig() const;
 
   NodeParams params_;
   ros::CallbackQueue queue_;
@@ -126,7 +133,9 @@ class SimulatorNode {
   std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
   ros::Publisher clock_pub_, tf_pub_, marker_pub_, creature_marker_pub_, diagnostics_pub_;
   ros::Publisher states_pub_;  // ~creature_states
-  std::mt19937_64 imu_rng_;    // the IMU noise, seeded from ~imu/seed
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<flapsim::FlapsimConfig>> reconfigure_;
+  std::mt19937_64 imu_rng_;  // the IMU noise, seeded from ~imu/seed
   std::normal_distribution<double> imu_normal_;
   ViewFollower view_{kViewTimeConstant};  // the view frame, updated at each publication
   ros::WallTime diagnostics_wall_;        // of the last diagnostics

@@ -316,6 +316,11 @@ class World::Impl {
   }
 
   void setAirModel(AirModelPtr model) { air_.setDefaultModel(std::move(model)); }
+
+  void setGravity(const Vec3& gravity) {
+    params_.gravity = gravity;
+    for (auto& b : bodies_) b->scene->world().setGravity(toBt(gravity));
+  }
   void setRecordCells(bool on) { air_.setRecordCells(on); }
 
   std::vector<LinkAero> aeroForces(const std::string& creature) const {
@@ -691,6 +696,13 @@ void World::setAirParams(const AirParams& air) {
     if (!err.empty()) throw InputError("air change refused: " + err);
   }
   impl_->setAirParams(air);
+}
+
+void World::setGravity(const Vec3& gravity) {
+  if (!finite(gravity) || gravity.norm() > kMaxGravity) {
+    throw InputError("gravity must be finite and at most 1e4 m/s^2");
+  }
+  impl_->setGravity(gravity);
 }
 
 void World::setAirModel(AirModelPtr model) {

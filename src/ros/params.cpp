@@ -345,6 +345,11 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
       p.creatures.push_back(std::move(c));
     }
   }
+  // Written by the node's dynamic_reconfigure server (what runs): outputs, not inputs.
+  for (const char* k : {"wind_x", "wind_y", "wind_z", "density", "drag_coefficient", "gravity_x",
+                        "gravity_y", "gravity_z", "show_markers"}) {
+    if (d.has(k)) d.at(k);
+  }
   p.unknown_keys = d.unknownKeys();
   return p;
 }

@@ -84,6 +84,15 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
   services_.push_back(
       pnh_.advertiseService("clear_wrenches", &SimulatorNode::onClearWrenches, this));
 
+  // Its callbacks run on queue_ (pnh_'s), between steps. The running values go in before the
+  // callback: the node's parameters, not the cfg defaults, are what starts.
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<flapsim::FlapsimConfig>>(
+      reconfigure_mutex_, pnh_);
+  reconfigure_->updateConfig(runningConfig());
+  reconfigure_->setCallback([this](flapsim::FlapsimConfig& config, std::uint32_t level) {
+    onReconfigure(config, level);
+  });
+
   for (const CreatureSpec& spec : params_.creatures) {
     const bool from_file = !spec.urdf_file.empty();
     const std::string text = from_file ? flapsim::readUrdfFile(spec.urdf_file) : spec.urdf_xml;
@@ -589,6 +598,68 @@ bool SimulatorNode::onClearWrenches(flapsim::ClearWrenches::Request& req,
     warnOnce("clear_wrenches/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
   }
   return true;
+}
+
+flapsim::FlapsimConfig SimulatorNode::runningConfig() const {
+  flapsim::FlapsimConfig c;
+  c.real_time_factor = params_.real_time_factor;
+  c.publish_rate = params_.publish_rate;
+  const flapsim::AirParams& air = world_.params().air;
+  c.wind_x = air.wind.x();
+  c.wind_y = air.wind.y();
+  c.wind_z = air.wind.z();
+  c.density = air.density;
+  c.drag_coefficient = air.drag_coefficient;
+  const flapsim::Vec3& g = world_.params().gravity;
+  c.gravity_x = g.x();
+  c.gravity_y = g.y();
+  c.gravity_z = g.z();
+  c.show_markers = params_.markers.enabled;
+  return c;
+}
+
+void SimulatorNode::onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t) {
+  try {
+    if (!std::isfinite(config.real_time_factor) ||
+        (config.real_time_factor != 0.0 &&
+         (config.real_time_factor < 1e-3 || config.real_time_factor > 1e6))) {
+      throw flapsim::InputError(
+          "real_time_factor must be 0 (as fast as possible) or in [0.001, 1e6]");
+    }
+    if (!(config.publish_rate >= 0.01 && config.publish_rate <= 1e6)) {
+      throw flapsim::InputError("publish_rate must be in [0.01, 1e6] Hz");
+    }
+    flapsim::AirParams air = world_.params().air;
+    air.wind = flapsim::Vec3(config.wind_x, config.wind_y, config.wind_z);
+    air.density = config.density;
+    air.drag_coefficient = config.drag_coefficient;
+    const flapsim::Vec3 gravity(config.gravity_x, config.gravity_y, config.gravity_z);
+    if (!gravity.allFinite() || gravity.norm() > flapsim::kMaxGravity) {
+      throw flapsim::InputError("gravity must be finite and at most 1e4 m/s^2");
+    }
+    world_.setAirParams(air);  // checked first: InputError names the culprit
+    world_.setGravity(gravity);
+    params_.world.air = air;
+    params_.world.gravity = gravity;
+    params_.real_time_factor = config.real_time_factor;
+    params_.publish_rate = config.publish_rate;
+    publish_every_ = std::max<std::uint64_t>(
+        1, static_cast<std::uint64_t>(
+               std::llround(1.0 / (params_.publish_rate * params_.world.step_size))));
+    params_.markers.enabled = config.show_markers;
+    restartPacing();
+    ROS_INFO_STREAM("flapsim: reconfigured at t = "
+                    << formatTime(now()) << " s: real-time factor " << params_.real_time_factor
+                    << ", publishing every " << publish_every_ << " steps, wind ["
+                    << air.wind.transpose() << "] m/s, density " << air.density
+                    << ", drag coefficient " << air.drag_coefficient << ", gravity ["
+                    << gravity.transpose() << "], markers "
+                    << (config.show_markers ? "on" : "off"));
+  } catch (const flapsim::InputError& e) {
+    warnOnce("reconfigure/" + WarningLimiter::kindOf(e.what()), "",
+             std::string("reconfigure refused, nothing changed: ") + e.what());
+    config = runningConfig();
+  }
 }
 
 }  // namespace flapsim_ros

@@ -2,6 +2,7 @@
 // apply_wrench, clear_wrenches, <creature>/imu and creature_states, each with its bad input.
 // The node starts paused; sim times are reached through flapsim/step and messages are waited
 // for by their exact stamp (timeouts only bound the waits).
+#include <dynamic_reconfigure/Reconfigure.h>
 #include <gtest/gtest.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
@@ -57,6 +58,26 @@ class Recorder {
  private:
   ros::Subscriber sub_;
 };
+
+// Sets doubles through dynamic_reconfigure; returns the config the node runs after it.
+dynamic_reconfigure::Config reconfigure(const std::vector<std::pair<std::string, double>>& values) {
+  dynamic_reconfigure::Reconfigure r;
+  for (const auto& [name, value] : values) {
+    dynamic_reconfigure::DoubleParameter d;
+    d.name = name;
+    d.value = value;
+    r.request.config.doubles.push_back(d);
+  }
+  EXPECT_TRUE(ros::service::call("/flapsim/set_parameters", r));
+  return r.response.config;
+}
+
+double configValue(const dynamic_reconfigure::Config& c, const std::string& name) {
+  for (const auto& d : c.doubles) {
+    if (d.name == name) return d.value;
+  }
+  return std::nan("");
+}
 
 ros::Time step(std::uint32_t steps) {
   flapsim::Step s;
@@ -374,6 +395,34 @@ TEST_F(Drive, BadRequestsAreRefusedWithTheirCause) {
   expectRefused(c.success, c.status_message, "tail");
   // and none of the refused wrenches was kept
   EXPECT_EQ(clearWrenches("flap_unit").status_message, "cleared 0 wrench(es)");
+}
+
+// A wind set through dynamic_reconfigure acts within one step: a hanging plate (held against
+// gravity by a wrench, faces along x) in still air gains nothing in a step; after the wind
+// turns to 5 m/s along x it gains F dt / m in the next one, F = rho Cd A v^2 / 2. A change
+// that would make the air non-finite is refused and the config put back.
+TEST_F(Drive, ReconfiguredWindActsWithinOneStep) {
+  flapsim::SetState::Request r;
+  r.name = "drag";
+  r.pose = pose(10, 0, 10, std::sqrt(0.5), 0, std::sqrt(0.5));  // 90 deg about y: faces along x
+  ASSERT_TRUE(setState(r).success);
+  clearWrenches("drag");
+  ASSERT_TRUE(applyWrench(hoverWrench("drag", r.pose.position)).success);
+  step(1);
+  const double v0 = getState("drag").twist.linear.x;
+  EXPECT_EQ(v0, 0.0);
+  const dynamic_reconfigure::Config c = reconfigure({{"wind_x", 5.0}});
+  EXPECT_EQ(configValue(c, "wind_x"), 5.0);
+  EXPECT_EQ(configValue(c, "density"), kRho);  // the rest as it was
+  step(1);
+  const double force = 0.5 * kRho * kCd * kPlateArea * 25.0;
+  EXPECT_NEAR(getState("drag").twist.linear.x, force * 0.001 / kPlateMass, 1e-9);
+
+  const dynamic_reconfigure::Config refused = reconfigure({{"wind_y", std::nan("")}});
+  EXPECT_EQ(configValue(refused, "wind_y"), 0.0);
+  EXPECT_EQ(configValue(refused, "wind_x"), 5.0);
+  EXPECT_EQ(configValue(reconfigure({{"wind_x", 0.0}}), "wind_x"), 0.0);
+  clearWrenches("drag");
 }
 
 }  // namespace
