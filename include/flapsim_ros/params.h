@@ -14,14 +14,9 @@
 #include "flapsim/stroke.h"
 #include "flapsim/types.h"
 #include "flapsim/world.h"
+#include "flapsim_ros/param_reader.h"  // ParamError
 
 namespace flapsim_ros {
-
-/// A missing, mistyped or out-of-range parameter; the message names it.
-class ParamError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// One creature to spawn at start-up. Exactly one URDF source is set.
 struct CreatureSpec {

@@ -98,8 +98,10 @@ class SimulatorNode {
                        std::vector<geometry_msgs::TransformStamped>* tf);
   ros::Time now() const;
   void restartPacing();
-  /// Logs `message` unless a warning of this kind about this creature was logged lately.
-  void warnOnce(const std::string& kind, const std::string& creature, const std::string& message);
+  /// Logs `message` as a warning unless one of this kind about this creature was logged in
+  /// the last 10 s (WarningLimiter); then only at debug level.
+  void warnThrottled(const std::string& kind, const std::string& creature,
+                     const std::string& message);
 
   void onWingCommand(const std::string& creature, const flapsim::WingCommand::ConstPtr& msg);
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);

@@ -374,8 +374,8 @@ void SimulatorNode::run() {
   }
 }
 
-void SimulatorNode::warnOnce(const std::string& kind, const std::string& creature,
-                             const std::string& message) {
+void SimulatorNode::warnThrottled(const std::string& kind, const std::string& creature,
+                                  const std::string& message) {
   if (warnings_.allow(kind, creature, ros::WallTime::now().toSec())) {
     ROS_WARN_STREAM("flapsim: " << message);
   } else {
@@ -392,9 +392,9 @@ void SimulatorNode::onWingCommand(const std::string& creature,
     world_.setWingCommands(creature, r.joints, r.strokes);
     if (Creature* c = find(creature)) c->command = std::move(r);
   } catch (const flapsim::InputError& e) {
-    warnOnce("wing_command/" + WarningLimiter::kindOf(e.what()), creature,
-             "rejected wing command for '" + creature + "': " + e.what() +
-                 " (keeping the previous command)");
+    warnThrottled("wing_command/" + WarningLimiter::kindOf(e.what()), creature,
+                  "rejected wing command for '" + creature + "': " + e.what() +
+                      " (keeping the previous command)");
   }
 }
 
@@ -405,7 +405,7 @@ bool SimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response
     try {
       world_.setWingCommands(c->name, c->command->joints, c->command->strokes);
     } catch (const flapsim::InputError& e) {
-      warnOnce("reset", c->name, "after reset: " + std::string(e.what()));
+      warnThrottled("reset", c->name, "after reset: " + std::string(e.what()));
     }
   }
   restartPacing();
@@ -445,7 +445,7 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
   if (!paused_) {
     res.success = false;
     res.status_message = "flapsim is running: call flapsim/pause before flapsim/step";
-    warnOnce("step/running", "", "step refused: " + res.status_message);
+    warnThrottled("step/running", "", "step refused: " + res.status_message);
     return true;
   }
   if (req.steps > static_cast<std::uint32_t>(params_.max_steps_per_call)) {
@@ -453,7 +453,7 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
     res.status_message = "steps " + std::to_string(req.steps) + " is over max_steps_per_call " +
                          std::to_string(params_.max_steps_per_call) +
                          " (parameter ~max_steps_per_call): no step taken";
-    warnOnce("step/max_steps_per_call", "", "step refused: " + res.status_message);
+    warnThrottled("step/max_steps_per_call", "", "step refused: " + res.status_message);
     return true;
   }
   try {
@@ -461,7 +461,8 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = std::string("wing commands refused, no step taken: ") + e.what();
-    warnOnce("step/" + WarningLimiter::kindOf(e.what()), "", "step refused: " + res.status_message);
+    warnThrottled("step/" + WarningLimiter::kindOf(e.what()), "",
+                  "step refused: " + res.status_message);
     return true;
   }
   published_step_ = UINT64_MAX;
@@ -497,12 +498,12 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
   } catch (const std::bad_alloc&) {
     res.success = false;
     res.status_message = "spawn '" + req.name + "': out of memory while reading or building it";
-    warnOnce("spawn/out_of_memory", "", "spawn refused: " + res.status_message);
+    warnThrottled("spawn/out_of_memory", "", "spawn refused: " + res.status_message);
   } catch (const std::exception& e) {  // InputError, ModelError
     res.success = false;
     res.status_message = e.what();
-    warnOnce("spawn/" + WarningLimiter::kindOf(e.what()), "",
-             "spawn refused: " + res.status_message);
+    warnThrottled("spawn/" + WarningLimiter::kindOf(e.what()), "",
+                  "spawn refused: " + res.status_message);
   }
   return true;
 }
@@ -518,7 +519,7 @@ bool SimulatorNode::onDelete(flapsim::DeleteCreature::Request& req,
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = e.what();
-    warnOnce("delete", "", "delete refused: " + res.status_message);
+    warnThrottled("delete", "", "delete refused: " + res.status_message);
   }
   return true;
 }
@@ -532,7 +533,7 @@ bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetStat
     res.success = false;
     res.status_message = !c ? "unknown creature '" + req.name + "'"
                             : "creature '" + req.name + "' has no link '" + req.link + "'";
-    warnOnce("get_state", req.name, "get_state refused: " + res.status_message);
+    warnThrottled("get_state", req.name, "get_state refused: " + res.status_message);
     return true;
   }
   const flapsim::CreatureState s = world_.state(req.name);
@@ -565,7 +566,7 @@ bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetStat
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = std::string("set_state refused, nothing changed: ") + e.what();
-    warnOnce("set_state/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
+    warnThrottled("set_state/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
   }
   return true;
 }
@@ -581,7 +582,7 @@ bool SimulatorNode::onApplyWrench(flapsim::ApplyWrench::Request& req,
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = std::string("apply_wrench refused: ") + e.what();
-    warnOnce("apply_wrench/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
+    warnThrottled("apply_wrench/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
   }
   return true;
 }
@@ -595,7 +596,8 @@ bool SimulatorNode::onClearWrenches(flapsim::ClearWrenches::Request& req,
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = std::string("clear_wrenches refused: ") + e.what();
-    warnOnce("clear_wrenches/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
+    warnThrottled("clear_wrenches/" + WarningLimiter::kindOf(e.what()), req.name,
+                  res.status_message);
   }
   return true;
 }
@@ -656,8 +658,8 @@ void SimulatorNode::onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t)
                     << gravity.transpose() << "], markers "
                     << (config.show_markers ? "on" : "off"));
   } catch (const flapsim::InputError& e) {
-    warnOnce("reconfigure/" + WarningLimiter::kindOf(e.what()), "",
-             std::string("reconfigure refused, nothing changed: ") + e.what());
+    warnThrottled("reconfigure/" + WarningLimiter::kindOf(e.what()), "",
+                  std::string("reconfigure refused, nothing changed: ") + e.what());
     config = runningConfig();
   }
 }
