@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <vector>
@@ -40,8 +41,11 @@ struct Scenario {
   int bodies = 0;
 };
 
+// The package's creatures: in the source tree it was built from, else where it is installed.
 std::string urdfPath(const std::string& file) {
-  return std::string(FLAPSIM_SOURCE_DIR) + "/urdf/" + file;
+  const std::string source = std::string(FLAPSIM_SOURCE_DIR) + "/urdf/" + file;
+  if (std::ifstream(source).good()) return source;
+  return std::string(FLAPSIM_SHARE_DIR) + "/urdf/" + file;
 }
 
 Scenario flapper(const std::string& name, int pairs) {

@@ -22,6 +22,12 @@ import rospy
 from rosgraph_msgs.msg import Clock
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# Where the executables are: the source tree's build/devel, or, installed as
+# <prefix>/lib/flapsim/node_rtf.py, that prefix.
+if os.path.basename(ROOT) == "lib":
+    PREFIX = os.path.dirname(ROOT)
+else:
+    PREFIX = os.path.join(ROOT, "build", "devel")
 
 
 def free_port():
@@ -39,7 +45,7 @@ def main():
     ap.add_argument("--pairs", type=int, default=1)
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--subscribe", action="store_true")
-    ap.add_argument("--devel", default=os.path.join(ROOT, "build", "devel"))
+    ap.add_argument("--devel", default=PREFIX)
     args = ap.parse_args()
 
     tmp = tempfile.mkdtemp(prefix="flapsim_rtf_")

@@ -14,6 +14,8 @@ PACKAGES=(
   libvisualization-msgs-dev libros-rosgraph-msgs-dev libdiagnostic-msgs-dev
   python3-rosbag python3-rosnode python3-rostopic python3-roslaunch python3-rosservice
   python3-rostest librostest-dev
+  # live parameters of the simulator node (cfg/Flapsim.cfg)
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   # simulator node: Python message classes, so rostopic/rosservice/rosbag can show them
   python3-std-srvs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs python3-tf2-msgs
   python3-visualization-msgs

@@ -60,6 +60,32 @@ struct CreatureState {
   std::vector<double> joint_efforts;
 };
 
+/// A state to put a creature in (World::setState), world frame. The pose and twist are those
+/// of one link's frame (CreatureState's convention: the twist is the velocity of the link
+/// frame's origin); the rest of the creature follows through its joints.
+struct StateRequest {
+  std::string link;  // empty: the root link
+  Pose pose;
+  Twist twist;
+  /// Empty: the joints keep their positions (velocities); else one value per model joint,
+  /// in model order (fixed joints' values must be 0).
+  std::vector<double> joint_positions;
+  std::vector<double> joint_velocities;
+};
+
+/// A wrench applied to a link from outside (World::applyWrench): a push or a gust.
+struct ExternalWrench {
+  std::string link;            // empty: the root link
+  Vec3 force = Vec3::Zero();   // N, world frame
+  Vec3 torque = Vec3::Zero();  // N m, world frame, added to the force's moment
+  Vec3 point = Vec3::Zero();   // where the force acts, world frame, at the time of the call
+  double duration = 0.0;       // s of sim time (whole steps); < 0: until cleared
+};
+
+/// Largest magnitudes of an external wrench.
+constexpr double kMaxForce = 1e6;   // N
+constexpr double kMaxTorque = 1e6;  // N m
+
 /// Last air wrench on each link (about its COM), and optionally per cell.
 struct LinkAero {
   int link = -1;
@@ -123,6 +149,8 @@ class World {
   /// Replaces the air parameters (validated first) or the air model.
   void setAirParams(const AirParams& air);
   void setAirModel(AirModelPtr model);
+  /// Replaces gravity (finite, at most 1e4 m/s^2, else InputError) from the next step on.
+  void setGravity(const Vec3& gravity);
 
   /// Commands wing joints. `joints` empty = all wing joints in URDF order.
   /// All-or-nothing: on any bad joint name, length or value, throws
@@ -138,6 +166,25 @@ class World {
   StrokeCommand wingCommand(const std::string& creature, const std::string& joint) const;
 
   CreatureState state(const std::string& creature) const;
+  /// Puts a creature in a state: `request.link` at `request.pose` moving with
+  /// `request.twist`, with the joints as they are or as given. Strokes, commands and time go
+  /// on; a creature the watchdog froze runs again. Throws InputError naming the culprit (an
+  /// unknown creature or link, a non-finite or out-of-range value, a wrong count, a joint
+  /// position outside its limits, a moving fixed base) and changes nothing.
+  void setState(const std::string& creature, const StateRequest& request);
+  /// Applies `wrench` to a link of a creature from the next step on, for
+  /// round(duration / step_size) steps (at least one; duration < 0: until cleared). The
+  /// point moves with the link. Counted in the momentum balance like the air. Throws
+  /// InputError naming the culprit and changes nothing.
+  void applyWrench(const std::string& creature, const ExternalWrench& wrench);
+  /// Removes the external wrenches of a creature (empty: of every creature), and of one of
+  /// its links only if `link` is given. Returns how many were removed.
+  int clearWrenches(const std::string& creature = "", const std::string& link = "");
+  /// External wrenches still acting on a creature.
+  int wrenchCount(const std::string& creature) const;
+  /// Acceleration of the root link's centre of mass over the last step, world frame (zero
+  /// before the first step after a spawn, reset or setState, and while frozen).
+  Vec3 rootAcceleration(const std::string& creature) const;
   /// Pose of the root link frame and the twist of its centre of mass.
   Pose rootPose(const std::string& creature) const;
   Twist rootTwist(const std::string& creature) const;

@@ -11,7 +11,8 @@
 #include "flapsim/WingCommand.h"
 #include "flapsim/ann.h"
 #include "flapsim/stroke.h"
-#include "flapsim_ros/params.h"  // ParamError
+#include "flapsim_ros/param_reader.h"
+#include "flapsim_ros/params.h"  // validateCreatureName
 
 namespace flapsim_ros {
 
@@ -23,6 +24,7 @@ struct StrokeControllerParams {
   double reread_period = 0.5;  // s (wall) between re-reads of the parameters
   // One entry per wing pair (left and right wing get the same stroke).
   std::vector<flapsim::StrokeCommand> strokes;
+  std::vector<std::string> unknown_keys;  // keys of the namespace this node does not read
 };
 
 /// Private namespace of stroke_controller. Keys (all optional):
@@ -52,8 +54,9 @@ struct AnnControllerParams {
   double lockstep_duration = 0.0;        // s of sim time
   bool lockstep_wait_for_start = false;  // wait for a call of ~start before stepping
   std::string step_service = "/flapsim/step";
-  double step_size = 0.001;    // s, the simulator's (for steps per control period)
-  double wait_timeout = 30.0;  // s (wall) for connections and transforms in lockstep
+  double step_size = 0.001;               // s, the simulator's (for steps per control period)
+  double wait_timeout = 30.0;             // s (wall) for connections and transforms in lockstep
+  std::vector<std::string> unknown_keys;  // keys of the namespace this node does not read
 };
 
 /// Private namespace of ann_controller. Keys: weights (required), creature,

@@ -8,6 +8,7 @@
 #include <geometry_msgs/Twist.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/time.h>
+#include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <visualization_msgs/Marker.h>
 
@@ -16,6 +17,9 @@
 #include <string>
 #include <vector>
 
+#include "flapsim/ApplyWrench.h"
+#include "flapsim/CreatureStates.h"
+#include "flapsim/SetState.h"
 #include "flapsim/WingCommand.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/stroke.h"
@@ -73,6 +77,32 @@ sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,
 nav_msgs::Odometry odometryMsg(const std::string& creature, const flapsim::CreatureModel& model,
                                const flapsim::CreatureState& state, const ros::Time& stamp,
                                const std::string& world_frame);
+
+/// A flapsim/set_state request in core terms: the named joints take the given positions and
+/// velocities (either list may be empty), the others keep those of `current`. Throws
+/// flapsim::InputError naming an unknown, fixed or repeated joint or a list of the wrong
+/// length (World::setState checks the values).
+flapsim::StateRequest stateRequest(const flapsim::CreatureModel& model,
+                                   const flapsim::CreatureState& current,
+                                   const flapsim::SetState::Request& req);
+
+/// A flapsim/apply_wrench request in core terms (World::applyWrench checks the values).
+flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req);
+
+/// The IMU of the root link, frame "<creature>/<root link>": orientation in the world, and in
+/// the link's axes its angular velocity and what an accelerometer at its centre of mass
+/// reads, `acceleration` - `gravity` (at rest: +g up), each plus `noise` (a standard
+/// deviation per axis, drawn from `draw`, which returns a standard normal sample); the
+/// covariances are the noise variances (orientation: exact).
+struct ImuNoise {
+  double angular_velocity = 0.0;
+  double linear_acceleration = 0.0;
+};
+sensor_msgs::Imu imuMsg(const std::string& creature, const flapsim::CreatureModel& model,
+                        const flapsim::CreatureState& state, const flapsim::Vec3& acceleration,
+                        const flapsim::Vec3& gravity, const ros::Time& stamp,
+                        const ImuNoise& noise = ImuNoise(),
+                        const std::function<double()>& draw = nullptr);
 
 /// One transform world -> "<creature>/<link>" for every link.
 std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,

@@ -14,14 +14,9 @@
 #include "flapsim/stroke.h"
 #include "flapsim/types.h"
 #include "flapsim/world.h"
+#include "flapsim_ros/param_reader.h"  // ParamError
 
 namespace flapsim_ros {
-
-/// A missing, mistyped or out-of-range parameter; the message names it.
-class ParamError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// One creature to spawn at start-up. Exactly one URDF source is set.
 struct CreatureSpec {
@@ -44,6 +39,14 @@ struct MarkerParams {
   double width = 0.012;   // arrow shaft diameter, m
 };
 
+/// `<creature>/imu`: Gaussian noise (standard deviations; 0: none) from a seeded generator,
+/// so a run with noise repeats exactly.
+struct ImuParams {
+  double angular_velocity_noise = 0.0;     // rad/s
+  double linear_acceleration_noise = 0.0;  // m/s^2
+  int seed = 0;
+};
+
 struct NodeParams {
   flapsim::WorldParams world;
   double publish_rate = 100.0;    // Hz of sim time (rounded to whole steps), in [0.01, 1e6]
@@ -58,6 +61,7 @@ struct NodeParams {
   bool paused = false;  // start paused
   std::string world_frame = "world";
   MarkerParams markers;
+  ImuParams imu;
   std::vector<CreatureSpec> creatures;
   std::vector<std::string> unknown_keys;  // top-level keys this node does not read
 };
@@ -66,7 +70,7 @@ struct NodeParams {
 /// keys keep their defaults). Throws ParamError naming the bad parameter.
 NodeParams parseNodeParams(const XmlRpc::XmlRpcValue& params);
 
-/// Parses one entry of `creatures` (also used for checks of spawn requests).
+/// Parses one entry of `creatures`.
 /// `where` names the entry in messages, e.g. "creatures[2]".
 CreatureSpec parseCreatureSpec(const XmlRpc::XmlRpcValue& entry, const std::string& where);
 

@@ -3,6 +3,7 @@
 // callback queue, so the world needs no lock.
 #pragma once
 
+#include <dynamic_reconfigure/server.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Clock.h>
@@ -14,10 +15,17 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
+#include "flapsim/ApplyWrench.h"
+#include "flapsim/ClearWrenches.h"
+#include "flapsim/CreatureStates.h"
 #include "flapsim/DeleteCreature.h"
+#include "flapsim/FlapsimConfig.h"
+#include "flapsim/GetState.h"
+#include "flapsim/SetState.h"
 #include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
@@ -55,6 +63,7 @@ class SimulatorNode {
     flapsim::CreatureModelPtr model;
     ros::Publisher joint_states;
     ros::Publisher odom;
+    ros::Publisher imu;
     ros::Subscriber wing_command;
     ros::Publisher description;  // latched URDF text: what a replay needs to draw it
     std::vector<visualization_msgs::Marker> geometry;  // its boxes, for creature_markers
@@ -89,8 +98,10 @@ class SimulatorNode {
                        std::vector<geometry_msgs::TransformStamped>* tf);
   ros::Time now() const;
   void restartPacing();
-  /// Logs `message` unless a warning of this kind about this creature was logged lately.
-  void warnOnce(const std::string& kind, const std::string& creature, const std::string& message);
+  /// Logs `message` as a warning unless one of this kind about this creature was logged in
+  /// the last 10 s (WarningLimiter); then only at debug level.
+  void warnThrottled(const std::string& kind, const std::string& creature,
+                     const std::string& message);
 
   void onWingCommand(const std::string& creature, const flapsim::WingCommand::ConstPtr& msg);
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
@@ -99,6 +110,16 @@ class SimulatorNode {
   bool onStep(flapsim::Step::Request& req, flapsim::Step::Response& res);
   bool onSpawn(flapsim::SpawnCreature::Request& req, flapsim::SpawnCreature::Response& res);
   bool onDelete(flapsim::DeleteCreature::Request& req, flapsim::DeleteCreature::Response& res);
+  bool onGetState(flapsim::GetState::Request& req, flapsim::GetState::Response& res);
+  bool onSetState(flapsim::SetState::Request& req, flapsim::SetState::Response& res);
+  bool onApplyWrench(flapsim::ApplyWrench::Request& req, flapsim::ApplyWrench::Response& res);
+  bool onClearWrenches(flapsim::ClearWrenches::Request& req, flapsim::ClearWrenches::Response& res);
+  flapsim::CreatureStates creatureStatesMsg(const ros::Time& stamp) const;
+  /// dynamic_reconfigure: applies what can change while running, all or nothing; a refused
+  /// change is logged naming its cause and the config is put back to what runs.
+  void onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t level);
+  /// What runs, as a dynamic_reconfigure config.
+  flapsim::FlapsimConfig runningConfig() const;
 
   NodeParams params_;
   ros::CallbackQueue queue_;
@@ -113,8 +134,13 @@ class SimulatorNode {
 
   std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
   ros::Publisher clock_pub_, tf_pub_, marker_pub_, creature_marker_pub_, diagnostics_pub_;
+  ros::Publisher states_pub_;  // ~creature_states
+  boost::recursive_mutex reconfigure_mutex_;
+  std::unique_ptr<dynamic_reconfigure::Server<flapsim::FlapsimConfig>> reconfigure_;
+  std::mt19937_64 imu_rng_;  // the IMU noise, seeded from ~imu/seed
+  std::normal_distribution<double> imu_normal_;
   ViewFollower view_{kViewTimeConstant};  // the view frame, updated at each publication
-  ros::WallTime diagnostics_wall_;  // of the last diagnostics
+  ros::WallTime diagnostics_wall_;        // of the last diagnostics
   std::vector<ros::ServiceServer> services_;
 
   ros::WallTime pace_wall_;      // wall time at the pacing anchor

@@ -45,15 +45,24 @@ std::string checkAir(const AirParams& a) {
   return "";
 }
 
+// An external wrench while it acts: the force's point in the link's COM frame.
+struct ActiveWrench {
+  int link = 0;
+  Vec3 force = Vec3::Zero(), torque = Vec3::Zero(), offset = Vec3::Zero();
+  std::int64_t steps_left = -1;  // < 0: until cleared
+};
+
 // What the user asked for: enough to rebuild a creature bit-for-bit.
 struct CreatureRecord {
   std::string name;
   CreatureModelPtr model;
   Pose pose;
   Twist twist;
-  std::vector<JointDrive> drives;        // per model joint
-  std::optional<Divergence> divergence;  // set by the watchdog: not stepped until reset
-  bool reported = false;                 // handed out by takeDivergences()
+  std::vector<JointDrive> drives;         // per model joint
+  std::optional<Divergence> divergence;   // set by the watchdog: not stepped until reset
+  bool reported = false;                  // handed out by takeDivergences()
+  std::vector<ActiveWrench> wrenches;     // external, in the order applied
+  Vec3 root_acceleration = Vec3::Zero();  // of the root's COM over the last step
 };
 
 // What a step may change in a multibody: enough to put it back bit for bit.
@@ -192,6 +201,27 @@ class World::Impl {
     return names;
   }
 
+  // The frames, colliders, contacts, servo history and momentum bookkeeping of a body whose
+  // state was set from outside a step: what comes next depends on the new state alone, as
+  // for a body just built.
+  static void settle(CreatureBody& b) {
+    b.updateKinematics();
+    btAlignedObjectArray<btQuaternion> rotations;
+    btAlignedObjectArray<btVector3> origins;
+    b.mb->updateCollisionObjectWorldTransforms(rotations, origins);
+    btMultiBodyDynamicsWorld& world = b.scene->world();
+    for (auto& col : b.colliders) {
+      world.updateSingleAabb(col.get());
+      if (col->getBroadphaseHandle()) {
+        world.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(
+            col->getBroadphaseHandle(), world.getDispatcher());
+      }
+    }
+    b.solution = ServoSolution();
+    b.last_step = 1.0;
+    b.forgetMomentum();
+  }
+
   const CreatureModelPtr& model(const std::string& name) const {
     return records_[index(name)].model;
   }
@@ -223,6 +253,8 @@ class World::Impl {
       for (auto& d : r.drives) d.stroke.reset();
       r.divergence.reset();
       r.reported = false;
+      r.wrenches.clear();
+      r.root_acceleration.setZero();
     }
     bodies_.clear();
     for (const auto& r : records_) bodies_.push_back(makeBody(r));
@@ -284,6 +316,11 @@ class World::Impl {
   }
 
   void setAirModel(AirModelPtr model) { air_.setDefaultModel(std::move(model)); }
+
+  void setGravity(const Vec3& gravity) {
+    params_.gravity = gravity;
+    for (auto& b : bodies_) b->scene->world().setGravity(toBt(gravity));
+  }
   void setRecordCells(bool on) { air_.setRecordCells(on); }
 
   std::vector<LinkAero> aeroForces(const std::string& creature) const {
@@ -355,6 +392,110 @@ class World::Impl {
     return s;
   }
 
+  // `request` checked by World::setState, but for what needs the body: the link, a fixed
+  // base, the speed limit.
+  void setState(const std::string& creature, const StateRequest& request) {
+    const size_t c = index(creature);
+    CreatureRecord& r = records_[c];
+    const CreatureModel& m = *r.model;
+    CreatureBody& b = *bodies_[c];
+    const int k = request.link.empty() ? 0 : m.findLink(request.link);
+    if (k < 0) {
+      throw InputError("creature '" + creature + "' has no link '" + request.link + "'");
+    }
+    if (m.fixed_base &&
+        (k != 0 || request.twist.linear != Vec3::Zero() || request.twist.angular != Vec3::Zero())) {
+      throw InputError("creature '" + creature +
+                       "' has a fixed base: only its root's pose can be set, with a zero twist");
+    }
+    BodySnapshot before;
+    before.take(*b.mb);
+    for (size_t j = 0; j < m.joints.size(); ++j) {
+      if (!m.joints[j].movable()) continue;
+      const int l = m.joints[j].child_link - 1;
+      if (!request.joint_positions.empty()) b.mb->setJointPos(l, request.joint_positions[j]);
+      if (!request.joint_velocities.empty()) b.mb->setJointVel(l, request.joint_velocities[j]);
+    }
+    // Link k relative to the root (base at the origin, at rest): the base follows from it,
+    // and the result does not depend on where the creature was.
+    b.mb->setBaseWorldTransform(toBt(Pose()));
+    b.mb->setBaseVel(btVector3(0, 0, 0));
+    b.mb->setBaseOmega(btVector3(0, 0, 0));
+    b.updateKinematics();
+    const BodyKinematics rel = b.frames.kinematics(k);
+    const Quat q = request.pose.orientation.normalized();
+    const Pose wanted{request.pose.position + q * m.links[k].com, q};  // link k's COM frame
+    const Pose base = k == 0 ? wanted : wanted * Pose{rel.com, rel.orientation}.inverse();
+    b.mb->setBaseWorldTransform(toBt(base));
+    b.updateKinematics();
+    // Velocities are linear in the base twist and the joint rates: the base twist is what
+    // the wanted one lacks after the joints' share (base at rest).
+    const BodyKinematics now = b.frames.kinematics(k);
+    const Vec3 omega = request.twist.angular - now.angular_velocity;
+    const Vec3 com_velocity =
+        request.twist.linear + request.twist.angular.cross(now.com - request.pose.position);
+    const Vec3 velocity = com_velocity - omega.cross(now.com - base.position) - now.linear_velocity;
+    if (!m.fixed_base) {
+      b.mb->setBaseVel(toBt(velocity));
+      b.mb->setBaseOmega(toBt(omega));
+    }
+    b.updateKinematics();
+    const std::string fault = checkMotion(m, b, params_.max_speed);
+    if (!fault.empty()) {
+      before.restore(*b.mb);
+      settle(b);
+      throw InputError("creature '" + creature + "': state refused, " + fault);
+    }
+    settle(b);
+    r.divergence.reset();
+    r.reported = false;
+    r.root_acceleration.setZero();
+  }
+
+  void applyWrench(const std::string& creature, const ExternalWrench& w) {
+    const size_t c = index(creature);
+    CreatureRecord& r = records_[c];
+    const CreatureModel& m = *r.model;
+    const int k = w.link.empty() ? 0 : m.findLink(w.link);
+    if (k < 0) throw InputError("creature '" + creature + "' has no link '" + w.link + "'");
+    const double steps = w.duration < 0.0 ? -1.0 : std::round(w.duration / params_.step_size);
+    if (w.duration >= 0.0 && steps < 1.0) {
+      throw InputError("creature '" + creature + "': wrench duration " +
+                       std::to_string(w.duration) + " s is shorter than half a step");
+    }
+    const BodyKinematics kin = bodies_[c]->frames.kinematics(k);
+    ActiveWrench a;
+    a.link = k;
+    a.force = w.force;
+    a.torque = w.torque;
+    a.offset = kin.orientation.conjugate() * (w.point - kin.com);
+    a.steps_left = static_cast<std::int64_t>(steps);
+    r.wrenches.push_back(a);
+  }
+
+  int clearWrenches(const std::string& creature, const std::string& link) {
+    int removed = 0;
+    for (size_t c = 0; c < records_.size(); ++c) {
+      CreatureRecord& r = records_[c];
+      if (!creature.empty() && r.name != creature) continue;
+      const int k = link.empty() ? -1 : r.model->findLink(link);
+      const size_t before = r.wrenches.size();
+      r.wrenches.erase(std::remove_if(r.wrenches.begin(), r.wrenches.end(),
+                                      [k](const ActiveWrench& w) { return k < 0 || w.link == k; }),
+                       r.wrenches.end());
+      removed += static_cast<int>(before - r.wrenches.size());
+    }
+    return removed;
+  }
+
+  int wrenchCount(const std::string& creature) const {
+    return static_cast<int>(records_[index(creature)].wrenches.size());
+  }
+
+  Vec3 rootAcceleration(const std::string& creature) const {
+    return records_[index(creature)].root_acceleration;
+  }
+
  private:
   std::unique_ptr<CreatureBody> makeBody(const CreatureRecord& r) const {
     return buildBody(*r.model, r.pose, r.twist, params_);
@@ -387,12 +528,45 @@ class World::Impl {
         for (int s = 0; s < pieces; ++s) subStep(i, length / pieces);
       }
     }
+    countDown(r.wrenches);
     std::string fault = checkMotion(*r.model, b, params_.max_speed);
-    if (fault.empty()) return;
+    if (fault.empty()) {
+      r.root_acceleration = fromBt(b.mb->getBaseVel() - snapshots_[i].velocity) / dt;
+      return;
+    }
     snapshots_[i].restore(*b.mb);
     b.updateKinematics();
     b.forgetMomentum();
+    r.root_acceleration.setZero();
     r.divergence = Divergence{r.name, number, std::move(fault)};
+  }
+
+  // One step of every wrench taken; those whose time is up removed.
+  static void countDown(std::vector<ActiveWrench>& wrenches) {
+    for (ActiveWrench& w : wrenches) {
+      if (w.steps_left > 0) --w.steps_left;
+    }
+    wrenches.erase(std::remove_if(wrenches.begin(), wrenches.end(),
+                                  [](const ActiveWrench& w) { return w.steps_left == 0; }),
+                   wrenches.end());
+  }
+
+  // The external wrenches of a creature on its links (frames of the start of the step), and
+  // in its momentum balance.
+  static void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureBody& b) {
+    for (const ActiveWrench& w : wrenches) {
+      const BodyKinematics kin = b.frames.kinematics(w.link);
+      const Vec3 arm = kin.orientation * w.offset;
+      const Wrench about_com{w.force, w.torque + arm.cross(w.force)};
+      b.addExternal(kin.com, about_com);
+      if (w.link == 0) {
+        b.mb->addBaseForce(toBt(about_com.force));
+        b.mb->addBaseTorque(toBt(about_com.torque));
+      } else {
+        b.mb->addLinkForce(w.link - 1, toBt(about_com.force));
+        b.mb->addLinkTorque(w.link - 1, toBt(about_com.torque));
+      }
+    }
   }
 
   void subStep(size_t i, double h) {
@@ -401,6 +575,7 @@ class World::Impl {
     applyDrives(*records_[i].model, records_[i].drives, b, h);
     b.fluid_active = false;
     if (params_.air.enabled) air_.apply(b, params_, h);
+    applyWrenches(records_[i].wrenches, b);
     b.scene->world().stepSimulation(h, 0, h);
     b.endStep(params_.gravity, h);
   }
@@ -523,6 +698,13 @@ void World::setAirParams(const AirParams& air) {
   impl_->setAirParams(air);
 }
 
+void World::setGravity(const Vec3& gravity) {
+  if (!finite(gravity) || gravity.norm() > kMaxGravity) {
+    throw InputError("gravity must be finite and at most 1e4 m/s^2");
+  }
+  impl_->setGravity(gravity);
+}
+
 void World::setAirModel(AirModelPtr model) {
   if (!model) throw InputError("air model is null");
   impl_->setAirModel(std::move(model));
@@ -592,6 +774,110 @@ StrokeCommand World::wingCommand(const std::string& creature, const std::string&
 }
 
 CreatureState World::state(const std::string& creature) const { return impl_->state(creature); }
+
+namespace {
+
+// Empty if `values` (named `what`, one per model joint or none) is valid, else why not.
+std::string checkJointValues(const CreatureModel& m, const std::vector<double>& values,
+                             const std::string& what, bool positions) {
+  if (values.empty()) return "";
+  if (values.size() != m.joints.size()) {
+    return std::to_string(values.size()) + " " + what + " for " + std::to_string(m.joints.size()) +
+           " joints (give one per joint, in URDF order, or none)";
+  }
+  for (size_t j = 0; j < values.size(); ++j) {
+    const JointModel& joint = m.joints[j];
+    std::ostringstream msg;
+    msg << "joint '" << joint.name << "': " << what << " " << values[j];
+    if (!std::isfinite(values[j])) return msg.str() + " is not finite";
+    if (!joint.movable()) {
+      if (values[j] != 0.0) return msg.str() + " must be 0 (a fixed joint)";
+      continue;
+    }
+    if (!positions) {
+      if (std::abs(values[j]) > kMaxSpin) return msg.str() + " is beyond +-1e5";
+    } else if (joint.limited && joint.lower < joint.upper &&
+               (values[j] < joint.lower || values[j] > joint.upper)) {
+      msg << " is outside its limits [" << joint.lower << ", " << joint.upper << "]";
+      return msg.str();
+    } else if (std::abs(values[j]) > kMaxPosition) {
+      return msg.str() + " is beyond +-1e6";
+    }
+  }
+  return "";
+}
+
+// Empty if the pose is finite, in range and has a usable quaternion, else why not.
+std::string checkPose(const Pose& pose) {
+  if (!finite(pose.position) || pose.position.cwiseAbs().maxCoeff() > kMaxPosition) {
+    return "position must be finite, each coordinate within +-1e6 m";
+  }
+  const double norm = pose.orientation.coeffs().allFinite() ? pose.orientation.norm() : NAN;
+  if (!(norm >= 1e-6 && norm <= 1e6)) {
+    std::ostringstream msg;
+    msg << "orientation quaternion has norm " << norm
+        << " (must be finite and between 1e-6 and 1e6; it is normalised)";
+    return msg.str();
+  }
+  return "";
+}
+
+}  // namespace
+
+void World::setState(const std::string& creature, const StateRequest& request) {
+  const CreatureModel& m = *impl_->model(creature);  // InputError if unknown
+  const std::string prefix = "creature '" + creature + "': ";
+  std::string err = checkPose(request.pose);
+  if (!err.empty()) throw InputError(prefix + err);
+  const double max_speed = impl_->params().max_speed;
+  if (!finite(request.twist.linear) || request.twist.linear.norm() > max_speed) {
+    throw InputError(prefix + "linear twist must be finite and at most max_speed (" +
+                     std::to_string(max_speed) + " m/s)");
+  }
+  if (!finite(request.twist.angular) || request.twist.angular.norm() > kMaxSpin) {
+    throw InputError(prefix + "angular twist must be finite and at most 1e5 rad/s");
+  }
+  err = checkJointValues(m, request.joint_positions, "joint_positions", true);
+  if (err.empty()) err = checkJointValues(m, request.joint_velocities, "joint_velocities", false);
+  if (!err.empty()) throw InputError(prefix + err);
+  impl_->setState(creature, request);
+}
+
+void World::applyWrench(const std::string& creature, const ExternalWrench& wrench) {
+  impl_->model(creature);  // InputError if unknown
+  const std::string prefix = "creature '" + creature + "': wrench ";
+  if (!finite(wrench.force) || wrench.force.norm() > kMaxForce) {
+    throw InputError(prefix + "force must be finite and at most 1e6 N");
+  }
+  if (!finite(wrench.torque) || wrench.torque.norm() > kMaxTorque) {
+    throw InputError(prefix + "torque must be finite and at most 1e6 N m");
+  }
+  if (!finite(wrench.point) || wrench.point.cwiseAbs().maxCoeff() > kMaxPosition) {
+    throw InputError(prefix + "point must be finite, each coordinate within +-1e6 m");
+  }
+  if (!std::isfinite(wrench.duration) || wrench.duration > 1e9) {
+    throw InputError(prefix + "duration must be finite and at most 1e9 s (< 0: until cleared)");
+  }
+  impl_->applyWrench(creature, wrench);
+}
+
+int World::clearWrenches(const std::string& creature, const std::string& link) {
+  if (!creature.empty()) {
+    const CreatureModel& m = *impl_->model(creature);  // InputError if unknown
+    if (!link.empty() && m.findLink(link) < 0) {
+      throw InputError("creature '" + creature + "' has no link '" + link + "'");
+    }
+  } else if (!link.empty()) {
+    throw InputError("a link ('" + link + "') needs its creature");
+  }
+  return impl_->clearWrenches(creature, link);
+}
+
+int World::wrenchCount(const std::string& creature) const { return impl_->wrenchCount(creature); }
+
+Vec3 World::rootAcceleration(const std::string& creature) const {
+  return impl_->rootAcceleration(creature);
+}
 Pose World::rootPose(const std::string& creature) const { return state(creature).link_poses[0]; }
 Twist World::rootTwist(const std::string& creature) const { return state(creature).link_twists[0]; }
 

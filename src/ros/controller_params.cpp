@@ -1,6 +1,9 @@
 #include "flapsim_ros/controller_params.h"
 
 #include <cmath>
+#include <sstream>
+
+#include "flapsim_ros/conversions.h"
 
 namespace flapsim_ros {
 
@@ -8,76 +11,50 @@ namespace {
 
 using XmlRpc::XmlRpcValue;
 
-bool isNumber(const XmlRpcValue& v) {
-  return v.getType() == XmlRpcValue::TypeInt || v.getType() == XmlRpcValue::TypeDouble;
+// The namespace to read: nothing set (not a struct at all) reads as an empty one.
+ParamReader reader(const XmlRpcValue& ns) {
+  static const XmlRpcValue kEmpty = [] {
+    XmlRpcValue v;
+    v.begin();  // an empty struct
+    return v;
+  }();
+  return ParamReader(ns.getType() == XmlRpcValue::TypeInvalid ? kEmpty : ns, "");
 }
 
-double number(const XmlRpcValue& v, const std::string& key) {
-  if (!isNumber(v)) throw ParamError("parameter '" + key + "' must be a number");
-  XmlRpcValue& x = const_cast<XmlRpcValue&>(v);
-  const double d =
-      x.getType() == XmlRpcValue::TypeInt ? static_cast<int>(x) : static_cast<double>(x);
-  if (!std::isfinite(d)) throw ParamError("parameter '" + key + "' must be finite");
-  return d;
-}
-
-bool has(const XmlRpcValue& ns, const std::string& key) {
-  return ns.getType() == XmlRpcValue::TypeStruct && const_cast<XmlRpcValue&>(ns).hasMember(key);
-}
-
-const XmlRpcValue& at(const XmlRpcValue& ns, const std::string& key) {
-  return const_cast<XmlRpcValue&>(ns)[key];
-}
-
-double getNumber(const XmlRpcValue& ns, const std::string& key, double def) {
-  return has(ns, key) ? number(at(ns, key), key) : def;
-}
-
-std::string getString(const XmlRpcValue& ns, const std::string& key, const std::string& def) {
-  if (!has(ns, key)) return def;
-  const XmlRpcValue& v = at(ns, key);
-  if (v.getType() != XmlRpcValue::TypeString) {
-    throw ParamError("parameter '" + key + "' must be a string");
-  }
-  return static_cast<std::string>(const_cast<XmlRpcValue&>(v));
-}
-
-bool getBool(const XmlRpcValue& ns, const std::string& key, bool def) {
-  if (!has(ns, key)) return def;
-  const XmlRpcValue& v = at(ns, key);
-  if (v.getType() != XmlRpcValue::TypeBoolean) {
-    throw ParamError("parameter '" + key + "' must be true or false");
-  }
-  return static_cast<bool>(const_cast<XmlRpcValue&>(v));
-}
-
-int getPairs(const XmlRpcValue& ns) {
-  const double p = getNumber(ns, "pairs", 1);
-  if (p < 1 || p != std::floor(p)) throw ParamError("parameter 'pairs' must be an integer >= 1");
+int getPairs(const ParamReader& d) {
+  const double p = d.number("pairs", 1);
+  if (p < 1 || p != std::floor(p)) failParam(d.key("pairs"), "must be an integer >= 1");
   return static_cast<int>(p);
 }
 
 /// A number for every pair, or a list of one number per pair.
-std::vector<double> perPair(const XmlRpcValue& ns, const std::string& key, int pairs, double def) {
-  if (!has(ns, key)) return std::vector<double>(pairs, def);
-  const XmlRpcValue& v = at(ns, key);
-  if (isNumber(v)) return std::vector<double>(pairs, number(v, key));
+std::vector<double> perPair(const ParamReader& d, const std::string& key, int pairs, double def) {
+  if (!d.has(key)) return std::vector<double>(pairs, def);
+  const XmlRpcValue& v = d.at(key);
+  if (v.getType() == XmlRpcValue::TypeInt || v.getType() == XmlRpcValue::TypeDouble) {
+    return std::vector<double>(pairs, ParamReader::toNumber(v, d.key(key)));
+  }
   if (v.getType() != XmlRpcValue::TypeArray || v.size() != pairs) {
-    throw ParamError("parameter '" + key + "' must be a number or a list of " +
-                     std::to_string(pairs) + " numbers (one per wing pair)");
+    failParam(d.key(key), "must be a number or a list of " + std::to_string(pairs) +
+                              " numbers (one per wing pair)");
   }
-  std::vector<double> out;
-  for (int i = 0; i < pairs; ++i) {
-    out.push_back(number(const_cast<XmlRpcValue&>(v)[i], key + "[" + std::to_string(i) + "]"));
-  }
-  return out;
+  return d.numbers(key);
 }
 
-std::string creatureName(const XmlRpcValue& ns, const std::string& def) {
-  const std::string c = getString(ns, "creature", def);
+std::string creatureName(const ParamReader& d, const std::string& def) {
+  const std::string c = d.string("creature", def);
   const std::string err = validateCreatureName(c);
-  if (!err.empty()) throw ParamError("parameter 'creature' ('" + c + "'): " + err);
+  if (!err.empty()) failParam(d.key("creature"), "'" + c + "': " + err);
   return c;
+}
+
+void atLeast(const ParamReader& d, const std::string& key, double value, double bound,
+             bool strict) {
+  if (strict ? value <= bound : value < bound) {
+    std::ostringstream msg;
+    msg << "must be " << (strict ? "> " : ">= ") << bound;
+    failParam(d.key(key), msg.str());
+  }
 }
 
 }  // namespace
@@ -91,16 +68,17 @@ std::string namespaceBasename(const std::string& ns) {
 
 StrokeControllerParams parseStrokeControllerParams(const XmlRpcValue& ns,
                                                    const std::string& default_creature) {
+  const ParamReader d = reader(ns);
   StrokeControllerParams p;
-  p.creature = creatureName(ns, default_creature);
-  p.pairs = getPairs(ns);
-  p.rate = getNumber(ns, "rate", p.rate);
-  if (p.rate <= 0.0) throw ParamError("parameter 'rate' must be > 0");
-  p.reread_period = getNumber(ns, "reread_period", p.reread_period);
-  if (p.reread_period <= 0.0) throw ParamError("parameter 'reread_period' must be > 0");
-  const auto down = perPair(ns, "downstroke_rate", p.pairs, 40.0);
-  const auto up = perPair(ns, "upstroke_rate", p.pairs, 10.0);
-  const auto amp = perPair(ns, "amplitude", p.pairs, 0.8);
+  p.creature = creatureName(d, default_creature);
+  p.pairs = getPairs(d);
+  p.rate = d.number("rate", p.rate);
+  atLeast(d, "rate", p.rate, 0.0, true);
+  p.reread_period = d.number("reread_period", p.reread_period);
+  atLeast(d, "reread_period", p.reread_period, 0.0, true);
+  const auto down = perPair(d, "downstroke_rate", p.pairs, 40.0);
+  const auto up = perPair(d, "upstroke_rate", p.pairs, 10.0);
+  const auto amp = perPair(d, "amplitude", p.pairs, 0.8);
   for (int i = 0; i < p.pairs; ++i) {
     flapsim::StrokeCommand c;
     c.downstroke_rate = down[i];
@@ -110,53 +88,43 @@ StrokeControllerParams parseStrokeControllerParams(const XmlRpcValue& ns,
     if (!err.empty()) throw ParamError("wing pair " + std::to_string(i) + ": " + err);
     p.strokes.push_back(c);
   }
+  p.unknown_keys = d.unknownKeys();
   return p;
 }
 
 flapsim::WingCommand strokeCommandMsg(const std::vector<flapsim::StrokeCommand>& strokes) {
-  flapsim::WingCommand msg;
-  for (const auto& s : strokes) {
-    for (int side = 0; side < 2; ++side) {
-      msg.downstroke_rate.push_back(s.downstroke_rate);
-      msg.upstroke_rate.push_back(s.upstroke_rate);
-      msg.amplitude.push_back(s.amplitude);
-    }
-  }
-  return msg;
+  WingCommandRequest r;  // every wing joint, in URDF order: left, right of each pair
+  for (const auto& s : strokes) r.strokes.insert(r.strokes.end(), 2, s);
+  return toMsg(r);
 }
 
 AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
                                              const std::string& default_creature) {
+  const ParamReader d = reader(ns);
   AnnControllerParams p;
-  p.creature = creatureName(ns, default_creature);
-  p.weights_file = getString(ns, "weights", "");
-  if (p.weights_file.empty()) throw ParamError("parameter 'weights' (a weights YAML) is required");
-  p.pairs = getPairs(ns);
-  p.world_frame = getString(ns, "world_frame", p.world_frame);
-  p.rate = getNumber(ns, "rate", p.rate);
-  if (p.rate < 0.0) throw ParamError("parameter 'rate' must be >= 0");
-  p.lockstep = getBool(ns, "lockstep", p.lockstep);
-  p.lockstep_duration = getNumber(ns, "lockstep_duration", p.lockstep_duration);
-  if (p.lockstep_duration < 0.0) throw ParamError("parameter 'lockstep_duration' must be >= 0");
-  p.lockstep_wait_for_start = getBool(ns, "lockstep_wait_for_start", p.lockstep_wait_for_start);
-  p.step_service = getString(ns, "step_service", p.step_service);
-  p.step_size = getNumber(ns, "step_size", p.step_size);
-  if (p.step_size <= 0.0) throw ParamError("parameter 'step_size' must be > 0");
-  p.wait_timeout = getNumber(ns, "wait_timeout", p.wait_timeout);
-  if (p.wait_timeout <= 0.0) throw ParamError("parameter 'wait_timeout' must be > 0");
+  p.creature = creatureName(d, default_creature);
+  p.weights_file = d.string("weights", "");
+  if (p.weights_file.empty()) failParam("weights", "(a weights YAML) is required");
+  p.pairs = getPairs(d);
+  p.world_frame = d.string("world_frame", p.world_frame);
+  p.rate = d.number("rate", p.rate);
+  atLeast(d, "rate", p.rate, 0.0, false);
+  p.lockstep = d.boolean("lockstep", p.lockstep);
+  p.lockstep_duration = d.number("lockstep_duration", p.lockstep_duration);
+  atLeast(d, "lockstep_duration", p.lockstep_duration, 0.0, false);
+  p.lockstep_wait_for_start = d.boolean("lockstep_wait_for_start", p.lockstep_wait_for_start);
+  p.step_service = d.string("step_service", p.step_service);
+  p.step_size = d.number("step_size", p.step_size);
+  atLeast(d, "step_size", p.step_size, 0.0, true);
+  p.wait_timeout = d.number("wait_timeout", p.wait_timeout);
+  atLeast(d, "wait_timeout", p.wait_timeout, 0.0, true);
+  p.unknown_keys = d.unknownKeys();
   return p;
 }
 
 flapsim::WingCommand annCommandMsg(const flapsim::FlapUnitLayout& layout,
                                    const std::vector<flapsim::StrokeCommand>& strokes) {
-  flapsim::WingCommand msg;
-  msg.joint_names = layout.wing_joints;
-  for (const auto& s : strokes) {
-    msg.downstroke_rate.push_back(s.downstroke_rate);
-    msg.upstroke_rate.push_back(s.upstroke_rate);
-    msg.amplitude.push_back(s.amplitude);
-  }
-  return msg;
+  return toMsg(WingCommandRequest{layout.wing_joints, strokes});
 }
 
 }  // namespace flapsim_ros

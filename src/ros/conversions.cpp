@@ -208,6 +208,81 @@ nav_msgs::Odometry odometryMsg(const std::string& creature, const flapsim::Creat
   return m;  // covariances: zero (exact simulation state)
 }
 
+flapsim::StateRequest stateRequest(const flapsim::CreatureModel& model,
+                                   const flapsim::CreatureState& current,
+                                   const flapsim::SetState::Request& req) {
+  flapsim::StateRequest r;
+  r.link = req.link;
+  r.pose = fromMsg(req.pose);
+  r.twist = fromMsg(req.twist);
+  const size_t n = req.joint_names.size();
+  for (const auto* list : {&req.joint_positions, &req.joint_velocities}) {
+    if (!list->empty() && list->size() != n) {
+      throw flapsim::InputError(
+          std::to_string(list->size()) +
+          (list == &req.joint_positions ? " joint_positions" : " joint_velocities") + " for " +
+          std::to_string(n) + " joint_names (give one per name, or none)");
+    }
+  }
+  if (n == 0) return r;
+  r.joint_positions = current.joint_positions;
+  r.joint_velocities = current.joint_velocities;
+  std::vector<bool> named(model.joints.size(), false);
+  for (size_t i = 0; i < n; ++i) {
+    const int j = model.findJoint(req.joint_names[i]);
+    if (j < 0) throw flapsim::InputError("no joint '" + req.joint_names[i] + "'");
+    if (!model.joints[j].movable()) {
+      throw flapsim::InputError("joint '" + req.joint_names[i] + "' is fixed");
+    }
+    if (named[j]) throw flapsim::InputError("joint '" + req.joint_names[i] + "' is named twice");
+    named[j] = true;
+    if (!req.joint_positions.empty()) r.joint_positions[j] = req.joint_positions[i];
+    if (!req.joint_velocities.empty()) r.joint_velocities[j] = req.joint_velocities[i];
+  }
+  return r;
+}
+
+flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req) {
+  flapsim::ExternalWrench w;
+  w.link = req.link;
+  w.point = flapsim::Vec3(req.reference_point.x, req.reference_point.y, req.reference_point.z);
+  w.force = flapsim::Vec3(req.wrench.force.x, req.wrench.force.y, req.wrench.force.z);
+  w.torque = flapsim::Vec3(req.wrench.torque.x, req.wrench.torque.y, req.wrench.torque.z);
+  w.duration = req.duration.toSec();
+  return w;
+}
+
+sensor_msgs::Imu imuMsg(const std::string& creature, const flapsim::CreatureModel& model,
+                        const flapsim::CreatureState& state, const flapsim::Vec3& acceleration,
+                        const flapsim::Vec3& gravity, const ros::Time& stamp, const ImuNoise& noise,
+                        const std::function<double()>& draw) {
+  sensor_msgs::Imu m;
+  m.header.stamp = stamp;
+  m.header.frame_id = linkFrame(creature, model.links.at(0).name);
+  const flapsim::Pose& pose = state.link_poses.at(0);
+  m.orientation = toMsg(pose).orientation;
+  const flapsim::Quat to_body = pose.orientation.conjugate();
+  flapsim::Vec3 rate = to_body * state.link_twists.at(0).angular;
+  flapsim::Vec3 specific = to_body * (acceleration - gravity);
+  if (draw) {
+    for (int i = 0; i < 3; ++i) {
+      if (noise.angular_velocity > 0.0) rate[i] += noise.angular_velocity * draw();
+      if (noise.linear_acceleration > 0.0) specific[i] += noise.linear_acceleration * draw();
+    }
+  }
+  m.angular_velocity.x = rate.x();
+  m.angular_velocity.y = rate.y();
+  m.angular_velocity.z = rate.z();
+  m.linear_acceleration.x = specific.x();
+  m.linear_acceleration.y = specific.y();
+  m.linear_acceleration.z = specific.z();
+  for (int i = 0; i < 3; ++i) {
+    m.angular_velocity_covariance[4 * i] = noise.angular_velocity * noise.angular_velocity;
+    m.linear_acceleration_covariance[4 * i] = noise.linear_acceleration * noise.linear_acceleration;
+  }
+  return m;
+}
+
 std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,
                                                             const flapsim::CreatureModel& model,
                                                             const flapsim::CreatureState& state,

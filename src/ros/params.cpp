@@ -18,133 +18,11 @@ namespace {
 
 using XmlRpc::XmlRpcValue;
 
-std::string typeName(const XmlRpcValue& v) {
-  switch (v.getType()) {
-    case XmlRpcValue::TypeBoolean:
-      return "a boolean";
-    case XmlRpcValue::TypeInt:
-      return "an integer";
-    case XmlRpcValue::TypeDouble:
-      return "a number";
-    case XmlRpcValue::TypeString:
-      return "a string";
-    case XmlRpcValue::TypeArray:
-      return "a list";
-    case XmlRpcValue::TypeStruct:
-      return "a dictionary";
-    default:
-      return "of an unsupported type";
-  }
-}
+std::string typeName(const XmlRpcValue& v) { return paramTypeName(v); }
 
-[[noreturn]] void fail(const std::string& key, const std::string& what) {
-  throw ParamError("parameter '" + key + "': " + what);
-}
+[[noreturn]] void fail(const std::string& key, const std::string& what) { failParam(key, what); }
 
-// A struct's members, with strict checks of unknown keys.
-class Dict {
- public:
-  Dict(const XmlRpcValue& v, std::string prefix) : v_(v), prefix_(std::move(prefix)) {
-    if (v_.getType() != XmlRpcValue::TypeStruct) {
-      fail(prefix_.empty() ? "~" : prefix_, "must be a dictionary, got " + typeName(v_));
-    }
-  }
-
-  std::string key(const std::string& k) const { return prefix_.empty() ? k : prefix_ + "/" + k; }
-  const std::string& name() const { return prefix_; }
-  bool has(const std::string& k) const { return v_.hasMember(k); }
-  const XmlRpcValue& at(const std::string& k) const {
-    read_.insert(k);
-    return const_cast<XmlRpcValue&>(v_)[k];
-  }
-
-  double number(const std::string& k, double def) const {
-    if (!has(k)) return def;
-    return toNumber(at(k), key(k));
-  }
-  bool boolean(const std::string& k, bool def) const {
-    if (!has(k)) return def;
-    const XmlRpcValue& x = at(k);
-    if (x.getType() != XmlRpcValue::TypeBoolean)
-      fail(key(k), "must be true or false, got " + typeName(x));
-    return static_cast<bool>(const_cast<XmlRpcValue&>(x));
-  }
-  int integer(const std::string& k, int def) const {
-    if (!has(k)) return def;
-    const XmlRpcValue& x = at(k);
-    if (x.getType() != XmlRpcValue::TypeInt) fail(key(k), "must be an integer, got " + typeName(x));
-    return static_cast<int>(const_cast<XmlRpcValue&>(x));
-  }
-  std::string string(const std::string& k, const std::string& def) const {
-    if (!has(k)) return def;
-    const XmlRpcValue& x = at(k);
-    if (x.getType() != XmlRpcValue::TypeString)
-      fail(key(k), "must be a string, got " + typeName(x));
-    return static_cast<std::string>(const_cast<XmlRpcValue&>(x));
-  }
-  std::vector<double> numbers(const std::string& k) const {
-    const XmlRpcValue& x = at(k);
-    if (x.getType() != XmlRpcValue::TypeArray)
-      fail(key(k), "must be a list of numbers, got " + typeName(x));
-    std::vector<double> out;
-    for (int i = 0; i < x.size(); ++i) {
-      out.push_back(
-          toNumber(const_cast<XmlRpcValue&>(x)[i], key(k) + "[" + std::to_string(i) + "]"));
-    }
-    return out;
-  }
-  std::vector<std::string> strings(const std::string& k) const {
-    const XmlRpcValue& x = at(k);
-    if (x.getType() != XmlRpcValue::TypeArray)
-      fail(key(k), "must be a list of strings, got " + typeName(x));
-    std::vector<std::string> out;
-    for (int i = 0; i < x.size(); ++i) {
-      XmlRpcValue& e = const_cast<XmlRpcValue&>(x)[i];
-      if (e.getType() != XmlRpcValue::TypeString) {
-        fail(key(k) + "[" + std::to_string(i) + "]", "must be a string, got " + typeName(e));
-      }
-      out.push_back(static_cast<std::string>(e));
-    }
-    return out;
-  }
-  flapsim::Vec3 vec3(const std::string& k, const flapsim::Vec3& def) const {
-    if (!has(k)) return def;
-    std::vector<double> v = numbers(k);
-    if (v.size() != 3) fail(key(k), "must have 3 numbers, got " + std::to_string(v.size()));
-    return flapsim::Vec3(v[0], v[1], v[2]);
-  }
-
-  /// Throws for members that were never read.
-  void rejectUnknown() const {
-    for (const std::string& k : unknownKeys()) fail(key(k), "unknown parameter (misspelt?)");
-  }
-  std::vector<std::string> unknownKeys() const {
-    std::vector<std::string> out;
-    for (auto it = const_cast<XmlRpcValue&>(v_).begin(); it != const_cast<XmlRpcValue&>(v_).end();
-         ++it) {
-      if (!read_.count(it->first)) out.push_back(it->first);
-    }
-    return out;
-  }
-
-  static double toNumber(const XmlRpcValue& x, const std::string& key) {
-    double d = 0.0;
-    if (x.getType() == XmlRpcValue::TypeDouble) {
-      d = static_cast<double>(const_cast<XmlRpcValue&>(x));
-    } else if (x.getType() == XmlRpcValue::TypeInt) {
-      d = static_cast<int>(const_cast<XmlRpcValue&>(x));
-    } else {
-      fail(key, "must be a number, got " + typeName(x));
-    }
-    if (!std::isfinite(d)) fail(key, "must be finite");
-    return d;
-  }
-
- private:
-  const XmlRpcValue& v_;
-  std::string prefix_;
-  mutable std::set<std::string> read_;
-};
+using Dict = ParamReader;
 
 flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.density = d.number("density", air.density);
@@ -189,6 +67,18 @@ MarkerParams parseMarkers(const Dict& d, MarkerParams m) {
   m.width = d.number("width", m.width);
   if (m.scale < 0.0) fail(d.key("scale"), "must be >= 0");
   if (m.width <= 0.0) fail(d.key("width"), "must be > 0");
+  d.rejectUnknown();
+  return m;
+}
+
+ImuParams parseImu(const Dict& d, ImuParams m) {
+  m.angular_velocity_noise = d.number("angular_velocity_noise", m.angular_velocity_noise);
+  m.linear_acceleration_noise = d.number("linear_acceleration_noise", m.linear_acceleration_noise);
+  m.seed = d.integer("seed", m.seed);
+  for (const char* k : {"angular_velocity_noise", "linear_acceleration_noise"}) {
+    const double v = d.number(k, 0.0);
+    if (!(v >= 0.0 && v <= 1e3)) fail(d.key(k), "must be in [0, 1000]");
+  }
   d.rejectUnknown();
   return m;
 }
@@ -315,6 +205,7 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   p.world_frame = d.string("world_frame", p.world_frame);
   if (p.world_frame.empty()) fail("world_frame", "must not be empty");
   if (d.has("markers")) p.markers = parseMarkers(Dict(d.at("markers"), "markers"), p.markers);
+  if (d.has("imu")) p.imu = parseImu(Dict(d.at("imu"), "imu"), p.imu);
 
   if (d.has("creatures")) {
     const XmlRpcValue& list = d.at("creatures");
@@ -331,6 +222,11 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
       }
       p.creatures.push_back(std::move(c));
     }
+  }
+  // Written by the node's dynamic_reconfigure server (what runs): outputs, not inputs.
+  for (const char* k : {"wind_x", "wind_y", "wind_z", "density", "drag_coefficient", "gravity_x",
+                        "gravity_y", "gravity_z", "show_markers"}) {
+    if (d.has(k)) d.at(k);
   }
   p.unknown_keys = d.unknownKeys();
   return p;

@@ -49,7 +49,8 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
       publish_every_(std::max<std::uint64_t>(
           1, static_cast<std::uint64_t>(
                  std::llround(1.0 / (params.publish_rate * params.world.step_size))))),
-      paused_(params.paused) {
+      paused_(params.paused),
+      imu_rng_(static_cast<std::uint64_t>(params.imu.seed)) {
   nh_.setCallbackQueue(&queue_);
   pnh_.setCallbackQueue(&queue_);
   for (const std::string& k : params_.unknown_keys) {
@@ -68,12 +69,29 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
   creature_marker_pub_ =
       pnh_.advertise<visualization_msgs::MarkerArray>("creature_markers", 1, /*latch=*/true);
   diagnostics_pub_ = nh_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  states_pub_ = pnh_.advertise<flapsim::CreatureStates>(
+      "creature_states", 10,
+      [this](const ros::SingleSubscriberPublisher& p) { p.publish(creatureStatesMsg(now())); });
   services_.push_back(pnh_.advertiseService("reset", &SimulatorNode::onReset, this));
   services_.push_back(pnh_.advertiseService("pause", &SimulatorNode::onPause, this));
   services_.push_back(pnh_.advertiseService("unpause", &SimulatorNode::onUnpause, this));
   services_.push_back(pnh_.advertiseService("step", &SimulatorNode::onStep, this));
   services_.push_back(pnh_.advertiseService("spawn", &SimulatorNode::onSpawn, this));
   services_.push_back(pnh_.advertiseService("delete", &SimulatorNode::onDelete, this));
+  services_.push_back(pnh_.advertiseService("get_state", &SimulatorNode::onGetState, this));
+  services_.push_back(pnh_.advertiseService("set_state", &SimulatorNode::onSetState, this));
+  services_.push_back(pnh_.advertiseService("apply_wrench", &SimulatorNode::onApplyWrench, this));
+  services_.push_back(
+      pnh_.advertiseService("clear_wrenches", &SimulatorNode::onClearWrenches, this));
+
+  // Its callbacks run on queue_ (pnh_'s), between steps. The running values go in before the
+  // callback: the node's parameters, not the cfg defaults, are what starts.
+  reconfigure_ = std::make_unique<dynamic_reconfigure::Server<flapsim::FlapsimConfig>>(
+      reconfigure_mutex_, pnh_);
+  reconfigure_->updateConfig(runningConfig());
+  reconfigure_->setCallback([this](flapsim::FlapsimConfig& config, std::uint32_t level) {
+    onReconfigure(config, level);
+  });
 
   for (const CreatureSpec& spec : params_.creatures) {
     const bool from_file = !spec.urdf_file.empty();
@@ -130,6 +148,7 @@ void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
     c->description.publish(text);
     c->joint_states = c->nh.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
     c->odom = c->nh.advertise<nav_msgs::Odometry>(name + "/odom", 10);
+    c->imu = c->nh.advertise<sensor_msgs::Imu>(name + "/imu", 10);
     c->wing_command = c->nh.subscribe<flapsim::WingCommand>(
         name + "/wing_command", 10,
         [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });
@@ -149,6 +168,7 @@ void SimulatorNode::remove(const std::string& name) {
   if (it == creatures_.end()) return;
   (*it)->joint_states.shutdown();
   (*it)->odom.shutdown();
+  (*it)->imu.shutdown();
   (*it)->wing_command.shutdown();
   (*it)->description.shutdown();
   nh_.deleteParam(name + "/robot_description");
@@ -226,8 +246,15 @@ void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp,
   const bool need_tf = tf != nullptr;
   const bool need_js = c.joint_states.getNumSubscribers() > 0;
   const bool need_odom = c.odom.getNumSubscribers() > 0;
-  if (!need_tf && !need_js && !need_odom) return;
+  const bool need_imu = c.imu.getNumSubscribers() > 0;
+  if (!need_tf && !need_js && !need_odom && !need_imu) return;
   const flapsim::CreatureState s = world_.state(c.name);
+  if (need_imu) {
+    const ImuNoise noise{params_.imu.angular_velocity_noise, params_.imu.linear_acceleration_noise};
+    c.imu.publish(imuMsg(c.name, *c.model, s, world_.rootAcceleration(c.name),
+                         world_.params().gravity, stamp, noise,
+                         [this] { return imu_normal_(imu_rng_); }));
+  }
   if (need_js) c.joint_states.publish(jointStateMsg(*c.model, s, stamp));
   if (need_odom) c.odom.publish(odometryMsg(c.name, *c.model, s, stamp, params_.world_frame));
   if (need_tf) {
@@ -252,6 +279,7 @@ void SimulatorNode::publishAll() {
     tf.transforms.push_back(viewTransform(view_.position(), stamp, params_.world_frame));
     tf_pub_.publish(tf);
   }
+  if (states_pub_.getNumSubscribers() > 0) states_pub_.publish(creatureStatesMsg(stamp));
   if (params_.markers.enabled && marker_pub_.getNumSubscribers() > 0) {
     marker_pub_.publish(aeroMarkerArray(stamp));
   }
@@ -289,6 +317,19 @@ visualization_msgs::MarkerArray SimulatorNode::aeroMarkerArray(const ros::Time& 
     markers.markers.insert(markers.markers.end(), m.begin(), m.end());
   }
   return markers;
+}
+
+flapsim::CreatureStates SimulatorNode::creatureStatesMsg(const ros::Time& stamp) const {
+  flapsim::CreatureStates m;
+  m.header.stamp = stamp;
+  m.header.frame_id = params_.world_frame;
+  for (const auto& c : creatures_) {
+    const flapsim::CreatureState s = world_.state(c->name);
+    m.name.push_back(c->name);
+    m.pose.push_back(toMsg(s.link_poses.at(0)));
+    m.twist.push_back(toMsg(s.link_twists.at(0)));
+  }
+  return m;
 }
 
 void SimulatorNode::publishCreatureMarkers() {
@@ -333,8 +374,8 @@ void SimulatorNode::run() {
   }
 }
 
-void SimulatorNode::warnOnce(const std::string& kind, const std::string& creature,
-                             const std::string& message) {
+void SimulatorNode::warnThrottled(const std::string& kind, const std::string& creature,
+                                  const std::string& message) {
   if (warnings_.allow(kind, creature, ros::WallTime::now().toSec())) {
     ROS_WARN_STREAM("flapsim: " << message);
   } else {
@@ -351,9 +392,9 @@ void SimulatorNode::onWingCommand(const std::string& creature,
     world_.setWingCommands(creature, r.joints, r.strokes);
     if (Creature* c = find(creature)) c->command = std::move(r);
   } catch (const flapsim::InputError& e) {
-    warnOnce("wing_command/" + WarningLimiter::kindOf(e.what()), creature,
-             "rejected wing command for '" + creature + "': " + e.what() +
-                 " (keeping the previous command)");
+    warnThrottled("wing_command/" + WarningLimiter::kindOf(e.what()), creature,
+                  "rejected wing command for '" + creature + "': " + e.what() +
+                      " (keeping the previous command)");
   }
 }
 
@@ -364,7 +405,7 @@ bool SimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response
     try {
       world_.setWingCommands(c->name, c->command->joints, c->command->strokes);
     } catch (const flapsim::InputError& e) {
-      warnOnce("reset", c->name, "after reset: " + std::string(e.what()));
+      warnThrottled("reset", c->name, "after reset: " + std::string(e.what()));
     }
   }
   restartPacing();
@@ -404,7 +445,7 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
   if (!paused_) {
     res.success = false;
     res.status_message = "flapsim is running: call flapsim/pause before flapsim/step";
-    warnOnce("step/running", "", "step refused: " + res.status_message);
+    warnThrottled("step/running", "", "step refused: " + res.status_message);
     return true;
   }
   if (req.steps > static_cast<std::uint32_t>(params_.max_steps_per_call)) {
@@ -412,7 +453,7 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
     res.status_message = "steps " + std::to_string(req.steps) + " is over max_steps_per_call " +
                          std::to_string(params_.max_steps_per_call) +
                          " (parameter ~max_steps_per_call): no step taken";
-    warnOnce("step/max_steps_per_call", "", "step refused: " + res.status_message);
+    warnThrottled("step/max_steps_per_call", "", "step refused: " + res.status_message);
     return true;
   }
   try {
@@ -420,7 +461,8 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = std::string("wing commands refused, no step taken: ") + e.what();
-    warnOnce("step/" + WarningLimiter::kindOf(e.what()), "", "step refused: " + res.status_message);
+    warnThrottled("step/" + WarningLimiter::kindOf(e.what()), "",
+                  "step refused: " + res.status_message);
     return true;
   }
   published_step_ = UINT64_MAX;
@@ -456,12 +498,12 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
   } catch (const std::bad_alloc&) {
     res.success = false;
     res.status_message = "spawn '" + req.name + "': out of memory while reading or building it";
-    warnOnce("spawn/out_of_memory", "", "spawn refused: " + res.status_message);
+    warnThrottled("spawn/out_of_memory", "", "spawn refused: " + res.status_message);
   } catch (const std::exception& e) {  // InputError, ModelError
     res.success = false;
     res.status_message = e.what();
-    warnOnce("spawn/" + WarningLimiter::kindOf(e.what()), "",
-             "spawn refused: " + res.status_message);
+    warnThrottled("spawn/" + WarningLimiter::kindOf(e.what()), "",
+                  "spawn refused: " + res.status_message);
   }
   return true;
 }
@@ -477,9 +519,149 @@ bool SimulatorNode::onDelete(flapsim::DeleteCreature::Request& req,
   } catch (const flapsim::InputError& e) {
     res.success = false;
     res.status_message = e.what();
-    warnOnce("delete", "", "delete refused: " + res.status_message);
+    warnThrottled("delete", "", "delete refused: " + res.status_message);
   }
   return true;
+}
+
+bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetState::Response& res) {
+  res.header.stamp = now();
+  res.header.frame_id = params_.world_frame;
+  const Creature* c = find(req.name);
+  const int link = !c ? -1 : req.link.empty() ? 0 : c->model->findLink(req.link);
+  if (link < 0) {
+    res.success = false;
+    res.status_message = !c ? "unknown creature '" + req.name + "'"
+                            : "creature '" + req.name + "' has no link '" + req.link + "'";
+    warnThrottled("get_state", req.name, "get_state refused: " + res.status_message);
+    return true;
+  }
+  const flapsim::CreatureState s = world_.state(req.name);
+  res.pose = toMsg(s.link_poses.at(link));
+  res.twist = toMsg(s.link_twists.at(link));
+  const sensor_msgs::JointState joints = jointStateMsg(*c->model, s, res.header.stamp);
+  res.joint_names = joints.name;
+  res.joint_positions = joints.position;
+  res.joint_velocities = joints.velocity;
+  res.success = true;
+  res.status_message = "state of '" + req.name + "' link '" + c->model->links[link].name + "'";
+  return true;
+}
+
+bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetState::Response& res) {
+  try {
+    const Creature* c = find(req.name);
+    if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
+    flapsim::StateRequest r;
+    try {
+      r = stateRequest(*c->model, world_.state(req.name), req);
+    } catch (const flapsim::InputError& e) {
+      throw flapsim::InputError("creature '" + req.name + "': " + e.what());
+    }
+    world_.setState(req.name, r);
+    res.success = true;
+    res.status_message = "set the state of '" + req.name + "' at t = " + formatTime(now()) + " s";
+    published_step_ = UINT64_MAX;
+    publishAll();
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("set_state refused, nothing changed: ") + e.what();
+    warnThrottled("set_state/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
+  }
+  return true;
+}
+
+bool SimulatorNode::onApplyWrench(flapsim::ApplyWrench::Request& req,
+                                  flapsim::ApplyWrench::Response& res) {
+  try {
+    world_.applyWrench(req.name, fromMsg(req));
+    res.success = true;
+    res.status_message = "wrench on '" + req.name + "'" +
+                         (req.link.empty() ? "" : " link '" + req.link + "'") +
+                         " from t = " + formatTime(now()) + " s";
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("apply_wrench refused: ") + e.what();
+    warnThrottled("apply_wrench/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
+  }
+  return true;
+}
+
+bool SimulatorNode::onClearWrenches(flapsim::ClearWrenches::Request& req,
+                                    flapsim::ClearWrenches::Response& res) {
+  try {
+    const int n = world_.clearWrenches(req.name, req.link);
+    res.success = true;
+    res.status_message = "cleared " + std::to_string(n) + " wrench(es)";
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("clear_wrenches refused: ") + e.what();
+    warnThrottled("clear_wrenches/" + WarningLimiter::kindOf(e.what()), req.name,
+                  res.status_message);
+  }
+  return true;
+}
+
+flapsim::FlapsimConfig SimulatorNode::runningConfig() const {
+  flapsim::FlapsimConfig c;
+  c.real_time_factor = params_.real_time_factor;
+  c.publish_rate = params_.publish_rate;
+  const flapsim::AirParams& air = world_.params().air;
+  c.wind_x = air.wind.x();
+  c.wind_y = air.wind.y();
+  c.wind_z = air.wind.z();
+  c.density = air.density;
+  c.drag_coefficient = air.drag_coefficient;
+  const flapsim::Vec3& g = world_.params().gravity;
+  c.gravity_x = g.x();
+  c.gravity_y = g.y();
+  c.gravity_z = g.z();
+  c.show_markers = params_.markers.enabled;
+  return c;
+}
+
+void SimulatorNode::onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t) {
+  try {
+    if (!std::isfinite(config.real_time_factor) ||
+        (config.real_time_factor != 0.0 &&
+         (config.real_time_factor < 1e-3 || config.real_time_factor > 1e6))) {
+      throw flapsim::InputError(
+          "real_time_factor must be 0 (as fast as possible) or in [0.001, 1e6]");
+    }
+    if (!(config.publish_rate >= 0.01 && config.publish_rate <= 1e6)) {
+      throw flapsim::InputError("publish_rate must be in [0.01, 1e6] Hz");
+    }
+    flapsim::AirParams air = world_.params().air;
+    air.wind = flapsim::Vec3(config.wind_x, config.wind_y, config.wind_z);
+    air.density = config.density;
+    air.drag_coefficient = config.drag_coefficient;
+    const flapsim::Vec3 gravity(config.gravity_x, config.gravity_y, config.gravity_z);
+    if (!gravity.allFinite() || gravity.norm() > flapsim::kMaxGravity) {
+      throw flapsim::InputError("gravity must be finite and at most 1e4 m/s^2");
+    }
+    world_.setAirParams(air);  // checked first: InputError names the culprit
+    world_.setGravity(gravity);
+    params_.world.air = air;
+    params_.world.gravity = gravity;
+    params_.real_time_factor = config.real_time_factor;
+    params_.publish_rate = config.publish_rate;
+    publish_every_ = std::max<std::uint64_t>(
+        1, static_cast<std::uint64_t>(
+               std::llround(1.0 / (params_.publish_rate * params_.world.step_size))));
+    params_.markers.enabled = config.show_markers;
+    restartPacing();
+    ROS_INFO_STREAM("flapsim: reconfigured at t = "
+                    << formatTime(now()) << " s: real-time factor " << params_.real_time_factor
+                    << ", publishing every " << publish_every_ << " steps, wind ["
+                    << air.wind.transpose() << "] m/s, density " << air.density
+                    << ", drag coefficient " << air.drag_coefficient << ", gravity ["
+                    << gravity.transpose() << "], markers "
+                    << (config.show_markers ? "on" : "off"));
+  } catch (const flapsim::InputError& e) {
+    warnThrottled("reconfigure/" + WarningLimiter::kindOf(e.what()), "",
+                  std::string("reconfigure refused, nothing changed: ") + e.what());
+    config = runningConfig();
+  }
 }
 
 }  // namespace flapsim_ros

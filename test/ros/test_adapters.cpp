@@ -187,6 +187,10 @@ TEST(Params, BadParametersAreNamed) {
       {"air: {quasi_steady: {lift_man: 1}}", "'air/quasi_steady/lift_man': unknown"},
       {"threads: 0", "threads must be in 1..256"},
       {"markers: {width: 0}", "'markers/width'"},
+      {"imu: {angular_velocity_noise: -0.1}", "'imu/angular_velocity_noise': must be in"},
+      {"imu: {linear_acceleration_noise: .nan}", "'imu/linear_acceleration_noise'"},
+      {"imu: {seed: 1.5}", "'imu/seed': must be an integer"},
+      {"imu: {noise: 1}", "'imu/noise': unknown parameter"},
       {"markers: {scale: -1}", "'markers/scale'"},
       {"world_frame: ''", "'world_frame'"},
       {"creatures: {name: a}", "'creatures': must be a list"},
@@ -468,6 +472,77 @@ TEST(Conversions, AeroMarkersAreScaledArrows) {
   a.wrench.force = Vec3::Zero();
   mp.per_cell = false;
   EXPECT_TRUE(flapsim_ros::aeroMarkers("fu", {a}, mp, ros::Time(2, 0), "world").empty());
+}
+
+// ---- driving: set_state, apply_wrench, imu ------------------------------------------------
+
+// An accelerometer reads acceleration less gravity in its own axes, gyros the angular
+// velocity in its own axes: after a +90 deg roll about x the body's y axis is the world's z,
+// so at rest +g reads along body y, and a yaw rate too. Noise adds sigma x the drawn sample on
+// each axis; the covariances are sigma^2.
+TEST(Imu, ReadsSpecificForceAndRatesInBodyAxesWithNoise) {
+  auto model = flapsim::loadCreatureModel(sourcePath("urdf/plate.urdf"));
+  flapsim::CreatureState s;
+  const flapsim::Quat roll(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitX()));
+  s.link_poses = {flapsim::Pose{Vec3(1, 2, 3), roll}};
+  s.link_twists = {flapsim::Twist{Vec3::Zero(), Vec3(0, 0, 2)}};
+  const Vec3 g(0, 0, -9.81);
+  sensor_msgs::Imu m = flapsim_ros::imuMsg("p", *model, s, Vec3::Zero(), g, ros::Time(5));
+  EXPECT_EQ(m.header.frame_id, "p/plate");
+  EXPECT_EQ(m.header.stamp, ros::Time(5));
+  EXPECT_NEAR(m.linear_acceleration.x, 0.0, 1e-12);
+  EXPECT_NEAR(m.linear_acceleration.y, 9.81, 1e-12);
+  EXPECT_NEAR(m.linear_acceleration.z, 0.0, 1e-12);
+  EXPECT_NEAR(m.angular_velocity.y, 2.0, 1e-12);
+  EXPECT_NEAR(m.orientation.x, std::sqrt(0.5), 1e-12);
+  EXPECT_EQ(m.linear_acceleration_covariance[0], 0.0);
+  // free fall reads nothing
+  m = flapsim_ros::imuMsg("p", *model, s, g, g, ros::Time(5));
+  EXPECT_NEAR(m.linear_acceleration.y, 0.0, 1e-12);
+  // noise: every sample 1.0 adds sigma on each axis
+  const flapsim_ros::ImuNoise noise{0.01, 0.2};
+  m = flapsim_ros::imuMsg("p", *model, s, g, g, ros::Time(5), noise, [] { return 1.0; });
+  EXPECT_NEAR(m.linear_acceleration.x, 0.2, 1e-12);
+  EXPECT_NEAR(m.angular_velocity.x, 0.01, 1e-12);
+  EXPECT_NEAR(m.angular_velocity.y, 2.01, 1e-12);
+  EXPECT_NEAR(m.linear_acceleration_covariance[4], 0.04, 1e-15);
+  EXPECT_NEAR(m.angular_velocity_covariance[8], 1e-4, 1e-18);
+}
+
+// set_state's joint lists: named joints take the values, the others keep the current ones;
+// bad names and lengths are named.
+TEST(SetStateRequest, NamedJointsTakeTheirValuesOthersKeepTheirs) {
+  auto model = flapsim::loadCreatureModel(sourcePath("urdf/flap_unit.urdf"));
+  flapsim::CreatureState now;
+  now.joint_positions = {0.1, 0.2};
+  now.joint_velocities = {1.0, 2.0};
+  flapsim::SetState::Request req;
+  req.joint_names = {"unit0_wing_right_joint"};
+  req.joint_positions = {-0.5};
+  flapsim::StateRequest r = flapsim_ros::stateRequest(*model, now, req);
+  EXPECT_EQ(r.joint_positions, (std::vector<double>{0.1, -0.5}));
+  EXPECT_EQ(r.joint_velocities, (std::vector<double>{1.0, 2.0}));
+  req.joint_names.clear();
+  req.joint_positions.clear();
+  EXPECT_TRUE(flapsim_ros::stateRequest(*model, now, req).joint_positions.empty());
+  auto error = [&](const flapsim::SetState::Request& q) {
+    try {
+      flapsim_ros::stateRequest(*model, now, q);
+    } catch (const flapsim::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  req.joint_names = {"unit0_wing_right_joint", "unit0_wing_right_joint"};
+  req.joint_positions = {0, 0};
+  EXPECT_NE(error(req).find("named twice"), std::string::npos) << error(req);
+  req.joint_names = {"tail_joint"};
+  req.joint_positions = {0};
+  EXPECT_NE(error(req).find("'tail_joint'"), std::string::npos) << error(req);
+  req.joint_names = {"unit0_wing_right_joint"};
+  req.joint_velocities = {0, 0};
+  EXPECT_NE(error(req).find("2 joint_velocities for 1 joint_names"), std::string::npos)
+      << error(req);
 }
 
 }  // namespace

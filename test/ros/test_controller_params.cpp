@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "flapsim_ros/controller_params.h"
+#include "flapsim_ros/conversions.h"
 
 namespace flapsim_ros {
 namespace {
@@ -107,6 +108,42 @@ TEST(AnnControllerParams, MessageNamesTheUnitWings) {
   EXPECT_EQ(msg.joint_names[3], "unit1_wing_right_joint");
   EXPECT_EQ(msg.downstroke_rate[3], 55.0);
   EXPECT_EQ(msg.amplitude[0], 1.2);
+}
+
+// The controllers read their namespace with the simulator's reader: a misspelt key is named
+// (the node warns about it) instead of silently ignored, and a wrong type names its key.
+TEST(ControllerParams, MisspeltKeysAreNamedAndTypesChecked) {
+  const StrokeControllerParams s = parseStrokeControllerParams(
+      yamlish({{"amplitud", XmlRpc::XmlRpcValue(0.5)}, {"rate", XmlRpc::XmlRpcValue(20)}}), "c");
+  EXPECT_EQ(s.unknown_keys, std::vector<std::string>{"amplitud"});
+  EXPECT_EQ(s.strokes[0].amplitude, 0.8);  // the default: the misspelt key did not set it
+  const AnnControllerParams a =
+      parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w.yaml")},
+                                        {"lock_step", XmlRpc::XmlRpcValue(true)}}),
+                               "c");
+  EXPECT_EQ(a.unknown_keys, std::vector<std::string>{"lock_step"});
+  try {
+    parseAnnControllerParams(
+        yamlish({{"weights", XmlRpc::XmlRpcValue("w.yaml")}, {"lockstep", XmlRpc::XmlRpcValue(1)}}),
+        "c");
+    ADD_FAILURE() << "lockstep: 1 accepted";
+  } catch (const ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("'lockstep': must be true or false"), std::string::npos)
+        << e.what();
+  }
+}
+
+// Both controllers build their message with the one WingCommand builder: a feather angle is
+// kept (in the message only if some wing has one), and reads back as it was sent.
+TEST(ControllerMessages, KeepTheFeatherAngle) {
+  std::vector<flapsim::StrokeCommand> strokes(2, flapsim::StrokeCommand{30, 10, 1.2});
+  strokes[1].feather = 0.4;
+  const flapsim::WingCommand ann = annCommandMsg(flapsim::flapUnitLayout(1), strokes);
+  EXPECT_EQ(ann.feather_angle, (std::vector<double>{0.0, 0.4}));
+  EXPECT_EQ(fromMsg(ann).strokes[1].feather, 0.4);
+  const flapsim::WingCommand stroke = strokeCommandMsg({strokes[1]});  // one pair: both wings
+  EXPECT_EQ(stroke.feather_angle, (std::vector<double>{0.4, 0.4}));
+  EXPECT_TRUE(strokeCommandMsg({strokes[0]}).feather_angle.empty());
 }
 
 TEST(NamespaceBasename, LastComponent) {
