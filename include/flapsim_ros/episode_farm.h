@@ -104,6 +104,8 @@ class FarmEvaluator : public flapsim::EpisodeEvaluator {
   int workersUp() const override;
   /// Calls that failed or timed out and were sent again (over the run).
   int resent() const { return resent_; }
+  /// Tasks answered per worker service (over the run).
+  const std::map<std::string, int>& answered() const { return answered_; }
 
  private:
   struct Worker {
@@ -119,6 +121,7 @@ class FarmEvaluator : public flapsim::EpisodeEvaluator {
   FarmParams params_;
   std::map<std::string, Worker> workers_;
   int resent_ = 0;
+  std::map<std::string, int> answered_;
 };
 
 /// Publishes FarmProgress on <ns>/progress (latched: the last line).

@@ -316,6 +316,7 @@ std::vector<double> FarmEvaluator::evaluate(const std::vector<flapsim::EpisodeTa
         std::copy(a.response.fitness.begin(), a.response.fitness.end(), out.begin() + begin);
         chunk_done[call.chunk] = 1;
         ++n_done;
+        answered_[call.worker] += static_cast<int>(end - begin);
       }
     }
     // Stalled workers.
