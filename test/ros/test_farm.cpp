@@ -1,6 +1,7 @@
 // evolve --farm against flapsim_worker nodes (farm.test starts three under
 // /flapsim_farm): the evolution is the in-process one bit for bit, with three workers,
-// with one killed mid-run and another joining; a malformed batch is refused by name.
+// with one killed mid-run and another joining, with one that never answers; a malformed
+// batch is refused by name.
 #include <gtest/gtest.h>
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
@@ -8,6 +9,9 @@
 #include <spawn.h>
 #include <sys/wait.h>
 
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -122,6 +126,54 @@ TEST(Farm, AMalformedBatchIsRefusedByName) {
   // Through the farm: a refusal is an error of the run, not a dead worker.
   flapsim_ros::FarmEvaluator farm(nh, kSpec, 3, flapsim_ros::FarmParams());
   EXPECT_THROW(farm.evaluate({flapsim::EpisodeTask{{1.0, 2.0, 3.0}, 0}}), flapsim_ros::FarmError);
+}
+
+// A worker that takes calls and never answers until released: its calls time out and go
+// to the others; it is dropped.
+TEST(Farm, AWorkerThatStallsIsTimedOutAndTheBitsStayTheSame) {
+  ros::NodeHandle nh;
+  ros::CallbackQueue queue;
+  ros::NodeHandle stall_nh(kNs + "/a_staller");
+  stall_nh.setCallbackQueue(&queue);
+  std::mutex mutex;
+  std::condition_variable released_cv;
+  bool released = false;
+  std::atomic<int> calls{0};
+  ros::ServiceServer staller = stall_nh.advertiseService<flapsim::EvaluateEpisodes::Request,
+                                                         flapsim::EvaluateEpisodes::Response>(
+      "evaluate_episodes",
+      [&](flapsim::EvaluateEpisodes::Request&, flapsim::EvaluateEpisodes::Response& res) {
+        ++calls;
+        std::unique_lock<std::mutex> lock(mutex);
+        released_cv.wait(lock, [&] { return released; });
+        res.success = false;
+        res.message = "released";
+        return true;
+      });
+  ros::AsyncSpinner spinner(2, &queue);
+  spinner.start();
+  ASSERT_TRUE(waitFor([] { return listed(service("a_staller")); }, 30.0));
+
+  const flapsim::EvolveParams p = flapsim::parseEvolveArgs(kSpec).params;
+  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
+  flapsim_ros::FarmParams fp;
+  fp.timeout = 2.0;  // the others answer a one-task call in about 10 ms
+  flapsim_ros::FarmEvaluator farm(nh, kSpec, flapsim::FlapUnitController::weightCount(p.controller),
+                                  fp);
+  flapsim::EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    released = true;
+  }
+  released_cv.notify_all();
+  spinner.stop();
+  expectSameBits(in_process, on_farm);
+  EXPECT_GT(calls.load(), 0);                                  // it was given work
+  EXPECT_EQ(farm.answered().count(service("a_staller")), 0u);  // and answered none
+  EXPECT_GT(farm.resent(), 0);
+  EXPECT_EQ(farm.workersUp(), 3);  // the launch file's three; the staller was dropped
 }
 
 }  // namespace
