@@ -27,5 +27,7 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
 ControllerSpec loadControllerYaml(const std::string& path);
 /// Throws std::runtime_error if the file cannot be written.
 void writeTextFile(const std::string& path, const std::string& text);
+/// Throws InputError if the file cannot be read.
+std::string readTextFile(const std::string& path);
 
 }  // namespace flapsim

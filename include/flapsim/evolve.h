@@ -18,6 +18,9 @@
 
 namespace flapsim {
 
+class EpisodeEvaluator;
+struct EvaluationSpec;
+
 /// One flight. The creature starts at its root body at (0, 0, start_height),
 /// rolled and pitched by the episode's start angles and turning at its start
 /// rate;
@@ -137,14 +140,44 @@ struct EvolveResult {
   double best_fitness = 0.0;
 };
 
+/// The state of an evolution after a generation: enough to continue it bit
+/// for bit. The GA draws generation g from a generator seeded by (ga.seed, g),
+/// so (seed, generation) is its whole random state.
+struct EvolveCheckpoint {
+  int generation = 0;
+  std::uint64_t seed = 0;
+  std::vector<Individual> population;  // best first
+  std::vector<GenerationStats> history;
+  std::vector<std::string> args;  // the evolve flags of the run (for --resume)
+};
+
+/// Text form (every double as a C99 hex float, so it reads back bit for bit).
+std::string checkpointToText(const EvolveCheckpoint& checkpoint);
+/// Throws InputError naming the line at fault.
+EvolveCheckpoint checkpointFromText(const std::string& text);
+
+struct EvolveHooks {
+  std::function<void(const GenerationStats&)> on_generation;
+  std::function<void(const EvolveCheckpoint&)> on_checkpoint;  // after each generation
+  EpisodeEvaluator* evaluator = nullptr;     // null: in process on ga.threads threads
+  const EvolveCheckpoint* resume = nullptr;  // continue from here (same params)
+};
+
+/// The task spec of an evolution: episode.seed = evolutionEpisodeSeed(ga.seed).
+/// Throws std::invalid_argument for bad episode or controller parameters.
+EvaluationSpec evaluationSpec(const EvolveParams& params);
+
 /// Runs the GA on the flap-unit network of a `pairs`-unit creature; the
 /// fitness is flapFitness with episode.seed = mixSeed(ga.seed, 0xE915) (the
 /// same start attitudes for every individual of the run, so the fitness is a
-/// function of the weights alone). Calls `on_generation` after each
-/// generation.
+/// function of the weights alone): one task per (individual, episode) through
+/// the evaluator, each individual's fitness summed over its episodes in
+/// episode order, so any evaluator gives the same bits. Calls `on_generation`
+/// after each generation.
 EvolveResult evolveFlapController(
     const EvolveParams& params,
     const std::function<void(const GenerationStats&)>& on_generation = {});
+EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks& hooks);
 
 /// The episode start-attitude seed used by evolveFlapController for `ga_seed`.
 std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed);

@@ -105,6 +105,12 @@ class GeneticAlgorithm {
   /// `on_generation` after each one (including generation 0).
   void run(const std::function<void(const GenerationStats&)>& on_generation = {});
 
+  /// Continues from a saved state: the population (best first) and history
+  /// after `generation`. Throws std::invalid_argument if they do not fit the
+  /// params (population size, gene count, history length).
+  void restore(int generation, std::vector<Individual> population,
+               std::vector<GenerationStats> history);
+
   int generation() const { return generation_; }
   /// Current population, best first.
   const std::vector<Individual>& population() const { return population_; }

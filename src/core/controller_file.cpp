@@ -112,4 +112,12 @@ void writeTextFile(const std::string& path, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write '" + path + "'");
 }
 
+std::string readTextFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
 }  // namespace flapsim

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
+#include "flapsim/episode_evaluator.h"
 #include "flapsim/make_creature.h"
 
 namespace flapsim {
@@ -191,32 +195,49 @@ EvolveParams robustPreset(int pairs) {
 
 std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed) { return mixSeed(ga_seed, 0xE915ULL); }
 
+EvaluationSpec evaluationSpec(const EvolveParams& params) {
+  EvaluationSpec spec;
+  spec.pairs = params.pairs;
+  spec.unit = params.unit;
+  spec.controller = params.controller;
+  spec.episode = params.episode;
+  spec.episode.seed = evolutionEpisodeSeed(params.ga.seed);
+  std::string err = validateEpisodeParams(spec.episode);
+  if (err.empty()) err = validateFlapControllerParams(spec.controller);
+  if (!err.empty()) throw std::invalid_argument("evolve: " + err);
+  return spec;
+}
+
 EvolveResult evolveFlapController(const EvolveParams& params,
                                   const std::function<void(const GenerationStats&)>& on_gen) {
-  const CreatureModelPtr model =
-      parseCreatureModel(makeCreatureUrdf(params.pairs, "afc", params.unit), "make_creature");
-  EpisodeParams episode = params.episode;
-  episode.seed = evolutionEpisodeSeed(params.ga.seed);
-  std::string err = validateEpisodeParams(episode);
-  if (err.empty()) err = validateFlapControllerParams(params.controller);
-  if (!err.empty()) throw std::invalid_argument("evolve: " + err);
+  EvolveHooks hooks;
+  hooks.on_generation = on_gen;
+  return evolveFlapController(params, hooks);
+}
 
-  // One task per (individual, episode), so that the threads stay busy even
+EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks& hooks) {
+  const EvaluationSpec spec = evaluationSpec(params);
+  std::unique_ptr<EpisodeEvaluator> own;
+  EpisodeEvaluator* evaluator = hooks.evaluator;
+  if (evaluator == nullptr) {
+    own = std::make_unique<InProcessEvaluator>(spec, params.ga.threads);
+    evaluator = own.get();
+  }
+  // One task per (individual, episode), so that the workers stay busy even
   // when few children are new; the sums run in a fixed order afterwards.
-  const FlapControllerParams controller = params.controller;
-  const std::vector<EpisodeStart> starts = episodeStarts(episode);
-  const int n_starts = static_cast<int>(starts.size());
-  const int threads = params.ga.threads;
+  const int n_starts = spec.episode.episodes;
   auto batch = [&](const std::vector<std::vector<double>>& genomes,
                    const std::vector<std::uint64_t>&) {
-    std::vector<AnnWingController> anns;
-    for (const auto& g : genomes) anns.emplace_back(FlapUnitController(controller, g));
-    const std::vector<double> f =
-        parallelMap(static_cast<int>(genomes.size()) * n_starts, threads, [&](int task) {
-          return runEpisode(model, anns[task / n_starts], controller.control_period, episode,
-                            starts[task % n_starts])
-              .fitness;
-        });
+    std::vector<EpisodeTask> tasks;
+    tasks.reserve(genomes.size() * n_starts);
+    for (const auto& g : genomes) {
+      for (int k = 0; k < n_starts; ++k) tasks.push_back(EpisodeTask{g, k});
+    }
+    const std::vector<double> f = evaluator->evaluate(tasks);
+    if (f.size() != tasks.size()) {
+      throw std::runtime_error("evolve: the evaluator returned " + std::to_string(f.size()) +
+                               " values for " + std::to_string(tasks.size()) + " tasks");
+    }
     std::vector<double> out(genomes.size(), 0.0);
     for (size_t i = 0; i < genomes.size(); ++i) {
       for (int k = 0; k < n_starts; ++k) out[i] += f[i * n_starts + k];
@@ -224,14 +245,166 @@ EvolveResult evolveFlapController(const EvolveParams& params,
     }
     return out;
   };
-  GeneticAlgorithm ga(params.ga, FlapUnitController::weightCount(controller),
+  GeneticAlgorithm ga(params.ga, FlapUnitController::weightCount(params.controller),
                       BatchFitnessFunction(batch));
-  ga.run(on_gen);
+  if (hooks.resume != nullptr) {
+    if (hooks.resume->seed != params.ga.seed) {
+      throw std::invalid_argument("evolve: the checkpoint is of seed " +
+                                  std::to_string(hooks.resume->seed) + ", not " +
+                                  std::to_string(params.ga.seed));
+    }
+    ga.restore(hooks.resume->generation, hooks.resume->population, hooks.resume->history);
+  }
+  ga.run([&](const GenerationStats& g) {
+    if (hooks.on_checkpoint) {
+      EvolveCheckpoint c;
+      c.generation = ga.generation();
+      c.seed = params.ga.seed;
+      c.population = ga.population();
+      c.history = ga.history();
+      hooks.on_checkpoint(c);
+    }
+    if (hooks.on_generation) hooks.on_generation(g);
+  });
   EvolveResult result;
   result.history = ga.history();
   result.best_weights = ga.best().genes;
   result.best_fitness = ga.best().fitness;
   return result;
+}
+
+// ---- Checkpoints ---------------------------------------------------------------------------
+
+namespace {
+
+std::string hex(double x) {
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%a", x);
+  return buf;
+}
+
+class CheckpointReader {
+ public:
+  explicit CheckpointReader(const std::string& text) : in_(text) {}
+  std::istringstream line(const std::string& what) {
+    std::string l;
+    if (!std::getline(in_, l)) fail("missing " + what);
+    ++number_;
+    return std::istringstream(l);
+  }
+  std::string rawLine(const std::string& what) {
+    std::string l;
+    if (!std::getline(in_, l)) fail("missing " + what);
+    ++number_;
+    return l;
+  }
+  void expect(std::istringstream& l, const std::string& word) {
+    std::string w;
+    if (!(l >> w) || w != word) fail("expected '" + word + "'");
+  }
+  long long integer(std::istringstream& l, const std::string& what) {
+    long long v;
+    if (!(l >> v)) fail("expected an integer (" + what + ")");
+    return v;
+  }
+  double real(std::istringstream& l, const std::string& what) {
+    std::string w;
+    if (!(l >> w)) fail("expected a number (" + what + ")");
+    char* end = nullptr;
+    const double v = std::strtod(w.c_str(), &end);
+    if (end == w.c_str() || *end != '\0') fail("'" + w + "' is not a number (" + what + ")");
+    return v;
+  }
+  [[noreturn]] void fail(const std::string& msg) const {
+    throw InputError("checkpoint line " + std::to_string(number_ + 1) + ": " + msg);
+  }
+
+ private:
+  std::istringstream in_;
+  int number_ = 0;
+};
+
+}  // namespace
+
+std::string checkpointToText(const EvolveCheckpoint& c) {
+  std::ostringstream out;
+  const size_t genes = c.population.empty() ? 0 : c.population.front().genes.size();
+  out << "flapsim_checkpoint 1\n"
+      << "generation " << c.generation << "\n"
+      << "seed " << c.seed << "\n"
+      << "args " << c.args.size() << "\n";
+  for (const auto& a : c.args) out << a << "\n";
+  out << "population " << c.population.size() << " " << genes << "\n";
+  for (const auto& ind : c.population) {
+    out << hex(ind.fitness);
+    for (double g : ind.genes) out << " " << hex(g);
+    out << "\n";
+  }
+  out << "history " << c.history.size() << "\n";
+  for (const auto& h : c.history) {
+    out << h.generation << " " << hex(h.best) << " " << hex(h.mean) << " " << hex(h.worst) << " "
+        << h.evaluations << " " << h.best_genes.size();
+    for (double g : h.best_genes) out << " " << hex(g);
+    out << "\n";
+  }
+  out << "end\n";
+  return out.str();
+}
+
+EvolveCheckpoint checkpointFromText(const std::string& text) {
+  CheckpointReader r(text);
+  EvolveCheckpoint c;
+  auto l = r.line("header");
+  r.expect(l, "flapsim_checkpoint");
+  if (r.integer(l, "version") != 1) r.fail("unknown version");
+  l = r.line("generation");
+  r.expect(l, "generation");
+  c.generation = static_cast<int>(r.integer(l, "generation"));
+  l = r.line("seed");
+  r.expect(l, "seed");
+  std::string seed;
+  if (!(l >> seed)) r.fail("expected the seed");
+  try {
+    c.seed = std::stoull(seed);
+  } catch (const std::exception&) {
+    r.fail("bad seed '" + seed + "'");
+  }
+  l = r.line("args");
+  r.expect(l, "args");
+  const long long n_args = r.integer(l, "args");
+  if (n_args < 0) r.fail("negative count");
+  for (long long i = 0; i < n_args; ++i) c.args.push_back(r.rawLine("an argument"));
+  l = r.line("population");
+  r.expect(l, "population");
+  const long long n = r.integer(l, "individuals"), genes = r.integer(l, "genes");
+  if (n < 0 || genes < 0) r.fail("negative count");
+  for (long long i = 0; i < n; ++i) {
+    auto row = r.line("an individual");
+    Individual ind;
+    ind.fitness = r.real(row, "fitness");
+    for (long long g = 0; g < genes; ++g) ind.genes.push_back(r.real(row, "gene"));
+    c.population.push_back(std::move(ind));
+  }
+  l = r.line("history");
+  r.expect(l, "history");
+  const long long h = r.integer(l, "generations");
+  if (h < 0) r.fail("negative count");
+  for (long long i = 0; i < h; ++i) {
+    auto row = r.line("a generation");
+    GenerationStats s;
+    s.generation = static_cast<int>(r.integer(row, "generation"));
+    s.best = r.real(row, "best");
+    s.mean = r.real(row, "mean");
+    s.worst = r.real(row, "worst");
+    s.evaluations = static_cast<int>(r.integer(row, "evaluations"));
+    const long long bg = r.integer(row, "best genes");
+    if (bg < 0) r.fail("negative count");
+    for (long long g = 0; g < bg; ++g) s.best_genes.push_back(r.real(row, "gene"));
+    c.history.push_back(std::move(s));
+  }
+  l = r.line("end");
+  r.expect(l, "end");
+  return c;
 }
 
 // ---- Files ---------------------------------------------------------------------------------

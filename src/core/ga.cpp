@@ -233,6 +233,33 @@ void GeneticAlgorithm::step() {
   sortAndRecord(static_cast<int>(fresh.size()));
 }
 
+void GeneticAlgorithm::restore(int generation, std::vector<Individual> population,
+                               std::vector<GenerationStats> history) {
+  if (generation < 0 || generation > params_.generations) {
+    throw std::invalid_argument("GA restore: generation " + std::to_string(generation) +
+                                " is not in [0, " + std::to_string(params_.generations) + "]");
+  }
+  if (static_cast<int>(population.size()) != params_.population) {
+    throw std::invalid_argument("GA restore: " + std::to_string(population.size()) +
+                                " individuals, the population is " +
+                                std::to_string(params_.population));
+  }
+  for (const auto& ind : population) {
+    if (static_cast<int>(ind.genes.size()) != gene_count_) {
+      throw std::invalid_argument("GA restore: an individual has " +
+                                  std::to_string(ind.genes.size()) + " genes, expected " +
+                                  std::to_string(gene_count_));
+    }
+  }
+  if (static_cast<int>(history.size()) != generation + 1) {
+    throw std::invalid_argument("GA restore: the history has " + std::to_string(history.size()) +
+                                " generations, expected " + std::to_string(generation + 1));
+  }
+  generation_ = generation;
+  population_ = std::move(population);
+  history_ = std::move(history);
+}
+
 void GeneticAlgorithm::run(const std::function<void(const GenerationStats&)>& on_generation) {
   if (generation_ < 0) {
     initialize();

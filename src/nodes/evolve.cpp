@@ -9,44 +9,18 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
+#include "flapsim/evolve_args.h"
 #include "flapsim/make_creature.h"
+#include "flapsim_ros/episode_farm.h"
 
 namespace {
-
-const char* kUsage =
-    "usage: evolve [options]\n"
-    "  --preset NAME      robust (default) or paper; the options below change it\n"
-    "                     (defaults shown are the paper preset's)\n"
-    "  --pairs N          wing pairs of the creature (1)\n"
-    "  --generations G    generations after the initial one (200)\n"
-    "  --population P     individuals (10)\n"
-    "  --seed S           GA and start-attitude seed (1)\n"
-    "  --threads T        parallel episodes (hardware threads); results do not depend on it\n"
-    "  --duration D       episode length, s (30)\n"
-    "  --episodes E       episodes per evaluation, start roll alternating +/- (8)\n"
-    "  --min-rate R       lowest downstroke rate, rad/s (20)\n"
-    "  --max-rate R       highest downstroke rate, rad/s (60)\n"
-    "  --upstroke-rate R  upstroke rate, rad/s (10)\n"
-    "  --amplitude A      stroke amplitude, rad (1.2)\n"
-    "  --control-period P network update period, s (0.02)\n"
-    "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.35)\n"
-    "  --pitch P          start pitch range +-P, rad (0.035; robust 0.35)\n"
-    "  --link-stiffness K spring on the joints between units, N m/rad (0.5)\n"
-    "  --start-rate W     start angular velocity, up to W rad/s per axis (0; robust 1)\n"
-    "  --gust G           a horizontal wind step of up to G m/s (0; robust 1)\n"
-    "  --input-noise N    attitude-sensor noise, rad (0; robust 0.02)\n"
-    "  --step-sizes LIST  step sizes drawn per episode, e.g. 0.001,0.0005 (robust)\n"
-    "  --flip-penalty P   a flip ends the episode, less P m (0: off; robust 20)\n"
-    "  --phase-lock B     on/off: upstroke follows downstroke, fixed period (robust on)\n"
-    "  --gene-range G     initial range and bound of every weight, +-G (10)\n"
-    "  --air-model M      air model of the episodes: pressure or quasi_steady (pressure)\n"
-    "  --out DIR          output directory (evolve_out)\n"
-    "  --weights FILE     weights YAML (DIR/weights.yaml)\n"
-    "  --no-plot          do not run gnuplot\n";
 
 std::string formatDuration(double s) {
   char buf[32];
@@ -57,124 +31,97 @@ std::string formatDuration(double s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  flapsim::EvolveParams params = flapsim::robustPreset();
-  std::string preset = "robust";
-  for (int i = 1; i + 1 < argc; ++i) {
-    if (std::string(argv[i]) == "--preset") preset = argv[i + 1];
-  }
-  if (preset == "paper") {
-    params = flapsim::paperPreset();
-  } else if (preset != "robust") {
-    std::cerr << "evolve: unknown preset '" << preset << "' (robust or paper)\n";
-    return 2;
-  }
-  params.ga.threads = std::max(1u, std::thread::hardware_concurrency());
-  std::string out_dir = "evolve_out", weights_path;
-  bool plot = true;
-  std::ostringstream command;
-  command << "evolve --preset " << preset;
-  for (int i = 1; i < argc; ++i) {  // the reproducing command: all but where to write, threads
-    const std::string a = argv[i];
-    if ((a == "--threads" || a == "--out" || a == "--weights" || a == "--preset") && i + 1 < argc)
-      ++i;
-    else if (a != "--no-plot" && a.find(":=") == std::string::npos)
-      command << " " << a;
-  }
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::string> args(argv + 1, argv + argc);
+  flapsim::EvolveOptions opt;
+  std::optional<flapsim::EvolveCheckpoint> resume;
   try {
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a.find(":=") != std::string::npos) continue;  // roslaunch's __name:=, __log:=
-      if (a == "--help" || a == "-h") {
-        std::cout << kUsage;
-        return 0;
-      }
-      if (a == "--no-plot") {
-        plot = false;
-        continue;
-      }
-      if (i + 1 >= argc) throw std::invalid_argument("missing value after " + a);
-      const std::string v = argv[++i];
-      if (a == "--preset")
-        continue;  // applied first
-      else if (a == "--pairs")
-        params.pairs = std::stoi(v);
-      else if (a == "--generations")
-        params.ga.generations = std::stoi(v);
-      else if (a == "--population")
-        params.ga.population = std::stoi(v);
-      else if (a == "--seed")
-        params.ga.seed = std::stoull(v);
-      else if (a == "--threads")
-        params.ga.threads = std::stoi(v);
-      else if (a == "--duration")
-        params.episode.duration = std::stod(v);
-      else if (a == "--episodes")
-        params.episode.episodes = std::stoi(v);
-      else if (a == "--min-rate")
-        params.controller.min_downstroke_rate = std::stod(v);
-      else if (a == "--max-rate")
-        params.controller.max_downstroke_rate = std::stod(v);
-      else if (a == "--upstroke-rate")
-        params.controller.upstroke_rate = std::stod(v);
-      else if (a == "--amplitude")
-        params.controller.amplitude = std::stod(v);
-      else if (a == "--roll" && i + 1 < argc) {
-        params.episode.min_roll = std::stod(v);
-        params.episode.max_roll = std::stod(argv[++i]);
-      } else if (a == "--link-stiffness")
-        params.unit.link_stiffness = std::stod(v);
-      else if (a == "--pitch")
-        params.episode.max_pitch = std::stod(v);
-      else if (a == "--start-rate")
-        params.episode.max_start_rate = std::stod(v);
-      else if (a == "--gust")
-        params.episode.max_gust = std::stod(v);
-      else if (a == "--input-noise")
-        params.episode.input_noise = std::stod(v);
-      else if (a == "--flip-penalty")
-        params.episode.flip_penalty = std::stod(v);
-      else if (a == "--phase-lock") {
-        if (v != "on" && v != "off") throw std::invalid_argument("--phase-lock takes on or off");
-        params.controller.phase_lock = v == "on";
-      } else if (a == "--step-sizes") {
-        params.episode.step_sizes.clear();
-        std::istringstream list(v);
-        for (std::string item; std::getline(list, item, ',');) {
-          params.episode.step_sizes.push_back(std::stod(item));
-        }
-      } else if (a == "--control-period")
-        params.controller.control_period = std::stod(v);
-      else if (a == "--gene-range") {
-        params.ga.gene_max = std::stod(v);
-        params.ga.gene_min = -params.ga.gene_max;
-      } else if (a == "--air-model")
-        params.episode.world.air.model = v;
-      else if (a == "--out")
-        out_dir = v;
-      else if (a == "--weights")
-        weights_path = v;
-      else
-        throw std::invalid_argument("unknown option " + a);
+    opt = flapsim::parseEvolveArgs(args, threads);
+    if (!opt.resume_dir.empty()) {
+      // The run's own flags, then the directory, then this command line's.
+      resume =
+          flapsim::checkpointFromText(flapsim::readTextFile(opt.resume_dir + "/checkpoint.txt"));
+      std::vector<std::string> all = resume->args;
+      all.insert(all.end(), {"--out", opt.resume_dir});
+      all.insert(all.end(), args.begin(), args.end());
+      opt = flapsim::parseEvolveArgs(all, threads);
     }
   } catch (const std::exception& e) {
-    std::cerr << "evolve: " << e.what() << "\n" << kUsage;
+    std::cerr << "evolve: " << e.what() << "\n" << flapsim::evolveUsage();
     return 2;
   }
-  if (weights_path.empty()) weights_path = out_dir + "/weights.yaml";
+  if (opt.help) {
+    std::cout << flapsim::evolveUsage();
+    return 0;
+  }
+  const flapsim::EvolveParams& params = opt.params;
+  const std::string& out_dir = opt.out_dir;
+  const std::string& weights_path = opt.weights_path;
+  std::ostringstream command;  // the reproducing command: the flags that define the run
+  command << "evolve";
+  for (const auto& a : opt.spec_args) command << " " << a;
+  std::unique_ptr<ros::NodeHandle> nh;
+  std::unique_ptr<flapsim_ros::FarmEvaluator> farm;
+  std::unique_ptr<flapsim_ros::ProgressPublisher> progress;
+  if (opt.farm) {
+    ros::init(argc, argv, "evolve", ros::init_options::AnonymousName);
+    nh = std::make_unique<ros::NodeHandle>();
+    flapsim_ros::FarmParams fp;
+    fp.timeout = opt.farm_timeout;
+    fp.wait = opt.farm_wait;
+    fp.inflight = opt.farm_inflight;
+    fp.batch = opt.farm_batch;
+    farm = std::make_unique<flapsim_ros::FarmEvaluator>(
+        *nh, opt.spec_args, flapsim::FlapUnitController::weightCount(params.controller), fp);
+    progress = std::make_unique<flapsim_ros::ProgressPublisher>(*nh, fp.ns);
+  }
 
   try {
     std::filesystem::create_directories(out_dir);
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    const flapsim::EvolveResult result =
-        flapsim::evolveFlapController(params, [&](const flapsim::GenerationStats& g) {
-          const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
-          const double left = elapsed / (g.generation + 1) * (params.ga.generations - g.generation);
-          std::printf("generation %3d/%d  best %8.4f  mean %8.4f  elapsed %s  left ~%s\n",
-                      g.generation, params.ga.generations, g.best, g.mean,
-                      formatDuration(elapsed).c_str(), formatDuration(left).c_str());
-          std::fflush(stdout);
-        });
+    auto last = start;
+    const int first = resume ? resume->generation + 1 : 0;
+    flapsim::EvolveHooks hooks;
+    hooks.evaluator = farm.get();
+    hooks.resume = resume ? &*resume : nullptr;
+    hooks.on_checkpoint = [&](flapsim::EvolveCheckpoint c) {
+      c.args = opt.spec_args;
+      const std::string path = out_dir + "/checkpoint.txt";
+      flapsim::writeTextFile(path + ".tmp", flapsim::checkpointToText(c));
+      std::filesystem::rename(path + ".tmp", path);
+    };
+    hooks.on_generation = [&](const flapsim::GenerationStats& g) {
+      const auto now = Clock::now();
+      const double elapsed = std::chrono::duration<double>(now - start).count();
+      const double dt = std::chrono::duration<double>(now - last).count();
+      last = now;
+      const int episodes = g.evaluations * params.episode.episodes;
+      const double rate = dt > 0.0 ? episodes / dt : 0.0;
+      const double left =
+          elapsed / (g.generation + 1 - first) * (params.ga.generations - g.generation);
+      const int workers = farm ? farm->workersUp() : params.ga.threads;
+      std::printf(
+          "generation %3d/%d  best %8.4f  mean %8.4f  %6.1f episodes/s  %d %s  elapsed %s  left "
+          "~%s\n",
+          g.generation, params.ga.generations, g.best, g.mean, rate, workers,
+          farm ? "workers" : "threads", formatDuration(elapsed).c_str(),
+          formatDuration(left).c_str());
+      std::fflush(stdout);
+      if (progress) {
+        flapsim::FarmProgress msg;
+        msg.generation = g.generation;
+        msg.generations = params.ga.generations;
+        msg.best = g.best;
+        msg.mean = g.mean;
+        msg.episodes = episodes;
+        msg.episodes_per_second = rate;
+        msg.workers_up = workers;
+        msg.seconds_left = left;
+        progress->publish(msg);
+      }
+    };
+    const flapsim::EvolveResult result = flapsim::evolveFlapController(params, hooks);
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
 
     flapsim::ControllerSpec spec{params.controller, result.best_weights};
@@ -190,7 +137,8 @@ int main(int argc, char** argv) {
         {"best_fitness", std::to_string(result.best_fitness)},
         {"first_best_fitness", std::to_string(result.history.front().best)},
         {"wall_time_s", std::to_string(wall)},
-        {"threads", std::to_string(params.ga.threads)}};
+        {"threads", std::to_string(params.ga.threads)},
+        {"evaluated_on", farm ? "farm" : "in process"}};
     flapsim::writeTextFile(weights_path, flapsim::controllerToYaml(spec, header.str(), meta));
     flapsim::writeTextFile(out_dir + "/fitness.csv", flapsim::fitnessCsv(result.history));
 
@@ -210,7 +158,7 @@ int main(int argc, char** argv) {
         result.best_fitness, result.history.front().best, wall, weights_path.c_str(),
         out_dir.c_str(), out_dir.c_str());
 
-    if (plot) {
+    if (opt.plot) {
       FILE* gp = popen("gnuplot", "w");
       const std::string script = flapsim::gnuplotScript(out_dir);
       if (gp == nullptr || std::fputs(script.c_str(), gp) < 0 || pclose(gp) != 0) {

@@ -1,0 +1,84 @@
+// Episode evaluation as a pure function, and the dispatcher interface an
+// evolution evaluates its (individual, episode) tasks through: in process on
+// threads here, or on remote workers (the ROS farm in flapsim_ros). ROS-free;
+// no clock.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "flapsim/evolve.h"
+
+namespace flapsim {
+
+/// Everything that is the same for every task of an evolution: the creature
+/// (pairs + unit parameters), the controller's settings and the episodes
+/// (with the seed of their starts already set).
+struct EvaluationSpec {
+  int pairs = 1;
+  FlapUnitParams unit;
+  FlapControllerParams controller;
+  EpisodeParams episode;
+};
+
+/// One (individual, episode) task: network weights and an index into
+/// episodeStarts(spec.episode).
+struct EpisodeTask {
+  std::vector<double> weights;
+  int episode = 0;
+};
+
+/// A task that does not fit its spec (wrong weight count, a non-finite
+/// weight, an episode index out of range).
+class TaskError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+/// Evaluates tasks of one spec: the creature model and episode starts are
+/// built once. evaluate() is const and thread-safe; its result depends on the
+/// spec and the task alone (bit for bit, whatever the thread or process).
+class EpisodeRunner {
+ public:
+  /// Throws InputError for an invalid spec.
+  explicit EpisodeRunner(const EvaluationSpec& spec);
+  /// The episode's fitness. Throws TaskError for a task that does not fit.
+  double evaluate(const EpisodeTask& task) const;
+  /// Empty if `task` fits the spec, else a message naming what is wrong.
+  std::string check(const EpisodeTask& task) const;
+  int weightCount() const { return weight_count_; }
+  int episodeCount() const { return static_cast<int>(starts_.size()); }
+  const EvaluationSpec& spec() const { return spec_; }
+
+ private:
+  EvaluationSpec spec_;
+  CreatureModelPtr model_;
+  std::vector<EpisodeStart> starts_;
+  int weight_count_ = 0;
+};
+
+/// Evaluates a batch of tasks and returns one fitness per task, in task
+/// order. Implementations may run tasks anywhere and in any order; the values
+/// must be those of EpisodeRunner::evaluate.
+class EpisodeEvaluator {
+ public:
+  virtual ~EpisodeEvaluator() = default;
+  virtual std::vector<double> evaluate(const std::vector<EpisodeTask>& tasks) = 0;
+  /// Workers (threads or remote workers) available at the last batch.
+  virtual int workersUp() const = 0;
+};
+
+/// In this process, on `threads` threads.
+class InProcessEvaluator : public EpisodeEvaluator {
+ public:
+  InProcessEvaluator(const EvaluationSpec& spec, int threads);
+  std::vector<double> evaluate(const std::vector<EpisodeTask>& tasks) override;
+  int workersUp() const override { return threads_; }
+
+ private:
+  EpisodeRunner runner_;
+  int threads_;
+};
+
+}  // namespace flapsim

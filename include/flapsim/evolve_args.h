@@ -1,0 +1,44 @@
+// The evolve command line: flags -> EvolveParams and the run's settings. In the
+// core so that a farm worker reads the same flags the same way (bit for bit).
+// ROS-free; no clock.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "flapsim/evolve.h"
+
+namespace flapsim {
+
+struct EvolveOptions {
+  EvolveParams params;
+  std::string preset = "robust";
+  /// The flags that define the evolution (preset first; no output paths,
+  /// threads, farm or resume settings): what a checkpoint stores and what
+  /// the farm sends to its workers.
+  std::vector<std::string> spec_args;
+  std::string out_dir = "evolve_out";
+  std::string weights_path;  // empty: out_dir/weights.yaml
+  bool plot = true;
+  bool help = false;
+  std::string resume_dir;  // --resume DIR
+  // --farm: evaluate on the flapsim_worker nodes under /flapsim_farm.
+  bool farm = false;
+  double farm_timeout = 60.0;  // s: a call not answered by then is sent elsewhere
+  double farm_wait = 120.0;    // s: how long to wait when no worker is up
+  int farm_inflight = 4;       // calls in flight per worker
+  int farm_batch = 1;          // tasks per call
+};
+
+/// Parses evolve's flags (argv without the program name; roslaunch's
+/// `name:=value` arguments are skipped). `threads` is the default of
+/// --threads. Throws InputError naming the bad flag or value.
+EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads = 1);
+
+/// The usage text (--help).
+std::string evolveUsage();
+
+/// The EvaluationSpec of a farm request: the spec of parseEvolveArgs(spec_args).
+EvaluationSpec evaluationSpecFromArgs(const std::vector<std::string>& spec_args);
+
+}  // namespace flapsim

@@ -1,0 +1,185 @@
+// evolve --farm against flapsim_worker nodes (farm.test starts three under
+// /flapsim_farm): the evolution is the in-process one bit for bit, with three workers,
+// with one killed mid-run and another joining, with one that never answers; a malformed
+// batch is refused by name.
+#include <gtest/gtest.h>
+#include <ros/callback_queue.h>
+#include <ros/ros.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "flapsim/evolve_args.h"
+#include "flapsim_ros/episode_farm.h"
+#include "wait_for.h"
+
+extern char** environ;
+
+namespace {
+
+using flapsim_test::waitFor;
+
+const std::vector<std::string> kSpec = {"--preset",      "robust", "--population", "4",
+                                        "--generations", "3",      "--episodes",   "2",
+                                        "--duration",    "1",      "--seed",       "11"};
+const std::string kNs = "/flapsim_farm";
+
+std::string service(const std::string& worker) { return kNs + "/" + worker + "/evaluate_episodes"; }
+
+bool listed(const std::string& name) { return flapsim_ros::findWorkers(kNs).count(name) > 0; }
+
+/// A worker process of the test's own (so that it can kill it).
+pid_t startWorker(const std::string& name) {
+  std::vector<std::string> args = {FLAPSIM_WORKER_BIN, "__ns:=" + kNs, "__name:=" + name,
+                                   "_threads:=1"};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
+  return pid;
+}
+
+void expectSameBits(const flapsim::EvolveResult& a, const flapsim::EvolveResult& b) {
+  ASSERT_EQ(a.history.size(), b.history.size());
+  for (size_t g = 0; g < a.history.size(); ++g) {
+    EXPECT_EQ(a.history[g].best, b.history[g].best) << g;
+    EXPECT_EQ(a.history[g].mean, b.history[g].mean) << g;
+    EXPECT_EQ(a.history[g].worst, b.history[g].worst) << g;
+    EXPECT_EQ(a.history[g].best_genes, b.history[g].best_genes) << g;
+  }
+  EXPECT_EQ(a.best_weights, b.best_weights);
+}
+
+TEST(Farm, ThreeWorkersGiveTheInProcessBits) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
+  flapsim::EvolveParams p = flapsim::parseEvolveArgs(kSpec).params;
+  p.ga.threads = 2;
+  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
+  flapsim_ros::FarmEvaluator farm(nh, kSpec, flapsim::FlapUnitController::weightCount(p.controller),
+                                  flapsim_ros::FarmParams());
+  flapsim::EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
+  expectSameBits(in_process, on_farm);
+  EXPECT_EQ(farm.workersUp(), 3);
+  EXPECT_EQ(farm.answered().size(), 3u);  // every worker took part
+  EXPECT_EQ(farm.resent(), 0);
+}
+
+TEST(Farm, AWorkerKilledMidRunAndOneJoiningGiveTheSameBits) {
+  ros::NodeHandle nh;
+  const flapsim::EvolveParams p = flapsim::parseEvolveArgs(kSpec).params;
+  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
+
+  const pid_t victim = startWorker("victim");
+  ASSERT_GT(victim, 0);
+  ASSERT_TRUE(waitFor([] { return listed(service("victim")); }, 30.0));
+  flapsim_ros::FarmParams fp;
+  fp.rediscover = 0.0;  // look at the master before every hand-out
+  flapsim_ros::FarmEvaluator farm(nh, kSpec, flapsim::FlapUnitController::weightCount(p.controller),
+                                  fp);
+  pid_t newcomer = -1;
+  flapsim::EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  hooks.on_generation = [&](const flapsim::GenerationStats& g) {
+    if (g.generation != 1) return;
+    // Killed without a word: the master still lists its service.
+    kill(victim, SIGKILL);
+    waitpid(victim, nullptr, 0);
+    newcomer = startWorker("newcomer");
+    ASSERT_TRUE(waitFor([] { return listed(service("newcomer")); }, 30.0));
+  };
+  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
+  if (newcomer > 0) {
+    kill(newcomer, SIGTERM);
+    waitpid(newcomer, nullptr, 0);
+  }
+  expectSameBits(in_process, on_farm);
+  ASSERT_EQ(farm.answered().count(service("victim")), 1u);  // it worked before it died
+  EXPECT_GT(farm.resent(), 0);                              // its calls were sent again
+  EXPECT_GT(farm.answered().count(service("newcomer")), 0u);
+  EXPECT_EQ(farm.workersUp(), 4);  // the three and the newcomer
+}
+
+TEST(Farm, AMalformedBatchIsRefusedByName) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(waitFor([] { return listed(service("worker_1")); }, 30.0));
+  ros::ServiceClient client = nh.serviceClient<flapsim::EvaluateEpisodes>(service("worker_1"));
+  flapsim::EvaluateEpisodes srv;
+  srv.request.spec = kSpec;
+  srv.request.weight_count = 3;
+  srv.request.weights = {1.0, 2.0, 3.0};
+  srv.request.episodes = {0};
+  ASSERT_TRUE(client.call(srv));
+  EXPECT_FALSE(srv.response.success);
+  EXPECT_NE(srv.response.message.find("wrong weight count"), std::string::npos)
+      << srv.response.message;
+  EXPECT_TRUE(srv.response.fitness.empty());
+  // Through the farm: a refusal is an error of the run, not a dead worker.
+  flapsim_ros::FarmEvaluator farm(nh, kSpec, 3, flapsim_ros::FarmParams());
+  EXPECT_THROW(farm.evaluate({flapsim::EpisodeTask{{1.0, 2.0, 3.0}, 0}}), flapsim_ros::FarmError);
+}
+
+// A worker that takes calls and never answers until released: its calls time out and go
+// to the others; it is dropped.
+TEST(Farm, AWorkerThatStallsIsTimedOutAndTheBitsStayTheSame) {
+  ros::NodeHandle nh;
+  ros::CallbackQueue queue;
+  ros::NodeHandle stall_nh(kNs + "/a_staller");
+  stall_nh.setCallbackQueue(&queue);
+  std::mutex mutex;
+  std::condition_variable released_cv;
+  bool released = false;
+  std::atomic<int> calls{0};
+  ros::ServiceServer staller = stall_nh.advertiseService<flapsim::EvaluateEpisodes::Request,
+                                                         flapsim::EvaluateEpisodes::Response>(
+      "evaluate_episodes",
+      [&](flapsim::EvaluateEpisodes::Request&, flapsim::EvaluateEpisodes::Response& res) {
+        ++calls;
+        std::unique_lock<std::mutex> lock(mutex);
+        released_cv.wait(lock, [&] { return released; });
+        res.success = false;
+        res.message = "released";
+        return true;
+      });
+  ros::AsyncSpinner spinner(2, &queue);
+  spinner.start();
+  ASSERT_TRUE(waitFor([] { return listed(service("a_staller")); }, 30.0));
+
+  const flapsim::EvolveParams p = flapsim::parseEvolveArgs(kSpec).params;
+  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
+  flapsim_ros::FarmParams fp;
+  fp.timeout = 2.0;  // the others answer a one-task call in about 10 ms
+  flapsim_ros::FarmEvaluator farm(nh, kSpec, flapsim::FlapUnitController::weightCount(p.controller),
+                                  fp);
+  flapsim::EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    released = true;
+  }
+  released_cv.notify_all();
+  spinner.stop();
+  expectSameBits(in_process, on_farm);
+  EXPECT_GT(calls.load(), 0);                                  // it was given work
+  EXPECT_EQ(farm.answered().count(service("a_staller")), 0u);  // and answered none
+  EXPECT_GT(farm.resent(), 0);
+  EXPECT_EQ(farm.workersUp(), 3);  // the launch file's three; the staller was dropped
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_farm");
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,44 @@
+// The evolve executable: a run stopped after generation 1 and continued with --resume
+// writes the same fitness.csv and weights as the run that went through, and a checkpoint
+// of the last generation.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "flapsim/controller_file.h"
+#include "flapsim/evolve.h"
+
+namespace {
+
+const std::string kFlags =
+    " --population 4 --episodes 2 --duration 0.6 --seed 17 --threads 2 --no-plot";
+
+int evolve(const std::string& args) {
+  return std::system((std::string(FLAPSIM_EVOLVE_BIN) + args + " > /dev/null").c_str());
+}
+
+TEST(EvolveCli, ResumeEndsWithTheFilesOfTheUninterruptedRun) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("flapsim_evolve_cli_" + std::to_string(::getpid()));
+  const std::string whole = (dir / "whole").string(), part = (dir / "part").string();
+  ASSERT_EQ(evolve(kFlags + " --generations 3 --out " + whole), 0);
+  ASSERT_EQ(evolve(kFlags + " --generations 1 --out " + part), 0);
+  EXPECT_EQ(flapsim::checkpointFromText(flapsim::readTextFile(part + "/checkpoint.txt")).generation,
+            1);
+  ASSERT_EQ(evolve(" --resume " + part + " --generations 3 --no-plot"), 0);
+  EXPECT_EQ(flapsim::readTextFile(part + "/fitness.csv"),
+            flapsim::readTextFile(whole + "/fitness.csv"));
+  const auto a = flapsim::loadControllerYaml(part + "/weights.yaml");
+  const auto b = flapsim::loadControllerYaml(whole + "/weights.yaml");
+  EXPECT_EQ(a.weights, b.weights);
+  const auto c = flapsim::checkpointFromText(flapsim::readTextFile(part + "/checkpoint.txt"));
+  EXPECT_EQ(c.generation, 3);
+  EXPECT_EQ(c.history.size(), 4u);
+  EXPECT_NE(evolve(" --resume " + (dir / "nothing").string()), 0);  // no checkpoint there
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
