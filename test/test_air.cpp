@@ -1,6 +1,7 @@
 // The air model as pure functions: invariants on tiny inline inputs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "flapsim/air_model.h"
@@ -213,9 +214,14 @@ TEST(BuildSurface, FlushHalfPlatesFeelTheDragOfOneWholePlate) {
   const std::vector<Box> halves{box(half, Vec3(-0.05, 0, 0)), box(half, Vec3(0.05, 0, 0))};
   const AeroSurface two = buildSurface(halves, 4, 4);
   const AeroSurface one = buildSurface({box(Vec3(0.2, 0.2, 0.002), Vec3::Zero())}, 4, 4);
-  EXPECT_EQ(two.cells.size(), 2u * 5u * 16u);  // each half loses its face against the other
+  // Each half keeps its two 4 x 4 faces and three of its four rims (one row of 4 cells across
+  // the 2 mm thickness), losing the rim against the other half.
+  EXPECT_EQ(two.cells.size(), 2u * (2u * 16u + 3u * 4u));
   EXPECT_EQ(two.faces.size(), 10u);
-  for (const SurfaceFace& f : two.faces) EXPECT_EQ(f.nu, 4);  // untouched faces stay grids
+  for (const SurfaceFace& f : two.faces) {
+    EXPECT_EQ(f.nu * f.nv, f.cell_count);  // untouched faces stay grids
+    EXPECT_EQ(std::max(f.nu, f.nv), 4);
+  }
   AeroSurface unmasked;  // the old way: every face of every box
   for (const Box& b : halves) appendBox(unmasked, b.size, b.origin, 4, 4);
   for (const Vec3& u : {Vec3(0, 0, -2), Vec3(2, 0, 0), Vec3(0, 2, 0), Vec3(1.5, -0.7, -1)}) {

@@ -48,20 +48,46 @@ void setFaceAxes(SurfaceFace& face, const Vec3& longer_edge, const std::optional
   }
 }
 
+// The cells of face f of a box (boxSurfaceCells' order: axis f / 2, sign + then -), nu x nv.
+std::vector<SurfaceCell> faceCells(const Vec3& size, const Pose& origin, int f, int nu, int nv) {
+  const int axis = f / 2;
+  const double sign = f % 2 == 0 ? 1.0 : -1.0;
+  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+  const double cell_area = size[b] * size[c] / (nu * nv);
+  Vec3 normal = Vec3::Zero();
+  normal[axis] = sign;
+  std::vector<SurfaceCell> cells;
+  cells.reserve(static_cast<size_t>(nu * nv));
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      Vec3 p = Vec3::Zero();
+      p[axis] = sign * 0.5 * size[axis];
+      p[b] = size[b] * ((i + 0.5) / nu - 0.5);
+      p[c] = size[c] * ((j + 0.5) / nv - 0.5);
+      cells.push_back(SurfaceCell{origin.apply(p), origin.orientation * normal, cell_area});
+    }
+  }
+  return cells;
+}
+
 // Adds the faces of a box to `surface`, without the cells for which hidden(centre) holds: a
 // face that keeps every cell is a regular grid, one that keeps some a plain list, one that
-// keeps none is left out.
+// keeps none is left out. With `thin_edges`, a face edge at most kThinEdge of the face's other
+// edge (the rim of a plate) gets one row of cells: across it the flow does not change.
 template <typename Hidden>
 void addBoxFaces(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv,
-                 const std::optional<Vec3>& span, Hidden hidden) {
-  const std::vector<SurfaceCell> cells = boxSurfaceCells(size, origin, nu, nv);
-  const int per_face = static_cast<int>(cells.size()) / 6;
-  for (int f = 0; f < 6 && per_face > 0; ++f) {
+                 const std::optional<Vec3>& span, bool thin_edges, Hidden hidden) {
+  if (nu < 1 || nv < 1) return;
+  constexpr double kThinEdge = 0.25;
+  for (int f = 0; f < 6; ++f) {
     const int axis = f / 2;
-    const double sign = f % 2 == 0 ? 1.0 : -1.0;  // boxSurfaceCells' order
+    const double sign = f % 2 == 0 ? 1.0 : -1.0;
     const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+    const int fu = thin_edges && size[b] <= kThinEdge * size[c] ? 1 : nu;
+    const int fv = thin_edges && size[c] <= kThinEdge * size[b] ? 1 : nv;
+    const std::vector<SurfaceCell> cells = faceCells(size, origin, f, fu, fv);
     SurfaceFace face;
-    face.normal = cells[f * per_face].normal;
+    face.normal = cells.front().normal;
     for (int k = 0; k < 4; ++k) {
       Vec3 p = Vec3::Zero();
       p[axis] = sign * 0.5 * size[axis];
@@ -73,19 +99,19 @@ void addBoxFaces(AeroSurface& surface, const Vec3& size, const Pose& origin, int
     edge[size[b] >= size[c] ? b : c] = 1.0;
     setFaceAxes(face, origin.orientation * edge, span);
     face.first_cell = static_cast<int>(surface.cells.size());
-    for (int i = f * per_face; i < (f + 1) * per_face; ++i) {
-      if (!hidden(cells[i].centre)) surface.cells.push_back(cells[i]);
+    for (const SurfaceCell& cell : cells) {
+      if (!hidden(cell.centre)) surface.cells.push_back(cell);
     }
     face.cell_count = static_cast<int>(surface.cells.size()) - face.first_cell;
     if (face.cell_count == 0) continue;
-    if (face.cell_count == per_face) {
-      face.nu = nu;
-      face.nv = nv;
+    if (face.cell_count == fu * fv) {
+      face.nu = fu;
+      face.nv = fv;
       Vec3 step = Vec3::Zero();
-      step[b] = size[b] / nu;
+      step[b] = size[b] / fu;
       face.step_u = origin.orientation * step;
       step = Vec3::Zero();
-      step[c] = size[c] / nv;
+      step[c] = size[c] / fv;
       face.step_v = origin.orientation * step;
     }
     surface.faces.push_back(face);
@@ -239,7 +265,8 @@ BoxUnion unionOfBoxes(const std::vector<Box>& boxes) {
 }
 
 void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv) {
-  addBoxFaces(surface, size, origin, nu, nv, std::nullopt, [](const Vec3&) { return false; });
+  addBoxFaces(surface, size, origin, nu, nv, std::nullopt, false,
+              [](const Vec3&) { return false; });
   const double v = size.prod(), total = surface.volume + v;
   if (total > 0.0)
     surface.centroid = (surface.volume * surface.centroid + v * origin.position) / total;
@@ -259,7 +286,7 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
       }
       return false;
     };
-    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, hidden);
+    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, true, hidden);
   }
   const BoxUnion u = unionOfBoxes(boxes);
   surface.volume = u.volume;
