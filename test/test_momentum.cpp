@@ -117,22 +117,7 @@ VacuumRun flapInVacuum(double step_size, const StrokeCommand& left, const Stroke
     strokes.push_back(right);
   }
   w.setWingCommands("u", {}, strokes);
-  auto momentum = [&model](const CreatureState& s) {
-    std::vector<BodyMotion> bodies;
-    for (size_t k = 0; k < model->links.size(); ++k) {
-      const LinkModel& l = model->links[k];
-      const Mat3 r = s.link_poses[k].orientation.toRotationMatrix();
-      BodyMotion b;
-      b.mass = l.mass;
-      b.com = s.link_poses[k].apply(l.com);
-      b.inertia = r * l.inertia.asDiagonal() * r.transpose();
-      b.angular_velocity = s.link_twists[k].angular;
-      b.velocity =
-          s.link_twists[k].linear + b.angular_velocity.cross(b.com - s.link_poses[k].position);
-      bodies.push_back(b);
-    }
-    return bodies;
-  };
+  auto momentum = [&model](const CreatureState& s) { return test::bodyMotions(*model, s); };
   const std::vector<BodyMotion> first = momentum(w.state("u"));
   const SystemMomentum start = systemMomentum(first);
   VacuumRun run;

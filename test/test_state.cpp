@@ -28,20 +28,7 @@ WorldParams vacuum() {
 }
 
 SystemMomentum momentumOf(const CreatureModel& m, const CreatureState& s) {
-  std::vector<BodyMotion> bodies;
-  for (size_t k = 0; k < m.links.size(); ++k) {
-    const LinkModel& l = m.links[k];
-    const Mat3 r = s.link_poses[k].orientation.toRotationMatrix();
-    BodyMotion b;
-    b.mass = l.mass;
-    b.com = s.link_poses[k].apply(l.com);
-    b.inertia = r * l.inertia.asDiagonal() * r.transpose();
-    b.angular_velocity = s.link_twists[k].angular;
-    b.velocity =
-        s.link_twists[k].linear + b.angular_velocity.cross(b.com - s.link_poses[k].position);
-    bodies.push_back(b);
-  }
-  return systemMomentum(bodies);
+  return systemMomentum(test::bodyMotions(m, s));
 }
 
 Quat tilt(double angle, const Vec3& axis) {

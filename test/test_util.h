@@ -2,8 +2,10 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "flapsim/creature_model.h"
+#include "flapsim/momentum.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -26,6 +28,25 @@ inline WorldParams openSky() {
 
 inline Pose at(double x, double y, double z, const Quat& q = Quat::Identity()) {
   return Pose{Vec3(x, y, z), q};
+}
+
+/// The bodies of a creature's state for systemMomentum(): each link's mass, COM velocity
+/// and world-axes inertia.
+inline std::vector<BodyMotion> bodyMotions(const CreatureModel& m, const CreatureState& s) {
+  std::vector<BodyMotion> bodies;
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    const LinkModel& l = m.links[k];
+    const Mat3 r = s.link_poses[k].orientation.toRotationMatrix();
+    BodyMotion b;
+    b.mass = l.mass;
+    b.com = s.link_poses[k].apply(l.com);
+    b.inertia = r * l.inertia.asDiagonal() * r.transpose();
+    b.angular_velocity = s.link_twists[k].angular;
+    b.velocity =
+        s.link_twists[k].linear + b.angular_velocity.cross(b.com - s.link_poses[k].position);
+    bodies.push_back(b);
+  }
+  return bodies;
 }
 
 /// True when every number of the two states is identical to the bit.

@@ -5,48 +5,7 @@
 
 namespace flapsim {
 
-std::vector<SurfaceCell> boxSurfaceCells(const Vec3& size, const Pose& origin, int nu, int nv) {
-  std::vector<SurfaceCell> cells;
-  if (nu < 1 || nv < 1) return cells;
-  cells.reserve(static_cast<size_t>(6 * nu * nv));
-  for (int axis = 0; axis < 3; ++axis) {
-    const int b = (axis + 1) % 3;
-    const int c = (axis + 2) % 3;
-    const double cell_area = size[b] * size[c] / (nu * nv);
-    for (double sign : {1.0, -1.0}) {
-      Vec3 normal = Vec3::Zero();
-      normal[axis] = sign;
-      for (int i = 0; i < nu; ++i) {
-        for (int j = 0; j < nv; ++j) {
-          Vec3 p = Vec3::Zero();
-          p[axis] = sign * 0.5 * size[axis];
-          p[b] = size[b] * ((i + 0.5) / nu - 0.5);
-          p[c] = size[c] * ((j + 0.5) / nv - 0.5);
-          cells.push_back(SurfaceCell{origin.apply(p), origin.orientation * normal, cell_area});
-        }
-      }
-    }
-  }
-  return cells;
-}
-
 namespace {
-
-// A face's span and chord axes: `span` projected onto the face if enough of it lies in the
-// face plane, else `longer_edge`; the chord normal x span and the face's extent along it.
-void setFaceAxes(SurfaceFace& face, const Vec3& longer_edge, const std::optional<Vec3>& span) {
-  face.span = longer_edge;
-  if (span) {
-    const Vec3 in_plane = *span - span->dot(face.normal) * face.normal;
-    if (in_plane.norm() >= 0.1 * span->norm()) face.span = in_plane.normalized();
-  }
-  face.chord = face.normal.cross(face.span).normalized();
-  face.chord_min = face.chord_max = face.corners[0].dot(face.chord);
-  for (const Vec3& corner : face.corners) {
-    face.chord_min = std::min(face.chord_min, corner.dot(face.chord));
-    face.chord_max = std::max(face.chord_max, corner.dot(face.chord));
-  }
-}
 
 // The cells of face f of a box (boxSurfaceCells' order: axis f / 2, sign + then -), nu x nv.
 std::vector<SurfaceCell> faceCells(const Vec3& size, const Pose& origin, int f, int nu, int nv) {
@@ -68,6 +27,37 @@ std::vector<SurfaceCell> faceCells(const Vec3& size, const Pose& origin, int f, 
     }
   }
   return cells;
+}
+
+}  // namespace
+
+std::vector<SurfaceCell> boxSurfaceCells(const Vec3& size, const Pose& origin, int nu, int nv) {
+  std::vector<SurfaceCell> cells;
+  if (nu < 1 || nv < 1) return cells;
+  cells.reserve(static_cast<size_t>(6 * nu * nv));
+  for (int f = 0; f < 6; ++f) {
+    const std::vector<SurfaceCell> face = faceCells(size, origin, f, nu, nv);
+    cells.insert(cells.end(), face.begin(), face.end());
+  }
+  return cells;
+}
+
+namespace {
+
+// A face's span and chord axes: `span` projected onto the face if enough of it lies in the
+// face plane, else `longer_edge`; the chord normal x span and the face's extent along it.
+void setFaceAxes(SurfaceFace& face, const Vec3& longer_edge, const std::optional<Vec3>& span) {
+  face.span = longer_edge;
+  if (span) {
+    const Vec3 in_plane = *span - span->dot(face.normal) * face.normal;
+    if (in_plane.norm() >= 0.1 * span->norm()) face.span = in_plane.normalized();
+  }
+  face.chord = face.normal.cross(face.span).normalized();
+  face.chord_min = face.chord_max = face.corners[0].dot(face.chord);
+  for (const Vec3& corner : face.corners) {
+    face.chord_min = std::min(face.chord_min, corner.dot(face.chord));
+    face.chord_max = std::max(face.chord_max, corner.dot(face.chord));
+  }
 }
 
 // Adds the faces of a box to `surface`, without the cells for which hidden(centre) holds: a

@@ -4,11 +4,12 @@
 // controller drives the paused simulator: the flight is the same on every run.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
-#include <ros/callback_queue.h>
 #include <ros/ros.h>
 
 #include <algorithm>
 #include <string>
+
+#include "wait_for.h"
 
 namespace {
 
@@ -34,10 +35,7 @@ TEST(AfcFlight, StaysUprightAndClimbsUntilTheDuration) {
         last_t = m->header.stamp.toSec();
         ++samples;
       });
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(wall_timeout);
-  while (ros::ok() && last_t < duration && ros::WallTime::now() < deadline) {
-    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
-  }
+  flapsim_test::waitFor([&] { return last_t >= duration; }, wall_timeout);
   ASSERT_GE(last_t, duration) << "the flight did not reach t = " << duration << " s on " << topic;
   std::printf("%s: %d samples to t = %.3f s, z %.3f -> %.3f m, lowest up %.4f\n", topic.c_str(),
               samples, last_t, first_z, last_z, lowest_up);

@@ -6,7 +6,6 @@
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 
 #include <string>
@@ -14,22 +13,10 @@
 
 #include "flapsim/FarmProgress.h"
 #include "flapsim/evolve_args.h"
+#include "start_worker.h"
 #include "wait_for.h"
 
-extern char** environ;
-
 namespace {
-
-pid_t startWorker(const std::string& name) {
-  std::vector<std::string> args = {FLAPSIM_WORKER_BIN, "__ns:=/flapsim_farm", "__name:=" + name,
-                                   "_threads:=1"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  return pid;
-}
 
 TEST(EvolveFarmLaunch, ProgressEndsWithTheInProcessBestAndMean) {
   ros::NodeHandle nh;
@@ -41,7 +28,8 @@ TEST(EvolveFarmLaunch, ProgressEndsWithTheInProcessBestAndMean) {
   // evolve is up (it advertises its progress first) and has nobody to work for it yet.
   ASSERT_TRUE(flapsim_test::waitFor([&] { return sub.getNumPublishers() > 0; }, 30.0));
   EXPECT_TRUE(seen.empty());
-  const pid_t workers[2] = {startWorker("late_1"), startWorker("late_2")};
+  const pid_t workers[2] = {startWorker("/flapsim_farm", "late_1"),
+                            startWorker("/flapsim_farm", "late_2")};
   const bool done = flapsim_test::waitFor(
       [&] { return !seen.empty() && seen.back().generation == seen.back().generations; }, 90.0);
   for (pid_t w : workers) {

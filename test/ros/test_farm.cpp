@@ -6,7 +6,6 @@
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 
 #include <atomic>
@@ -17,9 +16,8 @@
 
 #include "flapsim/evolve_args.h"
 #include "flapsim_ros/episode_farm.h"
+#include "start_worker.h"
 #include "wait_for.h"
-
-extern char** environ;
 
 namespace {
 
@@ -33,18 +31,6 @@ const std::string kNs = "/flapsim_farm";
 std::string service(const std::string& worker) { return kNs + "/" + worker + "/evaluate_episodes"; }
 
 bool listed(const std::string& name) { return flapsim_ros::findWorkers(kNs).count(name) > 0; }
-
-/// A worker process of the test's own (so that it can kill it).
-pid_t startWorker(const std::string& name) {
-  std::vector<std::string> args = {FLAPSIM_WORKER_BIN, "__ns:=" + kNs, "__name:=" + name,
-                                   "_threads:=1"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  return pid;
-}
 
 void expectSameBits(const flapsim::EvolveResult& a, const flapsim::EvolveResult& b) {
   ASSERT_EQ(a.history.size(), b.history.size());
@@ -79,7 +65,7 @@ TEST(Farm, AWorkerKilledMidRunAndOneJoiningGiveTheSameBits) {
   const flapsim::EvolveParams p = flapsim::parseEvolveArgs(kSpec).params;
   const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
 
-  const pid_t victim = startWorker("victim");
+  const pid_t victim = startWorker(kNs, "victim");
   ASSERT_GT(victim, 0);
   ASSERT_TRUE(waitFor([] { return listed(service("victim")); }, 30.0));
   flapsim_ros::FarmParams fp;
@@ -94,7 +80,7 @@ TEST(Farm, AWorkerKilledMidRunAndOneJoiningGiveTheSameBits) {
     // Killed without a word: the master still lists its service.
     kill(victim, SIGKILL);
     waitpid(victim, nullptr, 0);
-    newcomer = startWorker("newcomer");
+    newcomer = startWorker(kNs, "newcomer");
     ASSERT_TRUE(waitFor([] { return listed(service("newcomer")); }, 30.0));
   };
   const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);

@@ -24,6 +24,7 @@
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
 #include "flapsim_ros/urdf_source.h"
+#include "wait_for.h"
 
 namespace {
 
@@ -37,13 +38,7 @@ std::string readText(const std::string& path) {
 }
 
 bool waitUntil(const std::function<bool()>& done, double timeout = kWait) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok()) {
-    if (done()) return true;
-    if (ros::WallTime::now() > deadline) return false;
-    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
-  }
-  return false;
+  return flapsim_test::waitFor(done, timeout);
 }
 
 template <class M>

@@ -3,22 +3,14 @@
 // the last good stroke when a re-read value is bad.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
-#include <ros/callback_queue.h>
 #include <ros/ros.h>
 
-#include <functional>
-
 #include "flapsim/WingCommand.h"
+#include "wait_for.h"
 
 namespace {
 
-bool waitFor(const std::function<bool()>& done, double timeout) {
-  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
-  while (ros::ok() && !done() && ros::WallTime::now() < deadline) {
-    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
-  }
-  return done();
-}
+using flapsim_test::waitFor;
 
 TEST(StrokeController, PublishesItsParametersAndRereadsThem) {
   ros::NodeHandle nh;

@@ -2,6 +2,7 @@
 // timeout passes (a bound on the wait, never a measurement).
 #pragma once
 
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 
 #include <functional>
