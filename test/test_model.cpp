@@ -74,11 +74,20 @@ TEST(Generator, ChainsOfUnitsLoad) {
     if (n > 1) {
       const JointModel& link = m->joints[m->findJoint("unit1_link_joint")];
       EXPECT_FALSE(link.wing);
-      EXPECT_TRUE(link.axis.isApprox(Vec3::UnitY()));
+      EXPECT_TRUE(link.axis.isApprox(Vec3::UnitX()));  // roll, the default
       EXPECT_GT(link.damping, 0.0);
+      EXPECT_EQ(link.stiffness, 0.0);
     }
   }
+  FlapUnitParams pitch;
+  pitch.link_axis = linkAxisFromString("pitch");
+  pitch.link_stiffness = 0.5;
+  auto m = parseCreatureModel(makeCreatureUrdf(2, "afc", pitch));
+  const JointModel& link = m->joints[m->findJoint("unit1_link_joint")];
+  EXPECT_TRUE(link.axis.isApprox(Vec3::UnitY()));
+  EXPECT_EQ(link.stiffness, 0.5);
   EXPECT_THROW(makeCreatureUrdf(0), std::invalid_argument);
+  EXPECT_THROW(linkAxisFromString("yaw"), std::invalid_argument);
 }
 
 TEST(Generator, FeatheringWingsHangFromPitchJoints) {

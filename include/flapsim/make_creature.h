@@ -5,6 +5,12 @@
 
 namespace flapsim {
 
+/// The axis of a passive joint between two units (x: roll, y: pitch).
+enum class LinkAxis { kRoll, kPitch };
+/// "roll" or "pitch"; std::invalid_argument naming the text otherwise.
+LinkAxis linkAxisFromString(const std::string& text);
+std::string toString(LinkAxis axis);
+
 /// Dimensions and masses of one flapping unit (body + two wing plates).
 struct FlapUnitParams {
   double body_length = 0.08;  // along x (forward)
@@ -24,10 +30,15 @@ struct FlapUnitParams {
   double wing_limit = 1.4;      // rad, hinge range +-limit
   double unit_spacing = 0.24;   // m between unit bodies along x
   double link_damping = 0.002;  // N m s/rad on the passive joints between units
-  /// N m/rad: a <spring> on each passive joint between units (0: none). Without it the
-  /// chains fold at these joints and flip; 0.5 lets the one-pair controller fly a 4-unit
-  /// chain from 6 of 8 tilted starts (README, robust flight).
-  double link_stiffness = 0.5;
+  /// The axis of the passive joints between units. kRoll (the default): each unit rolls on
+  /// its own and balances as the one-pair creature does, while the chain is rigid in pitch
+  /// and yaw. kPitch (wave 1): the chain is rigid in roll and folds in pitch; with the
+  /// one-pair controller on every unit, 20 tilted starts of 60 s at 1 ms fly 8/20 (4 units,
+  /// springs 0.5 N m/rad), 1/20 (6) and 0/20 (12), against 18/20, 16/20 and 16/20 with roll
+  /// joints (README, robust flight).
+  LinkAxis link_axis = LinkAxis::kRoll;
+  /// N m/rad: a <spring> on each passive joint between units (0: none).
+  double link_stiffness = 0.0;
   double link_limit = 0.35;  // rad, passive joint range +-limit
   /// Feathering wings: each wing hangs from its hinge through a small root link and a pitch
   /// joint `unit<k>_wing_<side>_pitch` about its span (the wing's feather_joint).

@@ -27,7 +27,8 @@ const char* kUsage =
     "  --control-period P network update period, s (0.02)\n"
     "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.35)\n"
     "  --pitch P          start pitch range +-P, rad (0.035; robust 0.35)\n"
-    "  --link-stiffness K spring on the joints between units, N m/rad (0.5)\n"
+    "  --link-axis A      axis of the joints between units: roll or pitch (roll)\n"
+    "  --link-stiffness K spring on the joints between units, N m/rad (0)\n"
     "  --start-rate W     start angular velocity, up to W rad/s per axis (0; robust 1)\n"
     "  --gust G           a horizontal wind step of up to G m/s (0; robust 1)\n"
     "  --input-noise N    attitude-sensor noise, rad (0; robust 0.02)\n"
@@ -140,6 +141,12 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads)
       p.episode.max_roll = toDouble(a, args[++i]);
       o.spec_args.insert(o.spec_args.end(), {a, v, args[i]});
       continue;
+    } else if (a == "--link-axis") {
+      try {
+        p.unit.link_axis = linkAxisFromString(v);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(std::string("--") + e.what());
+      }
     } else if (a == "--link-stiffness") {
       p.unit.link_stiffness = toDouble(a, v);
     } else if (a == "--pitch") {

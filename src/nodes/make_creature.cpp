@@ -49,6 +49,13 @@ int main(int argc, char** argv) {
         return 2;
       }
       params.link_stiffness = x;
+    } else if (a == "--link-axis") {
+      try {
+        params.link_axis = flapsim::linkAxisFromString(value());
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "make_creature: --" << e.what() << "\n";
+        return 2;
+      }
     } else if (a == "--com-drop") {
       const std::string v = value();
       char* end = nullptr;
@@ -68,12 +75,14 @@ int main(int argc, char** argv) {
       std::cout
           << "usage: make_creature [--pairs N] [--name NAME] [--feathering] [--body-mass KG]\n"
              "                     [--wing-mass KG] [--wing-effort NM] [--com-drop M]\n"
-             "                     [--link-stiffness NM_PER_RAD]\n"
+             "                     [--link-axis roll|pitch] [--link-stiffness NM_PER_RAD]\n"
              "                     [--output FILE]\n"
-             "Writes the URDF of N flapping units (body + two wings) chained by passive\n"
-             "pitch joints; to stdout unless --output is given. --feathering hangs each\n"
-             "wing from a pitch joint (its feather_joint). --com-drop puts each body's centre\n"
-             "of mass that far below the wing hinges (default 0.02 m; 0: at the hinges).\n";
+             "Writes the URDF of N flapping units (body + two wings) chained nose to tail by\n"
+             "passive joints about --link-axis (default roll), with a <spring> of\n"
+             "--link-stiffness (default 0: none); to stdout unless --output is given.\n"
+             "--feathering hangs each wing from a pitch joint (its feather_joint). --com-drop\n"
+             "puts each body's centre of mass that far below the wing hinges (default 0.02 m;\n"
+             "0: at the hinges).\n";
       return 0;
     } else {
       std::cerr << "make_creature: unknown argument '" << a << "' (see --help)\n";
