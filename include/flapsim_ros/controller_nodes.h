@@ -61,6 +61,8 @@ class AnnControllerNode {
   std::optional<std::vector<flapsim::Quat>> bodies(const ros::Time& stamp) const;
   void command(const std::vector<flapsim::Quat>& bodies, const ros::Time& stamp);
   void onTimer(const ros::TimerEvent& event);
+  // The simulator step the lockstep counts in: ~step_size, else the simulator's parameter.
+  double simulatorStepSize() const;
   bool runLockstep();
   bool onStart(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
 

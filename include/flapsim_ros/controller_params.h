@@ -54,7 +54,9 @@ struct AnnControllerParams {
   double lockstep_duration = 0.0;        // s of sim time
   bool lockstep_wait_for_start = false;  // wait for a call of ~start before stepping
   std::string step_service = "/flapsim/step";
-  double step_size = 0.001;               // s, the simulator's (for steps per control period)
+  // s, the simulator's step (for the steps per control period); 0 (unset): the parameter
+  // step_size next to step_service (/flapsim/step_size), else 0.001.
+  double step_size = 0.0;
   double wait_timeout = 30.0;             // s (wall) for connections and transforms in lockstep
   std::vector<std::string> unknown_keys;  // keys of the namespace this node does not read
 };

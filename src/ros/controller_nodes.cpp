@@ -146,13 +146,27 @@ bool AnnControllerNode::run() {
   return true;
 }
 
+double AnnControllerNode::simulatorStepSize() const {
+  if (params_.step_size > 0.0) return params_.step_size;
+  const std::string key =
+      ros::names::parentNamespace(ros::names::resolve(params_.step_service)) + "/step_size";
+  double step_size = 0.0;
+  if (nh_.getParam(key, step_size) && step_size > 0.0) return step_size;
+  ROS_WARN_STREAM("ann_controller: neither ~step_size nor " << key << " is set: 0.001 s");
+  return 0.001;
+}
+
 bool AnnControllerNode::runLockstep() {
   ros::AsyncSpinner spinner(1);  // serves ~start
   spinner.start();
   const double period = 1.0 / params_.rate;
-  const long steps = std::lround(period / params_.step_size);
-  if (steps < 1 || std::abs(steps * params_.step_size - period) > 1e-9) {
-    ROS_ERROR("ann_controller: the control period is not a whole number of simulator steps");
+  const double step_size = simulatorStepSize();
+  const long steps = std::lround(period / step_size);
+  if (steps < 1 || std::abs(steps * step_size - period) > 1e-9) {
+    ROS_ERROR_STREAM("ann_controller: the control period " << period
+                                                           << " s is not a whole number of "
+                                                              "simulator steps of "
+                                                           << step_size << " s");
     return false;
   }
   const double timeout = params_.wait_timeout;
@@ -207,6 +221,15 @@ bool AnnControllerNode::runLockstep() {
     flapsim::WingCommand msg = annCommandMsg(layout_, controller_->commands(*q));
     msg.header.stamp = t;
     if (!call(static_cast<std::uint32_t>(steps), &msg)) return false;
+    const ros::Duration advanced = srv.response.sim_time - t;
+    if (std::abs(advanced.toSec() - period) > 1e-9) {
+      // A wrong ~step_size would fly the network at another control period, silently.
+      ROS_ERROR_STREAM("ann_controller: " << steps << " steps advanced the simulator by "
+                                          << advanced.toSec() << " s, not the control period "
+                                          << period << " s: ~step_size (" << step_size
+                                          << " s) is not the simulator's step size");
+      return false;
+    }
     t = srv.response.sim_time;
   }
   ROS_INFO_STREAM("ann_controller: lockstep done at t = " << t);

@@ -114,8 +114,10 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   atLeast(d, "lockstep_duration", p.lockstep_duration, 0.0, false);
   p.lockstep_wait_for_start = d.boolean("lockstep_wait_for_start", p.lockstep_wait_for_start);
   p.step_service = d.string("step_service", p.step_service);
-  p.step_size = d.number("step_size", p.step_size);
-  atLeast(d, "step_size", p.step_size, 0.0, true);
+  if (d.has("step_size")) {
+    p.step_size = d.number("step_size", p.step_size);
+    atLeast(d, "step_size", p.step_size, 0.0, true);
+  }
   p.wait_timeout = d.number("wait_timeout", p.wait_timeout);
   atLeast(d, "wait_timeout", p.wait_timeout, 0.0, true);
   p.unknown_keys = d.unknownKeys();
