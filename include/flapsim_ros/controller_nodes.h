@@ -56,9 +56,9 @@ class AnnControllerNode {
   const AnnControllerParams& params() const { return params_; }
 
  private:
-  /// Orientations of the unit bodies at `stamp` (ros::Time(0): latest), if
-  /// every transform is available.
-  std::optional<std::vector<flapsim::Quat>> bodies(const ros::Time& stamp) const;
+  /// Orientations of the unit bodies of creature `c` (an index of creatures_) at `stamp`
+  /// (ros::Time(0): latest), if every transform is available.
+  std::optional<std::vector<flapsim::Quat>> bodies(const ros::Time& stamp, size_t c = 0) const;
   void command(const std::vector<flapsim::Quat>& bodies, const ros::Time& stamp);
   void onTimer(const ros::TimerEvent& event);
   // The simulator step the lockstep counts in: ~step_size, else the simulator's parameter.
@@ -70,7 +70,8 @@ class AnnControllerNode {
   AnnControllerParams params_;
   flapsim::ControllerSpec spec_;
   flapsim::FlapUnitLayout layout_;
-  std::vector<std::string> frames_;
+  std::vector<std::string> creatures_;            // params_.creature, or lockstep_creatures
+  std::vector<std::vector<std::string>> frames_;  // per creature: its unit bodies' frames
   std::unique_ptr<flapsim::AnnWingController> controller_;
   tf2_ros::Buffer buffer_;
   tf2_ros::TransformListener listener_;

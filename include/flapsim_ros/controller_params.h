@@ -53,6 +53,9 @@ struct AnnControllerParams {
   bool lockstep = false;
   double lockstep_duration = 0.0;        // s of sim time
   bool lockstep_wait_for_start = false;  // wait for a call of ~start before stepping
+  // Lockstep only: the creatures this node flies and steps together, each with the network
+  // on its `pairs` units (a flock in one lockstep); empty: {creature}.
+  std::vector<std::string> lockstep_creatures;
   std::string step_service = "/flapsim/step";
   // s, the simulator's step (for the steps per control period); 0 (unset): the parameter
   // step_size next to step_service (/flapsim/step_size), else 0.001.
@@ -63,7 +66,7 @@ struct AnnControllerParams {
 
 /// Private namespace of ann_controller. Keys: weights (required), creature,
 /// pairs, world_frame, rate, lockstep, lockstep_duration,
-/// lockstep_wait_for_start, step_service, step_size, wait_timeout.
+/// lockstep_wait_for_start, lockstep_creatures, step_service, step_size, wait_timeout.
 /// Throws ParamError naming the bad key.
 AnnControllerParams parseAnnControllerParams(const XmlRpc::XmlRpcValue& ns,
                                              const std::string& default_creature);

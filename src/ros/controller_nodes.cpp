@@ -91,7 +91,13 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   controller_ = std::make_unique<flapsim::AnnWingController>(
       flapsim::FlapUnitController(spec_.params, spec_.weights));
   if (params_.rate <= 0.0) params_.rate = 1.0 / spec_.params.control_period;
-  for (const auto& link : layout_.body_links) frames_.push_back(params_.creature + "/" + link);
+  creatures_ = params_.lockstep && !params_.lockstep_creatures.empty()
+                   ? params_.lockstep_creatures
+                   : std::vector<std::string>{params_.creature};
+  for (const std::string& c : creatures_) {
+    frames_.emplace_back();
+    for (const auto& link : layout_.body_links) frames_.back().push_back(c + "/" + link);
+  }
   pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
   if (params_.lockstep)
     start_srv_ = pnh_.advertiseService("start", &AnnControllerNode::onStart, this);
@@ -104,9 +110,10 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
                                      << (params_.lockstep ? ", lockstep" : ""));
 }
 
-std::optional<std::vector<flapsim::Quat>> AnnControllerNode::bodies(const ros::Time& stamp) const {
+std::optional<std::vector<flapsim::Quat>> AnnControllerNode::bodies(const ros::Time& stamp,
+                                                                    size_t c) const {
   std::vector<flapsim::Quat> out;
-  for (const auto& frame : frames_) {
+  for (const auto& frame : frames_[c]) {
     if (!buffer_.canTransform(params_.world_frame, frame, stamp)) return std::nullopt;
     const geometry_msgs::TransformStamped t =
         buffer_.lookupTransform(params_.world_frame, frame, stamp);
@@ -126,7 +133,7 @@ void AnnControllerNode::onTimer(const ros::TimerEvent&) {
   const auto q = bodies(ros::Time(0));
   if (!q) {
     ROS_WARN_STREAM_THROTTLE(5.0, "ann_controller: no transform " << params_.world_frame << " -> "
-                                                                  << frames_.front()
+                                                                  << frames_.front().front()
                                                                   << " (or another unit) yet");
     return;
   }
@@ -180,16 +187,13 @@ bool AnnControllerNode::runLockstep() {
     if (!waitFor([&] { return started_.load(); }, timeout)) return false;
   }
   flapsim::Step srv;
-  // The command travels with the step request (applied before the first
-  // step): no race between the wing_command topic and the service.
-  auto call = [&](std::uint32_t n, const flapsim::WingCommand* command = nullptr) {
+  // The commands travel with the step request (applied before the first step): no race
+  // between the wing_command topic and the service.
+  auto call = [&](std::uint32_t n, const std::vector<flapsim::WingCommand>& commands = {}) {
     srv.request.steps = n;
     srv.request.creatures.clear();
-    srv.request.wing_commands.clear();
-    if (command != nullptr) {
-      srv.request.creatures.push_back(params_.creature);
-      srv.request.wing_commands.push_back(*command);
-    }
+    srv.request.wing_commands = commands;
+    if (!commands.empty()) srv.request.creatures = creatures_;
     if (!step.call(srv) || !srv.response.success) {
       ROS_ERROR_STREAM("ann_controller: " << params_.step_service
                                           << " failed: " << srv.response.status_message);
@@ -201,26 +205,29 @@ bool AnnControllerNode::runLockstep() {
   ros::Time t = srv.response.sim_time;
   const long periods =
       params_.lockstep_duration > 0.0 ? std::lround(params_.lockstep_duration / period) : -1;
+  std::vector<flapsim::WingCommand> commands(creatures_.size());
   for (long k = 0; ros::ok() && (periods < 0 || k < periods); ++k) {
-    std::optional<std::vector<flapsim::Quat>> q;
-    ros::WallTime repeat = ros::WallTime::now() + ros::WallDuration(1.0);
-    const bool got = waitFor(
-        [&] {
-          q = bodies(t);
-          if (!q && ros::WallTime::now() > repeat) {  // lost publication: ask again
-            repeat = ros::WallTime::now() + ros::WallDuration(1.0);
-            call(0);
-          }
-          return q.has_value();
-        },
-        timeout);
-    if (!got) {
-      ROS_ERROR_STREAM("ann_controller: no transforms of " << params_.creature << " at t = " << t);
-      return false;
+    for (size_t c = 0; c < creatures_.size(); ++c) {
+      std::optional<std::vector<flapsim::Quat>> q;
+      ros::WallTime repeat = ros::WallTime::now() + ros::WallDuration(1.0);
+      const bool got = waitFor(
+          [&] {
+            q = bodies(t, c);
+            if (!q && ros::WallTime::now() > repeat) {  // lost publication: ask again
+              repeat = ros::WallTime::now() + ros::WallDuration(1.0);
+              call(0);
+            }
+            return q.has_value();
+          },
+          timeout);
+      if (!got) {
+        ROS_ERROR_STREAM("ann_controller: no transforms of " << creatures_[c] << " at t = " << t);
+        return false;
+      }
+      commands[c] = annCommandMsg(layout_, controller_->commands(*q));
+      commands[c].header.stamp = t;
     }
-    flapsim::WingCommand msg = annCommandMsg(layout_, controller_->commands(*q));
-    msg.header.stamp = t;
-    if (!call(static_cast<std::uint32_t>(steps), &msg)) return false;
+    if (!call(static_cast<std::uint32_t>(steps), commands)) return false;
     const ros::Duration advanced = srv.response.sim_time - t;
     if (std::abs(advanced.toSec() - period) > 1e-9) {
       // A wrong ~step_size would fly the network at another control period, silently.

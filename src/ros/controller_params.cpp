@@ -113,6 +113,14 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   p.lockstep_duration = d.number("lockstep_duration", p.lockstep_duration);
   atLeast(d, "lockstep_duration", p.lockstep_duration, 0.0, false);
   p.lockstep_wait_for_start = d.boolean("lockstep_wait_for_start", p.lockstep_wait_for_start);
+  if (d.has("lockstep_creatures")) {
+    p.lockstep_creatures = d.strings("lockstep_creatures");
+    for (size_t i = 0; i < p.lockstep_creatures.size(); ++i) {
+      if (p.lockstep_creatures[i].empty()) {
+        failParam(d.key("lockstep_creatures") + "[" + std::to_string(i) + "]", "is empty");
+      }
+    }
+  }
   p.step_service = d.string("step_service", p.step_service);
   if (d.has("step_size")) {
     p.step_size = d.number("step_size", p.step_size);

@@ -99,6 +99,38 @@ TEST(AnnControllerParams, RequiresWeightsAndReadsLockstep) {
                ParamError);  // no creature: neither a parameter nor a namespace
 }
 
+// A flock in one lockstep: lockstep_creatures, a list of non-empty names; the simulator's
+// step size is read from it unless ~step_size is given (0: unset).
+TEST(AnnControllerParams, LockstepCreaturesAndStepSize) {
+  XmlRpc::XmlRpcValue names;
+  names[0] = "afc0";
+  names[1] = "afc1";
+  AnnControllerParams p = parseAnnControllerParams(
+      yamlish({{"weights", XmlRpc::XmlRpcValue("w")}, {"lockstep_creatures", names}}), "afc");
+  EXPECT_EQ(p.lockstep_creatures, (std::vector<std::string>{"afc0", "afc1"}));
+  EXPECT_EQ(p.step_size, 0.0);
+  names[1] = "";
+  try {
+    parseAnnControllerParams(
+        yamlish({{"weights", XmlRpc::XmlRpcValue("w")}, {"lockstep_creatures", names}}), "afc");
+    ADD_FAILURE() << "an empty name was taken";
+  } catch (const ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("lockstep_creatures[1]"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w")},
+                                                 {"lockstep_creatures", XmlRpc::XmlRpcValue(3)}}),
+                                        "afc"),
+               ParamError);
+  EXPECT_THROW(parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w")},
+                                                 {"step_size", XmlRpc::XmlRpcValue(0.0)}}),
+                                        "afc"),
+               ParamError);
+  p = parseAnnControllerParams(
+      yamlish({{"weights", XmlRpc::XmlRpcValue("w")}, {"step_size", XmlRpc::XmlRpcValue(5e-4)}}),
+      "afc");
+  EXPECT_EQ(p.step_size, 5e-4);
+}
+
 TEST(AnnControllerParams, MessageNamesTheUnitWings) {
   const flapsim::FlapUnitLayout layout = flapsim::flapUnitLayout(2);
   std::vector<flapsim::StrokeCommand> strokes(4, flapsim::StrokeCommand{30, 10, 1.2});
