@@ -315,19 +315,12 @@ TEST(EvolvedController, ARightRollGetsARelativelyStrongerRightDownstroke) {
   EXPECT_GT(difference(0.0, 0.3), difference(0.0, -0.3) + 20.0);
 }
 
-// Starts `indices` of flight_check's held-out starts (its seed and tilts), with a run of
-// `duration` s at 1 ms.
+// Starts `indices` of flight_check's held-out starts, flown for `duration` s at 1 ms.
 std::pair<EpisodeParams, std::vector<EpisodeStart>> flightCheckStarts(
     const std::vector<int>& indices, double duration) {
-  const FlightCheckParams check;
-  EpisodeParams p;
-  p.duration = duration;
-  p.start_height = check.start_height;
-  p.min_roll = 0.0;
-  p.max_roll = check.max_roll;
-  p.max_pitch = check.max_pitch;
-  p.episodes = check.starts;
-  p.seed = check.seed;
+  FlightCheckParams check;
+  check.duration = duration;
+  const EpisodeParams p = flightCheckEpisodes(check);
   const std::vector<EpisodeStart> all = episodeStarts(p);
   std::vector<EpisodeStart> picked;
   for (int i : indices) picked.push_back(all.at(i));

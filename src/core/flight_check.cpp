@@ -6,11 +6,8 @@
 
 namespace flapsim {
 
-std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
-                                        const ControllerSpec& controller,
-                                        const FlightCheckParams& p) {
+EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   if (p.starts < 1) throw InputError("flight check: starts must be >= 1");
-  if (p.threads < 1) throw InputError("flight check: threads must be >= 1");
   EpisodeParams episode;
   episode.duration = p.duration;
   episode.start_height = p.start_height;
@@ -22,6 +19,14 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
   episode.world.step_size = p.step_size;
   const std::string err = validateEpisodeParams(episode);
   if (!err.empty()) throw InputError("flight check: " + err);
+  return episode;
+}
+
+std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
+                                        const ControllerSpec& controller,
+                                        const FlightCheckParams& p) {
+  if (p.threads < 1) throw InputError("flight check: threads must be >= 1");
+  const EpisodeParams episode = flightCheckEpisodes(p);
   // Roll uniform in +-max_roll (episodeStarts alternates the sign of |roll| in [0, max]).
   const std::vector<EpisodeStart> starts = episodeStarts(episode);
   const AnnWingController ann(FlapUnitController(controller.params, controller.weights));
