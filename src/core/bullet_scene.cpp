@@ -1,8 +1,12 @@
 #include "bullet_scene.h"
 
+#include <BulletDynamics/Featherstone/btMultiBodyInplaceSolverIslandCallback.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <BulletDynamics/Featherstone/btMultiBodyMLCPConstraintSolver.h>
 
 #include <atomic>
+
+#include "joint_limit.h"
 
 namespace flapsim {
 
@@ -14,6 +18,99 @@ void ServoWorld::performDiscreteCollisionDetection() {
 void ServoWorld::solveExternalForces(btContactSolverInfo& info) {
   btMultiBodyDynamicsWorld::solveExternalForces(info);
   if (servos_) servos_();
+}
+
+void ServoWorld::step(btScalar h) {
+  if (lean_ && leanCapable(h) && may_touch_ && !may_touch_()) {
+    leanStep(h);
+  } else {
+    stepSimulation(h, 0, h);
+  }
+}
+
+bool ServoWorld::leanCapable(btScalar h) const {
+  if (m_multiBodies.size() != 1 || m_nonStaticRigidBodies.size() != 0 ||
+      m_constraints.size() != 0 || m_actions.size() != 0 || m_internalPreTickCallback ||
+      m_internalTickCallback || m_debugDrawer || btFuzzyZero(h)) {
+    return false;
+  }
+  const btMultiBody& mb = *m_multiBodies[0];
+  if (mb.getCanSleep() || mb.isUsingRK4Integration() || mb.isBaseKinematic()) return false;
+  // Bullet skips a multibody with a sleeping collider; ours never sleep.
+  if (mb.getBaseCollider() && mb.getBaseCollider()->getActivationState() != DISABLE_DEACTIVATION) {
+    return false;
+  }
+  for (int l = 0; l < mb.getNumLinks(); ++l) {
+    const btMultiBodyLinkCollider* col = mb.getLink(l).m_collider;
+    if (col && col->getActivationState() != DISABLE_DEACTIVATION) return false;
+  }
+  return true;
+}
+
+bool ServoWorld::constraintsMayAct(btScalar h) const {
+  for (int i = 0; i < m_multiBodyConstraints.size(); ++i) {
+    const auto* limits = dynamic_cast<const JointLimits*>(m_multiBodyConstraints[i]);
+    if (!limits || limits->mayAct(h)) return true;
+  }
+  return false;
+}
+
+// stepSimulation(h, 0, h) for leanCapable() worlds, stage by stage (Bullet 3.24's
+// btDiscreteDynamicsWorld and btMultiBodyDynamicsWorld), without the stages that change
+// nothing there while no contact is possible.
+void ServoWorld::leanStep(btScalar h) {
+  btMultiBody& mb = *m_multiBodies[0];
+  m_fixedTimeStep = 0;
+  m_localTime = m_latencyMotionStateInterpolation ? 0 : h;
+  // applyGravity(), after the forces of the step (the same sums).
+  mb.addBaseForce(m_gravity * mb.getBaseMass());
+  for (int l = 0; l < mb.getNumLinks(); ++l) mb.addLinkForce(l, m_gravity * mb.getLinkMass(l));
+  btDispatcherInfo& dispatch = getDispatchInfo();
+  dispatch.m_timeStep = h;
+  dispatch.m_stepCount = 0;
+  btContactSolverInfo& info = getSolverInfo();
+  info.m_timeStep = h;
+  // solveExternalForces(): unconstrained velocities, then the servos.
+  mb.clearConstraintForces();
+  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(h, m_scratch_r, m_scratch_v, m_scratch_m,
+                                                          false, info.m_jointFeedbackInWorldSpace,
+                                                          info.m_jointFeedbackInJointFrame);
+  mb.clearForcesAndTorques();
+  if (servos_) servos_();
+  // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
+  // the (zero) velocity change's clamp.
+  if (constraintsMayAct(h) || mb.internalNeedsJointFeedback()) {
+    solveConstraintsAfterServos(info);
+  } else {
+    mb.processDeltaVeeMultiDof2();
+  }
+  // integrateMultiBodyTransforms(): the colliders follow, for the next collision detection.
+  mb.addSplitV();
+  mb.stepPositionsMultiDof(h);
+  mb.updateCollisionObjectWorldTransforms(m_scratch_world_to_local, m_scratch_local_origin);
+  mb.substractSplitV();
+  updateActivationState(h);
+  clearForces();
+}
+
+void ServoWorld::solveConstraintsAfterServos(btContactSolverInfo& info) {
+  // What solveExternalForces() and internalSingleStepSimulation() did before the servos:
+  // positions have not moved since, so the frames and islands are the same.
+  forwardKinematics();
+  calculateSimulationIslands();
+  m_sortedMultiBodyConstraints.resize(m_multiBodyConstraints.size());
+  for (int i = 0; i < m_multiBodyConstraints.size(); ++i) {
+    m_sortedMultiBodyConstraints[i] = m_multiBodyConstraints[i];
+  }
+  m_sortedMultiBodyConstraints.quickSort(btSortMultiBodyConstraintOnIslandPredicate());
+  btMultiBodyConstraint** sorted =
+      m_sortedMultiBodyConstraints.size() ? &m_sortedMultiBodyConstraints[0] : nullptr;
+  m_sortedConstraints.resize(0);
+  m_solverMultiBodyIslandCallback->setup(&info, nullptr, 0, sorted,
+                                         m_sortedMultiBodyConstraints.size(), getDebugDrawer());
+  m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
+  buildIslands();
+  solveInternalConstraints(info);
 }
 
 bool SerialDantzigSolver::solveMLCP(const btMatrixXu& A, const btVectorXu& b, btVectorXu& x,
@@ -47,6 +144,7 @@ Scene::Scene(const WorldParams& params) {
   world_->setGravity(toBt(params.gravity));
   world_->getSolverInfo().m_numIterations = params.solver_iterations;
   world_->getDispatchInfo().m_deterministicOverlappingPairs = true;
+  world_->setLeanSteps(params.lean_steps);
   if (params.ground) addGround(params);
 }
 

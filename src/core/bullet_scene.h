@@ -36,14 +36,35 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // detection (bounding boxes, broadphase, narrowphase) is then skipped: it would find nothing.
   void setGroundCheck(std::function<bool()> may_touch) { may_touch_ = std::move(may_touch); }
 
+  // Lean steps (on by default) take a step in which nothing can touch from the multibody's
+  // own routines (leanStep); off, every step is Bullet's.
+  void setLeanSteps(bool on) { lean_ = on; }
+
+  // One step of `h`: what stepSimulation(h, 0, h) does, and the same results.
+  void step(btScalar h);
+
   void performDiscreteCollisionDetection() override;
 
  protected:
   void solveExternalForces(btContactSolverInfo& info) override;
 
  private:
+  // Whether the world holds what a lean step handles: one multibody that never sleeps, its
+  // constraints our joint limits, nothing else that moves or acts, no callbacks.
+  bool leanCapable(btScalar h) const;
+  // Whether a multibody constraint could have rows this step (one we do not know: yes).
+  bool constraintsMayAct(btScalar h) const;
+  // Bullet's step without the work that finds nothing while no contact is possible: the
+  // interpolated transforms (overwritten before anything reads them), collision detection
+  // (skipped anyway), islands and the constraint solver, unless a joint limit may act.
+  void leanStep(btScalar h);
+  // The rest of Bullet's velocity stage once the servos acted: islands, the solve of all
+  // constraints and contacts, and the solver's velocity change.
+  void solveConstraintsAfterServos(btContactSolverInfo& info);
+
   std::function<void()> servos_;
   std::function<bool()> may_touch_;
+  bool lean_ = true;
 };
 
 // Bullet's Dantzig LCP keeps its failure flag in a global variable (s_error in

@@ -576,7 +576,7 @@ class World::Impl {
     b.fluid_active = false;
     if (params_.air.enabled) air_.apply(b, params_, h);
     applyWrenches(records_[i].wrenches, b);
-    b.scene->world().stepSimulation(h, 0, h);
+    b.scene->world().step(h);
     b.endStep(params_.gravity, h);
   }
 
