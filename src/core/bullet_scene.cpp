@@ -20,12 +20,66 @@ void ServoWorld::solveExternalForces(btContactSolverInfo& info) {
   if (servos_) servos_();
 }
 
+void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& world_to_local,
+                     btAlignedObjectArray<btVector3>& local_origin) {
+  const int n = mb.getNumLinks();
+  world_to_local.resize(n + 1);
+  local_origin.resize(n + 1);
+  world_to_local[0] = mb.getWorldToBaseRot();
+  local_origin[0] = mb.getBasePos();
+  for (int k = 0; k < n; ++k) {
+    const int parent = mb.getParent(k);
+    world_to_local[k + 1] = mb.getParentToLocalRot(k) * world_to_local[parent + 1];
+    local_origin[k + 1] =
+        local_origin[parent + 1] + quatRotate(world_to_local[k + 1].inverse(), mb.getRVector(k));
+  }
+}
+
 void ServoWorld::step(btScalar h) {
+  frames_fresh_ = false;
   if (lean_ && leanCapable(h) && may_touch_ && !may_touch_()) {
     leanStep(h);
-  } else {
-    stepSimulation(h, 0, h);
+    return;
   }
+  if (colliders_behind_) catchUpColliders();
+  stepSimulation(h, 0, h);
+}
+
+bool ServoWorld::takeLeanFrames(btAlignedObjectArray<btQuaternion>& world_to_local,
+                                btAlignedObjectArray<btVector3>& local_origin) {
+  if (!frames_fresh_) return false;
+  frames_fresh_ = false;
+  world_to_local = lean_world_to_local_;
+  local_origin = lean_local_origin_;
+  return true;
+}
+
+void ServoWorld::placeColliders() {
+  for (int i = 0; i < m_multiBodies.size(); ++i) {
+    m_multiBodies[i]->updateCollisionObjectWorldTransforms(m_scratch_world_to_local,
+                                                           m_scratch_local_origin);
+  }
+  colliders_behind_ = false;
+  frames_fresh_ = false;
+}
+
+// btMultiBody::updateCollisionObjectWorldTransforms' placement, from the kept frames.
+void ServoWorld::catchUpColliders() {
+  btMultiBody& mb = *m_multiBodies[0];
+  auto place = [this](btCollisionObject* col, int index) {
+    const btQuaternion& q = lean_world_to_local_[index];
+    btTransform tr;
+    tr.setIdentity();
+    tr.setOrigin(lean_local_origin_[index]);
+    tr.setRotation(btQuaternion(-q.x(), -q.y(), -q.z(), q.w()));
+    col->setWorldTransform(tr);
+    col->setInterpolationWorldTransform(tr);
+  };
+  if (mb.getBaseCollider()) place(mb.getBaseCollider(), 0);
+  for (int l = 0; l < mb.getNumLinks(); ++l) {
+    if (btMultiBodyLinkCollider* col = mb.getLink(l).m_collider) place(col, l + 1);
+  }
+  colliders_behind_ = false;
 }
 
 bool ServoWorld::leanCapable(btScalar h) const {
@@ -84,10 +138,12 @@ void ServoWorld::leanStep(btScalar h) {
   } else {
     mb.processDeltaVeeMultiDof2();
   }
-  // integrateMultiBodyTransforms(): the colliders follow, for the next collision detection.
+  // integrateMultiBodyTransforms(); the colliders wait for the next full step.
   mb.addSplitV();
   mb.stepPositionsMultiDof(h);
-  mb.updateCollisionObjectWorldTransforms(m_scratch_world_to_local, m_scratch_local_origin);
+  multiBodyFrames(mb, lean_world_to_local_, lean_local_origin_);
+  colliders_behind_ = true;
+  frames_fresh_ = true;
   mb.substractSplitV();
   updateActivationState(h);
   clearForces();

@@ -25,6 +25,12 @@ inline btTransform toBt(const Pose& p) {
 inline Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
 inline Quat fromBt(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
 
+// The world frames of a multibody's links at its current positions (index 0: the base,
+// k + 1: link k), by btMultiBody::forwardKinematics' arithmetic but without writing the
+// multibody's cached link transforms.
+void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& world_to_local,
+                     btAlignedObjectArray<btVector3>& local_origin);
+
 // A multibody world that lets its creature's joint servos act between Bullet's
 // unconstrained velocity update (gravity, air, damping) and its constraint solve (limits,
 // contacts), which is where Bullet's own joint motors act.
@@ -42,6 +48,12 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
 
   // One step of `h`: what stepSimulation(h, 0, h) does, and the same results.
   void step(btScalar h);
+  // Right after a lean step: copies the frames of the positions it ended with
+  // (multiBodyFrames) and returns true. Else, or called again, false.
+  bool takeLeanFrames(btAlignedObjectArray<btQuaternion>& world_to_local,
+                      btAlignedObjectArray<btVector3>& local_origin);
+  // Puts the colliders where the multibody now is (after its state was set between steps).
+  void placeColliders();
 
   void performDiscreteCollisionDetection() override;
 
@@ -61,10 +73,18 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // The rest of Bullet's velocity stage once the servos acted: islands, the solve of all
   // constraints and contacts, and the solver's velocity change.
   void solveConstraintsAfterServos(btContactSolverInfo& info);
+  // Where Bullet's step would have left the colliders: at the frames of the last lean step.
+  void catchUpColliders();
 
   std::function<void()> servos_;
   std::function<bool()> may_touch_;
   bool lean_ = true;
+  // Lean steps leave the colliders behind (only collision detection reads them) and keep
+  // the frames they would have been placed at; the next full step places them first.
+  bool colliders_behind_ = false;
+  bool frames_fresh_ = false;  // a lean step's frames, not taken yet
+  btAlignedObjectArray<btQuaternion> lean_world_to_local_;
+  btAlignedObjectArray<btVector3> lean_local_origin_;
 };
 
 // Bullet's Dantzig LCP keeps its failure flag in a global variable (s_error in

@@ -31,21 +31,10 @@ void CreatureBody::updateKinematics() {
 }
 
 LinkFrames CreatureBody::currentFrames() const {
-  // btMultiBody::forwardKinematics, step for step, but from const accessors only (it also
-  // writes Bullet's cached link transforms).
   const btMultiBody& m = *mb;
   const int n = m.getNumLinks();
   LinkFrames f;
-  f.world_to_local.resize(n + 1);
-  f.local_origin.resize(n + 1);
-  f.world_to_local[0] = m.getWorldToBaseRot();
-  f.local_origin[0] = m.getBasePos();
-  for (int k = 0; k < n; ++k) {
-    const int parent = m.getParent(k);
-    f.world_to_local[k + 1] = m.getParentToLocalRot(k) * f.world_to_local[parent + 1];
-    f.local_origin[k + 1] =
-        f.local_origin[parent + 1] + quatRotate(f.world_to_local[k + 1].inverse(), m.getRVector(k));
-  }
+  multiBodyFrames(m, f.world_to_local, f.local_origin);
   f.omega.resize(n + 1);
   f.vel.resize(n + 1);
   m.compTreeLinkVelocities(f.omega.data(), f.vel.data());
@@ -217,6 +206,7 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   // semi-implicit step takes the end velocity. A servo that holds its target velocity
   // moves at the end velocity all step, as Bullet has it. Not in contact: impulses there.
   // Nor near a joint's stop, where the limit's impulse may have acted.
+  bool moved = false;  // a joint, since Bullet's step
   if (!scene->hasContacts()) {
     for (size_t k = 1; k < solution.saturated.size(); ++k) {
       if (!solution.saturated[k]) continue;
@@ -227,10 +217,14 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
       const double reach = dt * std::max(std::abs(v0), std::abs(v1));
       if (j.limited && (q - j.lower <= reach || j.upper - q <= reach)) continue;
       mb->setJointPos(l, q - 0.5 * dt * (v1 - v0));
+      moved = true;
     }
   }
   const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step
-  updateKinematics();
+  // A lean step already has the frames of its end positions.
+  const bool stepped = scene->world().takeLeanFrames(frames.world_to_local, frames.local_origin);
+  if (moved || !stepped) mb->forwardKinematics(frames.world_to_local, frames.local_origin);
+  mb->compTreeLinkVelocities(frames.omega.data(), frames.vel.data());
   if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) return;
   // What the momentum must be: the start plus the external impulses (gravity has no moment
   // about the centre of mass).
