@@ -372,6 +372,17 @@ Wrench sumCells(const BodyKinematics& body, const AeroSurface& surface, const Ai
 
 constexpr double kDeg = M_PI / 180.0;
 
+// The forces on row i of grid face `face` (see PressureAirModel::bodyWrench), world frame.
+void recordRow(const SurfaceFace& face, int i, double un_i, double n_j, double k, double q_i,
+               double q_ij, double qjj, const Eigen::Matrix3d& rot, std::vector<Vec3>& out) {
+  for (int j = 0; j < face.nv; ++j) {
+    const double un = un_i + j * n_j;
+    if (un <= 0.0) continue;
+    const double p = k * std::sqrt(std::max(0.0, q_i + j * (q_ij + j * qjj))) * un;
+    out[face.first_cell + i * face.nv + j] = rot * (-p * face.normal);
+  }
+}
+
 }  // namespace
 
 Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
@@ -408,18 +419,21 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
       const double q00 = u0.squaredNorm(), q0i = 2.0 * u0.dot(du), q0j = 2.0 * u0.dot(dv);
       const double qii = du.squaredNorm(), qij = 2.0 * du.dot(dv), qjj = dv.squaredNorm();
       double sum_i = 0.0, sum_j = 0.0;
+      const int nv = face.nv;
       for (int i = 0; i < face.nu; ++i) {
         const double un_i = n0 + i * n_i;
         const double q_i = q00 + i * (q0i + i * qii), q_ij = q0j + i * qij;
         double row = 0.0, row_j = 0.0;
-        for (int j = 0; j < face.nv; ++j) {
+        for (int j = 0; j < nv; ++j) {
           const double un = un_i + j * n_j;
-          if (un <= 0.0) continue;
-          const double p = k * std::sqrt(std::max(0.0, q_i + j * (q_ij + j * qjj))) * un;
+          // Without a branch (whether a cell advances is hard to predict): a retreating
+          // cell's p is a zero, which changes no sum.
+          const double speed = std::sqrt(std::max(0.0, q_i + j * (q_ij + j * qjj)));
+          const double p = k * speed * std::max(un, 0.0);
           row += p;
           row_j += p * j;
-          if (cell_forces) (*cell_forces)[face.first_cell + i * face.nv + j] = flow.rot * (-p * n);
         }
+        if (cell_forces) recordRow(face, i, un_i, n_j, k, q_i, q_ij, qjj, flow.rot, *cell_forces);
         sum += row;
         sum_i += row * i;
         sum_j += row_j;
