@@ -126,14 +126,20 @@ void ServoWorld::leanStep(btScalar h) {
   info.m_timeStep = h;
   // solveExternalForces(): unconstrained velocities, then the servos.
   mb.clearConstraintForces();
-  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(h, m_scratch_r, m_scratch_v, m_scratch_m,
-                                                          false, info.m_jointFeedbackInWorldSpace,
-                                                          info.m_jointFeedbackInJointFrame);
+  const bool tree = TreeDynamics::handles(mb);
+  if (tree) {
+    tree_.velocityStep(mb, h);
+  } else {
+    bulletVelocityStep(mb, h, info);
+  }
   mb.clearForcesAndTorques();
   if (servos_) servos_();
   // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
   // the (zero) velocity change's clamp.
   if (constraintsMayAct(h) || mb.internalNeedsJointFeedback()) {
+    // The solver reads the inertia caches of Bullet's own pass (no velocity change at dt 0;
+    // they depend on positions only).
+    if (tree) bulletVelocityStep(mb, 0, info);
     solveConstraintsAfterServos(info);
   } else {
     mb.processDeltaVeeMultiDof2();
@@ -147,6 +153,12 @@ void ServoWorld::leanStep(btScalar h) {
   mb.substractSplitV();
   updateActivationState(h);
   clearForces();
+}
+
+void ServoWorld::bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info) {
+  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(h, m_scratch_r, m_scratch_v, m_scratch_m,
+                                                          false, info.m_jointFeedbackInWorldSpace,
+                                                          info.m_jointFeedbackInJointFrame);
 }
 
 void ServoWorld::solveConstraintsAfterServos(btContactSolverInfo& info) {

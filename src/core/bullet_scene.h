@@ -14,6 +14,7 @@
 
 #include "flapsim/types.h"
 #include "flapsim/world.h"
+#include "tree_dynamics.h"
 
 namespace flapsim {
 
@@ -43,10 +44,11 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   void setGroundCheck(std::function<bool()> may_touch) { may_touch_ = std::move(may_touch); }
 
   // Lean steps (on by default) take a step in which nothing can touch from the multibody's
-  // own routines (leanStep); off, every step is Bullet's.
+  // own routines and TreeDynamics (leanStep); off, every step is Bullet's.
   void setLeanSteps(bool on) { lean_ = on; }
 
-  // One step of `h`: what stepSimulation(h, 0, h) does, and the same results.
+  // One step of `h`: what stepSimulation(h, 0, h) does, with the same results up to the
+  // rounding of the lean step's velocity update.
   void step(btScalar h);
   // Right after a lean step: copies the frames of the positions it ended with
   // (multiBodyFrames) and returns true. Else, or called again, false.
@@ -68,17 +70,21 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   bool constraintsMayAct(btScalar h) const;
   // Bullet's step without the work that finds nothing while no contact is possible: the
   // interpolated transforms (overwritten before anything reads them), collision detection
-  // (skipped anyway), islands and the constraint solver, unless a joint limit may act.
+  // (skipped anyway), islands and the constraint solver, unless a joint limit may act. The
+  // unconstrained velocities come from TreeDynamics where it handles the multibody.
   void leanStep(btScalar h);
   // The rest of Bullet's velocity stage once the servos acted: islands, the solve of all
   // constraints and contacts, and the solver's velocity change.
   void solveConstraintsAfterServos(btContactSolverInfo& info);
+  // Bullet's articulated-body pass: velocities += h * accelerations, and its solver caches.
+  void bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info);
   // Where Bullet's step would have left the colliders: at the frames of the last lean step.
   void catchUpColliders();
 
   std::function<void()> servos_;
   std::function<bool()> may_touch_;
   bool lean_ = true;
+  TreeDynamics tree_;  // the lean step's velocity update
   // Lean steps leave the colliders behind (only collision detection reads them) and keep
   // the frames they would have been placed at; the next full step places them first.
   bool colliders_behind_ = false;

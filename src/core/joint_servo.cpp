@@ -14,11 +14,14 @@ Mat3 skew(const Vec3& v) {
 }
 
 Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia) {
-  const Mat3 c = skew(com);
+  // -m [c]x [c]x = m (|c|^2 1 - c c^T), without the 3x3 product.
+  const Vec3 mc = mass * com;
+  const Mat3 c = skew(mc);
   Mat6 out;
-  out.topLeftCorner<3, 3>() = inertia - mass * c * c;
-  out.topRightCorner<3, 3>() = mass * c;
-  out.bottomLeftCorner<3, 3>() = -mass * c;
+  out.topLeftCorner<3, 3>() = inertia - mc * com.transpose();
+  out.topLeftCorner<3, 3>().diagonal().array() += mc.dot(com);
+  out.topRightCorner<3, 3>() = c;
+  out.bottomLeftCorner<3, 3>() = -c;
   out.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
   return out;
 }
