@@ -133,7 +133,9 @@ void ServoWorld::leanStep(btScalar h) {
     bulletVelocityStep(mb, h, info);
   }
   mb.clearForcesAndTorques();
+  tree_fresh_ = tree;
   if (servos_) servos_();
+  tree_fresh_ = false;
   // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
   // the (zero) velocity change's clamp.
   if (constraintsMayAct(h) || mb.internalNeedsJointFeedback()) {

@@ -54,6 +54,9 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // (multiBodyFrames) and returns true. Else, or called again, false.
   bool takeLeanFrames(btAlignedObjectArray<btQuaternion>& world_to_local,
                       btAlignedObjectArray<btVector3>& local_origin);
+  // While the servos of a lean step act: its velocity update's tree (inertias and joint
+  // subspaces of the step's positions); else null.
+  const TreeDynamics* leanTree() const { return tree_fresh_ ? &tree_ : nullptr; }
   // Puts the colliders where the multibody now is (after its state was set between steps).
   void placeColliders();
 
@@ -85,6 +88,7 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   std::function<bool()> may_touch_;
   bool lean_ = true;
   TreeDynamics tree_;  // the lean step's velocity update
+  bool tree_fresh_ = false;
   // Lean steps leave the colliders behind (only collision detection reads them) and keep
   // the frames they would have been placed at; the next full step places them first.
   bool colliders_behind_ = false;

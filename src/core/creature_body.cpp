@@ -101,7 +101,14 @@ void CreatureBody::applyServos() {
     solution.saturated.assign(demands.size(), false);
     return;
   }
-  updateServoLinks();
+  // A lean step has the links' inertias and joint subspaces already (same frame and origin).
+  ServoTree tree;
+  if (const TreeDynamics* lean = scene->world().leanTree()) {
+    tree.inertia = &lean->bodyInertias();
+    tree.subspace = &lean->jointAxes();
+  } else {
+    updateServoLinks();
+  }
   if (fluid_active) {
     // (M + A) (v1 - v0) = M (vb - v0) + servo impulses, with A the fluid's implicit part
     // and vb Bullet's velocities after this step's forces: solved for v1 - vb, it is the
@@ -124,14 +131,14 @@ void CreatureBody::applyServos() {
       loads_.extra_inertia[k] += drag_[i];
       loads_.impulse[k] = -loads_.extra_inertia[k] * change_[i];
     }
-    servo.solve(servo_links, model->fixed_base, demands, loads_, solution);
+    servo.solve(servo_links, model->fixed_base, demands, loads_, tree, solution);
     // The implicit drag's impulse over the step, -step D (v1 - v0) on each aero body (the
     // added mass is part of the momentum itself: see measureMomentum()).
     for (size_t i = 0; i < aero.size(); ++i) {
       drag_impulse_ -= drag_[i] * (change_[i] + solution.link_velocity_change[aero[i].link]);
     }
   } else {
-    servo.solve(servo_links, model->fixed_base, demands, solution);
+    servo.solve(servo_links, model->fixed_base, demands, ServoLoads(), tree, solution);
   }
   for (size_t k = 1; k < demands.size(); ++k) {
     if (servo_links[k].joint == ServoJointType::kFixed) continue;

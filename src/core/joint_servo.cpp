@@ -51,10 +51,20 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
 void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
                              const std::vector<ServoDemand>& demands, const ServoLoads& loads,
                              ServoSolution& out) {
+  solve(links, fixed_root, demands, loads, ServoTree(), out);
+}
+
+void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
+                             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
+                             const ServoTree& tree, ServoSolution& out) {
   const size_t n = links.size();
   if (demands.size() != n) {
     throw std::invalid_argument("JointServoSolver: " + std::to_string(demands.size()) +
                                 " demands for " + std::to_string(n) + " links");
+  }
+  const bool given = tree.inertia && tree.subspace;
+  if (given && (tree.inertia->size() != n || tree.subspace->size() != n)) {
+    throw std::invalid_argument("JointServoSolver: inertias or subspaces not one per link");
   }
   for (size_t size : {loads.extra_inertia.size(), loads.impulse.size()}) {
     if (size != 0 && size != n) {
@@ -89,9 +99,9 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   int driven = 0;
   for (size_t k = 0; k < n; ++k) {
     const ServoLink& l = links[k];
-    body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
+    body_inertia_[k] = given ? (*tree.inertia)[k] : spatialInertia(l.mass, l.com, l.inertia);
     if (!loads.extra_inertia.empty()) body_inertia_[k] += loads.extra_inertia[k];
-    s_[k] = motionSubspace(l);
+    s_[k] = given ? (*tree.subspace)[k] : motionSubspace(l);
     if (k == 0 || l.joint == ServoJointType::kFixed) {
       status_[k] = Status::kFixed;
     } else if (demands[k].active && demands[k].max_impulse > 0.0) {

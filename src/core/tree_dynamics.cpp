@@ -58,13 +58,13 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
   rot_.resize(n + 1);
   com_.resize(n + 1);
   axis_.resize(n + 1);
-  inertia_.resize(n + 1);
+  body_.resize(n + 1);
   to_local_[0] = fromBt(mb.getWorldToBaseRot());
   rot_[0] = to_local_[0].conjugate().toRotationMatrix();
   com_[0].setZero();
   const Vec3 base_inertia = fromBt(mb.getBaseInertia());
-  inertia_[0] = spatialInertia(mb.getBaseMass(), com_[0],
-                               rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose());
+  body_[0] = spatialInertia(mb.getBaseMass(), com_[0],
+                            rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose());
   axis_[0].setZero();
   for (int k = 0; k < n; ++k) {
     const btMultibodyLink& l = mb.getLink(k);
@@ -73,7 +73,7 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
     rot_[b] = to_local_[b].conjugate().toRotationMatrix();
     com_[b] = com_[p] + rot_[b] * fromBt(l.m_cachedRVector);
     const Vec3 inertia = fromBt(l.m_inertiaLocal);
-    inertia_[b] =
+    body_[b] =
         spatialInertia(l.m_mass, com_[b], rot_[b] * inertia.asDiagonal() * rot_[b].transpose());
     axis_[b].setZero();
     if (l.m_dofCount == 1) {
@@ -93,7 +93,7 @@ void TreeDynamics::velocitiesAndBias(const btMultiBody& mb) {
   bias_.resize(n + 1);
   velocity_[0] << fromBt(mb.getBaseOmega()), fromBt(mb.getBaseVel());
   coriolis_[0].setZero();
-  bias_[0] = crossForce(velocity_[0], inertia_[0] * velocity_[0]) -
+  bias_[0] = crossForce(velocity_[0], body_[0] * velocity_[0]) -
              spatialForce(mb.getBaseForce(), mb.getBaseTorque(), com_[0]);
   for (int k = 0; k < n; ++k) {
     const btMultibodyLink& l = mb.getLink(k);
@@ -101,7 +101,7 @@ void TreeDynamics::velocitiesAndBias(const btMultiBody& mb) {
     const Vec6 joint = axis_[b] * (l.m_dofCount == 1 ? mb.getJointVel(k) : 0.0);
     velocity_[b] = velocity_[p] + joint;
     coriolis_[b] = crossMotion(velocity_[b], joint);
-    bias_[b] = crossForce(velocity_[b], inertia_[b] * velocity_[b]) -
+    bias_[b] = crossForce(velocity_[b], body_[b] * velocity_[b]) -
                spatialForce(l.m_appliedForce, l.m_appliedTorque, com_[b]);
   }
 }
@@ -110,6 +110,7 @@ void TreeDynamics::velocitiesAndBias(const btMultiBody& mb) {
 void TreeDynamics::inwardPass(const btMultiBody& mb) {
   const int n = mb.getNumLinks();
   u_vec_.resize(n + 1);
+  inertia_ = body_;
   for (int k = n - 1; k >= 0; --k) {
     const btMultibodyLink& l = mb.getLink(k);
     const int b = k + 1, p = l.m_parent + 1;

@@ -28,6 +28,12 @@ class TreeDynamics {
   // velocity order (6 base values, then one per joint dof).
   const std::vector<double>& accelerations(const btMultiBody& mb);
 
+  // Of the last accelerations(), per body (0: the base, k + 1: link k), about the base's COM,
+  // world axes: spatial inertias and joint motion subspaces (zero for the base and fixed
+  // joints).
+  const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>& bodyInertias() const { return body_; }
+  const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& jointAxes() const { return axis_; }
+
   // What Bullet's step does with them: velocities += dt * accelerations (clamped to the
   // multibody's maximum coordinate velocity).
   void velocityStep(btMultiBody& mb, double dt);
@@ -45,6 +51,7 @@ class TreeDynamics {
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> axis_;      // joint's motion subspace
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> velocity_;  // spatial velocity
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> coriolis_;  // velocity-product accel.
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_;      // spatial inertia
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> inertia_;   // articulated inertia
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_;      // articulated bias force
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> u_vec_;     // inertia x axis
