@@ -7,13 +7,15 @@
 
 namespace flapsim {
 
-BodyKinematics LinkFrames::kinematics(int k) const {
-  const btQuaternion to_world = world_to_local[k].inverse();
+BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
   BodyKinematics kin;
-  kin.orientation = fromBt(to_world);
+  kin.orientation = fromBt(world_to_local[k].inverse());
+  // One rotation matrix for both velocities: cheaper than two quaternion rotations.
+  const Mat3 r = kin.orientation.toRotationMatrix();
   kin.com = fromBt(local_origin[k]);
-  kin.linear_velocity = fromBt(quatRotate(to_world, vel[k]));
-  kin.angular_velocity = fromBt(quatRotate(to_world, omega[k]));
+  kin.linear_velocity = r * fromBt(vel[k]);
+  kin.angular_velocity = r * fromBt(omega[k]);
+  if (rotation) *rotation = r;
   return kin;
 }
 
@@ -161,10 +163,11 @@ SystemMomentum CreatureBody::measureMomentum() {
   const CreatureModel& m = *model;
   motions_.resize(m.links.size());
   orientations_.resize(m.links.size());
+  rotations_.resize(m.links.size());
   for (size_t k = 0; k < m.links.size(); ++k) {
-    const BodyKinematics kin = frames.kinematics(static_cast<int>(k));
+    Mat3& r = rotations_[k];
+    const BodyKinematics kin = frames.kinematics(static_cast<int>(k), &r);
     orientations_[k] = kin.orientation;
-    const Mat3 r = kin.orientation.toRotationMatrix();
     BodyMotion& b = motions_[k];
     b.mass = m.links[k].mass;
     b.com = kin.com;
@@ -253,9 +256,11 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   mb->setBaseVel(mb->getBaseVel() + toBt(c.velocity + c.angular_velocity.cross(base - now.com)));
   for (int k = 0; k < frames.local_origin.size(); ++k) {
     const Vec3 x = fromBt(frames.local_origin[k]);
-    const btQuaternion& to_local = frames.world_to_local[k];
-    frames.vel[k] += quatRotate(to_local, toBt(c.velocity + c.angular_velocity.cross(x - now.com)));
-    frames.omega[k] += quatRotate(to_local, toBt(c.angular_velocity));
+    // Into the link's frame with measureMomentum()'s rotation of these frames.
+    const Mat3& to_world = rotations_[k];
+    const Vec3 v = c.velocity + c.angular_velocity.cross(x - now.com);
+    frames.vel[k] += toBt(to_world.transpose() * v);
+    frames.omega[k] += toBt(to_world.transpose() * c.angular_velocity);
     frames.local_origin[k] += toBt(shift);
   }
   // The momentum is now the target, about the shifted centre of mass: the next step starts

@@ -20,6 +20,15 @@ Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
 bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
                        double reach, double step) {
   if (a.mass <= 0.0) return true;
+  // Far below the threshold (each speed under half of it, squared: no square root), as
+  // most links in air are.
+  const double limit =
+      kImplicitDragRatio * a.mass / (step * air.density * a.surface.drag_coefficient * a.area);
+  const double half = 0.45 * limit;
+  if ((kin.linear_velocity - air.wind).squaredNorm() < half * half &&
+      kin.angular_velocity.squaredNorm() * reach * reach < half * half) {
+    return false;
+  }
   const double speed =
       (kin.linear_velocity - air.wind).norm() + kin.angular_velocity.norm() * reach;
   const double rate = air.density * a.surface.drag_coefficient * a.area * speed;
