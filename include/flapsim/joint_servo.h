@@ -105,6 +105,8 @@ class JointServoSolver {
   std::vector<Status> status_;
   std::vector<double> tau_;  // known impulse of a free joint
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
+  // The links' spatial inertias in this solve: body_inertia_ or the caller's.
+  const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia_ = &body_inertia_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
   std::vector<double> d_, u_;
   Eigen::LLT<Mat6> root_;

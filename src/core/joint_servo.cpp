@@ -84,6 +84,7 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   status_.resize(n);
   tau_.assign(n, 0.0);
   body_inertia_.resize(n);
+  inertia_ = given && loads.extra_inertia.empty() ? tree.inertia : &body_inertia_;
   articulated_.resize(n);
   bias_.resize(n);
   s_.resize(n);
@@ -99,7 +100,12 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   int driven = 0;
   for (size_t k = 0; k < n; ++k) {
     const ServoLink& l = links[k];
-    body_inertia_[k] = given ? (*tree.inertia)[k] : spatialInertia(l.mass, l.com, l.inertia);
+    // Given inertias are read where they are, unless loads add to them.
+    if (!given) {
+      body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
+    } else if (!loads.extra_inertia.empty()) {
+      body_inertia_[k] = (*tree.inertia)[k];
+    }
     if (!loads.extra_inertia.empty()) body_inertia_[k] += loads.extra_inertia[k];
     s_[k] = given ? (*tree.subspace)[k] : motionSubspace(l);
     if (k == 0 || l.joint == ServoJointType::kFixed) {
@@ -159,7 +165,7 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
                             ServoSolution& out) {
   const size_t n = links.size();
   for (size_t k = 0; k < n; ++k) {
-    articulated_[k] = body_inertia_[k];
+    articulated_[k] = (*inertia_)[k];
     // The bias impulse is what must act for no velocity change: minus the applied one.
     if (loads.impulse.empty()) {
       bias_[k].setZero();

@@ -139,7 +139,7 @@ void TreeDynamics::outwardPass(const btMultiBody& mb) {
   if (mb.hasFixedBase()) {
     accel_[0].setZero();
   } else {
-    accel_[0] = -inertia_[0].ldlt().solve(bias_[0]);
+    accel_[0] = -inertia_[0].llt().solve(bias_[0]);  // symmetric positive definite
   }
   // The base COM's acceleration: the spatial one plus omega x v.
   const Vec3 base_linear =
