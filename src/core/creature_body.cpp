@@ -126,10 +126,14 @@ void CreatureBody::applyServos() {
     for (size_t i = 0; i < aero.size(); ++i) {
       const int k = aero[i].link;
       const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
-      drag_[i] = spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
+      // Links without implicit drag or added mass: zero matrices, nothing to move.
+      drag_[i] = aero[i].drag_zero ? Mat6::Zero()
+                                   : spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
       change_[i] = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
                    spatialVelocity(k, frames.omega[k], frames.vel[k]);
-      loads_.extra_inertia[k] = spatialToCommonFrame(aero[i].added, Quat::Identity(), offset);
+      if (!aero[i].added_zero) {
+        loads_.extra_inertia[k] = spatialToCommonFrame(aero[i].added, Quat::Identity(), offset);
+      }
       loads_.extra_inertia[k] += drag_[i];
       loads_.impulse[k] = -loads_.extra_inertia[k] * change_[i];
     }
