@@ -124,7 +124,21 @@ void ServoWorld::leanStep(btScalar h) {
   dispatch.m_stepCount = 0;
   btContactSolverInfo& info = getSolverInfo();
   info.m_timeStep = h;
-  // solveExternalForces(): unconstrained velocities, then the servos.
+  leanVelocities(mb, h, info);
+  // integrateMultiBodyTransforms(); the colliders wait for the next full step.
+  mb.addSplitV();
+  mb.stepPositionsMultiDof(h);
+  multiBodyFrames(mb, lean_world_to_local_, lean_local_origin_);
+  colliders_behind_ = true;
+  frames_fresh_ = true;
+  mb.substractSplitV();
+  updateActivationState(h);
+  clearForces();
+}
+
+// solveConstraints(): the unconstrained velocities, the servos, and the constraint solve
+// only if a joint limit may act.
+void ServoWorld::leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo& info) {
   mb.clearConstraintForces();
   const bool tree = TreeDynamics::handles(mb);
   if (tree) {
@@ -146,15 +160,6 @@ void ServoWorld::leanStep(btScalar h) {
   } else {
     mb.processDeltaVeeMultiDof2();
   }
-  // integrateMultiBodyTransforms(); the colliders wait for the next full step.
-  mb.addSplitV();
-  mb.stepPositionsMultiDof(h);
-  multiBodyFrames(mb, lean_world_to_local_, lean_local_origin_);
-  colliders_behind_ = true;
-  frames_fresh_ = true;
-  mb.substractSplitV();
-  updateActivationState(h);
-  clearForces();
 }
 
 void ServoWorld::bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info) {

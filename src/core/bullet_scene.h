@@ -76,6 +76,7 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // (skipped anyway), islands and the constraint solver, unless a joint limit may act. The
   // unconstrained velocities come from TreeDynamics where it handles the multibody.
   void leanStep(btScalar h);
+  void leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo& info);
   // The rest of Bullet's velocity stage once the servos acted: islands, the solve of all
   // constraints and contacts, and the solver's velocity change.
   void solveConstraintsAfterServos(btContactSolverInfo& info);
