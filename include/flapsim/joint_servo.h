@@ -56,6 +56,13 @@ struct ServoLoads {
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> impulse;
 };
 
+/// Per link, about the frame origin: its spatial inertia and its joint's motion subspace, for
+/// a caller that has them already (JointServoSolver::solve).
+struct ServoTree {
+  const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia = nullptr;
+  const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>* subspace = nullptr;
+};
+
 struct ServoSolution {
   std::vector<double> impulse;               // per link: along its joint (0 if fixed or root)
   std::vector<double> velocity_change;       // per link: of its joint velocity
@@ -84,6 +91,11 @@ class JointServoSolver {
   /// std::invalid_argument if a non-empty vector of `loads` has not one entry per link.
   void solve(const std::vector<ServoLink>& links, bool fixed_root,
              const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
+  /// The same with the links' inertias and subspaces given (one per link) instead of computed
+  /// from `links`, which then give only the tree (parents, joint types).
+  void solve(const std::vector<ServoLink>& links, bool fixed_root,
+             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
+             const ServoTree& tree, ServoSolution& out);
 
  private:
   enum class Status { kFixed, kFree, kPrescribed };
@@ -93,6 +105,8 @@ class JointServoSolver {
   std::vector<Status> status_;
   std::vector<double> tau_;  // known impulse of a free joint
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
+  // The links' spatial inertias in this solve: body_inertia_ or the caller's.
+  const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia_ = &body_inertia_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
   std::vector<double> d_, u_;
   Eigen::LLT<Mat6> root_;

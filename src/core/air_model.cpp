@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace flapsim {
 
@@ -372,6 +373,56 @@ Wrench sumCells(const BodyKinematics& body, const AeroSurface& surface, const Ai
 
 constexpr double kDeg = M_PI / 180.0;
 
+// u.n and |u|^2 over a grid face's cells (a, b) as polynomials in the cell indices (see
+// PressureAirModel::bodyWrench): u.n = n0 + a n_a + b n_b, |u|^2 = q00 + a q0a + b q0b +
+// a^2 qaa + a b qab + b^2 qbb.
+struct GridAxes {
+  double n0, n_a, n_b;
+  double q00, q0a, q0b, qaa, qab, qbb;
+};
+
+// Sums over the cells of |u| max(u.n, 0) (the pressure without its constant factor), and
+// of it times a and times b.
+struct GridSums {
+  double sum = 0.0, across = 0.0, along = 0.0;
+};
+
+// Two cells of a row at a time, in the two lanes of a SIMD register (square roots too); a
+// lane past the row's end is weighted zero.
+GridSums gridSums(const GridAxes& g, int rows, int cols) {
+  using Pair = Eigen::Array2d;
+  const Pair step(0.0, 1.0), last(1.0, cols % 2 == 0 ? 1.0 : 0.0);
+  Pair sum = Pair::Zero(), across = Pair::Zero(), along = Pair::Zero();
+  for (int a = 0; a < rows; ++a) {
+    const double un_a = g.n0 + a * g.n_a;
+    const double q_a = g.q00 + a * (g.q0a + a * g.qaa), q_ab = g.q0b + a * g.qab;
+    Pair row = Pair::Zero(), row_b = Pair::Zero();
+    for (int b0 = 0; b0 < cols; b0 += 2) {
+      const Pair b = step + static_cast<double>(b0);
+      const Pair un = (un_a + b * g.n_b).max(0.0);
+      Pair p = (q_a + b * (q_ab + b * g.qbb)).max(0.0).sqrt() * un;
+      if (b0 + 2 > cols) p *= last;
+      row += p;
+      row_b += p * b;
+    }
+    sum += row;
+    across += static_cast<double>(a) * row;
+    along += row_b;
+  }
+  return GridSums{sum.sum(), across.sum(), along.sum()};
+}
+
+// The forces on row i of grid face `face` (see PressureAirModel::bodyWrench), world frame.
+void recordRow(const SurfaceFace& face, int i, double un_i, double n_j, double k, double q_i,
+               double q_ij, double qjj, const Eigen::Matrix3d& rot, std::vector<Vec3>& out) {
+  for (int j = 0; j < face.nv; ++j) {
+    const double un = un_i + j * n_j;
+    if (un <= 0.0) continue;
+    const double p = k * std::sqrt(std::max(0.0, q_i + j * (q_ij + j * qjj))) * un;
+    out[face.first_cell + i * face.nv + j] = rot * (-p * face.normal);
+  }
+}
+
 }  // namespace
 
 Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
@@ -407,24 +458,22 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
       const double k = 0.5 * air.density * cd * first.area;
       const double q00 = u0.squaredNorm(), q0i = 2.0 * u0.dot(du), q0j = 2.0 * u0.dot(dv);
       const double qii = du.squaredNorm(), qij = 2.0 * du.dot(dv), qjj = dv.squaredNorm();
-      double sum_i = 0.0, sum_j = 0.0;
-      for (int i = 0; i < face.nu; ++i) {
-        const double un_i = n0 + i * n_i;
-        const double q_i = q00 + i * (q0i + i * qii), q_ij = q0j + i * qij;
-        double row = 0.0, row_j = 0.0;
-        for (int j = 0; j < face.nv; ++j) {
-          const double un = un_i + j * n_j;
-          if (un <= 0.0) continue;
-          const double p = k * std::sqrt(std::max(0.0, q_i + j * (q_ij + j * qjj))) * un;
-          row += p;
-          row_j += p * j;
-          if (cell_forces) (*cell_forces)[face.first_cell + i * face.nv + j] = flow.rot * (-p * n);
-        }
-        sum += row;
-        sum_i += row * i;
-        sum_j += row_j;
+      // Vectors run along the longer edge of the grid (a plate's rim is one cell wide).
+      GridSums g;
+      if (face.nv >= face.nu) {
+        g = gridSums(GridAxes{n0, n_i, n_j, q00, q0i, q0j, qii, qij, qjj}, face.nu, face.nv);
+      } else {
+        g = gridSums(GridAxes{n0, n_j, n_i, q00, q0j, q0i, qjj, qij, qii}, face.nv, face.nu);
+        std::swap(g.across, g.along);
       }
-      moment = sum * first.centre + sum_i * face.step_u + sum_j * face.step_v;
+      if (cell_forces) {
+        for (int i = 0; i < face.nu; ++i) {
+          recordRow(face, i, n0 + i * n_i, n_j, k, q00 + i * (q0i + i * qii), q0j + i * qij, qjj,
+                    flow.rot, *cell_forces);
+        }
+      }
+      sum = k * g.sum;
+      moment = sum * first.centre + (k * g.across) * face.step_u + (k * g.along) * face.step_v;
     } else {
       if (!flow.advances(face)) continue;
       for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {

@@ -1,8 +1,12 @@
 #include "bullet_scene.h"
 
+#include <BulletDynamics/Featherstone/btMultiBodyInplaceSolverIslandCallback.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 #include <BulletDynamics/Featherstone/btMultiBodyMLCPConstraintSolver.h>
 
 #include <atomic>
+
+#include "joint_limit.h"
 
 namespace flapsim {
 
@@ -14,6 +18,174 @@ void ServoWorld::performDiscreteCollisionDetection() {
 void ServoWorld::solveExternalForces(btContactSolverInfo& info) {
   btMultiBodyDynamicsWorld::solveExternalForces(info);
   if (servos_) servos_();
+}
+
+void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& world_to_local,
+                     btAlignedObjectArray<btVector3>& local_origin) {
+  const int n = mb.getNumLinks();
+  world_to_local.resize(n + 1);
+  local_origin.resize(n + 1);
+  world_to_local[0] = mb.getWorldToBaseRot();
+  local_origin[0] = mb.getBasePos();
+  for (int k = 0; k < n; ++k) {
+    const int parent = mb.getParent(k);
+    world_to_local[k + 1] = mb.getParentToLocalRot(k) * world_to_local[parent + 1];
+    local_origin[k + 1] =
+        local_origin[parent + 1] + quatRotate(world_to_local[k + 1].inverse(), mb.getRVector(k));
+  }
+}
+
+void ServoWorld::step(btScalar h) {
+  frames_fresh_ = false;
+  if (lean_ && leanCapable(h) && may_touch_ && !may_touch_()) {
+    leanStep(h);
+    return;
+  }
+  if (colliders_behind_) catchUpColliders();
+  stepSimulation(h, 0, h);
+}
+
+bool ServoWorld::takeLeanFrames(btAlignedObjectArray<btQuaternion>& world_to_local,
+                                btAlignedObjectArray<btVector3>& local_origin) {
+  if (!frames_fresh_) return false;
+  frames_fresh_ = false;
+  world_to_local = lean_world_to_local_;
+  local_origin = lean_local_origin_;
+  return true;
+}
+
+void ServoWorld::placeColliders() {
+  for (int i = 0; i < m_multiBodies.size(); ++i) {
+    m_multiBodies[i]->updateCollisionObjectWorldTransforms(m_scratch_world_to_local,
+                                                           m_scratch_local_origin);
+  }
+  colliders_behind_ = false;
+  frames_fresh_ = false;
+}
+
+// btMultiBody::updateCollisionObjectWorldTransforms' placement, from the kept frames.
+void ServoWorld::catchUpColliders() {
+  btMultiBody& mb = *m_multiBodies[0];
+  auto place = [this](btCollisionObject* col, int index) {
+    const btQuaternion& q = lean_world_to_local_[index];
+    btTransform tr;
+    tr.setIdentity();
+    tr.setOrigin(lean_local_origin_[index]);
+    tr.setRotation(btQuaternion(-q.x(), -q.y(), -q.z(), q.w()));
+    col->setWorldTransform(tr);
+    col->setInterpolationWorldTransform(tr);
+  };
+  if (mb.getBaseCollider()) place(mb.getBaseCollider(), 0);
+  for (int l = 0; l < mb.getNumLinks(); ++l) {
+    if (btMultiBodyLinkCollider* col = mb.getLink(l).m_collider) place(col, l + 1);
+  }
+  colliders_behind_ = false;
+}
+
+bool ServoWorld::leanCapable(btScalar h) const {
+  if (m_multiBodies.size() != 1 || m_nonStaticRigidBodies.size() != 0 ||
+      m_constraints.size() != 0 || m_actions.size() != 0 || m_internalPreTickCallback ||
+      m_internalTickCallback || m_debugDrawer || btFuzzyZero(h)) {
+    return false;
+  }
+  const btMultiBody& mb = *m_multiBodies[0];
+  if (mb.getCanSleep() || mb.isUsingRK4Integration() || mb.isBaseKinematic()) return false;
+  // Bullet skips a multibody with a sleeping collider; ours never sleep.
+  if (mb.getBaseCollider() && mb.getBaseCollider()->getActivationState() != DISABLE_DEACTIVATION) {
+    return false;
+  }
+  for (int l = 0; l < mb.getNumLinks(); ++l) {
+    const btMultiBodyLinkCollider* col = mb.getLink(l).m_collider;
+    if (col && col->getActivationState() != DISABLE_DEACTIVATION) return false;
+  }
+  return true;
+}
+
+bool ServoWorld::constraintsMayAct(btScalar h) const {
+  for (int i = 0; i < m_multiBodyConstraints.size(); ++i) {
+    const auto* limits = dynamic_cast<const JointLimits*>(m_multiBodyConstraints[i]);
+    if (!limits || limits->mayAct(h)) return true;
+  }
+  return false;
+}
+
+// stepSimulation(h, 0, h) for leanCapable() worlds, stage by stage (Bullet 3.24's
+// btDiscreteDynamicsWorld and btMultiBodyDynamicsWorld), without the stages that change
+// nothing there while no contact is possible.
+void ServoWorld::leanStep(btScalar h) {
+  btMultiBody& mb = *m_multiBodies[0];
+  m_fixedTimeStep = 0;
+  m_localTime = m_latencyMotionStateInterpolation ? 0 : h;
+  // applyGravity(), after the forces of the step (the same sums).
+  mb.addBaseForce(m_gravity * mb.getBaseMass());
+  for (int l = 0; l < mb.getNumLinks(); ++l) mb.addLinkForce(l, m_gravity * mb.getLinkMass(l));
+  btDispatcherInfo& dispatch = getDispatchInfo();
+  dispatch.m_timeStep = h;
+  dispatch.m_stepCount = 0;
+  btContactSolverInfo& info = getSolverInfo();
+  info.m_timeStep = h;
+  leanVelocities(mb, h, info);
+  // integrateMultiBodyTransforms(); the colliders wait for the next full step.
+  mb.addSplitV();
+  mb.stepPositionsMultiDof(h);
+  multiBodyFrames(mb, lean_world_to_local_, lean_local_origin_);
+  colliders_behind_ = true;
+  frames_fresh_ = true;
+  mb.substractSplitV();
+  updateActivationState(h);
+  clearForces();
+}
+
+// solveConstraints(): the unconstrained velocities, the servos, and the constraint solve
+// only if a joint limit may act.
+void ServoWorld::leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo& info) {
+  mb.clearConstraintForces();
+  const bool tree = TreeDynamics::handles(mb);
+  if (tree) {
+    tree_.velocityStep(mb, h);
+  } else {
+    bulletVelocityStep(mb, h, info);
+  }
+  mb.clearForcesAndTorques();
+  tree_fresh_ = tree;
+  if (servos_) servos_();
+  tree_fresh_ = false;
+  // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
+  // the (zero) velocity change's clamp.
+  if (constraintsMayAct(h) || mb.internalNeedsJointFeedback()) {
+    // The solver reads the inertia caches of Bullet's own pass (no velocity change at dt 0;
+    // they depend on positions only).
+    if (tree) bulletVelocityStep(mb, 0, info);
+    solveConstraintsAfterServos(info);
+  } else {
+    mb.processDeltaVeeMultiDof2();
+  }
+}
+
+void ServoWorld::bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info) {
+  mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(h, m_scratch_r, m_scratch_v, m_scratch_m,
+                                                          false, info.m_jointFeedbackInWorldSpace,
+                                                          info.m_jointFeedbackInJointFrame);
+}
+
+void ServoWorld::solveConstraintsAfterServos(btContactSolverInfo& info) {
+  // What solveExternalForces() and internalSingleStepSimulation() did before the servos:
+  // positions have not moved since, so the frames and islands are the same.
+  forwardKinematics();
+  calculateSimulationIslands();
+  m_sortedMultiBodyConstraints.resize(m_multiBodyConstraints.size());
+  for (int i = 0; i < m_multiBodyConstraints.size(); ++i) {
+    m_sortedMultiBodyConstraints[i] = m_multiBodyConstraints[i];
+  }
+  m_sortedMultiBodyConstraints.quickSort(btSortMultiBodyConstraintOnIslandPredicate());
+  btMultiBodyConstraint** sorted =
+      m_sortedMultiBodyConstraints.size() ? &m_sortedMultiBodyConstraints[0] : nullptr;
+  m_sortedConstraints.resize(0);
+  m_solverMultiBodyIslandCallback->setup(&info, nullptr, 0, sorted,
+                                         m_sortedMultiBodyConstraints.size(), getDebugDrawer());
+  m_constraintSolver->prepareSolve(getNumCollisionObjects(), getDispatcher()->getNumManifolds());
+  buildIslands();
+  solveInternalConstraints(info);
 }
 
 bool SerialDantzigSolver::solveMLCP(const btMatrixXu& A, const btVectorXu& b, btVectorXu& x,
@@ -47,6 +219,7 @@ Scene::Scene(const WorldParams& params) {
   world_->setGravity(toBt(params.gravity));
   world_->getSolverInfo().m_numIterations = params.solver_iterations;
   world_->getDispatchInfo().m_deterministicOverlappingPairs = true;
+  world_->setLeanSteps(params.lean_steps);
   if (params.ground) addGround(params);
 }
 

@@ -14,6 +14,7 @@
 
 #include "flapsim/types.h"
 #include "flapsim/world.h"
+#include "tree_dynamics.h"
 
 namespace flapsim {
 
@@ -24,6 +25,12 @@ inline btTransform toBt(const Pose& p) {
 }
 inline Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
 inline Quat fromBt(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+
+// The world frames of a multibody's links at its current positions (index 0: the base,
+// k + 1: link k), by btMultiBody::forwardKinematics' arithmetic but without writing the
+// multibody's cached link transforms.
+void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& world_to_local,
+                     btAlignedObjectArray<btVector3>& local_origin);
 
 // A multibody world that lets its creature's joint servos act between Bullet's
 // unconstrained velocity update (gravity, air, damping) and its constraint solve (limits,
@@ -36,14 +43,59 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // detection (bounding boxes, broadphase, narrowphase) is then skipped: it would find nothing.
   void setGroundCheck(std::function<bool()> may_touch) { may_touch_ = std::move(may_touch); }
 
+  // Lean steps (on by default) take a step in which nothing can touch from the multibody's
+  // own routines and TreeDynamics (leanStep); off, every step is Bullet's.
+  void setLeanSteps(bool on) { lean_ = on; }
+
+  // One step of `h`: what stepSimulation(h, 0, h) does, with the same results up to the
+  // rounding of the lean step's velocity update.
+  void step(btScalar h);
+  // Right after a lean step: copies the frames of the positions it ended with
+  // (multiBodyFrames) and returns true. Else, or called again, false.
+  bool takeLeanFrames(btAlignedObjectArray<btQuaternion>& world_to_local,
+                      btAlignedObjectArray<btVector3>& local_origin);
+  // While the servos of a lean step act: its velocity update's tree (inertias and joint
+  // subspaces of the step's positions); else null.
+  const TreeDynamics* leanTree() const { return tree_fresh_ ? &tree_ : nullptr; }
+  // Puts the colliders where the multibody now is (after its state was set between steps).
+  void placeColliders();
+
   void performDiscreteCollisionDetection() override;
 
  protected:
   void solveExternalForces(btContactSolverInfo& info) override;
 
  private:
+  // Whether the world holds what a lean step handles: one multibody that never sleeps, its
+  // constraints our joint limits, nothing else that moves or acts, no callbacks.
+  bool leanCapable(btScalar h) const;
+  // Whether a multibody constraint could have rows this step (one we do not know: yes).
+  bool constraintsMayAct(btScalar h) const;
+  // Bullet's step without the work that finds nothing while no contact is possible: the
+  // interpolated transforms (overwritten before anything reads them), collision detection
+  // (skipped anyway), islands and the constraint solver, unless a joint limit may act. The
+  // unconstrained velocities come from TreeDynamics where it handles the multibody.
+  void leanStep(btScalar h);
+  void leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo& info);
+  // The rest of Bullet's velocity stage once the servos acted: islands, the solve of all
+  // constraints and contacts, and the solver's velocity change.
+  void solveConstraintsAfterServos(btContactSolverInfo& info);
+  // Bullet's articulated-body pass: velocities += h * accelerations, and its solver caches.
+  void bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info);
+  // Where Bullet's step would have left the colliders: at the frames of the last lean step.
+  void catchUpColliders();
+
   std::function<void()> servos_;
   std::function<bool()> may_touch_;
+  bool lean_ = true;
+  TreeDynamics tree_;  // the lean step's velocity update
+  bool tree_fresh_ = false;
+  // Lean steps leave the colliders behind (only collision detection reads them) and keep
+  // the frames they would have been placed at; the next full step places them first.
+  bool colliders_behind_ = false;
+  bool frames_fresh_ = false;  // a lean step's frames, not taken yet
+  btAlignedObjectArray<btQuaternion> lean_world_to_local_;
+  btAlignedObjectArray<btVector3> lean_local_origin_;
 };
 
 // Bullet's Dantzig LCP keeps its failure flag in a global variable (s_error in

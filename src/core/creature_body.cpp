@@ -7,13 +7,15 @@
 
 namespace flapsim {
 
-BodyKinematics LinkFrames::kinematics(int k) const {
-  const btQuaternion to_world = world_to_local[k].inverse();
+BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
   BodyKinematics kin;
-  kin.orientation = fromBt(to_world);
+  kin.orientation = fromBt(world_to_local[k].inverse());
+  // One rotation matrix for both velocities: cheaper than two quaternion rotations.
+  const Mat3 r = kin.orientation.toRotationMatrix();
   kin.com = fromBt(local_origin[k]);
-  kin.linear_velocity = fromBt(quatRotate(to_world, vel[k]));
-  kin.angular_velocity = fromBt(quatRotate(to_world, omega[k]));
+  kin.linear_velocity = r * fromBt(vel[k]);
+  kin.angular_velocity = r * fromBt(omega[k]);
+  if (rotation) *rotation = r;
   return kin;
 }
 
@@ -31,21 +33,10 @@ void CreatureBody::updateKinematics() {
 }
 
 LinkFrames CreatureBody::currentFrames() const {
-  // btMultiBody::forwardKinematics, step for step, but from const accessors only (it also
-  // writes Bullet's cached link transforms).
   const btMultiBody& m = *mb;
   const int n = m.getNumLinks();
   LinkFrames f;
-  f.world_to_local.resize(n + 1);
-  f.local_origin.resize(n + 1);
-  f.world_to_local[0] = m.getWorldToBaseRot();
-  f.local_origin[0] = m.getBasePos();
-  for (int k = 0; k < n; ++k) {
-    const int parent = m.getParent(k);
-    f.world_to_local[k + 1] = m.getParentToLocalRot(k) * f.world_to_local[parent + 1];
-    f.local_origin[k + 1] =
-        f.local_origin[parent + 1] + quatRotate(f.world_to_local[k + 1].inverse(), m.getRVector(k));
-  }
+  multiBodyFrames(m, f.world_to_local, f.local_origin);
   f.omega.resize(n + 1);
   f.vel.resize(n + 1);
   m.compTreeLinkVelocities(f.omega.data(), f.vel.data());
@@ -112,7 +103,14 @@ void CreatureBody::applyServos() {
     solution.saturated.assign(demands.size(), false);
     return;
   }
-  updateServoLinks();
+  // A lean step has the links' inertias and joint subspaces already (same frame and origin).
+  ServoTree tree;
+  if (const TreeDynamics* lean = scene->world().leanTree()) {
+    tree.inertia = &lean->bodyInertias();
+    tree.subspace = &lean->jointAxes();
+  } else {
+    updateServoLinks();
+  }
   if (fluid_active) {
     // (M + A) (v1 - v0) = M (vb - v0) + servo impulses, with A the fluid's implicit part
     // and vb Bullet's velocities after this step's forces: solved for v1 - vb, it is the
@@ -128,21 +126,25 @@ void CreatureBody::applyServos() {
     for (size_t i = 0; i < aero.size(); ++i) {
       const int k = aero[i].link;
       const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
-      drag_[i] = spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
+      // Links without implicit drag or added mass: zero matrices, nothing to move.
+      drag_[i] = aero[i].drag_zero ? Mat6::Zero()
+                                   : spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
       change_[i] = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
                    spatialVelocity(k, frames.omega[k], frames.vel[k]);
-      loads_.extra_inertia[k] = spatialToCommonFrame(aero[i].added, Quat::Identity(), offset);
+      if (!aero[i].added_zero) {
+        loads_.extra_inertia[k] = spatialToCommonFrame(aero[i].added, Quat::Identity(), offset);
+      }
       loads_.extra_inertia[k] += drag_[i];
       loads_.impulse[k] = -loads_.extra_inertia[k] * change_[i];
     }
-    servo.solve(servo_links, model->fixed_base, demands, loads_, solution);
+    servo.solve(servo_links, model->fixed_base, demands, loads_, tree, solution);
     // The implicit drag's impulse over the step, -step D (v1 - v0) on each aero body (the
     // added mass is part of the momentum itself: see measureMomentum()).
     for (size_t i = 0; i < aero.size(); ++i) {
       drag_impulse_ -= drag_[i] * (change_[i] + solution.link_velocity_change[aero[i].link]);
     }
   } else {
-    servo.solve(servo_links, model->fixed_base, demands, solution);
+    servo.solve(servo_links, model->fixed_base, demands, ServoLoads(), tree, solution);
   }
   for (size_t k = 1; k < demands.size(); ++k) {
     if (servo_links[k].joint == ServoJointType::kFixed) continue;
@@ -165,10 +167,11 @@ SystemMomentum CreatureBody::measureMomentum() {
   const CreatureModel& m = *model;
   motions_.resize(m.links.size());
   orientations_.resize(m.links.size());
+  rotations_.resize(m.links.size());
   for (size_t k = 0; k < m.links.size(); ++k) {
-    const BodyKinematics kin = frames.kinematics(static_cast<int>(k));
+    Mat3& r = rotations_[k];
+    const BodyKinematics kin = frames.kinematics(static_cast<int>(k), &r);
     orientations_[k] = kin.orientation;
-    const Mat3 r = kin.orientation.toRotationMatrix();
     BodyMotion& b = motions_[k];
     b.mass = m.links[k].mass;
     b.com = kin.com;
@@ -217,6 +220,7 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   // semi-implicit step takes the end velocity. A servo that holds its target velocity
   // moves at the end velocity all step, as Bullet has it. Not in contact: impulses there.
   // Nor near a joint's stop, where the limit's impulse may have acted.
+  bool moved = false;  // a joint, since Bullet's step
   if (!scene->hasContacts()) {
     for (size_t k = 1; k < solution.saturated.size(); ++k) {
       if (!solution.saturated[k]) continue;
@@ -227,10 +231,14 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
       const double reach = dt * std::max(std::abs(v0), std::abs(v1));
       if (j.limited && (q - j.lower <= reach || j.upper - q <= reach)) continue;
       mb->setJointPos(l, q - 0.5 * dt * (v1 - v0));
+      moved = true;
     }
   }
   const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step
-  updateKinematics();
+  // A lean step already has the frames of its end positions.
+  const bool stepped = scene->world().takeLeanFrames(frames.world_to_local, frames.local_origin);
+  if (moved || !stepped) mb->forwardKinematics(frames.world_to_local, frames.local_origin);
+  mb->compTreeLinkVelocities(frames.omega.data(), frames.vel.data());
   if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) return;
   // What the momentum must be: the start plus the external impulses (gravity has no moment
   // about the centre of mass).
@@ -252,9 +260,11 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   mb->setBaseVel(mb->getBaseVel() + toBt(c.velocity + c.angular_velocity.cross(base - now.com)));
   for (int k = 0; k < frames.local_origin.size(); ++k) {
     const Vec3 x = fromBt(frames.local_origin[k]);
-    const btQuaternion& to_local = frames.world_to_local[k];
-    frames.vel[k] += quatRotate(to_local, toBt(c.velocity + c.angular_velocity.cross(x - now.com)));
-    frames.omega[k] += quatRotate(to_local, toBt(c.angular_velocity));
+    // Into the link's frame with measureMomentum()'s rotation of these frames.
+    const Mat3& to_world = rotations_[k];
+    const Vec3 v = c.velocity + c.angular_velocity.cross(x - now.com);
+    frames.vel[k] += toBt(to_world.transpose() * v);
+    frames.omega[k] += toBt(to_world.transpose() * c.angular_velocity);
     frames.local_origin[k] += toBt(shift);
   }
   // The momentum is now the target, about the shifted centre of mass: the next step starts

@@ -21,8 +21,8 @@ namespace flapsim {
 
 // Frames and velocities of every link's COM (index = model link), as Bullet computes them.
 struct LinkFrames {
-  // World-frame kinematics of link k's centre of mass.
-  BodyKinematics kinematics(int k) const;
+  // World-frame kinematics of link k's centre of mass; its rotation matrix in `rotation`.
+  BodyKinematics kinematics(int k, Mat3* rotation = nullptr) const;
 
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
@@ -118,6 +118,7 @@ struct CreatureBody {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
   std::vector<Quat, Eigen::aligned_allocator<Quat>> orientations_;  // per link, of the frames
+  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rotations_;     // the same as matrices
 };
 
 }  // namespace flapsim

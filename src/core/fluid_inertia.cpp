@@ -52,13 +52,25 @@ Mat6 normalInertia(const std::vector<NormalMass>& masses, double scale) {
 
 Mat6 spatialToCommonFrame(const Mat6& body, const Quat& orientation, const Vec3& offset) {
   // Rotation to world axes, then the shift of the reference point: a force f at the COM
-  // has the moment offset x f about the point, so the force transform is [1 offset^; 0 1].
-  Mat6 x = Mat6::Zero();
-  const Mat3 r = orientation.toRotationMatrix();
-  x.topLeftCorner<3, 3>() = r;
-  x.topRightCorner<3, 3>() = skew(offset) * r;
-  x.bottomRightCorner<3, 3>() = r;
-  return x * body * x.transpose();
+  // has the moment offset x f about the point, so the force transform is T = [1 S; 0 1]
+  // (S = offset^). Block by block (3x3): X body X^T with X = T diag(r, r), without the
+  // products by X's zero and identity blocks.
+  Mat6 out = body;
+  if (orientation.coeffs() != Quat::Identity().coeffs()) {
+    const Mat3 r = orientation.toRotationMatrix();
+    for (int i = 0; i < 6; i += 3) {
+      for (int j = 0; j < 6; j += 3) {
+        out.block<3, 3>(i, j) = r * body.block<3, 3>(i, j) * r.transpose();
+      }
+    }
+  }
+  if (offset.isZero(0.0)) return out;
+  const Mat3 s = skew(offset);
+  const Mat3 top_right = out.topRightCorner<3, 3>() + s * out.bottomRightCorner<3, 3>();
+  out.topLeftCorner<3, 3>() += s * out.bottomLeftCorner<3, 3>() + top_right * s.transpose();
+  out.bottomLeftCorner<3, 3>() += out.bottomRightCorner<3, 3>() * s.transpose();
+  out.topRightCorner<3, 3>() = top_right;
+  return out;
 }
 
 Mat6 dragDamping(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air) {

@@ -35,6 +35,15 @@ JointLimits::JointLimits(btMultiBody* body, std::vector<Limit> limits)
   m_maxAppliedImpulse = 1e6;  // as the multibody's own bound (body_builder.cpp)
 }
 
+bool JointLimits::mayAct(btScalar dt) const {
+  for (const Limit& l : limits_) {
+    const Nearer n = nearer(l, m_bodyA->getJointPos(l.link));
+    const btScalar approach = -n.direction * m_bodyA->getJointVel(l.link);
+    if (n.gap <= kMargin + 2 * dt * std::max<btScalar>(approach, 0)) return true;
+  }
+  return false;
+}
+
 void JointLimits::finalizeMultiDof() {
   allocateJacobiansMultiDof();
   m_numDofsFinalized = m_jacSizeBoth;
@@ -57,13 +66,7 @@ void JointLimits::createConstraintRows(btMultiBodyConstraintArray& rows,
                                        const btContactSolverInfo& info) {
   if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
   const btScalar dt = info.m_timeStep;
-  bool any = false;
-  for (const Limit& l : limits_) {
-    const Nearer n = nearer(l, m_bodyA->getJointPos(l.link));
-    const btScalar approach = -n.direction * m_bodyA->getJointVel(l.link);
-    if (n.gap <= kMargin + 2 * dt * std::max<btScalar>(approach, 0)) any = true;
-  }
-  if (!any) return;
+  if (!mayAct(dt)) return;
 
   const btVector3 zero(0, 0, 0);
   for (int row = 0; row < static_cast<int>(limits_.size()); ++row) {

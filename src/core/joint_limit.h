@@ -31,6 +31,10 @@ class JointLimits : public btMultiBodyConstraint {
   // `limits` (at least one) of the joints of `body`.
   JointLimits(btMultiBody* body, std::vector<Limit> limits);
 
+  // Whether any joint could reach one of its bounds within a step of `dt` at its current
+  // velocity: only then does the limit have rows (createConstraintRows).
+  bool mayAct(btScalar dt) const;
+
   void finalizeMultiDof() override;
   int getIslandIdA() const override;
   int getIslandIdB() const override;

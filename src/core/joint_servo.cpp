@@ -14,11 +14,14 @@ Mat3 skew(const Vec3& v) {
 }
 
 Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia) {
-  const Mat3 c = skew(com);
+  // -m [c]x [c]x = m (|c|^2 1 - c c^T), without the 3x3 product.
+  const Vec3 mc = mass * com;
+  const Mat3 c = skew(mc);
   Mat6 out;
-  out.topLeftCorner<3, 3>() = inertia - mass * c * c;
-  out.topRightCorner<3, 3>() = mass * c;
-  out.bottomLeftCorner<3, 3>() = -mass * c;
+  out.topLeftCorner<3, 3>() = inertia - mc * com.transpose();
+  out.topLeftCorner<3, 3>().diagonal().array() += mc.dot(com);
+  out.topRightCorner<3, 3>() = c;
+  out.bottomLeftCorner<3, 3>() = -c;
   out.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
   return out;
 }
@@ -48,10 +51,20 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
 void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
                              const std::vector<ServoDemand>& demands, const ServoLoads& loads,
                              ServoSolution& out) {
+  solve(links, fixed_root, demands, loads, ServoTree(), out);
+}
+
+void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
+                             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
+                             const ServoTree& tree, ServoSolution& out) {
   const size_t n = links.size();
   if (demands.size() != n) {
     throw std::invalid_argument("JointServoSolver: " + std::to_string(demands.size()) +
                                 " demands for " + std::to_string(n) + " links");
+  }
+  const bool given = tree.inertia && tree.subspace;
+  if (given && (tree.inertia->size() != n || tree.subspace->size() != n)) {
+    throw std::invalid_argument("JointServoSolver: inertias or subspaces not one per link");
   }
   for (size_t size : {loads.extra_inertia.size(), loads.impulse.size()}) {
     if (size != 0 && size != n) {
@@ -71,6 +84,7 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   status_.resize(n);
   tau_.assign(n, 0.0);
   body_inertia_.resize(n);
+  inertia_ = given && loads.extra_inertia.empty() ? tree.inertia : &body_inertia_;
   articulated_.resize(n);
   bias_.resize(n);
   s_.resize(n);
@@ -86,9 +100,14 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   int driven = 0;
   for (size_t k = 0; k < n; ++k) {
     const ServoLink& l = links[k];
-    body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
+    // Given inertias are read where they are, unless loads add to them.
+    if (!given) {
+      body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
+    } else if (!loads.extra_inertia.empty()) {
+      body_inertia_[k] = (*tree.inertia)[k];
+    }
     if (!loads.extra_inertia.empty()) body_inertia_[k] += loads.extra_inertia[k];
-    s_[k] = motionSubspace(l);
+    s_[k] = given ? (*tree.subspace)[k] : motionSubspace(l);
     if (k == 0 || l.joint == ServoJointType::kFixed) {
       status_[k] = Status::kFixed;
     } else if (demands[k].active && demands[k].max_impulse > 0.0) {
@@ -146,7 +165,7 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
                             ServoSolution& out) {
   const size_t n = links.size();
   for (size_t k = 0; k < n; ++k) {
-    articulated_[k] = body_inertia_[k];
+    articulated_[k] = (*inertia_)[k];
     // The bias impulse is what must act for no velocity change: minus the applied one.
     if (loads.impulse.empty()) {
       bias_[k].setZero();

@@ -102,20 +102,21 @@ std::string checkMotion(const CreatureModel& m, const CreatureBody& b, double ma
   const LinkFrames& f = b.frames;
   for (size_t k = 0; k < m.links.size(); ++k) {
     const int i = static_cast<int>(k);
-    const std::string link = "link '" + m.links[k].name + "'";
+    // Named only on a fault: this runs every step.
+    auto link = [&m, k] { return "link '" + m.links[k].name + "'"; };
     const btQuaternion& q = f.world_to_local[i];
     if (!std::isfinite(f.local_origin[i].x() + f.local_origin[i].y() + f.local_origin[i].z()) ||
         !std::isfinite(q.x() + q.y() + q.z() + q.w())) {
-      return link + " has a non-finite pose";
+      return link() + " has a non-finite pose";
     }
     const double v = f.vel[k].length(), w = f.omega[k].length();
-    if (!std::isfinite(v) || !std::isfinite(w)) return link + " has a non-finite velocity";
+    if (!std::isfinite(v) || !std::isfinite(w)) return link() + " has a non-finite velocity";
     // The fastest point of the link: its COM's speed plus the spin times its reach.
     const double speed = v + w * b.reach[k];
     if (speed > max_speed) {
       std::ostringstream msg;
       msg.precision(4);
-      msg << link << " moves at " << speed << " m/s (max_speed " << max_speed << " m/s)";
+      msg << link() << " moves at " << speed << " m/s (max_speed " << max_speed << " m/s)";
       return msg.str();
     }
   }
@@ -206,10 +207,8 @@ class World::Impl {
   // for a body just built.
   static void settle(CreatureBody& b) {
     b.updateKinematics();
-    btAlignedObjectArray<btQuaternion> rotations;
-    btAlignedObjectArray<btVector3> origins;
-    b.mb->updateCollisionObjectWorldTransforms(rotations, origins);
-    btMultiBodyDynamicsWorld& world = b.scene->world();
+    ServoWorld& world = b.scene->world();
+    world.placeColliders();
     for (auto& col : b.colliders) {
       world.updateSingleAabb(col.get());
       if (col->getBroadphaseHandle()) {
@@ -576,7 +575,7 @@ class World::Impl {
     b.fluid_active = false;
     if (params_.air.enabled) air_.apply(b, params_, h);
     applyWrenches(records_[i].wrenches, b);
-    b.scene->world().stepSimulation(h, 0, h);
+    b.scene->world().step(h);
     b.endStep(params_.gravity, h);
   }
 

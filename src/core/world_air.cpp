@@ -20,6 +20,15 @@ Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
 bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
                        double reach, double step) {
   if (a.mass <= 0.0) return true;
+  // Far below the threshold (each speed under half of it, squared: no square root), as
+  // most links in air are.
+  const double limit =
+      kImplicitDragRatio * a.mass / (step * air.density * a.surface.drag_coefficient * a.area);
+  const double half = 0.45 * limit;
+  if ((kin.linear_velocity - air.wind).squaredNorm() < half * half &&
+      kin.angular_velocity.squaredNorm() * reach * reach < half * half) {
+    return false;
+  }
   const double speed =
       (kin.linear_velocity - air.wind).norm() + kin.angular_velocity.norm() * reach;
   const double rate = air.density * a.surface.drag_coefficient * a.area * speed;
@@ -79,11 +88,23 @@ void AirStage::apply(CreatureBody& b, const WorldParams& params, double step) co
     a.last.com = kin.com;
     a.last.wrench = w;
     b.addExternal(kin.com, w);
-    a.added = b.addedMass(a, kin.orientation);
+    if (a.has_added_mass) {
+      a.added = b.addedMass(a, kin.orientation);
+      a.added_zero = false;
+    } else if (!a.added_zero) {
+      a.added.setZero();
+      a.added_zero = true;
+    }
     const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, b.reach[k], step);
     // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
     // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
-    a.drag = implicit ? Mat6(0.5 * step * dragDamping(kin, a.surface, air)) : Mat6::Zero();
+    if (implicit) {
+      a.drag = 0.5 * step * dragDamping(kin, a.surface, air);
+      a.drag_zero = false;
+    } else if (!a.drag_zero) {
+      a.drag.setZero();
+      a.drag_zero = true;
+    }
     b.fluid_active = b.fluid_active || implicit || (a.has_added_mass && air.density > 0.0);
     if (record_cells_) {
       a.last.cell_centres.resize(a.surface.cells.size());

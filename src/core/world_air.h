@@ -28,6 +28,7 @@ struct AeroBody {
   bool has_added_mass = false;  // added_mass is not zero
   Mat6 added = Mat6::Zero();
   Mat6 drag = Mat6::Zero();
+  bool added_zero = true, drag_zero = true;  // kept zero without rewriting them each step
   double mass = 0.0;  // the link's own (a lower bound of its effective mass in the tree)
   double area = 0.0;  // of all its air-facing cells
   LinkAero last;      // the wrench of the last step

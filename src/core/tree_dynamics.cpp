@@ -1,0 +1,189 @@
+#include "tree_dynamics.h"
+
+#include <Eigen/Cholesky>
+
+#include "bullet_scene.h"
+
+namespace flapsim {
+
+namespace {
+
+// Spatial cross products ([angular; linear]): of a motion with a motion, and with a force.
+Vec6 crossMotion(const Vec6& v, const Vec6& m) {
+  Vec6 out;
+  out << v.head<3>().cross(m.head<3>()),
+      v.head<3>().cross(m.tail<3>()) + v.tail<3>().cross(m.head<3>());
+  return out;
+}
+
+Vec6 crossForce(const Vec6& v, const Vec6& f) {
+  Vec6 out;
+  out << v.head<3>().cross(f.head<3>()) + v.tail<3>().cross(f.tail<3>()),
+      v.head<3>().cross(f.tail<3>());
+  return out;
+}
+
+// A force and a torque (world frame, at a body's COM `com`) as a spatial force about the
+// base's COM.
+Vec6 spatialForce(const btVector3& force, const btVector3& torque, const Vec3& com) {
+  const Vec3 f = fromBt(force);
+  Vec6 out;
+  out << fromBt(torque) + com.cross(f), f;
+  return out;
+}
+
+}  // namespace
+
+bool TreeDynamics::handles(const btMultiBody& mb) {
+  if (mb.getLinearDamping() != 0 || mb.getAngularDamping() != 0 || !mb.getUseGyroTerm()) {
+    return false;
+  }
+  for (int i = 0; i < mb.getNumLinks(); ++i) {
+    const btMultibodyLink& l = mb.getLink(i);
+    if (l.m_jointType != btMultibodyLink::eRevolute &&
+        l.m_jointType != btMultibodyLink::ePrismatic && l.m_jointType != btMultibodyLink::eFixed) {
+      return false;
+    }
+    if (mb.isLinkKinematic(i) || l.m_jointFeedback) return false;
+  }
+  return true;
+}
+
+// Rotations, COMs, spatial inertias and joint axes, about the base's COM, as
+// btMultiBody::forwardKinematics places the links.
+void TreeDynamics::linkFrames(const btMultiBody& mb) {
+  const int n = mb.getNumLinks();
+  for (auto* v : {&inv_d_, &u_}) v->resize(n + 1);
+  to_local_.resize(n + 1);
+  rot_.resize(n + 1);
+  com_.resize(n + 1);
+  axis_.resize(n + 1);
+  body_.resize(n + 1);
+  to_local_[0] = fromBt(mb.getWorldToBaseRot());
+  rot_[0] = to_local_[0].conjugate().toRotationMatrix();
+  com_[0].setZero();
+  const Vec3 base_inertia = fromBt(mb.getBaseInertia());
+  body_[0] = spatialInertia(mb.getBaseMass(), com_[0],
+                            rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose());
+  axis_[0].setZero();
+  for (int k = 0; k < n; ++k) {
+    const btMultibodyLink& l = mb.getLink(k);
+    const int b = k + 1, p = l.m_parent + 1;
+    to_local_[b] = fromBt(l.m_cachedRotParentToThis) * to_local_[p];
+    rot_[b] = to_local_[b].conjugate().toRotationMatrix();
+    com_[b] = com_[p] + rot_[b] * fromBt(l.m_cachedRVector);
+    const Vec3 inertia = fromBt(l.m_inertiaLocal);
+    body_[b] =
+        spatialInertia(l.m_mass, com_[b], rot_[b] * inertia.asDiagonal() * rot_[b].transpose());
+    axis_[b].setZero();
+    if (l.m_dofCount == 1) {
+      // Bullet's axis moves the link's COM (linear part); about the base's COM instead.
+      const Vec3 w = rot_[b] * fromBt(l.m_axes[0].m_topVec);
+      axis_[b] << w, rot_[b] * fromBt(l.m_axes[0].m_bottomVec) + com_[b].cross(w);
+    }
+  }
+}
+
+// Spatial velocities, velocity-product accelerations and the bias forces (velocity
+// products minus applied forces), which start the articulated bias.
+void TreeDynamics::velocitiesAndBias(const btMultiBody& mb) {
+  const int n = mb.getNumLinks();
+  velocity_.resize(n + 1);
+  coriolis_.resize(n + 1);
+  bias_.resize(n + 1);
+  velocity_[0] << fromBt(mb.getBaseOmega()), fromBt(mb.getBaseVel());
+  coriolis_[0].setZero();
+  bias_[0] = crossForce(velocity_[0], body_[0] * velocity_[0]) -
+             spatialForce(mb.getBaseForce(), mb.getBaseTorque(), com_[0]);
+  for (int k = 0; k < n; ++k) {
+    const btMultibodyLink& l = mb.getLink(k);
+    const int b = k + 1, p = l.m_parent + 1;
+    const Vec6 joint = axis_[b] * (l.m_dofCount == 1 ? mb.getJointVel(k) : 0.0);
+    velocity_[b] = velocity_[p] + joint;
+    coriolis_[b] = crossMotion(velocity_[b], joint);
+    bias_[b] = crossForce(velocity_[b], body_[b] * velocity_[b]) -
+               spatialForce(l.m_appliedForce, l.m_appliedTorque, com_[b]);
+  }
+}
+
+// Leaves to root: articulated inertias and bias forces.
+void TreeDynamics::inwardPass(const btMultiBody& mb) {
+  const int n = mb.getNumLinks();
+  u_vec_.resize(n + 1);
+  inertia_ = body_;
+  for (int k = n - 1; k >= 0; --k) {
+    const btMultibodyLink& l = mb.getLink(k);
+    const int b = k + 1, p = l.m_parent + 1;
+    Mat6& ia = inertia_[b];
+    Vec6& pa = bias_[b];
+    if (l.m_dofCount == 1) {
+      u_vec_[b] = ia * axis_[b];
+      const double d = axis_[b].dot(u_vec_[b]);
+      inv_d_[b] = d >= SIMD_EPSILON ? 1.0 / d : 0.0;  // Bullet's guard
+      u_[b] = mb.getJointTorque(k) - axis_[b].dot(pa);
+      ia.noalias() -= (u_vec_[b] * inv_d_[b]) * u_vec_[b].transpose();
+      pa += ia * coriolis_[b] + u_vec_[b] * (u_[b] * inv_d_[b]);
+    } else {
+      pa += ia * coriolis_[b];
+    }
+    inertia_[p] += ia;
+    bias_[p] += pa;
+  }
+}
+
+// Root to leaves: accelerations, in Bullet's velocity order.
+void TreeDynamics::outwardPass(const btMultiBody& mb) {
+  const int n = mb.getNumLinks();
+  accel_.resize(n + 1);
+  out_.assign(6 + static_cast<size_t>(mb.getNumDofs()), 0.0);
+  if (mb.hasFixedBase()) {
+    accel_[0].setZero();
+  } else {
+    accel_[0] = -inertia_[0].llt().solve(bias_[0]);  // symmetric positive definite
+  }
+  // The base COM's acceleration: the spatial one plus omega x v.
+  const Vec3 base_linear =
+      accel_[0].tail<3>() + velocity_[0].head<3>().cross(velocity_[0].tail<3>());
+  out_[0] = accel_[0][0];
+  out_[1] = accel_[0][1];
+  out_[2] = accel_[0][2];
+  out_[3] = base_linear[0];
+  out_[4] = base_linear[1];
+  out_[5] = base_linear[2];
+  for (int k = 0; k < n; ++k) {
+    const btMultibodyLink& l = mb.getLink(k);
+    const int b = k + 1, p = l.m_parent + 1;
+    accel_[b] = accel_[p] + coriolis_[b];
+    if (l.m_dofCount != 1) continue;
+    const double qdd = (u_[b] - u_vec_[b].dot(accel_[b])) * inv_d_[b];
+    accel_[b] += axis_[b] * qdd;
+    out_[6 + static_cast<size_t>(l.m_dofOffset)] = qdd;
+  }
+}
+
+const std::vector<double>& TreeDynamics::accelerations(const btMultiBody& mb) {
+  linkFrames(mb);
+  velocitiesAndBias(mb);
+  inwardPass(mb);
+  outwardPass(mb);
+  return out_;
+}
+
+void TreeDynamics::velocityStep(btMultiBody& mb, double dt) {
+  const std::vector<double>& a = accelerations(mb);
+  const btScalar most = mb.getMaxCoordinateVelocity();
+  auto add = [dt, most](btScalar v, double acc) {
+    btScalar out = v + acc * dt;
+    btClamp(out, -most, most);
+    return out;
+  };
+  const btVector3 w = mb.getBaseOmega(), v = mb.getBaseVel();
+  mb.setBaseOmega(btVector3(add(w.x(), a[0]), add(w.y(), a[1]), add(w.z(), a[2])));
+  mb.setBaseVel(btVector3(add(v.x(), a[3]), add(v.y(), a[4]), add(v.z(), a[5])));
+  for (int k = 0; k < mb.getNumLinks(); ++k) {
+    const btMultibodyLink& l = mb.getLink(k);
+    if (l.m_dofCount == 1) mb.setJointVel(k, add(mb.getJointVel(k), a[6 + l.m_dofOffset]));
+  }
+}
+
+}  // namespace flapsim
