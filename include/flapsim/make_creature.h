@@ -34,7 +34,7 @@ struct FlapUnitParams {
   /// its own and balances as the one-pair creature does, while the chain is rigid in pitch
   /// and yaw. kPitch (wave 1): the chain is rigid in roll and folds in pitch; with the
   /// one-pair controller on every unit, 20 tilted starts of 60 s at 1 ms fly 8/20 (4 units,
-  /// springs 0.5 N m/rad), 1/20 (6) and 0/20 (12), against 18/20, 16/20 and 16/20 with roll
+  /// springs 0.5 N m/rad), 1/20 (6) and 0/20 (12), against 18/20, 16/20 and 14/20 with roll
   /// joints (README, robust flight).
   LinkAxis link_axis = LinkAxis::kRoll;
   /// N m/rad: a <spring> on each passive joint between units (0: none).
