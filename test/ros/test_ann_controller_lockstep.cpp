@@ -74,8 +74,7 @@ TEST(AnnControllerLockstep, MatchesTheInProcessEvaluation) {
   std::printf("mean height over %g s: ROS lockstep %.6f m, in process %.6f m\n", duration,
               ros_fitness, in_process.fitness);
   // Lockstep is bit-reproducible: the same heights to the last bit. (Whether the committed
-  // controller flies is not this test's claim: under momentum-true steps it does not yet,
-  // see test_evolve.cpp; the unit falls, which still exercises every control period.)
+  // controller flies is the claim of the afc_lockstep rostests and test_evolve.cpp.)
   EXPECT_EQ(ros_fitness, in_process.fitness);
 }
 
