@@ -19,6 +19,7 @@
 #include "flapsim/GetState.h"
 #include "flapsim/SetState.h"
 #include "flapsim/Step.h"
+#include "recorder.h"
 #include "wait_for.h"
 
 namespace {
@@ -29,35 +30,7 @@ constexpr double kRho = 1.204, kCd = 1.15;
 // plate.urdf: 0.2 m x 0.2 m x 2 mm, 10 g
 constexpr double kPlateMass = 0.01, kPlateArea = 0.04, kPlateVolume = 0.2 * 0.2 * 0.002;
 
-template <class M>
-class Recorder {
- public:
-  void start(ros::NodeHandle& nh, const std::string& topic) {
-    sub_ = nh.subscribe<M>(topic, 1000,
-                           [this](const boost::shared_ptr<const M>& m) { msgs.push_back(m); });
-  }
-  bool connected() const { return sub_.getNumPublishers() > 0; }
-  /// The last message stamped `t` (waits for it); null if none came.
-  boost::shared_ptr<const M> at(const ros::Time& t) {
-    boost::shared_ptr<const M> found;
-    flapsim_test::waitFor(
-        [&] {
-          for (auto it = msgs.rbegin(); it != msgs.rend(); ++it) {
-            if ((*it)->header.stamp == t) {
-              found = *it;
-              return true;
-            }
-          }
-          return false;
-        },
-        kWait);
-    return found;
-  }
-  std::vector<boost::shared_ptr<const M>> msgs;
-
- private:
-  ros::Subscriber sub_;
-};
+using flapsim_test::Recorder;
 
 // Sets doubles through dynamic_reconfigure; returns the config the node runs after it.
 dynamic_reconfigure::Config reconfigure(const std::vector<std::pair<std::string, double>>& values) {
@@ -249,7 +222,7 @@ TEST_F(Drive, ApplyWrenchOfTheWeightMakesAPlateHover) {
 // rest in the air, after one step it reads only the buoyancy (what is not gravity).
 TEST_F(Drive, ImuReadsGravityAtRestAndOnlyBuoyancyInFall) {
   const ros::Time t = step(500);
-  const auto m = imu_.at(t);
+  const auto m = imu_.at(t, kWait);
   ASSERT_TRUE(m) << "no IMU message stamped " << t;
   EXPECT_EQ(m->header.frame_id, "rest/plate");
   EXPECT_NEAR(m->linear_acceleration.z, kG, 1e-3);
@@ -266,7 +239,7 @@ TEST_F(Drive, ImuReadsGravityAtRestAndOnlyBuoyancyInFall) {
   r.pose = pose(0, 0, 20);
   ASSERT_TRUE(setState(r).success);
   const ros::Time t1 = step(1);
-  const auto f = fall_imu_.at(t1);
+  const auto f = fall_imu_.at(t1, kWait);
   ASSERT_TRUE(f) << "no IMU message stamped " << t1;
   EXPECT_NEAR(f->linear_acceleration.z, kRho * kPlateVolume * kG / kPlateMass, 1e-9);
   EXPECT_NEAR(std::hypot(f->linear_acceleration.x, f->linear_acceleration.y), 0.0, 1e-12);
@@ -275,7 +248,7 @@ TEST_F(Drive, ImuReadsGravityAtRestAndOnlyBuoyancyInFall) {
 // One message with every creature's root, in spawn order, equal to what get_state reads.
 TEST_F(Drive, CreatureStatesListsEveryRoot) {
   const ros::Time t = step(10);
-  const auto m = states_.at(t);
+  const auto m = states_.at(t, kWait);
   ASSERT_TRUE(m) << "no creature_states stamped " << t;
   ASSERT_EQ(m->name, (std::vector<std::string>{"hover", "drag", "rest", "flap_unit"}));
   ASSERT_EQ(m->pose.size(), 4u);

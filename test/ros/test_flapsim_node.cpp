@@ -28,6 +28,7 @@
 #include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
+#include "recorder.h"
 
 namespace {
 
@@ -58,35 +59,12 @@ bool waitUntil(const std::function<bool()>& done, double timeout = kWait) {
   return false;
 }
 
-template <class M>
-class Recorder {
- public:
-  void start(ros::NodeHandle& nh, const std::string& topic) {
-    sub_ = nh.subscribe<M>(topic, 10000,
-                           [this](const boost::shared_ptr<const M>& m) { msgs.push_back(m); });
-  }
-  bool connected() const { return sub_.getNumPublishers() > 0; }
-  void clear() { msgs.clear(); }
-  std::vector<boost::shared_ptr<const M>> msgs;
+using flapsim_test::Recorder;
 
- private:
-  ros::Subscriber sub_;
-};
-
-/// The last message stamped `t` (waits for it); null if none came.
+/// The last message of `r` stamped `t` (waits for it); null if none came.
 template <class M>
 boost::shared_ptr<const M> at(Recorder<M>& r, const ros::Time& t) {
-  boost::shared_ptr<const M> found;
-  waitUntil([&] {
-    for (auto it = r.msgs.rbegin(); it != r.msgs.rend(); ++it) {
-      if ((*it)->header.stamp == t) {
-        found = *it;
-        return true;
-      }
-    }
-    return false;
-  });
-  return found;
+  return r.at(t, kWait);
 }
 
 class Node : public ::testing::Test {

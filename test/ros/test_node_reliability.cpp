@@ -24,6 +24,7 @@
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
 #include "flapsim_ros/urdf_source.h"
+#include "recorder.h"
 #include "wait_for.h"
 
 namespace {
@@ -41,15 +42,7 @@ bool waitUntil(const std::function<bool()>& done, double timeout = kWait) {
   return flapsim_test::waitFor(done, timeout);
 }
 
-template <class M>
-struct Recorder {
-  void start(ros::NodeHandle& nh, const std::string& topic) {
-    sub = nh.subscribe<M>(topic, 10000,
-                          [this](const boost::shared_ptr<const M>& m) { msgs.push_back(m); });
-  }
-  ros::Subscriber sub;
-  std::vector<boost::shared_ptr<const M>> msgs;
-};
+using flapsim_test::Recorder;
 
 class NodeGuards : public ::testing::Test {
  protected:
@@ -62,9 +55,8 @@ class NodeGuards : public ::testing::Test {
     high_odom_.start(*nh_, "/high/odom");
     wing_ = nh_->advertise<flapsim::WingCommand>("/low/wing_command", 1000);
     ASSERT_TRUE(waitUntil([] {
-      return rosout_.sub.getNumPublishers() > 0 && diagnostics_.sub.getNumPublishers() > 0 &&
-             odom_.sub.getNumPublishers() > 0 && high_odom_.sub.getNumPublishers() > 0 &&
-             wing_.getNumSubscribers() > 0;
+      return rosout_.connected() && diagnostics_.connected() && odom_.connected() &&
+             high_odom_.connected() && wing_.getNumSubscribers() > 0;
     }));
   }
   static void TearDownTestSuite() {
