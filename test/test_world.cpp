@@ -128,15 +128,30 @@ TEST(World, FastFallIsCaughtByTheGround) {
   EXPECT_LT(w.rootTwist("plate").linear.norm(), 0.05);
 }
 
-// A horizontal flap on a hinge with an enormous URDF damping: it sinks under gravity slowly
-// and smoothly, instead of the explicit damping torque making the step blow up.
-TEST(World, HugeJointDampingStaysStable) {
-  auto hinge = parseCreatureModel(R"(<robot name="h"><link name="world"/>
+// A flap (10 g, COM 0.1 m from the hinge) on a fixed hinge of `type` about `axis`;
+// `joint_extra` goes inside the <joint>, `robot_extra` after it.
+CreatureModelPtr flapOnHinge(const std::string& type, const std::string& axis,
+                             const std::string& joint_extra, const std::string& robot_extra = "") {
+  return parseCreatureModel(R"(<robot name="h"><link name="world"/>
     <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
       <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
       <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
-    <joint name="hinge" type="continuous"><parent link="world"/><child link="flap"/>
-      <axis xyz="1 0 0"/><dynamics damping="1000"/></joint></robot>)");
+    <joint name="hinge" type=")" +
+                            type + R"("><parent link="world"/><child link="flap"/>
+      <axis xyz=")" + axis + R"("/>)" +
+                            joint_extra + "</joint>" + robot_extra + "</robot>");
+}
+
+// The flap on a revolute hinge with `limit` and `dynamics` elements.
+CreatureModelPtr hingedFlap(const std::string& axis, const std::string& limit,
+                            const std::string& dynamics) {
+  return flapOnHinge("revolute", axis, limit + dynamics);
+}
+
+// A horizontal flap on a hinge with an enormous URDF damping: it sinks under gravity slowly
+// and smoothly, instead of the explicit damping torque making the step blow up.
+TEST(World, HugeJointDampingStaysStable) {
+  auto hinge = flapOnHinge("continuous", "1 0 0", R"(<dynamics damping="1000"/>)");
   World w(openSky());
   w.spawn("h", hinge, at(0, 0, 1));
   w.step(1000);
@@ -145,18 +160,6 @@ TEST(World, HugeJointDampingStaysStable) {
   EXPECT_LT(s.joint_positions[0], 0.0);   // it did sink (tip down is negative about +x)
   EXPECT_GT(s.joint_positions[0], -0.5);  // but slowly: heavily damped
   EXPECT_LT(std::abs(s.joint_velocities[0]), 1.0);
-}
-
-// A flap (10 g, COM 0.1 m from the hinge) on a fixed hinge about `axis`, in vacuum.
-CreatureModelPtr hingedFlap(const std::string& axis, const std::string& limit,
-                            const std::string& dynamics) {
-  return parseCreatureModel(R"(<robot name="h"><link name="world"/>
-    <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
-      <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
-      <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
-    <joint name="hinge" type="revolute"><parent link="world"/><child link="flap"/>
-      <axis xyz=")" + axis + R"("/>)" +
-                            limit + dynamics + "</joint></robot>");
 }
 
 WorldParams vacuum() {
@@ -172,13 +175,8 @@ constexpr double kFlapHingeInertia = 3.4e-5 + 0.01 * 0.1 * 0.1;
 // vacuum: it swings with the period 2 pi sqrt(I / k) = 0.7274 s of a torsion pendulum
 // (measured between the first and the eleventh upward zero crossings, within 0.5%).
 TEST(World, SpringJointSwingsAtItsNaturalPeriod) {
-  auto flap = parseCreatureModel(R"(<robot name="h"><link name="world"/>
-    <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
-      <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
-      <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
-    <joint name="hinge" type="continuous"><parent link="world"/><child link="flap"/>
-      <axis xyz="0 0 1"/></joint>
-    <spring joint="hinge" stiffness="0.01" reference="0.1"/></robot>)");
+  auto flap = flapOnHinge("continuous", "0 0 1", "",
+                          R"(<spring joint="hinge" stiffness="0.01" reference="0.1"/>)");
   WorldParams p = vacuum();
   p.step_size = 0.0001;
   World w(p);
