@@ -122,10 +122,66 @@ TEST(FlapUnitController, PhaseLockKeepsTheStrokePeriod) {
   EXPECT_NE(validateFlapControllerParams(p).find("phase_lock"), std::string::npos);
 }
 
+// The chain pitch term: nose up (world_up . forward = sin 0.05 > 0) slows the nose unit and
+// speeds the tail unit by gain * sin(0.05) each, leaves the middle unit and each unit's
+// left/right ratio alone, is capped at pitch_limit, and does nothing to a single unit.
+TEST(WingControllers, ChainPitchTermSlowsTheNoseAndSpeedsTheTailWhileTheNoseIsUp) {
+  FlapControllerParams p;
+  p.pitch_gain = 2.0;
+  const double nose_up = std::sin(0.05);
+  EXPECT_DOUBLE_EQ(chainPitchScale(p, 0, 3, nose_up), 1.0 - 2.0 * nose_up);
+  EXPECT_DOUBLE_EQ(chainPitchScale(p, 1, 3, nose_up), 1.0);
+  EXPECT_DOUBLE_EQ(chainPitchScale(p, 2, 3, nose_up), 1.0 + 2.0 * nose_up);
+  EXPECT_DOUBLE_EQ(chainPitchScale(p, 0, 3, -0.5), 1.0 + p.pitch_limit);
+  EXPECT_DOUBLE_EQ(chainPitchScale(p, 0, 1, nose_up), 1.0);
+  // Hidden h0 = tanh(5 wing_up); right = sigmoid(4 h0), left = sigmoid(-4 h0): a rolled unit
+  // strokes its wings at two rates, so the ratio is visible.
+  const std::vector<double> w = {0, 5, 0, 0, 0, 0, 4, 0, 0, -4, 0, 0};
+  // Pitched nose up 0.05 rad about y (negative: body y rotation > 0 is nose down), rolled 0.05.
+  const Quat q =
+      Quat(Eigen::AngleAxisd(-0.05, Vec3::UnitY())) * Quat(Eigen::AngleAxisd(0.05, Vec3::UnitX()));
+  ASSERT_NEAR(flapInputs(q)[0], nose_up, 1e-12);
+  const FlapUnitController plain(FlapControllerParams(), w);
+  const std::vector<StrokeCommand> one = AnnWingController(plain).commands({q});
+  const std::vector<StrokeCommand> chain =
+      AnnWingController(FlapUnitController(p, w)).commands({q, q, q});
+  ASSERT_EQ(chain.size(), 6u);
+  for (int side = 0; side < 2; ++side) {
+    EXPECT_DOUBLE_EQ(
+        chain[side].downstroke_rate,
+        std::max(p.min_downstroke_rate, (1.0 - 2.0 * nose_up) * one[side].downstroke_rate));
+    EXPECT_DOUBLE_EQ(chain[2 + side].downstroke_rate, one[side].downstroke_rate);
+    EXPECT_DOUBLE_EQ(chain[4 + side].downstroke_rate,
+                     (1.0 + 2.0 * nose_up) * one[side].downstroke_rate);
+    EXPECT_DOUBLE_EQ(chain[4 + side].upstroke_rate,
+                     upstrokeRate(p, chain[4 + side].downstroke_rate));
+  }
+  EXPECT_NE(one[0].downstroke_rate, one[1].downstroke_rate);
+  EXPECT_NEAR(chain[4].downstroke_rate / chain[5].downstroke_rate,
+              one[0].downstroke_rate / one[1].downstroke_rate, 1e-12);
+  // Beyond max_downstroke_rate, up to pitch_max_downstroke_rate.
+  const Quat nose_down(Eigen::AngleAxisd(0.5, Vec3::UnitY()));
+  p.pitch_limit = 0.5;
+  const std::vector<double> fast = {0, 0, 0, 0, 0, 0, 0, 0, 50, 0, 0, 50};  // both at 60
+  const std::vector<StrokeCommand> capped =
+      AnnWingController(FlapUnitController(p, fast)).commands({nose_down, nose_down});
+  EXPECT_DOUBLE_EQ(capped[0].downstroke_rate, p.pitch_max_downstroke_rate);
+  EXPECT_DOUBLE_EQ(capped[2].downstroke_rate, 30.0);
+}
+
 TEST(FlapUnitController, BadParamsAreRefused) {
   FlapControllerParams p;
   p.max_downstroke_rate = p.min_downstroke_rate - 1.0;
   EXPECT_THROW(FlapUnitController(p, kWeights), std::invalid_argument);
+  p = FlapControllerParams();
+  p.pitch_gain = -1.0;
+  EXPECT_NE(validateFlapControllerParams(p).find("pitch_gain"), std::string::npos);
+  p = FlapControllerParams();
+  p.pitch_limit = 1.0;
+  EXPECT_NE(validateFlapControllerParams(p).find("pitch_limit"), std::string::npos);
+  p = FlapControllerParams();
+  p.pitch_max_downstroke_rate = p.max_downstroke_rate - 1.0;
+  EXPECT_NE(validateFlapControllerParams(p).find("pitch_max_downstroke_rate"), std::string::npos);
   p = FlapControllerParams();
   p.amplitude = 0.0;
   EXPECT_FALSE(validateFlapControllerParams(p).empty());
@@ -167,6 +223,9 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   ControllerSpec spec;
   spec.params.min_downstroke_rate = 12.5;
   spec.params.control_period = 0.01;
+  spec.params.pitch_gain = 0.1 + 0.2;
+  spec.params.pitch_limit = 0.25;
+  spec.params.pitch_max_downstroke_rate = 70.0;
   spec.weights = kWeights;
   spec.weights[0] = 0.1 + 0.2;  // not exactly representable in short decimal
   const std::string text = controllerToYaml(spec, "line one\nline two", {{"seed", "7"}});
@@ -176,6 +235,9 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_EQ(back.params.min_downstroke_rate, 12.5);
   EXPECT_EQ(back.params.control_period, 0.01);
   EXPECT_EQ(back.params.hidden, 2);
+  EXPECT_EQ(back.params.pitch_gain, 0.1 + 0.2);
+  EXPECT_EQ(back.params.pitch_limit, 0.25);
+  EXPECT_EQ(back.params.pitch_max_downstroke_rate, 70.0);
 
   try {
     controllerFromYaml("flap_unit_controller: {hidden: 2, weights: [1, 2, 3]}", "short.yaml");
@@ -183,6 +245,14 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("short.yaml"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("weights"), std::string::npos) << e.what();
+  }
+  try {  // a bad pitch term is named
+    controllerFromYaml("flap_unit_controller: {pitch_limit: 1.5, weights: [" +
+                           std::string("0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]}"),
+                       "pitch.yaml");
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("pitch_limit"), std::string::npos) << e.what();
   }
   EXPECT_THROW(controllerFromYaml("other: 1"), std::runtime_error);
   EXPECT_THROW(controllerFromYaml("flap_unit_controller: {weights: [1, 2}"), std::runtime_error);

@@ -67,7 +67,24 @@ struct FlapControllerParams {
   /// instead of turning (flap unit at 30/10 vs 60/10: +-35 deg within 3 s, mean roll 2 deg);
   /// locked, the faster wing lifts its side.
   bool phase_lock = false;
+  /// Chain pitch term, an extension for creatures of several units (0: off, the paper's
+  /// controller). Units chained by roll joints form a chain rigid in pitch, and every unit's
+  /// network sees the same pitch, so no copy of it can make a pitching moment: a 12-unit chain
+  /// started 5 deg nose up holds that pitch for ~15 s, then pitches over and sinks (README,
+  /// robust flight). With the term, unit k of n (s_k = 1 - 2k/(n-1): +1 at the nose, -1 at the
+  /// tail) scales both its downstroke rates by 1 - clamp(pitch_gain s_k p, +-pitch_limit),
+  /// where p = world_up . body_forward averaged over the units (> 0: nose up), and may exceed
+  /// max_downstroke_rate up to pitch_max_downstroke_rate: while the nose is up, the nose beats
+  /// slower and the tail faster. A unit's left/right ratio, its roll control, is kept.
+  double pitch_gain = 0.0;
+  double pitch_limit = 0.2;
+  double pitch_max_downstroke_rate = 75.0;  // rad/s
 };
+
+/// The factor unit `unit` of `units` scales its downstroke rates by under the chain pitch
+/// term, for a mean pitch input `pitch` (world_up . body_forward); 1 for a single unit or
+/// pitch_gain 0.
+double chainPitchScale(const FlapControllerParams& params, int unit, int units, double pitch);
 
 /// The upstroke rate of a wing whose downstroke rate is `downstroke` under `params`: the
 /// fixed upstroke_rate, or with phase_lock the one that keeps the stroke period.
@@ -131,7 +148,8 @@ class WingController {
   virtual std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const = 0;
 };
 
-/// The same network on every unit (the paper's multi-pair creatures).
+/// The same network on every unit (the paper's multi-pair creatures), with the chain pitch
+/// term of its params on top (FlapControllerParams::pitch_gain).
 class AnnWingController : public WingController {
  public:
   explicit AnnWingController(const FlapUnitController& unit) : unit_(unit) {}

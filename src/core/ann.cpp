@@ -1,5 +1,6 @@
 #include "flapsim/ann.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -120,7 +121,23 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
     return "phase_lock needs min_downstroke_rate > 0, upstroke_rate > 0 and a downstroke at "
            "min_downstroke_rate shorter than the locked period";
   }
+  if (!std::isfinite(p.pitch_gain) || p.pitch_gain < 0.0) {
+    return "pitch_gain must be finite and >= 0";
+  }
+  if (!std::isfinite(p.pitch_limit) || p.pitch_limit < 0.0 || p.pitch_limit >= 1.0) {
+    return "pitch_limit must be in [0, 1)";
+  }
+  if (!std::isfinite(p.pitch_max_downstroke_rate) ||
+      p.pitch_max_downstroke_rate < p.max_downstroke_rate) {
+    return "pitch_max_downstroke_rate must be finite and >= max_downstroke_rate";
+  }
   return "";
+}
+
+double chainPitchScale(const FlapControllerParams& p, int unit, int units, double pitch) {
+  if (units < 2 || p.pitch_gain == 0.0) return 1.0;
+  const double s = 1.0 - 2.0 * unit / (units - 1);
+  return 1.0 - std::clamp(p.pitch_gain * s * pitch, -p.pitch_limit, p.pitch_limit);
 }
 
 double upstrokeRate(const FlapControllerParams& p, double downstroke) {
@@ -208,10 +225,25 @@ FlapUnitLayout flapUnitLayout(const CreatureModel& model) {
 }
 
 std::vector<StrokeCommand> AnnWingController::commands(const std::vector<Quat>& bodies) const {
+  const FlapControllerParams& p = unit_.params();
+  const int units = static_cast<int>(bodies.size());
+  double pitch = 0.0;
+  if (p.pitch_gain > 0.0) {
+    for (const Quat& q : bodies) pitch += flapInputs(q)[0];
+    pitch /= std::max(1, units);
+  }
   std::vector<StrokeCommand> out;
   out.reserve(2 * bodies.size());
-  for (const Quat& q : bodies) {
-    const WingPairCommand c = unit_.command(q);
+  for (int k = 0; k < units; ++k) {
+    WingPairCommand c = unit_.command(bodies[k]);
+    const double scale = chainPitchScale(p, k, units, pitch);
+    if (scale != 1.0) {
+      for (StrokeCommand* s : {&c.left, &c.right}) {
+        s->downstroke_rate = std::clamp(scale * s->downstroke_rate, p.min_downstroke_rate,
+                                        p.pitch_max_downstroke_rate);
+        s->upstroke_rate = upstrokeRate(p, s->downstroke_rate);
+      }
+    }
     out.push_back(c.left);
     out.push_back(c.right);
   }

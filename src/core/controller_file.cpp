@@ -33,6 +33,9 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   e << YAML::Key << "amplitude" << YAML::Value << p.amplitude;
   e << YAML::Key << "control_period" << YAML::Value << p.control_period;
   e << YAML::Key << "phase_lock" << YAML::Value << p.phase_lock;
+  e << YAML::Key << "pitch_gain" << YAML::Value << p.pitch_gain;
+  e << YAML::Key << "pitch_limit" << YAML::Value << p.pitch_limit;
+  e << YAML::Key << "pitch_max_downstroke_rate" << YAML::Value << p.pitch_max_downstroke_rate;
   e << YAML::Key << "weights" << YAML::Value << YAML::Flow << spec.weights;
   e << YAML::EndMap;
   if (!metadata.empty()) {
@@ -82,6 +85,9 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
   get("amplitude", p.amplitude);
   get("control_period", p.control_period);
   get("phase_lock", p.phase_lock);
+  get("pitch_gain", p.pitch_gain);
+  get("pitch_limit", p.pitch_limit);
+  get("pitch_max_downstroke_rate", p.pitch_max_downstroke_rate);
   if (!c["weights"]) throw fail("no 'weights'");
   get("weights", spec.weights);
   const std::string err = validateFlapControllerParams(p);

@@ -28,7 +28,7 @@ const char* kUsage =
     "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.35)\n"
     "  --pitch P          start pitch range +-P, rad (0.035; robust 0.35)\n"
     "  --link-axis A      axis of the joints between units: roll or pitch (roll)\n"
-    "  --link-stiffness K spring on the joints between units, N m/rad (0)\n"
+    "  --link-stiffness K spring on the joints between units, N m/rad (2)\n"
     "  --start-rate W     start angular velocity, up to W rad/s per axis (0; robust 1)\n"
     "  --gust G           a horizontal wind step of up to G m/s (0; robust 1)\n"
     "  --input-noise N    attitude-sensor noise, rad (0; robust 0.02)\n"

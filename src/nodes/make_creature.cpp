@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
              "                     [--output FILE]\n"
              "Writes the URDF of N flapping units (body + two wings) chained nose to tail by\n"
              "passive joints about --link-axis (default roll), with a <spring> of\n"
-             "--link-stiffness (default 0: none); to stdout unless --output is given.\n"
+             "--link-stiffness (default 2; 0: none); to stdout unless --output is given.\n"
              "--feathering hangs each wing from a pitch joint (its feather_joint). --com-drop\n"
              "puts each body's centre of mass that far below the wing hinges (default 0.02 m;\n"
              "0: at the hinges).\n";
