@@ -76,7 +76,7 @@ TEST(Generator, ChainsOfUnitsLoad) {
       EXPECT_FALSE(link.wing);
       EXPECT_TRUE(link.axis.isApprox(Vec3::UnitX()));  // roll, the default
       EXPECT_GT(link.damping, 0.0);
-      EXPECT_EQ(link.stiffness, 0.0);
+      EXPECT_EQ(link.stiffness, 2.0);  // sprung, the default
     }
   }
   FlapUnitParams pitch;
