@@ -41,8 +41,8 @@ struct FlapUnitParams {
   /// couples neighbouring units in roll, so that one unit's roll excursion does not twist
   /// the chain (a twisted chain's units beat at different mean rates and pitch it). With
   /// the chain pitch term (FlapControllerParams::pitch_gain), 20 tilted starts of 60 s at
-  /// 1 ms (tuning seed 7) fly 19/20 (4 units, pitch gain 2) against 4/20 without the spring,
-  /// and 20/20 (12 units, gain 5) against 4/20 for a rigid chain (fixed joints).
+  /// 1 ms (seed 7) fly 20/20 with the springs against 9/20 (6 units) and 8/20 (12 units)
+  /// without, and 4/20 for a rigid 12-unit chain (fixed joints). 4 units fly 19/20 without.
   /// 2 stays below the explicit spring's cap (a quarter of the unit body's roll inertia per
   /// step squared, 2.9 N m/rad at 1 ms), so the chain is the same at every step size <= 1 ms.
   double link_stiffness = 2.0;
