@@ -169,6 +169,12 @@ TEST(EvolveArgs, SpecArgsRebuildTheSameSpecAndBadFlagsAreNamed) {
   EXPECT_THROW(parseEvolveArgs({"--farm-batch", "0"}), InputError);
   EXPECT_THROW(evaluationSpecFromArgs({"--preset", "robust", "--out", "x"}), InputError);
   EXPECT_THROW(evaluationSpecFromArgs({"--preset", "robust", "--episodes", "0"}), InputError);
+  // The chain pitch term travels with the spec (to farm workers and checkpoints).
+  const EvaluationSpec chain =
+      evaluationSpecFromArgs({"--preset", "robust", "--pairs", "4", "--pitch-gain", "1.5"});
+  EXPECT_EQ(chain.pairs, 4);
+  EXPECT_EQ(chain.controller.pitch_gain, 1.5);
+  EXPECT_THROW(evaluationSpecFromArgs({"--preset", "robust", "--pitch-gain", "-1"}), InputError);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ const char* kUsage =
     "  --step-sizes LIST  step sizes drawn per episode, e.g. 0.001,0.0005 (robust)\n"
     "  --flip-penalty P   a flip ends the episode, less P m (0: off; robust 20)\n"
     "  --phase-lock B     on/off: upstroke follows downstroke, fixed period (robust on)\n"
+    "  --pitch-gain K     chain pitch term on top of the network, for --pairs > 1 (0: off)\n"
     "  --gene-range G     initial range and bound of every weight, +-G (10)\n"
     "  --air-model M      air model of the episodes: pressure or quasi_steady (pressure)\n"
     "  --out DIR          output directory (evolve_out); a checkpoint is written there\n"
@@ -162,6 +163,8 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads)
     } else if (a == "--phase-lock") {
       if (v != "on" && v != "off") throw InputError("--phase-lock takes on or off");
       p.controller.phase_lock = v == "on";
+    } else if (a == "--pitch-gain") {
+      p.controller.pitch_gain = toDouble(a, v);
     } else if (a == "--step-sizes") {
       p.episode.step_sizes.clear();
       std::istringstream list(v);
