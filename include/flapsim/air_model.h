@@ -31,7 +31,7 @@ struct AirParams {
   bool buoyancy = true;
   /// The added mass of plate-like bodies moving along their normal (rho pi c^2 b / 4),
   /// treated implicitly (flapsim/fluid_inertia.h). Off in air by default for now: the
-  /// shipped flapping creatures were sized without it and do not climb with it; on in the
+  /// one-pair creature was sized and evolved without it and sinks with it (README); on in the
   /// water preset, where a wing's added mass is ~175 times its own and explicit drag
   /// diverges without it. Per link: <aero link="..." added_mass="true|false"/>.
   bool added_mass = false;
