@@ -131,7 +131,7 @@ void CreatureBody::applyServos() {
                                    : spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
       change_[i] = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
                    spatialVelocity(k, frames.omega[k], frames.vel[k]);
-      if (!aero[i].added_zero) {
+      if (aero[i].has_added_mass) {
         loads_.extra_inertia[k] = spatialToCommonFrame(aero[i].added, Quat::Identity(), offset);
       }
       loads_.extra_inertia[k] += drag_[i];

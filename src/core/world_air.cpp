@@ -41,6 +41,7 @@ void setSurface(AeroBody& a, const CreatureModel& m, const AirParams& air) {
   a.surface = linkAeroSurface(m, a.link, air);
   a.added_mass = linkAddedMass(m.links[a.link], air);
   a.has_added_mass = !a.added_mass.isZero(0.0);
+  if (!a.has_added_mass) a.added.setZero();  // it may have had some before
   a.mass = m.links[a.link].mass;
   a.area = 0.0;
   for (const SurfaceCell& c : a.surface.cells) a.area += c.area;
@@ -88,13 +89,7 @@ void AirStage::apply(CreatureBody& b, const WorldParams& params, double step) co
     a.last.com = kin.com;
     a.last.wrench = w;
     b.addExternal(kin.com, w);
-    if (a.has_added_mass) {
-      a.added = b.addedMass(a, kin.orientation);
-      a.added_zero = false;
-    } else if (!a.added_zero) {
-      a.added.setZero();
-      a.added_zero = true;
-    }
+    if (a.has_added_mass) a.added = b.addedMass(a, kin.orientation);
     const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, b.reach[k], step);
     // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
     // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).

@@ -26,12 +26,12 @@ struct AeroBody {
   // linearised drag, in world axes.
   Mat6 added_mass = Mat6::Zero();
   bool has_added_mass = false;  // added_mass is not zero
-  Mat6 added = Mat6::Zero();
+  Mat6 added = Mat6::Zero();    // zero unless has_added_mass
   Mat6 drag = Mat6::Zero();
-  bool added_zero = true, drag_zero = true;  // kept zero without rewriting them each step
-  double mass = 0.0;  // the link's own (a lower bound of its effective mass in the tree)
-  double area = 0.0;  // of all its air-facing cells
-  LinkAero last;      // the wrench of the last step
+  bool drag_zero = true;  // drag is zero (kept so without rewriting it each step)
+  double mass = 0.0;      // the link's own (a lower bound of its effective mass in the tree)
+  double area = 0.0;      // of all its air-facing cells
+  LinkAero last;          // the wrench of the last step
 };
 
 // A drag rate (kg/s) above this many link masses per step is treated implicitly.
