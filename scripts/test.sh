@@ -19,12 +19,20 @@ for f in glob.glob("build/test_results/**/*.xml", recursive=True):
         root = ET.parse(f).getroot()
     except ET.ParseError:
         failed += 1
+        print(f"FAILED {f}: not valid XML")
         continue
     suites = [root] if root.tag == "testsuite" else root.findall("testsuite")
     for s in suites:
         for case in s.iter("testcase"):
-            if case.find("failure") is not None or case.find("error") is not None:
+            bad = case.find("failure")
+            bad = bad if bad is not None else case.find("error")
+            if bad is not None:
                 failed += 1
+                # What failed and why, at the end of the log where a CI summary shows it.
+                text = (bad.get("message") or "") + "\n" + (bad.text or "")
+                lines = [l for l in text.strip().splitlines() if l.strip()][-12:]
+                print(f"FAILED {s.get('name')}.{case.get('name')} ({f}):")
+                print("\n".join("    " + l for l in lines))
             elif case.find("skipped") is not None:
                 skipped += 1
             else:
