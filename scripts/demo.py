@@ -58,7 +58,8 @@ def recorder_listening(master):
 def main():
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--out", default="out/demo", help="output folder")
-    parser.add_argument("--duration", type=float, default=10.0, help="sim seconds to fly")
+    parser.add_argument("--duration", type=float, default=6.0,
+                        help="sim seconds to fly (open loop, the unit tips over after about 7 s)")
     parser.add_argument("--timeout", type=float, default=120.0, help="wall seconds at most")
     parser.add_argument("--rtf", type=float, default=5.0, help="real-time factor of the run")
     parser.add_argument("--no-movie", action="store_true", help="skip the MP4 and GIF")

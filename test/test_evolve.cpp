@@ -74,17 +74,16 @@ TEST(Episodes, RobustDrawsStayInTheirRangesAndAreSeeded) {
 }
 
 // With a flip penalty, a flip ends the episode: the samples left score the height at the
-// flip less the penalty. The open-loop unit without ballast (40/10/1.2) rolled 0.3 rad flips
-// within 20 s;
-// its fitness with a 20 m penalty is (sum of the samples up to the flip + the rest x (z at
-// the flip - 20)) / samples, and its flight ends there.
+// flip less the penalty. The open-loop unit without ballast (60/10/1.2) rolled 0.3 rad flips
+// within 20 s (at 6.8 s); its fitness with a 20 m penalty is (sum of the samples up to the
+// flip + the rest x (z at the flip - 20)) / samples, and its flight ends there.
 TEST(Episodes, AFlipEndsTheEpisodeAtThePenalty) {
   EpisodeParams p;
   p.duration = 20.0;
   FlapUnitParams no_ballast;
   no_ballast.body_com_drop = 0.0;
   const auto unit = parseCreatureModel(makeCreatureUrdf(1, "afc", no_ballast), "no ballast");
-  const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
+  const OpenLoopWingController open(StrokeCommand{60, 10, 1.2});
   const EpisodeResult free_run = runEpisode(unit, open, 0.02, p, EpisodeStart{0.3, 0.0}, true);
   ASSERT_TRUE(free_run.flipped) << "min up " << free_run.min_upright;
   size_t flip = 0;
@@ -117,7 +116,9 @@ TEST(Episodes, FitnessIsTheMeanSampledHeight) {
   EXPECT_EQ(r.max_height, max);
   EXPECT_EQ(r.final_height, r.trace.back().height);
   EXPECT_NEAR(r.trace.back().time, 1.0, 1e-12);
-  EXPECT_NEAR(r.trace.front().height, 1.0, 0.1);  // starts at start_height
+  // starts at start_height; the body heaves 10 cm in the first 20 ms of the downstroke,
+  // against its wings' added mass
+  EXPECT_NEAR(r.trace.front().height, 1.0, 0.15);
   // Rolled by 0.05 rad at the start: the root's z axis is tilted by that much.
   EXPECT_NEAR(r.trace.front().upright, std::cos(0.05), 0.01);
 }
@@ -361,8 +362,8 @@ TEST(EvolvedController, ChainsOf4_6_12PairsWithThePitchTermFlyHeldOutStarts) {
 }
 
 // Why the pitch term: every unit's network sees the same pitch, so the network alone cannot
-// right the 12-unit chain, rigid in pitch; it flies 3 of those 8 starts (the others pitch over
-// and sink, or flip), against 8 with the term.
+// right the 12-unit chain, rigid in pitch; it flies 1 of those 8 starts (the others pitch over
+// and sink, or flip; 3 without added mass), against 8 with the term.
 TEST(EvolvedController, ThePitchTermFliesTheTwelveUnitChainWhereTheNetworkAloneSinks) {
   ControllerSpec spec = chainController(12);
   ASSERT_GT(spec.params.pitch_gain, 0.0);
@@ -371,12 +372,13 @@ TEST(EvolvedController, ThePitchTermFliesTheTwelveUnitChainWhereTheNetworkAloneS
   const int alone = flownOfEightStarts(creature(12), spec);
   std::printf("12 units, 8 starts: %d flown with the pitch term, %d without\n", with_term, alone);
   EXPECT_EQ(with_term, 8);
-  EXPECT_LE(alone, 4);
+  EXPECT_LE(alone, 3);
 }
 
 // Why the springs between units (make_creature's default 2 N m/rad): without them one unit's
 // roll excursion twists the chain, its units beat at different mean rates and pitch it, and
-// the 6-unit chain under its controller flies 3 of those 8 starts, against 8 with them.
+// the 6-unit chain under its controller flies none of those 8 starts (3 without added mass),
+// against 8 with them.
 TEST(EvolvedController, LinkSpringsFlyTheSixUnitChainThatTwistsWithoutThem) {
   const ControllerSpec spec = chainController(6);
   FlapUnitParams unit;
@@ -387,12 +389,13 @@ TEST(EvolvedController, LinkSpringsFlyTheSixUnitChainThatTwistsWithoutThem) {
   const int free_flown = flownOfEightStarts(free, spec);
   std::printf("6 units, 8 starts: %d flown with springs, %d without\n", sprung_flown, free_flown);
   EXPECT_EQ(sprung_flown, 8);
-  EXPECT_LE(free_flown, 4);
+  EXPECT_LE(free_flown, 3);
 }
 
 // Why roll joints: with wave 1's pitch joints (springs of 0.5 N m/rad, rigid in roll) the
-// 6-unit chain flies none of those 8 starts under the one-pair network (the pitch term has no
-// rigid chain to pitch there); the roll-jointed chain under its controller flies all 8.
+// 6-unit chain flies 2 of those 8 starts under the one-pair network (the pitch term has no
+// rigid chain to pitch there; none without added mass); the roll-jointed chain under its
+// controller flies all 8.
 TEST(EvolvedController, RollJointsFlyASixUnitChainWherePitchJointsFail) {
   FlapUnitParams unit;
   unit.link_axis = LinkAxis::kPitch;
@@ -402,7 +405,7 @@ TEST(EvolvedController, RollJointsFlyASixUnitChainWherePitchJointsFail) {
   const int pitch = flownOfEightStarts(pitch_jointed, loadControllerYaml(kWeights));
   const int roll = chainFlownOfEightStarts(6);
   std::printf("6 units, 8 starts: %d flown with pitch joints, %d with roll joints\n", pitch, roll);
-  EXPECT_LE(pitch, 1);
+  EXPECT_LE(pitch, 2);
   EXPECT_EQ(roll, 8);
 }
 

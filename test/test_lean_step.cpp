@@ -84,9 +84,14 @@ TEST(LeanStep, ChainWithAddedMassFollowsFullSteps) {
 
 // A flap unit released 0.3 m above the ground falls onto it and keeps flapping there: the
 // steps near the ground are Bullet's (contacts hold it up) and the trajectory is the same.
+// Without added mass: with it the unit (30/10) comes down onto a wing at step 676, where the
+// lean and the full step, 6e-15 apart before, part by 9e-4 in that one step; a contact that
+// starts at Bullet's threshold turns a rounding difference into whether it acts at all.
 TEST(LeanStep, FallsBackToFullStepsNearTheGround) {
+  WorldParams p;
+  p.air.added_mass = false;
   expectSameTrajectory(
-      WorldParams(), [](World& w) { flapper(w, 1, 0.3); }, 1500, 50,
+      p, [](World& w) { flapper(w, 1, 0.3); }, 1500, 50,
       [](const CreatureState& s) {
         for (const Pose& link : s.link_poses) EXPECT_GT(link.position.z(), -0.01);
       });

@@ -40,7 +40,7 @@ TEST(Model, FlapUnitHasTwoWingHinges) {
   EXPECT_TRUE(left.axis.isApprox(Vec3(1, 0, 0)));
   EXPECT_TRUE(right.axis.isApprox(Vec3(-1, 0, 0)));
   EXPECT_DOUBLE_EQ(left.upper, 1.4);
-  EXPECT_DOUBLE_EQ(left.effort, 2.0);
+  EXPECT_DOUBLE_EQ(left.effort, 8.0);  // one pair: kOnePairWingEffort
   EXPECT_NEAR(m->totalMass(), 0.023, 1e-12);
   EXPECT_TRUE(m->links[m->findLink("unit0_wing_left")].com.isApprox(Vec3(0, 0.175, 0)));
 }
@@ -88,6 +88,21 @@ TEST(Generator, ChainsOfUnitsLoad) {
   EXPECT_EQ(link.stiffness, 0.5);
   EXPECT_THROW(makeCreatureUrdf(0), std::invalid_argument);
   EXPECT_THROW(linkAxisFromString("yaw"), std::invalid_argument);
+}
+
+// One pair gets 8 N m hinge motors, every unit of a chain 2 N m, unless the effort is given.
+TEST(Generator, WingEffortDefaultsByPairCountUnlessGiven) {
+  FlapUnitParams given;
+  given.wing_effort = 5.0;
+  for (int pairs : {1, 4}) {
+    const auto defaults = parseCreatureModel(makeCreatureUrdf(pairs, "d"));
+    const auto set = parseCreatureModel(makeCreatureUrdf(pairs, "s", given));
+    ASSERT_EQ(defaults->wing_joints.size(), 2u * pairs);
+    for (int w : defaults->wing_joints) {
+      EXPECT_DOUBLE_EQ(defaults->joints[w].effort, pairs == 1 ? 8.0 : 2.0) << pairs;
+    }
+    for (int w : set->wing_joints) EXPECT_DOUBLE_EQ(set->joints[w].effort, 5.0) << pairs;
+  }
 }
 
 TEST(Generator, FeatheringWingsHangFromPitchJoints) {

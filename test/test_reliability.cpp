@@ -226,7 +226,7 @@ TEST(ModelNumbers, BadNumbersAreNamedWithTheirLinkOrJoint) {
       {"<origin xyz=\"0 0.03 0\"/>", "<origin xyz=\"0 1e200 0\"/>",
        "joint 'unit0_wing_left_joint': <origin xyz='0 1e200 0'>"},
       // was silently the world's default 5 N m
-      {"effort=\"2\"", "effort=\"-2\"", "joint 'unit0_wing_left_joint': <limit effort='-2'>"},
+      {"effort=\"8\"", "effort=\"-8\"", "joint 'unit0_wing_left_joint': <limit effort='-8'>"},
       // was accepted: a wing pitching itself
       {"<wing joint=\"unit0_wing_left_joint\"/>",
        "<wing joint=\"unit0_wing_left_joint\" feather_joint=\"unit0_wing_left_joint\"/>",

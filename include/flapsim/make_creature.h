@@ -1,6 +1,7 @@
 // Generator of flapping creatures: N flap units chained by passive joints.
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace flapsim {
@@ -26,7 +27,8 @@ struct FlapUnitParams {
   double wing_chord = 0.22;  // along x
   double wing_thickness = 0.002;
   double wing_mass = 0.004;
-  double wing_effort = 2.0;     // N m, hinge motor torque limit
+  /// N m, the hinge motor's torque limit; unset: wingEffort()'s default for the pair count.
+  std::optional<double> wing_effort;
   double wing_limit = 1.4;      // rad, hinge range +-limit
   double unit_spacing = 0.24;   // m between unit bodies along x
   double link_damping = 0.002;  // N m s/rad on the passive joints between units
@@ -50,10 +52,25 @@ struct FlapUnitParams {
   /// Feathering wings: each wing hangs from its hinge through a small root link and a pitch
   /// joint `unit<k>_wing_<side>_pitch` about its span (the wing's feather_joint).
   bool feathering = false;
-  double root_mass = 0.001;     // kg, the small link between hinge and pitch joint
-  double root_size = 0.01;      // m, its cube
-  double feather_effort = 0.5;  // N m, pitch motor torque limit
+  double root_mass = 0.001;  // kg, the small link between hinge and pitch joint
+  double root_size = 0.01;   // m, its cube
+  /// N m, pitch motor torque limit. 2: with the plate's added mass about its span (five
+  /// times the wing's own pitch inertia) 0.5 N m overshot a 1.2 rad feather by 0.2 rad.
+  double feather_effort = 2.0;
 };
+
+/// The hinge motors' default torque limit (N m). A plate's added mass in air (rho pi c^2 b /
+/// 4, 16 g for the 0.22 x 0.35 m wing) is four times the wing's own: with it a lone unit at
+/// 2 N m cannot reach its commanded rates and sinks under the evolved network (-12 to -22 m
+/// in 30 s, 8 tilted starts), and at 8 N m it climbs (20/20 held-out starts fly at 1, 0.5
+/// and 0.25 ms). Chained units keep 2 N m: their chain controllers fly 20/20 with it, and a
+/// 4-unit chain at 8 N m flew none of 8 starts (README, creatures).
+constexpr double kOnePairWingEffort = 8.0;
+constexpr double kChainWingEffort = 2.0;
+
+/// `params.wing_effort` if set, else kOnePairWingEffort for one pair and kChainWingEffort
+/// for a chain.
+double wingEffort(const FlapUnitParams& params, int pairs);
 
 /// URDF text of a creature of `pairs` flap units (pairs >= 1) named
 /// `<name>`. Unit k has body `unit<k>_body`, wings `unit<k>_wing_left/right`

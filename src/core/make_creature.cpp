@@ -56,12 +56,17 @@ LinkAxis linkAxisFromString(const std::string& text) {
 
 std::string toString(LinkAxis axis) { return axis == LinkAxis::kRoll ? "roll" : "pitch"; }
 
+double wingEffort(const FlapUnitParams& params, int pairs) {
+  return params.wing_effort.value_or(pairs == 1 ? kOnePairWingEffort : kChainWingEffort);
+}
+
 std::string makeCreatureUrdf(int pairs, const std::string& name, const FlapUnitParams& p) {
   if (pairs < 1) throw std::invalid_argument("pairs must be >= 1, got " + std::to_string(pairs));
   if (!(p.body_com_drop >= 0.0) || p.body_com_drop > 1.0) {
     throw std::invalid_argument("body_com_drop must be in [0, 1] m, got " +
                                 std::to_string(p.body_com_drop));
   }
+  const double effort = wingEffort(p, pairs);
   std::ostringstream out;
   out << std::setprecision(10);
   out << "<?xml version=\"1.0\"?>\n"
@@ -88,13 +93,13 @@ std::string makeCreatureUrdf(int pairs, const std::string& name, const FlapUnitP
       const char* hinge_axis = side > 0 ? "1 0 0" : "-1 0 0";
       if (!p.feathering) {
         joint(out, wing + "_joint", u + "_body", wing, 0, side * 0.5 * p.body_width, 0, hinge_axis,
-              p.wing_limit, p.wing_effort, 0.0);
+              p.wing_limit, effort, 0.0);
         continue;
       }
       const double r = p.root_size;
       boxLink(out, wing + "_root", "body", p.root_mass, r, r, r, 0, 0, 0);
       joint(out, wing + "_joint", u + "_body", wing + "_root", 0, side * 0.5 * p.body_width, 0,
-            hinge_axis, p.wing_limit, p.wing_effort, 0.0);
+            hinge_axis, p.wing_limit, effort, 0.0);
       // Positive pitch lifts the leading (+x) edge on both sides (mirror images: a rotation
       // about the mirror plane's normal keeps its sense).
       joint(out, wing + "_pitch", wing + "_root", wing, 0, 0, 0, "0 -1 0", 1.5707963,

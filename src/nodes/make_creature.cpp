@@ -36,9 +36,13 @@ int main(int argc, char** argv) {
         std::cerr << "make_creature: " << a << " must be a positive number, got '" << v << "'\n";
         return 2;
       }
-      (a == "--body-mass"   ? params.body_mass
-       : a == "--wing-mass" ? params.wing_mass
-                            : params.wing_effort) = x;
+      if (a == "--body-mass") {
+        params.body_mass = x;
+      } else if (a == "--wing-mass") {
+        params.wing_mass = x;
+      } else {
+        params.wing_effort = x;
+      }
     } else if (a == "--link-stiffness") {
       const std::string v = value();
       char* end = nullptr;
@@ -82,7 +86,8 @@ int main(int argc, char** argv) {
              "--link-stiffness (default 2; 0: none); to stdout unless --output is given.\n"
              "--feathering hangs each wing from a pitch joint (its feather_joint). --com-drop\n"
              "puts each body's centre of mass that far below the wing hinges (default 0.02 m;\n"
-             "0: at the hinges).\n";
+             "0: at the hinges). --wing-effort is the hinge motors' torque limit (default 8 N m\n"
+             "for one pair, 2 N m per unit in a chain).\n";
       return 0;
     } else {
       std::cerr << "make_creature: unknown argument '" << a << "' (see --help)\n";
