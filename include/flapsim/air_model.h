@@ -30,11 +30,11 @@ struct AirParams {
   Vec3 wind = Vec3::Zero();        // uniform wind, world frame, m/s
   bool buoyancy = true;
   /// The added mass of plate-like bodies moving along their normal (rho pi c^2 b / 4),
-  /// treated implicitly (flapsim/fluid_inertia.h). Off in air by default for now: the
-  /// one-pair creature was sized and evolved without it and sinks with it (README); on in the
-  /// water preset, where a wing's added mass is ~175 times its own and explicit drag
-  /// diverges without it. Per link: <aero link="..." added_mass="true|false"/>.
-  bool added_mass = false;
+  /// treated implicitly (flapsim/fluid_inertia.h). On by default, in air and water: a flap
+  /// unit's wing (0.22 x 0.35 m, 4 g) carries 16 g of air, four times its own mass; in water
+  /// it is ~175 times, and explicit drag diverges without it. Per link:
+  /// <aero link="..." added_mass="true|false"/>.
+  bool added_mass = true;
   int subdivisions_u = 4;  // cells per face along its first edge
   int subdivisions_v = 4;  // ... and along its second edge
   bool enabled = true;

@@ -1,5 +1,6 @@
 #include "flapsim/fluid_inertia.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -70,6 +71,43 @@ Mat6 spatialToCommonFrame(const Mat6& body, const Quat& orientation, const Vec3&
   out.topLeftCorner<3, 3>() += s * out.bottomLeftCorner<3, 3>() + top_right * s.transpose();
   out.bottomLeftCorner<3, 3>() += out.bottomRightCorner<3, 3>() * s.transpose();
   out.topRightCorner<3, 3>() = top_right;
+  return out;
+}
+
+SpatialFactor factorSpatial(const Mat6& m) {
+  SpatialFactor f;
+  if (m.isZero(0.0)) return f;
+  const Eigen::SelfAdjointEigenSolver<Mat6> eigen(0.5 * (m + m.transpose()));
+  const Vec6& values = eigen.eigenvalues();  // increasing
+  const double floor = 1e-13 * values[5];
+  for (int i = 5; i >= 0 && values[i] > floor; --i) {
+    f.columns.col(f.rank++) = std::sqrt(values[i]) * eigen.eigenvectors().col(i);
+  }
+  return f;
+}
+
+void turnFactor(const SpatialFactor& body, const Mat3& rotation, double scale, SpatialFactor& out) {
+  const double s = std::sqrt(scale);
+  out.rank = body.rank;
+  for (int j = 0; j < body.rank; ++j) {
+    const Vec6 g = s * body.columns.col(j);
+    out.columns.col(j) << rotation * g.head<3>(), rotation * g.tail<3>();
+  }
+}
+
+void addFactorMatrix(const SpatialFactor& f, const Vec3& offset, Mat6& out) {
+  // A force f = [a; n] about the COM is [a + offset x n; n] about the point.
+  for (int j = 0; j < f.rank; ++j) {
+    const Vec6& c = f.columns.col(j);
+    Vec6 g;
+    g << c.head<3>() + offset.cross(c.tail<3>()), c.tail<3>();
+    out.noalias() += g * g.transpose();
+  }
+}
+
+Vec6 factorTimes(const SpatialFactor& f, const Vec6& v) {
+  Vec6 out = Vec6::Zero();
+  for (int j = 0; j < f.rank; ++j) out += f.columns.col(j) * f.columns.col(j).dot(v);
   return out;
 }
 
