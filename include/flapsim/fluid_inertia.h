@@ -51,7 +51,7 @@ Mat6 spatialToCommonFrame(const Mat6& body, const Quat& orientation, const Vec3&
 /// span three dimensions), so it is turned and moved between frames by its columns, which
 /// transform like spatial forces, at a fraction of the cost of its 6x6 blocks.
 struct SpatialFactor {
-  Mat6 columns = Mat6::Zero();
+  Mat6 columns = Mat6::Zero();  // past `rank`: zero, or unread (past the third, rank <= 3)
   int rank = 0;
 };
 

@@ -86,29 +86,52 @@ SpatialFactor factorSpatial(const Mat6& m) {
   return f;
 }
 
+namespace {
+
+// The first N columns of `f` (those past its rank are zero), turned or moved.
+template <int N>
+void turnColumns(const SpatialFactor& body, const Mat3& rotation, SpatialFactor& out) {
+  out.columns.topLeftCorner<3, N>().noalias() = rotation * body.columns.topLeftCorner<3, N>();
+  out.columns.bottomLeftCorner<3, N>().noalias() = rotation * body.columns.bottomLeftCorner<3, N>();
+}
+
+template <int N>
+void addColumnsMatrix(const SpatialFactor& f, const Vec3& offset, Mat6& out) {
+  // A force [a; n] about the COM is [a + offset x n; n] about the point.
+  Eigen::Matrix<double, 6, N> g = f.columns.leftCols<N>();
+  g.template topRows<3>().noalias() += skew(offset) * f.columns.bottomLeftCorner<3, N>();
+  out.noalias() += g * g.transpose();
+}
+
+}  // namespace
+
 void turnFactor(const SpatialFactor& body, const Mat3& rotation, double scale, SpatialFactor& out) {
-  const double s = std::sqrt(scale);
   out.rank = body.rank;
-  for (int j = 0; j < body.rank; ++j) {
-    const Vec6 g = s * body.columns.col(j);
-    out.columns.col(j) << rotation * g.head<3>(), rotation * g.tail<3>();
+  if (body.rank == 0) return;
+  const Mat3 r = std::sqrt(scale) * rotation;
+  if (body.rank <= 3) {
+    turnColumns<3>(body, r, out);
+  } else {
+    turnColumns<6>(body, r, out);
   }
 }
 
 void addFactorMatrix(const SpatialFactor& f, const Vec3& offset, Mat6& out) {
-  // A force f = [a; n] about the COM is [a + offset x n; n] about the point.
-  for (int j = 0; j < f.rank; ++j) {
-    const Vec6& c = f.columns.col(j);
-    Vec6 g;
-    g << c.head<3>() + offset.cross(c.tail<3>()), c.tail<3>();
-    out.noalias() += g * g.transpose();
+  if (f.rank == 0) return;
+  if (f.rank <= 3) {
+    addColumnsMatrix<3>(f, offset, out);
+  } else {
+    addColumnsMatrix<6>(f, offset, out);
   }
 }
 
 Vec6 factorTimes(const SpatialFactor& f, const Vec6& v) {
-  Vec6 out = Vec6::Zero();
-  for (int j = 0; j < f.rank; ++j) out += f.columns.col(j) * f.columns.col(j).dot(v);
-  return out;
+  if (f.rank == 0) return Vec6::Zero();
+  if (f.rank <= 3) {
+    const auto g = f.columns.leftCols<3>();
+    return g * (g.transpose() * v);
+  }
+  return f.columns * (f.columns.transpose() * v);
 }
 
 Mat6 dragDamping(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air) {
