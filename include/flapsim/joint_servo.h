@@ -79,6 +79,10 @@ Mat3 skew(const Vec3& v);
 Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia);
 /// The joint's motion subspace: the spatial velocity of a unit joint rate.
 Vec6 motionSubspace(const ServoLink& link);
+/// Solves a x = b for a symmetric positive definite `a` (its lower triangle is read) by
+/// Cholesky: a.llt().solve(b) up to rounding, unrolled for the 6x6 case (about a third of
+/// the instructions).
+Vec6 solveSymmetric(const Mat6& a, const Vec6& b);
 
 class JointServoSolver {
  public:
@@ -109,7 +113,6 @@ class JointServoSolver {
   const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia_ = &body_inertia_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
   std::vector<double> d_, u_;
-  Eigen::LLT<Mat6> root_;
 };
 
 }  // namespace flapsim

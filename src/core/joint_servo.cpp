@@ -42,6 +42,37 @@ Vec6 motionSubspace(const ServoLink& link) {
   return s;
 }
 
+Vec6 solveSymmetric(const Mat6& a, const Vec6& b) {
+  // a = L L^T, column by column as Eigen's LLT; the diagonal kept as its inverse.
+  double l[6][6];
+  double inv[6];
+#pragma GCC unroll 6
+  for (int j = 0; j < 6; ++j) {
+    double d = a(j, j);
+    for (int k = 0; k < j; ++k) d -= l[j][k] * l[j][k];
+    inv[j] = 1.0 / std::sqrt(d);
+    for (int i = j + 1; i < 6; ++i) {
+      double s = a(i, j);
+      for (int k = 0; k < j; ++k) s -= l[i][k] * l[j][k];
+      l[i][j] = s * inv[j];
+    }
+  }
+  Vec6 x;
+#pragma GCC unroll 6
+  for (int i = 0; i < 6; ++i) {  // L y = b
+    double s = b[i];
+    for (int k = 0; k < i; ++k) s -= l[i][k] * x[k];
+    x[i] = s * inv[i];
+  }
+#pragma GCC unroll 6
+  for (int i = 5; i >= 0; --i) {  // L^T x = y
+    double s = x[i];
+    for (int k = i + 1; k < 6; ++k) s -= l[k][i] * x[k];
+    x[i] = s * inv[i];
+  }
+  return x;
+}
+
 void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
                              const std::vector<ServoDemand>& demands, ServoSolution& out) {
   static const ServoLoads kNone;
@@ -207,8 +238,7 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
   if (fixed_root) {
     dv_[0].setZero();
   } else {
-    root_.compute(articulated_[0]);
-    dv_[0] = root_.solve(-bias_[0]);
+    dv_[0] = solveSymmetric(articulated_[0], -bias_[0]);
   }
   for (size_t k = 1; k < n; ++k) {
     const Vec6& ap = dv_[links[k].parent];

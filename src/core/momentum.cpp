@@ -61,7 +61,7 @@ RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& lin
   k.bottomRightCorner<3, 3>() += actual.mass * Mat3::Identity();
   Vec6 change;
   change << angular - actual.angular, linear - actual.linear;
-  const Vec6 twist = k.llt().solve(change);
+  const Vec6 twist = solveSymmetric(k, change);
   c.angular_velocity = twist.head<3>();
   c.velocity = twist.tail<3>();
   return c;
