@@ -46,17 +46,21 @@ Mat6 normalInertia(const std::vector<NormalMass>& masses, double scale);
 /// and moved to be about a point at `-offset` from the COM (offset = com - point).
 Mat6 spatialToCommonFrame(const Mat6& body, const Quat& orientation, const Vec3& offset);
 
-/// A symmetric positive semi-definite spatial matrix as the sum of g g^T over the first
-/// `rank` columns g of `columns`. A plate's added mass has rank 3 (its cells' f = [r x n; n]
-/// span three dimensions), so it is turned and moved between frames by its columns, which
-/// transform like spatial forces, at a fraction of the cost of its 6x6 blocks.
+/// A symmetric positive semi-definite spatial matrix, spatial inertia-like, split as a
+/// moment-only part (a 3x3 block, the same about every point) plus the sum of g g^T over up
+/// to three columns g = [moment; force], which move between points like spatial forces. A
+/// plate's added mass has one such column (all its cells push along one normal) and a
+/// moment-only rest: it is turned to world axes and moved to a point at a fraction of the
+/// cost of its 6x6 blocks.
 struct SpatialFactor {
-  Mat6 columns = Mat6::Zero();  // past `rank`: zero, or unread (past the third, rank <= 3)
-  int rank = 0;
+  bool any = false;  // false: the zero matrix
+  Mat3 angular = Mat3::Zero();
+  Eigen::Matrix<double, 6, 3> columns = Eigen::Matrix<double, 6, 3>::Zero();
+  int rank = 0;  // columns in use
 };
 
-/// The factor of a symmetric positive semi-definite `m` (eigenvalues below 1e-13 of the
-/// largest, rounding, left out: the matrix is the same up to rounding).
+/// The factor of a symmetric positive semi-definite `m` (its linear block's eigenvalues below
+/// 1e-13 of the largest, rounding, left out: the matrix is the same up to rounding).
 SpatialFactor factorSpatial(const Mat6& m);
 
 /// `body` (about a body's COM, body axes) times `scale` >= 0, in world axes by `rotation`.

@@ -124,8 +124,11 @@ void CreatureBody::applyServos() {
     // tree with inertia M + A under the impulses -A (vb - v0) on the aero bodies.
     const size_t n = servo_links.size();
     velocityChanges(tree);
-    loads_.extra_inertia.assign(n, Mat6::Zero());
-    loads_.impulse.assign(n, Vec6::Zero());
+    // Only the aero bodies' links have loads; the other links' stay zero between steps.
+    if (loads_.extra_inertia.size() != n || loads_.impulse.size() != n) {
+      loads_.extra_inertia.assign(n, Mat6::Zero());
+      loads_.impulse.assign(n, Vec6::Zero());
+    }
     drag_.resize(aero.size());
     change_.resize(aero.size());
     for (size_t i = 0; i < aero.size(); ++i) {
@@ -134,6 +137,7 @@ void CreatureBody::applyServos() {
       change_[i] = change_of_link_[k];
       // Links without implicit drag or added mass: nothing to add or move.
       Mat6& extra = loads_.extra_inertia[k];
+      extra.setZero();
       if (!aero[i].drag_zero) {
         drag_[i] = spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
         extra += drag_[i];
@@ -165,10 +169,20 @@ void CreatureBody::applyServos() {
 
 void CreatureBody::addedMass(const AeroBody& a, const Mat3& rotation, SpatialFactor& out) const {
   if (added_mass_density_ <= 0.0 || !a.has_added_mass) {
-    out.rank = 0;
+    out.any = false;
     return;
   }
   turnFactor(a.added_factor, rotation, added_mass_density_, out);
+}
+
+const SpatialFactor& CreatureBody::turnedAddedMass(AeroBody& a, const Mat3& rotation) const {
+  if (!a.added_valid || a.added_density != added_mass_density_ || a.added_rotation != rotation) {
+    addedMass(a, rotation, a.added);
+    a.added_rotation = rotation;
+    a.added_density = added_mass_density_;
+    a.added_valid = true;
+  }
+  return a.added;
 }
 
 SystemMomentum CreatureBody::measureMomentum() {
@@ -187,13 +201,12 @@ SystemMomentum CreatureBody::measureMomentum() {
   }
   SystemMomentum s = systemMomentum(motions_);
   if (added_mass_density_ <= 0.0) return s;
-  for (const AeroBody& a : aero) {
+  for (AeroBody& a : aero) {
     if (!a.has_added_mass) continue;
     const BodyMotion& b = motions_[a.link];
     Vec6 velocity;
     velocity << b.angular_velocity, b.velocity;
-    addedMass(a, rotations_[a.link], added_now_);
-    addFluidMomentum(s, added_now_, b.com, velocity);
+    addFluidMomentum(s, turnedAddedMass(a, rotations_[a.link]), b.com, velocity);
   }
   return s;
 }

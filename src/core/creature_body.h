@@ -64,6 +64,9 @@ struct CreatureBody {
   // This step's added mass of an aero body, world axes (`rotation`: its link's, to world),
   // about its COM, factored (empty without added mass).
   void addedMass(const AeroBody& a, const Mat3& rotation, SpatialFactor& out) const;
+  // The same in a.added, turned again only if `rotation` or the density changed since it
+  // last was (the end of a step's momentum has the next step's rotations).
+  const SpatialFactor& turnedAddedMass(AeroBody& a, const Mat3& rotation) const;
   void endStep(const Vec3& gravity, double dt);
   // A corrected step ends with a known momentum, which the next beginStep() takes instead of
   // measuring it; call this after changing the multibody's state between steps.
@@ -123,7 +126,6 @@ struct CreatureBody {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
   std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rotations_;  // per link, of the frames
-  SpatialFactor added_now_;  // measureMomentum()'s added mass of one aero body
 };
 
 }  // namespace flapsim

@@ -29,6 +29,11 @@ struct AeroBody {
   SpatialFactor added_factor;
   bool has_added_mass = false;  // added_mass is not zero
   SpatialFactor added;          // empty unless has_added_mass
+  // What `added` was turned with (CreatureBody::turnedAddedMass): the link's rotation and
+  // the density; not valid after a new surface.
+  Mat3 added_rotation = Mat3::Zero();
+  double added_density = 0.0;
+  bool added_valid = false;
   Mat6 drag = Mat6::Zero();
   bool drag_zero = true;  // drag is zero (kept so without rewriting it each step)
   double mass = 0.0;      // the link's own (a lower bound of its effective mass in the tree)
