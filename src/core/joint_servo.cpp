@@ -142,8 +142,14 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
     if (k == 0 || l.joint == ServoJointType::kFixed) {
       status_[k] = Status::kFixed;
     } else if (demands[k].active && demands[k].max_impulse > 0.0) {
-      status_[k] = Status::kPrescribed;
       ++driven;
+      if (warm_.size() == n && warm_[k] != 0) {  // saturated in the last solve
+        status_[k] = Status::kFree;
+        tau_[k] = warm_[k] * demands[k].max_impulse;
+        out.saturated[k] = true;
+      } else {
+        status_[k] = Status::kPrescribed;
+      }
     } else {
       status_[k] = Status::kFree;
     }
@@ -188,6 +194,10 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
       }
     }
     pass(links, fixed_root, demands, loads, out);
+  }
+  warm_.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    warm_[k] = !out.saturated[k] ? 0 : tau_[k] > 0.0 ? 1 : -1;
   }
 }
 
