@@ -50,10 +50,12 @@ struct ServoDemand {
 /// vectors: none). `extra_inertia` adds to a link's spatial inertia (the fluid's added mass
 /// and its linearised drag times the step, treated implicitly: symmetric, positive
 /// semi-definite); `impulse` is a known spatial impulse [moment about the origin; force]
-/// applied to the link in this step.
+/// applied to the link in this step. `links`, if not empty, lists (each once) the only links
+/// whose entries are read: the others' loads are zero, whatever their entries hold.
 struct ServoLoads {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> extra_inertia;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> impulse;
+  std::vector<int> links;
 };
 
 /// Per link, about the frame origin: its spatial inertia and its joint's motion subspace, for
@@ -111,6 +113,7 @@ class JointServoSolver {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
   // The links' spatial inertias in this solve: body_inertia_ or the caller's.
   const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia_ = &body_inertia_;
+  bool listed_extra_ = false;  // a pass adds the extra inertias of loads.links itself
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
   std::vector<double> d_, u_;
   // Per link: the sign of its bound if it was saturated in the last solve, else 0. The

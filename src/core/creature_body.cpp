@@ -124,18 +124,18 @@ void CreatureBody::applyServos() {
     // tree with inertia M + A under the impulses -A (vb - v0) on the aero bodies.
     const size_t n = servo_links.size();
     velocityChanges(tree);
-    // Only the aero bodies' links have loads; the other links' stay zero between steps.
-    if (loads_.extra_inertia.size() != n || loads_.impulse.size() != n) {
-      loads_.extra_inertia.assign(n, Mat6::Zero());
-      loads_.impulse.assign(n, Vec6::Zero());
-    }
+    // Only the aero bodies with implicit drag or added mass have loads (loads_.links).
+    loads_.extra_inertia.resize(n);
+    loads_.impulse.resize(n);
+    loads_.links.clear();
     drag_.resize(aero.size());
     change_.resize(aero.size());
     for (size_t i = 0; i < aero.size(); ++i) {
       const int k = aero[i].link;
-      const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
       change_[i] = change_of_link_[k];
-      // Links without implicit drag or added mass: nothing to add or move.
+      if (aero[i].drag_zero && !aero[i].has_added_mass) continue;
+      loads_.links.push_back(k);
+      const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
       Mat6& extra = loads_.extra_inertia[k];
       extra.setZero();
       if (!aero[i].drag_zero) {

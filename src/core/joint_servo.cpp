@@ -103,6 +103,12 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
                                   std::to_string(n) + " links");
     }
   }
+  for (int k : loads.links) {
+    if (k < 0 || static_cast<size_t>(k) >= n) {
+      throw std::invalid_argument("JointServoSolver: loaded link " + std::to_string(k) + " of " +
+                                  std::to_string(n));
+    }
+  }
   out.root_velocity_change.setZero();
   if (n == 0) {
     out.impulse.clear();
@@ -115,7 +121,10 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   status_.resize(n);
   tau_.assign(n, 0.0);
   body_inertia_.resize(n);
-  inertia_ = given && loads.extra_inertia.empty() ? tree.inertia : &body_inertia_;
+  const bool extra = !loads.extra_inertia.empty();
+  // Given inertias are read where they are, unless loads add to every link's.
+  listed_extra_ = given && extra && !loads.links.empty();
+  inertia_ = given && (!extra || listed_extra_) ? tree.inertia : &body_inertia_;
   articulated_.resize(n);
   bias_.resize(n);
   s_.resize(n);
@@ -131,13 +140,12 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   int driven = 0;
   for (size_t k = 0; k < n; ++k) {
     const ServoLink& l = links[k];
-    // Given inertias are read where they are, unless loads add to them.
     if (!given) {
       body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
-    } else if (!loads.extra_inertia.empty()) {
+    } else if (extra && !listed_extra_) {
       body_inertia_[k] = (*tree.inertia)[k];
     }
-    if (!loads.extra_inertia.empty()) body_inertia_[k] += loads.extra_inertia[k];
+    if (extra && loads.links.empty()) body_inertia_[k] += loads.extra_inertia[k];
     s_[k] = given ? (*tree.subspace)[k] : motionSubspace(l);
     if (k == 0 || l.joint == ServoJointType::kFixed) {
       status_[k] = Status::kFixed;
@@ -153,6 +161,10 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
     } else {
       status_[k] = Status::kFree;
     }
+  }
+
+  if (extra && !given) {
+    for (int k : loads.links) body_inertia_[k] += loads.extra_inertia[k];
   }
 
   // Active set: a driven joint whose impulse would exceed its bound pushes with the bound
@@ -205,14 +217,19 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
                             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
                             ServoSolution& out) {
   const size_t n = links.size();
+  const bool listed = !loads.links.empty();
   for (size_t k = 0; k < n; ++k) {
     articulated_[k] = (*inertia_)[k];
     // The bias impulse is what must act for no velocity change: minus the applied one.
-    if (loads.impulse.empty()) {
+    if (loads.impulse.empty() || listed) {
       bias_[k].setZero();
     } else {
       bias_[k] = -loads.impulse[k];
     }
+  }
+  for (int k : loads.links) {
+    if (listed_extra_) articulated_[k] += loads.extra_inertia[k];
+    if (!loads.impulse.empty()) bias_[k] = -loads.impulse[k];
   }
   // Leaves to root: articulated inertias and bias impulses.
   for (size_t k = n - 1; k >= 1; --k) {
