@@ -46,6 +46,33 @@ Mat6 normalInertia(const std::vector<NormalMass>& masses, double scale);
 /// and moved to be about a point at `-offset` from the COM (offset = com - point).
 Mat6 spatialToCommonFrame(const Mat6& body, const Quat& orientation, const Vec3& offset);
 
+/// A symmetric positive semi-definite spatial matrix, spatial inertia-like, split as a
+/// moment-only part (a 3x3 block, the same about every point) plus the sum of g g^T over up
+/// to three columns g = [moment; force], which move between points like spatial forces. A
+/// plate's added mass has one such column (all its cells push along one normal) and a
+/// moment-only rest: it is turned to world axes and moved to a point at a fraction of the
+/// cost of its 6x6 blocks.
+struct SpatialFactor {
+  bool any = false;  // false: the zero matrix
+  Mat3 angular = Mat3::Zero();
+  Eigen::Matrix<double, 6, 3> columns = Eigen::Matrix<double, 6, 3>::Zero();
+  int rank = 0;  // columns in use
+};
+
+/// The factor of a symmetric positive semi-definite `m` (its linear block's eigenvalues below
+/// 1e-13 of the largest, rounding, left out: the matrix is the same up to rounding).
+SpatialFactor factorSpatial(const Mat6& m);
+
+/// `body` (about a body's COM, body axes) times `scale` >= 0, in world axes by `rotation`.
+void turnFactor(const SpatialFactor& body, const Mat3& rotation, double scale, SpatialFactor& out);
+
+/// Adds the matrix of `f` (about a body's COM), moved to be about a point at `-offset` from
+/// the COM (offset = com - point, as spatialToCommonFrame), to `out`.
+void addFactorMatrix(const SpatialFactor& f, const Vec3& offset, Mat6& out);
+
+/// The matrix of `f` times `v`.
+Vec6 factorTimes(const SpatialFactor& f, const Vec6& v);
+
 /// Linearised normal drag of the pressure model, about the body's COM in world axes: for
 /// each advancing cell, the derivative of its normal force magnitude by its normal speed,
 /// 1/2 rho Cd s (|u| + (u.n)^2 / |u|), as a weight along the cell normal. Times the step,

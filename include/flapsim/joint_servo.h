@@ -50,10 +50,12 @@ struct ServoDemand {
 /// vectors: none). `extra_inertia` adds to a link's spatial inertia (the fluid's added mass
 /// and its linearised drag times the step, treated implicitly: symmetric, positive
 /// semi-definite); `impulse` is a known spatial impulse [moment about the origin; force]
-/// applied to the link in this step.
+/// applied to the link in this step. `links`, if not empty, lists (each once) the only links
+/// whose entries are read: the others' loads are zero, whatever their entries hold.
 struct ServoLoads {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> extra_inertia;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> impulse;
+  std::vector<int> links;
 };
 
 /// Per link, about the frame origin: its spatial inertia and its joint's motion subspace, for
@@ -79,6 +81,10 @@ Mat3 skew(const Vec3& v);
 Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia);
 /// The joint's motion subspace: the spatial velocity of a unit joint rate.
 Vec6 motionSubspace(const ServoLink& link);
+/// Solves a x = b for a symmetric positive definite `a` (its lower triangle is read) by
+/// Cholesky: a.llt().solve(b) up to rounding, unrolled for the 6x6 case (about a third of
+/// the instructions).
+Vec6 solveSymmetric(const Mat6& a, const Vec6& b);
 
 class JointServoSolver {
  public:
@@ -107,9 +113,13 @@ class JointServoSolver {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
   // The links' spatial inertias in this solve: body_inertia_ or the caller's.
   const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia_ = &body_inertia_;
+  bool listed_extra_ = false;  // a pass adds the extra inertias of loads.links itself
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
   std::vector<double> d_, u_;
-  Eigen::LLT<Mat6> root_;
+  // Per link: the sign of its bound if it was saturated in the last solve, else 0. The
+  // active set starts from it: the solution is unique, and saturated servos mostly stay so
+  // from one step to the next, which then takes one pass instead of two.
+  std::vector<signed char> warm_;
 };
 
 }  // namespace flapsim

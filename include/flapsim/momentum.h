@@ -20,6 +20,8 @@
 
 namespace flapsim {
 
+struct SpatialFactor;  // flapsim/fluid_inertia.h
+
 /// One rigid body at an instant, world frame.
 struct BodyMotion {
   double mass = 0.0;
@@ -47,6 +49,9 @@ SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies);
 /// Adds the fluid carried by one body: its added mass `added` (spatial, about the body's
 /// COM `com`, world axes) moving with the body's `velocity` [angular; linear of the COM].
 void addFluidMomentum(SystemMomentum& s, const Mat6& added, const Vec3& com, const Vec6& velocity);
+/// The same with the added mass factored (flapsim/fluid_inertia.h).
+void addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
+                      const Vec6& velocity);
 
 /// The rigid motion that brings a tree from `actual` to the target momentum: add
 /// `angular_velocity` and `velocity` + angular_velocity x (x - com) to the velocity of every

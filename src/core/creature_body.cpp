@@ -80,14 +80,21 @@ void CreatureBody::updateServoLinks() {
   }
 }
 
-Vec6 CreatureBody::spatialVelocity(int k, const btVector3& omega, const btVector3& vel) const {
-  const btQuaternion to_world = frames.world_to_local[k].inverse();
-  const Vec3 w = fromBt(quatRotate(to_world, omega));
-  const Vec3 v = fromBt(quatRotate(to_world, vel));
-  const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
-  Vec6 out;
-  out << w, v - w.cross(offset);  // the velocity of the point at the root's COM
-  return out;
+void CreatureBody::velocityChanges(const ServoTree& tree) {
+  const size_t n = servo_links.size();
+  change_of_link_.resize(n);
+  // The root's [angular; linear of its COM], which is the point the spatial velocities are
+  // taken at.
+  change_of_link_[0] << fromBt(mb->getBaseOmega()) - start_base_omega_,
+      fromBt(mb->getBaseVel()) - start_base_velocity_;
+  for (size_t k = 1; k < n; ++k) {
+    const ServoLink& l = servo_links[k];
+    change_of_link_[k] = change_of_link_[l.parent];
+    if (l.joint == ServoJointType::kFixed) continue;
+    const int link = static_cast<int>(k) - 1;
+    const double dq = mb->getJointVel(link) - start_joint_velocity_[link];
+    change_of_link_[k] += (tree.subspace ? (*tree.subspace)[k] : motionSubspace(l)) * dq;
+  }
 }
 
 void CreatureBody::applyServos() {
@@ -116,31 +123,33 @@ void CreatureBody::applyServos() {
     // and vb Bullet's velocities after this step's forces: solved for v1 - vb, it is the
     // tree with inertia M + A under the impulses -A (vb - v0) on the aero bodies.
     const size_t n = servo_links.size();
-    omega_now_.resize(n);
-    vel_now_.resize(n);
-    mb->compTreeLinkVelocities(omega_now_.data(), vel_now_.data());
-    loads_.extra_inertia.assign(n, Mat6::Zero());
-    loads_.impulse.assign(n, Vec6::Zero());
+    velocityChanges(tree);
+    // Only the aero bodies with implicit drag or added mass have loads (loads_.links).
+    loads_.extra_inertia.resize(n);
+    loads_.impulse.resize(n);
+    loads_.links.clear();
     drag_.resize(aero.size());
     change_.resize(aero.size());
     for (size_t i = 0; i < aero.size(); ++i) {
       const int k = aero[i].link;
+      change_[i] = change_of_link_[k];
+      if (aero[i].drag_zero && !aero[i].has_added_mass) continue;
+      loads_.links.push_back(k);
       const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
-      // Links without implicit drag or added mass: zero matrices, nothing to move.
-      drag_[i] = aero[i].drag_zero ? Mat6::Zero()
-                                   : spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
-      change_[i] = spatialVelocity(k, omega_now_[k], vel_now_[k]) -
-                   spatialVelocity(k, frames.omega[k], frames.vel[k]);
-      if (aero[i].has_added_mass) {
-        loads_.extra_inertia[k] = spatialToCommonFrame(aero[i].added, Quat::Identity(), offset);
+      Mat6& extra = loads_.extra_inertia[k];
+      extra.setZero();
+      if (!aero[i].drag_zero) {
+        drag_[i] = spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
+        extra += drag_[i];
       }
-      loads_.extra_inertia[k] += drag_[i];
-      loads_.impulse[k] = -loads_.extra_inertia[k] * change_[i];
+      if (aero[i].has_added_mass) addFactorMatrix(aero[i].added, offset, extra);
+      loads_.impulse[k] = -extra * change_[i];
     }
     servo.solve(servo_links, model->fixed_base, demands, loads_, tree, solution);
     // The implicit drag's impulse over the step, -step D (v1 - v0) on each aero body (the
     // added mass is part of the momentum itself: see measureMomentum()).
     for (size_t i = 0; i < aero.size(); ++i) {
+      if (aero[i].drag_zero) continue;
       drag_impulse_ -= drag_[i] * (change_[i] + solution.link_velocity_change[aero[i].link]);
     }
   } else {
@@ -158,20 +167,31 @@ void CreatureBody::applyServos() {
   }
 }
 
-Mat6 CreatureBody::addedMass(const AeroBody& a, const Quat& orientation) const {
-  if (added_mass_density_ <= 0.0 || !a.has_added_mass) return Mat6::Zero();
-  return spatialToCommonFrame(added_mass_density_ * a.added_mass, orientation, Vec3::Zero());
+void CreatureBody::addedMass(const AeroBody& a, const Mat3& rotation, SpatialFactor& out) const {
+  if (added_mass_density_ <= 0.0 || !a.has_added_mass) {
+    out.any = false;
+    return;
+  }
+  turnFactor(a.added_factor, rotation, added_mass_density_, out);
+}
+
+const SpatialFactor& CreatureBody::turnedAddedMass(AeroBody& a, const Mat3& rotation) const {
+  if (!a.added_valid || a.added_density != added_mass_density_ || a.added_rotation != rotation) {
+    addedMass(a, rotation, a.added);
+    a.added_rotation = rotation;
+    a.added_density = added_mass_density_;
+    a.added_valid = true;
+  }
+  return a.added;
 }
 
 SystemMomentum CreatureBody::measureMomentum() {
   const CreatureModel& m = *model;
   motions_.resize(m.links.size());
-  orientations_.resize(m.links.size());
   rotations_.resize(m.links.size());
   for (size_t k = 0; k < m.links.size(); ++k) {
     Mat3& r = rotations_[k];
     const BodyKinematics kin = frames.kinematics(static_cast<int>(k), &r);
-    orientations_[k] = kin.orientation;
     BodyMotion& b = motions_[k];
     b.mass = m.links[k].mass;
     b.com = kin.com;
@@ -181,12 +201,12 @@ SystemMomentum CreatureBody::measureMomentum() {
   }
   SystemMomentum s = systemMomentum(motions_);
   if (added_mass_density_ <= 0.0) return s;
-  for (const AeroBody& a : aero) {
+  for (AeroBody& a : aero) {
     if (!a.has_added_mass) continue;
     const BodyMotion& b = motions_[a.link];
     Vec6 velocity;
     velocity << b.angular_velocity, b.velocity;
-    addFluidMomentum(s, addedMass(a, orientations_[a.link]), b.com, velocity);
+    addFluidMomentum(s, turnedAddedMass(a, rotations_[a.link]), b.com, velocity);
   }
   return s;
 }
@@ -195,6 +215,8 @@ void CreatureBody::beginStep(double added_mass_density) {
   const int links = mb->getNumLinks();
   start_joint_velocity_.resize(static_cast<size_t>(links));
   for (int l = 0; l < links; ++l) start_joint_velocity_[l] = mb->getJointVel(l);
+  start_base_omega_ = fromBt(mb->getBaseOmega());
+  start_base_velocity_ = fromBt(mb->getBaseVel());
   external_force_.setZero();
   external_moment_.setZero();
   drag_impulse_.setZero();

@@ -61,8 +61,12 @@ struct CreatureBody {
   // `added_mass_density`: the density the plates' added mass is taken at (0: none).
   void beginStep(double added_mass_density);
   void addExternal(const Vec3& com, const Wrench& wrench);
-  // This step's added mass of an aero body, world axes, about its COM.
-  Mat6 addedMass(const AeroBody& a, const Quat& orientation) const;
+  // This step's added mass of an aero body, world axes (`rotation`: its link's, to world),
+  // about its COM, factored (empty without added mass).
+  void addedMass(const AeroBody& a, const Mat3& rotation, SpatialFactor& out) const;
+  // The same in a.added, turned again only if `rotation` or the density changed since it
+  // last was (the end of a step's momentum has the next step's rotations).
+  const SpatialFactor& turnedAddedMass(AeroBody& a, const Mat3& rotation) const;
   void endStep(const Vec3& gravity, double dt);
   // A corrected step ends with a known momentum, which the next beginStep() takes instead of
   // measuring it; call this after changing the multibody's state between steps.
@@ -93,8 +97,10 @@ struct CreatureBody {
 
  private:
   void updateServoLinks();
-  // Spatial velocity [angular; linear at the root COM of the step's start] of link k.
-  Vec6 spatialVelocity(int k, const btVector3& omega, const btVector3& vel) const;
+  // Per link, the change of its spatial velocity [angular; linear at the root COM of the
+  // step's start] since beginStep(), from the joints' (the motion subspaces of `tree`, else
+  // of servo_links) into change_of_link_.
+  void velocityChanges(const ServoTree& tree);
   // The momentum of the tree and of the fluid it carries, from `frames`.
   SystemMomentum measureMomentum();
 
@@ -111,14 +117,15 @@ struct CreatureBody {
   // Scratch, kept between steps: no allocation once warm.
   std::vector<BodyMotion> motions_;
   std::vector<double> start_joint_velocity_;  // per Bullet link
+  Vec3 start_base_omega_ = Vec3::Zero();      // world frame
+  Vec3 start_base_velocity_ = Vec3::Zero();   // of the base's COM
   ServoLoads loads_;
-  std::vector<btVector3> omega_now_, vel_now_;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_of_link_;
   // Per aero body in applyServos(): its drag matrix about the root COM, and Bullet's change
   // of its spatial velocity in this step.
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
-  std::vector<Quat, Eigen::aligned_allocator<Quat>> orientations_;  // per link, of the frames
-  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rotations_;     // the same as matrices
+  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rotations_;  // per link, of the frames
 };
 
 }  // namespace flapsim

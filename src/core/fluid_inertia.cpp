@@ -1,5 +1,6 @@
 #include "flapsim/fluid_inertia.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -70,6 +71,63 @@ Mat6 spatialToCommonFrame(const Mat6& body, const Quat& orientation, const Vec3&
   out.topLeftCorner<3, 3>() += s * out.bottomLeftCorner<3, 3>() + top_right * s.transpose();
   out.bottomLeftCorner<3, 3>() += out.bottomRightCorner<3, 3>() * s.transpose();
   out.topRightCorner<3, 3>() = top_right;
+  return out;
+}
+
+SpatialFactor factorSpatial(const Mat6& m) {
+  SpatialFactor f;
+  if (m.isZero(0.0)) return f;
+  f.any = true;
+  const Mat6 a = 0.5 * (m + m.transpose());
+  // a = [P Q; Q^T S]: with S = V L V^T, the columns [Q v / sqrt(l); sqrt(l) v] carry S and Q
+  // (Q^T lies in the range of S, a being semi-definite), and P less their moments is the
+  // Schur complement, a moment-only part.
+  const Eigen::SelfAdjointEigenSolver<Mat3> eigen(a.bottomRightCorner<3, 3>());
+  const Vec3& values = eigen.eigenvalues();  // increasing
+  const double floor = 1e-13 * values[2];
+  f.angular = a.topLeftCorner<3, 3>();
+  for (int i = 2; i >= 0 && values[i] > floor; --i) {
+    const double root = std::sqrt(values[i]);
+    const Vec3 v = eigen.eigenvectors().col(i);
+    Vec6 g;
+    g << a.topRightCorner<3, 3>() * v / root, root * v;
+    f.columns.col(f.rank++) = g;
+    f.angular.noalias() -= g.head<3>() * g.head<3>().transpose();
+  }
+  f.angular = 0.5 * (f.angular + f.angular.transpose()).eval();
+  return f;
+}
+
+void turnFactor(const SpatialFactor& body, const Mat3& rotation, double scale, SpatialFactor& out) {
+  out.any = body.any;
+  out.rank = body.rank;
+  if (!body.any) return;
+  out.angular.noalias() = (scale * rotation) * body.angular * rotation.transpose();
+  const Mat3 r = std::sqrt(scale) * rotation;
+  if (body.rank == 1) {  // a plate
+    out.columns.col(0) << r * body.columns.col(0).head<3>(), r * body.columns.col(0).tail<3>();
+  } else {
+    out.columns.topRows<3>().noalias() = r * body.columns.topRows<3>();
+    out.columns.bottomRows<3>().noalias() = r * body.columns.bottomRows<3>();
+  }
+}
+
+void addFactorMatrix(const SpatialFactor& f, const Vec3& offset, Mat6& out) {
+  if (!f.any) return;
+  out.topLeftCorner<3, 3>() += f.angular;  // a pure moment: the same about every point
+  for (int j = 0; j < f.rank; ++j) {
+    // A force [a; n] about the COM is [a + offset x n; n] about the point.
+    Vec6 g = f.columns.col(j);
+    g.head<3>() += offset.cross(g.tail<3>());
+    out.noalias() += g * g.transpose();
+  }
+}
+
+Vec6 factorTimes(const SpatialFactor& f, const Vec6& v) {
+  Vec6 out = Vec6::Zero();
+  if (!f.any) return out;
+  out.head<3>().noalias() = f.angular * v.head<3>();
+  for (int j = 0; j < f.rank; ++j) out += f.columns.col(j) * f.columns.col(j).dot(v);
   return out;
 }
 

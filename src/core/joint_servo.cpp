@@ -42,6 +42,37 @@ Vec6 motionSubspace(const ServoLink& link) {
   return s;
 }
 
+Vec6 solveSymmetric(const Mat6& a, const Vec6& b) {
+  // a = L L^T, column by column as Eigen's LLT; the diagonal kept as its inverse.
+  double l[6][6];
+  double inv[6];
+#pragma GCC unroll 6
+  for (int j = 0; j < 6; ++j) {
+    double d = a(j, j);
+    for (int k = 0; k < j; ++k) d -= l[j][k] * l[j][k];
+    inv[j] = 1.0 / std::sqrt(d);
+    for (int i = j + 1; i < 6; ++i) {
+      double s = a(i, j);
+      for (int k = 0; k < j; ++k) s -= l[i][k] * l[j][k];
+      l[i][j] = s * inv[j];
+    }
+  }
+  Vec6 x;
+#pragma GCC unroll 6
+  for (int i = 0; i < 6; ++i) {  // L y = b
+    double s = b[i];
+    for (int k = 0; k < i; ++k) s -= l[i][k] * x[k];
+    x[i] = s * inv[i];
+  }
+#pragma GCC unroll 6
+  for (int i = 5; i >= 0; --i) {  // L^T x = y
+    double s = x[i];
+    for (int k = i + 1; k < 6; ++k) s -= l[k][i] * x[k];
+    x[i] = s * inv[i];
+  }
+  return x;
+}
+
 void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
                              const std::vector<ServoDemand>& demands, ServoSolution& out) {
   static const ServoLoads kNone;
@@ -72,6 +103,12 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
                                   std::to_string(n) + " links");
     }
   }
+  for (int k : loads.links) {
+    if (k < 0 || static_cast<size_t>(k) >= n) {
+      throw std::invalid_argument("JointServoSolver: loaded link " + std::to_string(k) + " of " +
+                                  std::to_string(n));
+    }
+  }
   out.root_velocity_change.setZero();
   if (n == 0) {
     out.impulse.clear();
@@ -84,7 +121,10 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   status_.resize(n);
   tau_.assign(n, 0.0);
   body_inertia_.resize(n);
-  inertia_ = given && loads.extra_inertia.empty() ? tree.inertia : &body_inertia_;
+  const bool extra = !loads.extra_inertia.empty();
+  // Given inertias are read where they are, unless loads add to every link's.
+  listed_extra_ = given && extra && !loads.links.empty();
+  inertia_ = given && (!extra || listed_extra_) ? tree.inertia : &body_inertia_;
   articulated_.resize(n);
   bias_.resize(n);
   s_.resize(n);
@@ -100,22 +140,31 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   int driven = 0;
   for (size_t k = 0; k < n; ++k) {
     const ServoLink& l = links[k];
-    // Given inertias are read where they are, unless loads add to them.
     if (!given) {
       body_inertia_[k] = spatialInertia(l.mass, l.com, l.inertia);
-    } else if (!loads.extra_inertia.empty()) {
+    } else if (extra && !listed_extra_) {
       body_inertia_[k] = (*tree.inertia)[k];
     }
-    if (!loads.extra_inertia.empty()) body_inertia_[k] += loads.extra_inertia[k];
+    if (extra && loads.links.empty()) body_inertia_[k] += loads.extra_inertia[k];
     s_[k] = given ? (*tree.subspace)[k] : motionSubspace(l);
     if (k == 0 || l.joint == ServoJointType::kFixed) {
       status_[k] = Status::kFixed;
     } else if (demands[k].active && demands[k].max_impulse > 0.0) {
-      status_[k] = Status::kPrescribed;
       ++driven;
+      if (warm_.size() == n && warm_[k] != 0) {  // saturated in the last solve
+        status_[k] = Status::kFree;
+        tau_[k] = warm_[k] * demands[k].max_impulse;
+        out.saturated[k] = true;
+      } else {
+        status_[k] = Status::kPrescribed;
+      }
     } else {
       status_[k] = Status::kFree;
     }
+  }
+
+  if (extra && !given) {
+    for (int k : loads.links) body_inertia_[k] += loads.extra_inertia[k];
   }
 
   // Active set: a driven joint whose impulse would exceed its bound pushes with the bound
@@ -158,20 +207,29 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
     }
     pass(links, fixed_root, demands, loads, out);
   }
+  warm_.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    warm_[k] = !out.saturated[k] ? 0 : tau_[k] > 0.0 ? 1 : -1;
+  }
 }
 
 void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root,
                             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
                             ServoSolution& out) {
   const size_t n = links.size();
+  const bool listed = !loads.links.empty();
   for (size_t k = 0; k < n; ++k) {
     articulated_[k] = (*inertia_)[k];
     // The bias impulse is what must act for no velocity change: minus the applied one.
-    if (loads.impulse.empty()) {
+    if (loads.impulse.empty() || listed) {
       bias_[k].setZero();
     } else {
       bias_[k] = -loads.impulse[k];
     }
+  }
+  for (int k : loads.links) {
+    if (listed_extra_) articulated_[k] += loads.extra_inertia[k];
+    if (!loads.impulse.empty()) bias_[k] = -loads.impulse[k];
   }
   // Leaves to root: articulated inertias and bias impulses.
   for (size_t k = n - 1; k >= 1; --k) {
@@ -207,8 +265,7 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
   if (fixed_root) {
     dv_[0].setZero();
   } else {
-    root_.compute(articulated_[0]);
-    dv_[0] = root_.solve(-bias_[0]);
+    dv_[0] = solveSymmetric(articulated_[0], -bias_[0]);
   }
   for (size_t k = 1; k < n; ++k) {
     const Vec6& ap = dv_[links[k].parent];

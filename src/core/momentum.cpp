@@ -36,6 +36,15 @@ void addFluidMomentum(SystemMomentum& s, const Mat6& added, const Vec3& com, con
   s.fluid += spatialToCommonFrame(added, Quat::Identity(), r);  // about the common centre
 }
 
+void addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
+                      const Vec6& velocity) {
+  const Vec6 h = factorTimes(added, velocity);  // [moment about the body's COM; force]
+  const Vec3 r = com - s.com;
+  s.linear += h.tail<3>();
+  s.angular += h.head<3>() + r.cross(h.tail<3>());
+  addFactorMatrix(added, r, s.fluid);  // about the common centre
+}
+
 RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& linear,
                                    const Vec3& angular) {
   RigidCorrection c;
@@ -52,7 +61,7 @@ RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& lin
   k.bottomRightCorner<3, 3>() += actual.mass * Mat3::Identity();
   Vec6 change;
   change << angular - actual.angular, linear - actual.linear;
-  const Vec6 twist = k.llt().solve(change);
+  const Vec6 twist = solveSymmetric(k, change);
   c.angular_velocity = twist.head<3>();
   c.velocity = twist.tail<3>();
   return c;

@@ -1,7 +1,5 @@
 #include "tree_dynamics.h"
 
-#include <Eigen/Cholesky>
-
 #include "bullet_scene.h"
 
 namespace flapsim {
@@ -139,7 +137,7 @@ void TreeDynamics::outwardPass(const btMultiBody& mb) {
   if (mb.hasFixedBase()) {
     accel_[0].setZero();
   } else {
-    accel_[0] = -inertia_[0].llt().solve(bias_[0]);  // symmetric positive definite
+    accel_[0] = -solveSymmetric(inertia_[0], bias_[0]);  // symmetric positive definite
   }
   // The base COM's acceleration: the spatial one plus omega x v.
   const Vec3 base_linear =

@@ -40,8 +40,10 @@ namespace {
 void setSurface(AeroBody& a, const CreatureModel& m, const AirParams& air) {
   a.surface = linkAeroSurface(m, a.link, air);
   a.added_mass = linkAddedMass(m.links[a.link], air);
+  a.added_factor = factorSpatial(a.added_mass);
   a.has_added_mass = !a.added_mass.isZero(0.0);
-  if (!a.has_added_mass) a.added.setZero();  // it may have had some before
+  a.added = SpatialFactor();  // it may have had some before
+  a.added_valid = false;
   a.mass = m.links[a.link].mass;
   a.area = 0.0;
   for (const SurfaceCell& c : a.surface.cells) a.area += c.area;
@@ -82,14 +84,15 @@ void AirStage::apply(CreatureBody& b, const WorldParams& params, double step) co
   b.fluid_active = false;
   for (AeroBody& a : b.aero) {
     const int k = a.link;
-    const BodyKinematics kin = b.frames.kinematics(k);
+    Mat3 rotation;
+    const BodyKinematics kin = b.frames.kinematics(k, &rotation);
     Wrench w =
         modelOf(a).bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
     if (air.buoyancy) w += buoyancyWrench(a.surface, kin, air.density, params.gravity);
     a.last.com = kin.com;
     a.last.wrench = w;
     b.addExternal(kin.com, w);
-    if (a.has_added_mass) a.added = b.addedMass(a, kin.orientation);
+    if (a.has_added_mass) b.turnedAddedMass(a, rotation);
     const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, b.reach[k], step);
     // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
     // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).

@@ -9,6 +9,7 @@
 
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
+#include "flapsim/fluid_inertia.h"
 #include "flapsim/joint_servo.h"
 #include "flapsim/world.h"
 
@@ -22,11 +23,17 @@ struct AeroBody {
   std::string model;  // the link's own air model, empty for the world's
   AeroSurface surface;
   // The fluid's implicit part (flapsim/fluid_inertia.h), spatial, about the COM: the added
-  // mass of the link's plates at density 1 in body axes; this step's added mass and step x
-  // linearised drag, in world axes.
+  // mass of the link's plates at density 1 in body axes, and its factor; this step's added
+  // mass (factored) and step x linearised drag, in world axes.
   Mat6 added_mass = Mat6::Zero();
+  SpatialFactor added_factor;
   bool has_added_mass = false;  // added_mass is not zero
-  Mat6 added = Mat6::Zero();    // zero unless has_added_mass
+  SpatialFactor added;          // empty unless has_added_mass
+  // What `added` was turned with (CreatureBody::turnedAddedMass): the link's rotation and
+  // the density; not valid after a new surface.
+  Mat3 added_rotation = Mat3::Zero();
+  double added_density = 0.0;
+  bool added_valid = false;
   Mat6 drag = Mat6::Zero();
   bool drag_zero = true;  // drag is zero (kept so without rewriting it each step)
   double mass = 0.0;      // the link's own (a lower bound of its effective mass in the tree)
