@@ -299,8 +299,8 @@ TEST(EvolvedController, AFlockOfEightFliesInOneWorld) {
 TEST(EvolvedController, ARightRollGetsARelativelyStrongerRightDownstroke) {
   // The network's right-minus-left downstroke rate never falls as the unit rolls further to
   // the right (right wing low: world_up . body_left > 0), nose up, level or down, and is
-  // more than 20 rad/s larger rolled 17 deg right than 17 deg left: the faster (phase-locked)
-  // wing lifts its side.
+  // more than 10 rad/s larger rolled 17 deg right than 17 deg left (13.0: +7.2 against
+  // -5.8): the faster (phase-locked) wing lifts its side.
   const ControllerSpec spec = loadControllerYaml(kWeights);
   ASSERT_TRUE(spec.params.phase_lock);
   const FlapUnitController c(spec.params, spec.weights);
@@ -316,7 +316,7 @@ TEST(EvolvedController, ARightRollGetsARelativelyStrongerRightDownstroke) {
       last = d;
     }
   }
-  EXPECT_GT(difference(0.0, 0.3), difference(0.0, -0.3) + 20.0);
+  EXPECT_GT(difference(0.0, 0.3), difference(0.0, -0.3) + 10.0);
 }
 
 // The committed controller of the `pairs`-unit chain: the one-pair network with the chain
@@ -363,7 +363,7 @@ TEST(EvolvedController, ChainsOf4_6_12PairsWithThePitchTermFlyHeldOutStarts) {
 
 // Why the pitch term: every unit's network sees the same pitch, so the network alone cannot
 // right the 12-unit chain, rigid in pitch; it flies 1 of those 8 starts (the others pitch over
-// and sink, or flip; 3 without added mass), against 8 with the term.
+// and sink, or flip), against 8 with the term.
 TEST(EvolvedController, ThePitchTermFliesTheTwelveUnitChainWhereTheNetworkAloneSinks) {
   ControllerSpec spec = chainController(12);
   ASSERT_GT(spec.params.pitch_gain, 0.0);
@@ -377,7 +377,7 @@ TEST(EvolvedController, ThePitchTermFliesTheTwelveUnitChainWhereTheNetworkAloneS
 
 // Why the springs between units (make_creature's default 2 N m/rad): without them one unit's
 // roll excursion twists the chain, its units beat at different mean rates and pitch it, and
-// the 6-unit chain under its controller flies none of those 8 starts (3 without added mass),
+// the 6-unit chain under its controller flies none of those 8 starts,
 // against 8 with them.
 TEST(EvolvedController, LinkSpringsFlyTheSixUnitChainThatTwistsWithoutThem) {
   const ControllerSpec spec = chainController(6);
@@ -393,9 +393,8 @@ TEST(EvolvedController, LinkSpringsFlyTheSixUnitChainThatTwistsWithoutThem) {
 }
 
 // Why roll joints: with wave 1's pitch joints (springs of 0.5 N m/rad, rigid in roll) the
-// 6-unit chain flies 2 of those 8 starts under the one-pair network (the pitch term has no
-// rigid chain to pitch there; none without added mass); the roll-jointed chain under its
-// controller flies all 8.
+// 6-unit chain flies none of those 8 starts under the one-pair network (the pitch term has
+// no rigid chain to pitch there); the roll-jointed chain under its controller flies all 8.
 TEST(EvolvedController, RollJointsFlyASixUnitChainWherePitchJointsFail) {
   FlapUnitParams unit;
   unit.link_axis = LinkAxis::kPitch;
@@ -405,7 +404,7 @@ TEST(EvolvedController, RollJointsFlyASixUnitChainWherePitchJointsFail) {
   const int pitch = flownOfEightStarts(pitch_jointed, loadControllerYaml(kWeights));
   const int roll = chainFlownOfEightStarts(6);
   std::printf("6 units, 8 starts: %d flown with pitch joints, %d with roll joints\n", pitch, roll);
-  EXPECT_LE(pitch, 2);
+  EXPECT_LE(pitch, 1);
   EXPECT_EQ(roll, 8);
 }
 
