@@ -105,6 +105,8 @@ def main():
     with rosbag.Bag(bag_path) as bag:
         info = bag.get_type_and_topic_info().topics
         counts = {t: info[t].message_count for t in info}
+        stroke = next((m for _, m, _ in bag.read_messages(topics=[f"/{CREATURE}/wing_command"])),
+                      None)
         for _, msg, _ in bag.read_messages(topics=[f"/{CREATURE}/odom"]):
             p, q = msg.pose.pose.position, msg.pose.pose.orientation
             v = msg.twist.twist.linear
@@ -115,9 +117,13 @@ def main():
         w.writerows(rows)
 
     png_path = os.path.join(out, f"{CREATURE}.png")
+    title = "flap unit"
+    if stroke is not None and stroke.downstroke_rate:
+        title += (f", w1 = {stroke.downstroke_rate[0]:g}, w2 = {stroke.upstroke_rate[0]:g} rad/s, "
+                  f"amplitude {stroke.amplitude[0]:g} rad")
     plot = (f"set datafile separator ','; set terminal pngcairo size 800,500; "
             f"set output '{png_path}'; set grid; set key off; "
-            f"set title 'flap unit, w1 = 40, w2 = 10 rad/s, amplitude 0.8 rad'; "
+            f"set title '{title}'; "
             f"set xlabel 'sim time (s)'; set ylabel 'height of the body (m)'; "
             f"plot '{csv_path}' skip 1 using 1:4 with lines lw 2")
     plotted = subprocess.run(["gnuplot", "-e", plot]).returncode == 0
