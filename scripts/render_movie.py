@@ -76,7 +76,9 @@ def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=2.5, 
                 rospy.Subscriber("/clock", Clock,
                                  lambda m: latest.__setitem__(0, m.clock.to_sec()))
                 # playback starts once rviz listens: film from its first /clock
-                views.wait_for(lambda: latest[0] >= 0.0, timeout, "the replay to start")
+                # (start_when_listening.py gives up after 120 s)
+                views.wait_for(lambda: latest[0] >= 0.0, min(timeout, 150.0),
+                               "the replay to start")
                 ffmpeg = subprocess.Popen(
                     ["ffmpeg", "-loglevel", "error", "-y", "-f", "x11grab", "-draw_mouse", "0",
                      "-framerate", str(fps), "-video_size", f"{width}x{height}", "-i", display,

@@ -8,14 +8,25 @@ smoothed centroid of the creatures); --size sets the window; --bare shows the 3D
 (no panels; with rviz's --fullscreen, no menu or tool bar either), for screenshots and
 movies. Other arguments (roslaunch's __name:=..., --fullscreen) go to rviz. The adjusted
 config is written to a temporary file.
+
+rviz (1.14, OGRE 1.12) now and then aborts while it creates its GL context under Xvfb
+(SIGABRT right after "Forcing OpenGl version 0", about 1 start in 20 here): an rviz killed
+by a signal within STARTUP seconds is started again, up to RETRIES times. SIGINT and
+SIGTERM are passed on to rviz; the exit status is rviz's.
 """
 import argparse
 import os
+import signal
+import subprocess
 import sys
 import tempfile
+import time
 
 import rospkg
 import yaml
+
+STARTUP = 10.0  # s: an abort this soon after the start is the GL context's
+RETRIES = 3
 
 
 def adjusted(config, distance=None, yaw=None, pitch=None, size=None, bare=False):
@@ -57,8 +68,31 @@ def main(argv):
     fd, path = tempfile.mkstemp(prefix="flapsim_", suffix=".rviz")
     with os.fdopen(fd, "w") as f:
         yaml.safe_dump(config, f, default_flow_style=False)
-    os.execvp("rviz", ["rviz", "-d", path] + rest)
+    return run_rviz(["rviz", "-d", path] + rest)
+
+
+def run_rviz(command):
+    """Runs rviz, again if it dies of a signal during start-up; returns its exit status."""
+    child, stopping = [None], [False]
+
+    def forward(signum, _frame):
+        stopping[0] = True
+        if child[0] and child[0].poll() is None:
+            child[0].send_signal(signum)
+
+    signal.signal(signal.SIGINT, forward)
+    signal.signal(signal.SIGTERM, forward)
+    for attempt in range(1, RETRIES + 1):
+        started = time.monotonic()
+        child[0] = subprocess.Popen(command)
+        code = child[0].wait()
+        if (code >= 0 or stopping[0] or time.monotonic() - started > STARTUP or
+                attempt == RETRIES):
+            return code if code >= 0 else 128 - code
+        print(f"rviz.py: rviz died of signal {-code} {time.monotonic() - started:.1f} s after "
+              f"its start; starting it again ({attempt} of {RETRIES - 1})", file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    sys.exit(main(sys.argv[1:]))

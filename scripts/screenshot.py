@@ -125,8 +125,11 @@ def shoot_replay(bag, out, at, size="800x600", min_pixels=50, timeout=120.0, lau
     out = os.path.abspath(out)
     log = log or os.path.splitext(out)[0] + ".log"
     with views.xvfb(width, height) as display:
-        with views.roslaunch(["replay.launch", f"bag:={os.path.abspath(bag)}"] +
-                             list(launch_args) + [views.rviz_args(width, height)],
+        # --keep-alive: the player stays after the bag's end, so that a shot near the end can
+        # still pause it (on a busy machine the end may come before the pause).
+        with views.roslaunch(["replay.launch", f"bag:={os.path.abspath(bag)}",
+                              "play_args:=--keep-alive"] + list(launch_args) +
+                             [views.rviz_args(width, height)],
                              display, log) as (proc, env):
             views.use_master(env)
             views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
