@@ -152,6 +152,13 @@ struct BodyKinematics {
   Vec3 com = Vec3::Zero();
   Vec3 linear_velocity = Vec3::Zero();
   Vec3 angular_velocity = Vec3::Zero();
+  /// Optional, when the caller has them (LinkFrames::kinematics): `orientation` as a matrix
+  /// and the two velocities in the body frame, which the air models use instead of turning
+  /// them again.
+  bool has_body_frame = false;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Vec3 body_linear_velocity = Vec3::Zero();
+  Vec3 body_angular_velocity = Vec3::Zero();
 };
 
 /// Force and torque about the body's centre of mass, world frame.

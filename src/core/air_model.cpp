@@ -328,7 +328,9 @@ AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParam
 Wrench buoyancyWrench(const AeroSurface& surface, const BodyKinematics& body, double density,
                       const Vec3& gravity) {
   const Vec3 force = buoyancyForce(surface.volume, density, gravity);
-  return Wrench{force, (body.orientation * surface.centroid).cross(force)};
+  const Vec3 centroid =
+      body.has_body_frame ? body.rotation * surface.centroid : body.orientation * surface.centroid;
+  return Wrench{force, centroid.cross(force)};
 }
 
 namespace {
@@ -337,10 +339,11 @@ namespace {
 // normals are constant.
 struct BodyFlow {
   BodyFlow(const BodyKinematics& body, const AirParams& air)
-      : rot(body.orientation.toRotationMatrix()),
-        v(rot.transpose() * body.linear_velocity),
-        w(rot.transpose() * body.angular_velocity),
-        wind(rot.transpose() * air.wind) {}
+      : rot(body.has_body_frame ? body.rotation : body.orientation.toRotationMatrix()),
+        v(body.has_body_frame ? body.body_linear_velocity : rot.transpose() * body.linear_velocity),
+        w(body.has_body_frame ? body.body_angular_velocity
+                              : rot.transpose() * body.angular_velocity),
+        wind(air.wind.isZero(0.0) ? Vec3::Zero() : Vec3(rot.transpose() * air.wind)) {}
 
   Vec3 at(const Vec3& point) const { return relativeAirVelocity(v, w, point, wind); }
   // u.n is affine over a face: if no corner advances into the air, no cell does.

@@ -13,8 +13,13 @@ BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
   // One rotation matrix for both velocities: cheaper than two quaternion rotations.
   const Mat3 r = kin.orientation.toRotationMatrix();
   kin.com = fromBt(local_origin[k]);
-  kin.linear_velocity = r * fromBt(vel[k]);
-  kin.angular_velocity = r * fromBt(omega[k]);
+  // Bullet's link velocities are in the link's (COM) frame.
+  kin.body_linear_velocity = fromBt(vel[k]);
+  kin.body_angular_velocity = fromBt(omega[k]);
+  kin.linear_velocity = r * kin.body_linear_velocity;
+  kin.angular_velocity = r * kin.body_angular_velocity;
+  kin.rotation = r;
+  kin.has_body_frame = true;
   if (rotation) *rotation = r;
   return kin;
 }
