@@ -264,7 +264,13 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step
   // A lean step already has the frames of its end positions.
   const bool stepped = scene->world().takeLeanFrames(frames.world_to_local, frames.local_origin);
-  if (moved || !stepped) mb->forwardKinematics(frames.world_to_local, frames.local_origin);
+  // After a lean step the joints moved above have their caches (setJointPos) and the
+  // frames are the same sums as Bullet's forwardKinematics: only the frames again.
+  if (!stepped) {
+    mb->forwardKinematics(frames.world_to_local, frames.local_origin);
+  } else if (moved) {
+    multiBodyFrames(*mb, frames.world_to_local, frames.local_origin);
+  }
   mb->compTreeLinkVelocities(frames.omega.data(), frames.vel.data());
   if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) return;
   // What the momentum must be: the start plus the external impulses (gravity has no moment
