@@ -55,6 +55,14 @@ bool CreatureBody::mayTouch() const {
   const double dt = scene->timeStep();
   for (size_t k = 0; k < reach.size(); ++k) {
     if (reach[k] <= 0.0) continue;
+    // The travel below is at most 2 dt sqrt(2 (v^2 + (w reach)^2)): well clear of that (as
+    // high in the air), no square roots.
+    const double margin = frames.local_origin[static_cast<int>(k)].z() - reach[k] - kClearance;
+    const double w_reach = frames.omega[k].length2() * reach[k] * reach[k];
+    if (margin > 0.0 &&
+        8.0 * dt * dt * (frames.vel[k].length2() + w_reach) < 0.99 * margin * margin) {
+      continue;
+    }
     const double travel = 2.0 * dt * (frames.vel[k].length() + frames.omega[k].length() * reach[k]);
     if (frames.local_origin[static_cast<int>(k)].z() - reach[k] - travel < kClearance) {
       return true;
