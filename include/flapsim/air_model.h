@@ -82,6 +82,13 @@ struct SurfaceFace {
   /// some of its cells were hidden (buildSurface): the survivors are then a plain list.
   int nu = 0, nv = 0;
   Vec3 step_u = Vec3::Zero(), step_v = Vec3::Zero();
+  /// For a grid, constants of its pressure sums (addBoxFaces sets them): the first cell's
+  /// centre, step_u and step_v, each crossed with the normal (u.n = v.n + w.(r x n) for a
+  /// body moving at v, w), and the index in AeroSurface::faces of the first face with the
+  /// same step_u and step_v (the opposite faces of a box share them).
+  Vec3 centre_x_normal = Vec3::Zero(), step_u_x_normal = Vec3::Zero();
+  Vec3 step_v_x_normal = Vec3::Zero();
+  int steps_of = -1;
 };
 
 /// The aero description of one rigid body, in its COM frame.
@@ -145,6 +152,13 @@ struct BodyKinematics {
   Vec3 com = Vec3::Zero();
   Vec3 linear_velocity = Vec3::Zero();
   Vec3 angular_velocity = Vec3::Zero();
+  /// Optional, when the caller has them (LinkFrames::kinematics): `orientation` as a matrix
+  /// and the two velocities in the body frame, which the air models use instead of turning
+  /// them again.
+  bool has_body_frame = false;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Vec3 body_linear_velocity = Vec3::Zero();
+  Vec3 body_angular_velocity = Vec3::Zero();
 };
 
 /// Force and torque about the body's centre of mass, world frame.

@@ -104,6 +104,17 @@ void addBoxFaces(AeroSurface& surface, const Vec3& size, const Pose& origin, int
       step = Vec3::Zero();
       step[c] = size[c] / fv;
       face.step_v = origin.orientation * step;
+      face.centre_x_normal = surface.cells[face.first_cell].centre.cross(face.normal);
+      face.step_u_x_normal = face.step_u.cross(face.normal);
+      face.step_v_x_normal = face.step_v.cross(face.normal);
+      face.steps_of = static_cast<int>(surface.faces.size());
+      for (size_t k = 0; k < surface.faces.size(); ++k) {
+        const SurfaceFace& other = surface.faces[k];
+        if (other.nu > 0 && other.step_u == face.step_u && other.step_v == face.step_v) {
+          face.steps_of = static_cast<int>(k);
+          break;
+        }
+      }
     }
     surface.faces.push_back(face);
   }
@@ -317,7 +328,9 @@ AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParam
 Wrench buoyancyWrench(const AeroSurface& surface, const BodyKinematics& body, double density,
                       const Vec3& gravity) {
   const Vec3 force = buoyancyForce(surface.volume, density, gravity);
-  return Wrench{force, (body.orientation * surface.centroid).cross(force)};
+  const Vec3 centroid =
+      body.has_body_frame ? body.rotation * surface.centroid : body.orientation * surface.centroid;
+  return Wrench{force, centroid.cross(force)};
 }
 
 namespace {
@@ -326,10 +339,11 @@ namespace {
 // normals are constant.
 struct BodyFlow {
   BodyFlow(const BodyKinematics& body, const AirParams& air)
-      : rot(body.orientation.toRotationMatrix()),
-        v(rot.transpose() * body.linear_velocity),
-        w(rot.transpose() * body.angular_velocity),
-        wind(rot.transpose() * air.wind) {}
+      : rot(body.has_body_frame ? body.rotation : body.orientation.toRotationMatrix()),
+        v(body.has_body_frame ? body.body_linear_velocity : rot.transpose() * body.linear_velocity),
+        w(body.has_body_frame ? body.body_angular_velocity
+                              : rot.transpose() * body.angular_velocity),
+        wind(air.wind.isZero(0.0) ? Vec3::Zero() : Vec3(rot.transpose() * air.wind)) {}
 
   Vec3 at(const Vec3& point) const { return relativeAirVelocity(v, w, point, wind); }
   // u.n is affine over a face: if no corner advances into the air, no cell does.
@@ -388,9 +402,12 @@ struct GridSums {
 };
 
 // Two cells of a row at a time, in the two lanes of a SIMD register (square roots too); a
-// lane past the row's end is weighted zero.
-GridSums gridSums(const GridAxes& g, int rows, int cols) {
+// lane past the row's end is weighted zero. kRows and kCols, when not 0, are rows and cols
+// known at compile time (the usual grids: the loops unroll).
+template <int kRows, int kCols>
+GridSums gridSums(const GridAxes& g, int rows_in, int cols_in) {
   using Pair = Eigen::Array2d;
+  const int rows = kRows > 0 ? kRows : rows_in, cols = kCols > 0 ? kCols : cols_in;
   const Pair step(0.0, 1.0), last(1.0, cols % 2 == 0 ? 1.0 : 0.0);
   Pair sum = Pair::Zero(), across = Pair::Zero(), along = Pair::Zero();
   for (int a = 0; a < rows; ++a) {
@@ -410,6 +427,40 @@ GridSums gridSums(const GridAxes& g, int rows, int cols) {
     along += row_b;
   }
   return GridSums{sum.sum(), across.sum(), along.sum()};
+}
+
+// A 4 x 4 grid (a box's face): two rows at a time instead, in the lanes (a, a + 1), which
+// broadcasts per column what gridSums broadcasts per row. The same cells, summed in another
+// order.
+GridSums gridSums4x4(const GridAxes& g) {
+  using Pair = Eigen::Array2d;
+  Pair sum = Pair::Zero(), across = Pair::Zero(), along = Pair::Zero();
+  for (int a0 = 0; a0 < 4; a0 += 2) {
+    const Pair a = Pair(0.0, 1.0) + static_cast<double>(a0);
+    const Pair un_a = g.n0 + a * g.n_a;
+    const Pair q_a = g.q00 + a * (g.q0a + a * g.qaa), q_ab = g.q0b + a * g.qab;
+    Pair row = Pair::Zero(), row_b = Pair::Zero();
+    for (int j = 0; j < 4; ++j) {
+      const double b = j;
+      const Pair un = (un_a + b * g.n_b).max(0.0);
+      const Pair p = (q_a + b * (q_ab + b * g.qbb)).max(0.0).sqrt() * un;
+      row += p;
+      row_b += p * b;
+    }
+    sum += row;
+    across += a * row;
+    along += row_b;
+  }
+  return GridSums{sum.sum(), across.sum(), along.sum()};
+}
+
+GridSums gridSums(const GridAxes& g, int rows, int cols) {
+  if (cols == 4) {
+    if (rows == 4) return gridSums4x4(g);
+    if (rows == 1) return gridSums<1, 4>(g, rows, cols);
+    return gridSums<0, 4>(g, rows, cols);
+  }
+  return gridSums<0, 0>(g, rows, cols);
 }
 
 // The forces on row i of grid face `face` (see PressureAirModel::bodyWrench), world frame.
@@ -437,27 +488,40 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
   // Per face: every force is along the face's normal n, so the face's force is -(sum p_i) n
   // and its torque -(sum p_i c_i) x n; only magnitudes are summed per cell.
   const BodyFlow flow(body, air);
+  const Vec3 drift = flow.v - flow.wind;  // the air's velocity relative to the COM
+  const double half_rho_cd = 0.5 * air.density * cd;
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
   if (cell_forces) cell_forces->assign(surface.cells.size(), Vec3::Zero());
+  // The cell steps' velocity terms of the last grid computed, shared by faces with the same
+  // steps (a box's opposite faces).
+  int steps_of = -1;
+  Vec3 du = Vec3::Zero(), dv = Vec3::Zero();
+  double qii = 0.0, qij = 0.0, qjj = 0.0;
   for (const SurfaceFace& face : surface.faces) {
-    double sum = 0.0;
-    Vec3 moment = Vec3::Zero();
     if (face.nu > 0) {
       // On a grid the relative velocity is affine in the cell index (u(c + s) = u(c) + w x s),
       // and so is the centre: sum p, p i and p j, not vectors. Then u.n is affine in (i, j)
       // and |u|^2 a quadratic: a cell costs a few multiply-adds and one square root.
-      const SurfaceCell& first = surface.cells[face.first_cell];
       const Vec3& n = face.normal;
-      const Vec3 u0 = flow.at(first.centre);
-      const Vec3 du = flow.w.cross(face.step_u), dv = flow.w.cross(face.step_v);
-      const double n0 = u0.dot(n), n_i = du.dot(n), n_j = dv.dot(n);
+      // u.n = v.n + (w x r).n = v.n + w.(r x n): no cross product before the test below.
+      const double n0 = drift.dot(n) + flow.w.dot(face.centre_x_normal);
+      const double n_i = flow.w.dot(face.step_u_x_normal), n_j = flow.w.dot(face.step_v_x_normal);
       // The largest u.n over the cell centres: if none advances into the air, none is pushed.
       if (n0 + std::max(0.0, (face.nu - 1) * n_i) + std::max(0.0, (face.nv - 1) * n_j) <= 0.0) {
         continue;
       }
-      const double k = 0.5 * air.density * cd * first.area;
+      const SurfaceCell& first = surface.cells[face.first_cell];
+      const Vec3 u0 = flow.at(first.centre);
+      if (face.steps_of != steps_of) {
+        du = flow.w.cross(face.step_u);
+        dv = flow.w.cross(face.step_v);
+        qii = du.squaredNorm();
+        qij = 2.0 * du.dot(dv);
+        qjj = dv.squaredNorm();
+        steps_of = face.steps_of;
+      }
+      const double k = half_rho_cd * first.area;
       const double q00 = u0.squaredNorm(), q0i = 2.0 * u0.dot(du), q0j = 2.0 * u0.dot(dv);
-      const double qii = du.squaredNorm(), qij = 2.0 * du.dot(dv), qjj = dv.squaredNorm();
       // Vectors run along the longer edge of the grid (a plate's rim is one cell wide).
       GridSums g;
       if (face.nv >= face.nu) {
@@ -472,18 +536,23 @@ Wrench PressureAirModel::bodyWrench(const BodyKinematics& body, const AeroSurfac
                     flow.rot, *cell_forces);
         }
       }
-      sum = k * g.sum;
-      moment = sum * first.centre + (k * g.across) * face.step_u + (k * g.along) * face.step_v;
-    } else {
-      if (!flow.advances(face)) continue;
-      for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
-        const SurfaceCell& cell = surface.cells[i];
-        const double p =
-            pressureMagnitude(flow.at(cell.centre), face.normal, cell.area, air.density, cd);
-        sum += p;
-        moment += p * cell.centre;
-        if (cell_forces) (*cell_forces)[i] = flow.rot * (-p * face.normal);
-      }
+      // The torque -(sum c_i p_i) x n from the centres' cross products with n.
+      const double p = k * g.sum;
+      force -= p * n;
+      torque -= p * face.centre_x_normal + (k * g.across) * face.step_u_x_normal +
+                (k * g.along) * face.step_v_x_normal;
+      continue;
+    }
+    if (!flow.advances(face)) continue;
+    double sum = 0.0;
+    Vec3 moment = Vec3::Zero();
+    for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
+      const SurfaceCell& cell = surface.cells[i];
+      const double p =
+          pressureMagnitude(flow.at(cell.centre), face.normal, cell.area, air.density, cd);
+      sum += p;
+      moment += p * cell.centre;
+      if (cell_forces) (*cell_forces)[i] = flow.rot * (-p * face.normal);
     }
     force -= sum * face.normal;
     torque -= moment.cross(face.normal);

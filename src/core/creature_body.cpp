@@ -13,8 +13,13 @@ BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
   // One rotation matrix for both velocities: cheaper than two quaternion rotations.
   const Mat3 r = kin.orientation.toRotationMatrix();
   kin.com = fromBt(local_origin[k]);
-  kin.linear_velocity = r * fromBt(vel[k]);
-  kin.angular_velocity = r * fromBt(omega[k]);
+  // Bullet's link velocities are in the link's (COM) frame.
+  kin.body_linear_velocity = fromBt(vel[k]);
+  kin.body_angular_velocity = fromBt(omega[k]);
+  kin.linear_velocity = r * kin.body_linear_velocity;
+  kin.angular_velocity = r * kin.body_angular_velocity;
+  kin.rotation = r;
+  kin.has_body_frame = true;
   if (rotation) *rotation = r;
   return kin;
 }
@@ -50,6 +55,14 @@ bool CreatureBody::mayTouch() const {
   const double dt = scene->timeStep();
   for (size_t k = 0; k < reach.size(); ++k) {
     if (reach[k] <= 0.0) continue;
+    // The travel below is at most 2 dt sqrt(2 (v^2 + (w reach)^2)): well clear of that (as
+    // high in the air), no square roots.
+    const double margin = frames.local_origin[static_cast<int>(k)].z() - reach[k] - kClearance;
+    const double w_reach = frames.omega[k].length2() * reach[k] * reach[k];
+    if (margin > 0.0 &&
+        8.0 * dt * dt * (frames.vel[k].length2() + w_reach) < 0.99 * margin * margin) {
+      continue;
+    }
     const double travel = 2.0 * dt * (frames.vel[k].length() + frames.omega[k].length() * reach[k]);
     if (frames.local_origin[static_cast<int>(k)].z() - reach[k] - travel < kClearance) {
       return true;
@@ -259,7 +272,13 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step
   // A lean step already has the frames of its end positions.
   const bool stepped = scene->world().takeLeanFrames(frames.world_to_local, frames.local_origin);
-  if (moved || !stepped) mb->forwardKinematics(frames.world_to_local, frames.local_origin);
+  // After a lean step the joints moved above have their caches (setJointPos) and the
+  // frames are the same sums as Bullet's forwardKinematics: only the frames again.
+  if (!stepped) {
+    mb->forwardKinematics(frames.world_to_local, frames.local_origin);
+  } else if (moved) {
+    multiBodyFrames(*mb, frames.world_to_local, frames.local_origin);
+  }
   mb->compTreeLinkVelocities(frames.omega.data(), frames.vel.data());
   if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) return;
   // What the momentum must be: the start plus the external impulses (gravity has no moment
