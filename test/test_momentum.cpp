@@ -186,12 +186,12 @@ std::vector<double> climbHeights(double step_size, const StrokeCommand& stroke) 
 
 // The climb converges in the step, at 1, 2 and 3 s. With the plates' added mass (on by
 // default) the unit at the stroke, 40/10/0.8, nearly hovers: it climbs 12 cm in 3 s
-// at 0.125 ms, so its error is bounded in metres: 1 and 0.5 ms within 5 mm (measured 4.0 and
-// 1.8 mm at most, +3.2% and +1.5% of that small climb), 2 ms within 1 cm (8 mm). A faster
-// stroke, 60/10/0.8 (1.68 m in 3 s), and a smaller one, 50/12/0.6 (0.85 m): 1 and 0.5 ms
-// within 1% of the 0.125 ms climb and 2 ms within 3% (measured 0.8% and 1.9% at most).
-// Before the turn substeps and the saturated joints' trapezoid, the flap unit climbed 5.6%
-// (1 ms) and 21% (2 ms) less in 3 s, without added mass.
+// at 0.125 ms, so its error is bounded in metres: 1 and 0.5 ms within 5 mm (measured 1.5 and
+// 0.8 mm at most), 2 ms within 1 cm (8.5 mm, at 1 s). A faster stroke, 60/10/0.8 (1.68 m in
+// 3 s), and a smaller one, 50/12/0.6 (0.85 m): 1 and 0.5 ms within 1% of the 0.125 ms climb
+// and 2 ms within 3% (measured 0.5% and 1.6% at most). Before the turn substeps and the
+// saturated joints' trapezoid, the flap unit climbed 5.6% (1 ms) and 21% (2 ms) less in 3 s,
+// without added mass.
 TEST(StepConvergence, FlapUnitClimbAgreesWithTheFineStep) {
   struct Case {
     StrokeCommand stroke;
