@@ -10,7 +10,7 @@ movies. Other arguments (roslaunch's __name:=..., --fullscreen) go to rviz. The 
 config is written to a temporary file.
 
 rviz (1.14, OGRE 1.12) now and then aborts while it creates its GL context under Xvfb
-(SIGABRT right after "Forcing OpenGl version 0", about 1 start in 20 here): an rviz killed
+(SIGABRT right after "Forcing OpenGl version 0", once in about 30 starts here): an rviz killed
 by a signal within STARTUP seconds is started again, up to RETRIES times. SIGINT and
 SIGTERM are passed on to rviz; the exit status is rviz's.
 """
