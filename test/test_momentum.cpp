@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "flapsim/fluid_inertia.h"
 #include "flapsim/momentum.h"
 #include "test_util.h"
 
@@ -65,7 +66,7 @@ TEST(Momentum, CorrectionReachesTheTargetWithFluid) {
   std::vector<BodyMotion> bodies = twoBodies();
   Vec6 f;
   f << Vec3(0.1, 0, 0).cross(Vec3::UnitZ()), Vec3::UnitZ();  // along z, 0.1 m off the COM
-  const Mat6 added = 3.0 * f * f.transpose();
+  const SpatialFactor added = factorSpatial(3.0 * f * f.transpose());
   auto measure = [&](const std::vector<BodyMotion>& b) {
     SystemMomentum s = systemMomentum(b);
     Vec6 v;

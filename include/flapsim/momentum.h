@@ -47,9 +47,8 @@ struct SystemMomentum {
 SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies);
 
 /// Adds the fluid carried by one body: its added mass `added` (spatial, about the body's
-/// COM `com`, world axes) moving with the body's `velocity` [angular; linear of the COM].
-void addFluidMomentum(SystemMomentum& s, const Mat6& added, const Vec3& com, const Vec6& velocity);
-/// The same with the added mass factored (flapsim/fluid_inertia.h).
+/// COM `com`, world axes; factored, flapsim/fluid_inertia.h) moving with the body's
+/// `velocity` [angular; linear of the COM].
 void addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
                       const Vec6& velocity);
 

@@ -28,14 +28,6 @@ SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies) {
   return s;
 }
 
-void addFluidMomentum(SystemMomentum& s, const Mat6& added, const Vec3& com, const Vec6& velocity) {
-  const Vec6 h = added * velocity;  // [moment about the body's COM; force]
-  const Vec3 r = com - s.com;
-  s.linear += h.tail<3>();
-  s.angular += h.head<3>() + r.cross(h.tail<3>());
-  s.fluid += spatialToCommonFrame(added, Quat::Identity(), r);  // about the common centre
-}
-
 void addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
                       const Vec6& velocity) {
   const Vec6 h = factorTimes(added, velocity);  // [moment about the body's COM; force]
