@@ -180,17 +180,13 @@ void CreatureBody::applyServos() {
   }
 }
 
-void CreatureBody::addedMass(const AeroBody& a, const Mat3& rotation, SpatialFactor& out) const {
-  if (added_mass_density_ <= 0.0 || !a.has_added_mass) {
-    out.any = false;
-    return;
-  }
-  turnFactor(a.added_factor, rotation, added_mass_density_, out);
-}
-
 const SpatialFactor& CreatureBody::turnedAddedMass(AeroBody& a, const Mat3& rotation) const {
   if (!a.added_valid || a.added_density != added_mass_density_ || a.added_rotation != rotation) {
-    addedMass(a, rotation, a.added);
+    if (added_mass_density_ <= 0.0 || !a.has_added_mass) {
+      a.added.any = false;
+    } else {
+      turnFactor(a.added_factor, rotation, added_mass_density_, a.added);
+    }
     a.added_rotation = rotation;
     a.added_density = added_mass_density_;
     a.added_valid = true;

@@ -61,11 +61,10 @@ struct CreatureBody {
   // `added_mass_density`: the density the plates' added mass is taken at (0: none).
   void beginStep(double added_mass_density);
   void addExternal(const Vec3& com, const Wrench& wrench);
-  // This step's added mass of an aero body, world axes (`rotation`: its link's, to world),
-  // about its COM, factored (empty without added mass).
-  void addedMass(const AeroBody& a, const Mat3& rotation, SpatialFactor& out) const;
-  // The same in a.added, turned again only if `rotation` or the density changed since it
-  // last was (the end of a step's momentum has the next step's rotations).
+  // This step's added mass of an aero body in a.added, world axes (`rotation`: its link's,
+  // to world), about its COM, factored (empty without added mass); turned again only if
+  // `rotation` or the density changed since it last was (the end of a step's momentum has
+  // the next step's rotations).
   const SpatialFactor& turnedAddedMass(AeroBody& a, const Mat3& rotation) const;
   void endStep(const Vec3& gravity, double dt);
   // A corrected step ends with a known momentum, which the next beginStep() takes instead of
