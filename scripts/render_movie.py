@@ -6,7 +6,8 @@ render_movie.py --bag FILE.bag --out FILE.mp4 [--size 640x480] [--speed 1] [--ra
 
 Plays the bag (launch/replay.launch) into a bare, full-screen rviz on a private X server
 without a cursor, following the creatures (frame flapsim/view), and films the screen with
-ffmpeg while the bag plays. The bag plays at --rate (sim seconds per wall second: below 1
+ffmpeg: the playback starts, from t = 0, once rviz receives it and ffmpeg has its first
+frames. The bag plays at --rate (sim seconds per wall second: below 1
 when rviz cannot draw in real time) and the movie shows the flight at --speed; frames
 before rviz first draws a creature are cut. --gif also writes an animated GIF (6 frames per
 second, 320 pixels wide). Needs the package on ROS_PACKAGE_PATH.
@@ -18,12 +19,18 @@ import signal
 import subprocess
 import sys
 
+import re
+
 import rosbag
 import rosgraph
 import rospy
 from rosgraph_msgs.msg import Clock
+from std_srvs.srv import SetBool
 
 import flapsim_views as views
+import start_when_listening as starter
+
+TOPICS = "/clock|/tf|/flapsim/(aero|creature)_markers"
 
 
 def main(argv):
@@ -39,10 +46,11 @@ def main(argv):
     parser.add_argument("--gif", help="also an animated GIF")
     parser.add_argument("--timeout", type=float, default=600.0, help="wall seconds at most")
     args = parser.parse_args(argv)
-    frames, cut = render(args.bag, args.out, args.size, args.speed, args.rate, args.fps,
-                         args.distance, args.timeout)
+    frames, cut, lead = render(args.bag, args.out, args.size, args.speed, args.rate, args.fps,
+                               args.distance, args.timeout)
     print(f"{args.out}: {frames} frames at {args.fps} fps ({args.speed}x), "
-          f"{cut:.2f} s cut before the first drawn frame")
+          f"{cut:.2f} s cut before the first drawn frame, {max(0.0, cut - lead):.2f} s of it "
+          f"after the playback started")
     if args.gif:
         gif(args.out, args.gif)
         print(f"{args.gif}: {os.path.getsize(args.gif) // 1024} KiB")
@@ -58,7 +66,8 @@ def bag_end(bag_path):
 
 
 def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=2.5, timeout=600.0):
-    """Films the replayed bag; returns (frames in the movie, seconds cut at the start)."""
+    """Films the replayed bag; returns (frames in the movie, seconds cut at the start, of which
+    the first filmed before the playback started)."""
     width, height = (int(v) for v in size.split("x"))
     bag, out = os.path.abspath(bag), os.path.abspath(out)
     end = bag_end(bag)
@@ -67,7 +76,8 @@ def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=2.5, 
     try:
         with views.xvfb(width, height) as display:
             with views.roslaunch(["replay.launch", f"bag:={bag}", f"rate:={rate}",
-                                  f"distance:={distance}", views.rviz_args(width, height)],
+                                  f"distance:={distance}", "start:=false",
+                                  views.rviz_args(width, height)],
                                  display, os.path.join(work, "roslaunch.log")) as (proc, env):
                 views.use_master(env)
                 views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
@@ -75,16 +85,24 @@ def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=2.5, 
                 latest = [-1.0]
                 rospy.Subscriber("/clock", Clock,
                                  lambda m: latest.__setitem__(0, m.clock.to_sec()))
-                # playback starts once rviz listens: film from its first /clock
-                # (start_when_listening.py gives up after 120 s)
-                views.wait_for(lambda: latest[0] >= 0.0, min(timeout, 150.0),
-                               "the replay to start")
+                # The playback waits, paused, until rviz receives it and ffmpeg films: no
+                # second of the flight is lost to ffmpeg's start-up.
+                master = rosgraph.Master(rospy.get_name())
+                pattern = re.compile(TOPICS)
+                views.wait_for(lambda: not starter.unconnected(master, "/play", "/rviz", pattern),
+                               min(timeout, 150.0), "rviz to receive the replay")
+                progress = os.path.join(work, "progress.txt")
                 ffmpeg = subprocess.Popen(
-                    ["ffmpeg", "-loglevel", "error", "-y", "-f", "x11grab", "-draw_mouse", "0",
+                    ["ffmpeg", "-loglevel", "error", "-y", "-progress", progress,
+                     "-stats_period", "0.1", "-f", "x11grab", "-draw_mouse", "0",
                      "-framerate", str(fps), "-video_size", f"{width}x{height}", "-i", display,
                      "-c:v", "libx264", "-preset", "ultrafast", "-qp", "0", raw],
                     stdin=subprocess.PIPE)
                 try:
+                    views.wait_for(lambda: filmed(progress) > 0, 30, "ffmpeg's first frames")
+                    rospy.wait_for_service("/play/pause_playback", timeout=30)
+                    lead = filmed(progress) / fps  # s of film before the playback
+                    rospy.ServiceProxy("/play/pause_playback", SetBool)(False)
                     views.wait_for(lambda: latest[0] >= end - 0.01 or proc.poll() is not None,
                                    timeout, "the replay to end", poll=0.1)
                 finally:
@@ -96,9 +114,19 @@ def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=2.5, 
             ["ffmpeg", "-loglevel", "error", "-y", "-ss", f"{cut:.3f}", "-i", raw,
              "-vf", f"setpts={stretch:.6f}*(PTS-STARTPTS)", "-r", str(fps),
              "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "23", out], check=True)
-        return frame_count(out), cut
+        return frame_count(out), cut, lead
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def filmed(progress):
+    """Frames ffmpeg has filmed so far, from its -progress file (0 before the first)."""
+    try:
+        with open(progress) as f:
+            counts = re.findall(r"^frame=(\d+)", f.read(), re.M)
+    except FileNotFoundError:
+        return 0
+    return int(counts[-1]) if counts else 0
 
 
 def first_drawn(video, fps, work, min_pixels=50):
