@@ -25,6 +25,10 @@ inline btTransform toBt(const Pose& p) {
 }
 inline Vec3 fromBt(const btVector3& v) { return Vec3(v.x(), v.y(), v.z()); }
 inline Quat fromBt(const btQuaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+// btMultiBody::getJointVel(link) of a one-dof joint, inline (Bullet's is not).
+inline btScalar jointVel(const btMultiBody& mb, int link) {
+  return mb.getVelocityVector()[6 + mb.getLink(link).m_dofOffset];
+}
 
 // The world frames of a multibody's links at its current positions (index 0: the base,
 // k + 1: link k), by btMultiBody::forwardKinematics' arithmetic but without writing the
@@ -57,6 +61,9 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // While the servos of a lean step act: its velocity update's tree (inertias and joint
   // subspaces of the step's positions); else null.
   const TreeDynamics* leanTree() const { return tree_fresh_ ? &tree_ : nullptr; }
+  // The tree the lean steps use, for the frames and velocities of the multibody between
+  // steps (TreeDynamics::updateFrames() and velocities()).
+  TreeDynamics& tree() { return tree_; }
   // Puts the colliders where the multibody now is (after its state was set between steps).
   void placeColliders();
 

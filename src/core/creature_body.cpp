@@ -105,7 +105,7 @@ void CreatureBody::velocityChanges(const ServoTree& tree) {
     change_of_link_[k] = change_of_link_[l.parent];
     if (l.joint == ServoJointType::kFixed) continue;
     const int link = static_cast<int>(k) - 1;
-    const double dq = mb->getJointVel(link) - start_joint_velocity_[link];
+    const double dq = jointVel(*mb, link) - start_joint_velocity_[link];
     change_of_link_[k] += (tree.subspace ? (*tree.subspace)[k] : motionSubspace(l)) * dq;
   }
 }
@@ -114,7 +114,7 @@ void CreatureBody::applyServos() {
   bool any = false;
   for (size_t k = 1; k < demands.size(); ++k) {
     if (!demands[k].active) continue;
-    demands[k].velocity_change = servo_target[k] - mb->getJointVel(static_cast<int>(k) - 1);
+    demands[k].velocity_change = servo_target[k] - jointVel(*mb, static_cast<int>(k) - 1);
     any = true;
   }
   drag_impulse_.setZero();
@@ -171,7 +171,7 @@ void CreatureBody::applyServos() {
   for (size_t k = 1; k < demands.size(); ++k) {
     if (servo_links[k].joint == ServoJointType::kFixed) continue;
     const int link = static_cast<int>(k) - 1;
-    mb->setJointVel(link, mb->getJointVel(link) + solution.velocity_change[k]);
+    mb->setJointVel(link, jointVel(*mb, link) + solution.velocity_change[k]);
   }
   if (!model->fixed_base) {
     const Vec6& dv = solution.root_velocity_change;
@@ -196,17 +196,19 @@ const SpatialFactor& CreatureBody::turnedAddedMass(AeroBody& a, const Mat3& rota
 
 SystemMomentum CreatureBody::measureMomentum() {
   const CreatureModel& m = *model;
+  TreeDynamics& tree = scene->world().tree();
+  tree.updateFrames(*mb);
+  const auto& velocity = tree.velocities(*mb);
+  const auto& com = tree.coms();
+  const Vec3 base = fromBt(mb->getBasePos());
   motions_.resize(m.links.size());
-  rotations_.resize(m.links.size());
   for (size_t k = 0; k < m.links.size(); ++k) {
-    Mat3& r = rotations_[k];
-    const BodyKinematics kin = frames.kinematics(static_cast<int>(k), &r);
     BodyMotion& b = motions_[k];
     b.mass = m.links[k].mass;
-    b.com = kin.com;
-    b.inertia = r * m.links[k].inertia.asDiagonal() * r.transpose();
-    b.velocity = kin.linear_velocity;
-    b.angular_velocity = kin.angular_velocity;
+    b.com = base + com[k];
+    b.inertia = tree.comInertias()[k];
+    b.angular_velocity = velocity[k].head<3>();
+    b.velocity = velocity[k].tail<3>() + b.angular_velocity.cross(com[k]);
   }
   SystemMomentum s = systemMomentum(motions_);
   if (added_mass_density_ <= 0.0) return s;
@@ -215,7 +217,7 @@ SystemMomentum CreatureBody::measureMomentum() {
     const BodyMotion& b = motions_[a.link];
     Vec6 velocity;
     velocity << b.angular_velocity, b.velocity;
-    addFluidMomentum(s, turnedAddedMass(a, rotations_[a.link]), b.com, velocity);
+    addFluidMomentum(s, turnedAddedMass(a, tree.rotations()[a.link]), b.com, velocity);
   }
   return s;
 }
@@ -223,7 +225,7 @@ SystemMomentum CreatureBody::measureMomentum() {
 void CreatureBody::beginStep(double added_mass_density) {
   const int links = mb->getNumLinks();
   start_joint_velocity_.resize(static_cast<size_t>(links));
-  for (int l = 0; l < links; ++l) start_joint_velocity_[l] = mb->getJointVel(l);
+  for (int l = 0; l < links; ++l) start_joint_velocity_[l] = jointVel(*mb, l);
   start_base_omega_ = fromBt(mb->getBaseOmega());
   start_base_velocity_ = fromBt(mb->getBaseVel());
   external_force_.setZero();
@@ -256,7 +258,7 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
     for (size_t k = 1; k < solution.saturated.size(); ++k) {
       if (!solution.saturated[k]) continue;
       const int l = static_cast<int>(k) - 1;
-      const double v0 = start_joint_velocity_[l], v1 = mb->getJointVel(l);
+      const double v0 = start_joint_velocity_[l], v1 = jointVel(*mb, l);
       const double q = mb->getJointPos(l);
       const JointModel& j = model->joints[model->links[k].parent_joint];
       const double reach = dt * std::max(std::abs(v0), std::abs(v1));
@@ -295,10 +297,11 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   mb->setBasePos(toBt(base + shift));
   mb->setBaseOmega(mb->getBaseOmega() + toBt(c.angular_velocity));
   mb->setBaseVel(mb->getBaseVel() + toBt(c.velocity + c.angular_velocity.cross(base - now.com)));
+  const auto& rotations = scene->world().tree().rotations();  // measureMomentum()'s
   for (int k = 0; k < frames.local_origin.size(); ++k) {
     const Vec3 x = fromBt(frames.local_origin[k]);
-    // Into the link's frame with measureMomentum()'s rotation of these frames.
-    const Mat3& to_world = rotations_[k];
+    // Into the link's frame (the tree's rotations have the bits of the frames').
+    const Mat3& to_world = rotations[k];
     const Vec3 v = c.velocity + c.angular_velocity.cross(x - now.com);
     frames.vel[k] += toBt(to_world.transpose() * v);
     frames.omega[k] += toBt(to_world.transpose() * c.angular_velocity);

@@ -100,7 +100,8 @@ struct CreatureBody {
   // step's start] since beginStep(), from the joints' (the motion subspaces of `tree`, else
   // of servo_links) into change_of_link_.
   void velocityChanges(const ServoTree& tree);
-  // The momentum of the tree and of the fluid it carries, from `frames`.
+  // The momentum of the tree and of the fluid it carries, at the multibody's state (the
+  // scene's TreeDynamics frames, which the next lean step's velocity update reuses).
   SystemMomentum measureMomentum();
 
   // This step's momentum balance: the start, and the external impulses so far (moments
@@ -124,7 +125,6 @@ struct CreatureBody {
   // of its spatial velocity in this step.
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
-  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rotations_;  // per link, of the frames
 };
 
 }  // namespace flapsim

@@ -1,5 +1,7 @@
 #include "tree_dynamics.h"
 
+#include <cstring>
+
 #include "bullet_scene.h"
 
 namespace flapsim {
@@ -55,24 +57,25 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
   to_local_.resize(n + 1);
   rot_.resize(n + 1);
   com_.resize(n + 1);
+  com_inertia_.resize(n + 1);
   axis_.resize(n + 1);
   body_.resize(n + 1);
-  to_local_[0] = fromBt(mb.getWorldToBaseRot());
-  rot_[0] = to_local_[0].conjugate().toRotationMatrix();
+  to_local_[0] = mb.getWorldToBaseRot();
+  rot_[0] = fromBt(to_local_[0].inverse()).toRotationMatrix();
   com_[0].setZero();
   const Vec3 base_inertia = fromBt(mb.getBaseInertia());
-  body_[0] = spatialInertia(mb.getBaseMass(), com_[0],
-                            rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose());
+  com_inertia_[0] = rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose();
+  body_[0] = spatialInertia(mb.getBaseMass(), com_[0], com_inertia_[0]);
   axis_[0].setZero();
   for (int k = 0; k < n; ++k) {
     const btMultibodyLink& l = mb.getLink(k);
     const int b = k + 1, p = l.m_parent + 1;
-    to_local_[b] = fromBt(l.m_cachedRotParentToThis) * to_local_[p];
-    rot_[b] = to_local_[b].conjugate().toRotationMatrix();
+    to_local_[b] = l.m_cachedRotParentToThis * to_local_[p];
+    rot_[b] = fromBt(to_local_[b].inverse()).toRotationMatrix();
     com_[b] = com_[p] + rot_[b] * fromBt(l.m_cachedRVector);
     const Vec3 inertia = fromBt(l.m_inertiaLocal);
-    body_[b] =
-        spatialInertia(l.m_mass, com_[b], rot_[b] * inertia.asDiagonal() * rot_[b].transpose());
+    com_inertia_[b] = rot_[b] * inertia.asDiagonal() * rot_[b].transpose();
+    body_[b] = spatialInertia(l.m_mass, com_[b], com_inertia_[b]);
     axis_[b].setZero();
     if (l.m_dofCount == 1) {
       // Bullet's axis moves the link's COM (linear part); about the base's COM instead.
@@ -82,22 +85,69 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
   }
 }
 
+bool TreeDynamics::framesCurrent(const btMultiBody& mb) {
+  constexpr int kPerLink = 11;
+  const int n = mb.getNumLinks();
+  inputs_.resize(8 + kPerLink * static_cast<size_t>(n));
+  btScalar* in = inputs_.data();
+  auto add = [&in](const btScalar* v, int count) {
+    for (int i = 0; i < count; ++i) *in++ = v[i];
+  };
+  const btQuaternion base = mb.getWorldToBaseRot();
+  add(&base[0], 4);
+  const btScalar base_mass = mb.getBaseMass();
+  add(&base_mass, 1);
+  add(mb.getBaseInertia().m_floats, 3);
+  for (int k = 0; k < n; ++k) {
+    const btMultibodyLink& l = mb.getLink(k);
+    add(&l.m_cachedRotParentToThis[0], 4);
+    add(l.m_cachedRVector.m_floats, 3);
+    add(l.m_inertiaLocal.m_floats, 3);
+    add(&l.m_mass, 1);
+  }
+  // Bit for bit: the frames made of equal inputs are equal.
+  const bool same =
+      framed_ == &mb && frame_inputs_.size() == inputs_.size() &&
+      std::memcmp(frame_inputs_.data(), inputs_.data(), inputs_.size() * sizeof(btScalar)) == 0;
+  if (!same) {
+    framed_ = &mb;
+    frame_inputs_.swap(inputs_);
+  }
+  return same;
+}
+
+void TreeDynamics::updateFrames(const btMultiBody& mb) {
+  if (!framesCurrent(mb)) linkFrames(mb);
+}
+
+const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& TreeDynamics::velocities(
+    const btMultiBody& mb) {
+  const int n = mb.getNumLinks();
+  velocity_.resize(n + 1);
+  velocity_[0] << fromBt(mb.getBaseOmega()), fromBt(mb.getBaseVel());
+  for (int k = 0; k < n; ++k) {
+    const btMultibodyLink& l = mb.getLink(k);
+    const int b = k + 1, p = l.m_parent + 1;
+    velocity_[b] = velocity_[p];
+    if (l.m_dofCount == 1) velocity_[b] += axis_[b] * jointVel(mb, k);
+  }
+  return velocity_;
+}
+
 // Spatial velocities, velocity-product accelerations and the bias forces (velocity
 // products minus applied forces), which start the articulated bias.
 void TreeDynamics::velocitiesAndBias(const btMultiBody& mb) {
   const int n = mb.getNumLinks();
-  velocity_.resize(n + 1);
+  velocities(mb);
   coriolis_.resize(n + 1);
   bias_.resize(n + 1);
-  velocity_[0] << fromBt(mb.getBaseOmega()), fromBt(mb.getBaseVel());
   coriolis_[0].setZero();
   bias_[0] = crossForce(velocity_[0], body_[0] * velocity_[0]) -
              spatialForce(mb.getBaseForce(), mb.getBaseTorque(), com_[0]);
   for (int k = 0; k < n; ++k) {
     const btMultibodyLink& l = mb.getLink(k);
-    const int b = k + 1, p = l.m_parent + 1;
-    const Vec6 joint = axis_[b] * (l.m_dofCount == 1 ? mb.getJointVel(k) : 0.0);
-    velocity_[b] = velocity_[p] + joint;
+    const int b = k + 1;
+    const Vec6 joint = axis_[b] * (l.m_dofCount == 1 ? jointVel(mb, k) : 0.0);
     coriolis_[b] = crossMotion(velocity_[b], joint);
     bias_[b] = crossForce(velocity_[b], body_[b] * velocity_[b]) -
                spatialForce(l.m_appliedForce, l.m_appliedTorque, com_[b]);
@@ -160,7 +210,7 @@ void TreeDynamics::outwardPass(const btMultiBody& mb) {
 }
 
 const std::vector<double>& TreeDynamics::accelerations(const btMultiBody& mb) {
-  linkFrames(mb);
+  updateFrames(mb);
   velocitiesAndBias(mb);
   inwardPass(mb);
   outwardPass(mb);
@@ -180,7 +230,7 @@ void TreeDynamics::velocityStep(btMultiBody& mb, double dt) {
   mb.setBaseVel(btVector3(add(v.x(), a[3]), add(v.y(), a[4]), add(v.z(), a[5])));
   for (int k = 0; k < mb.getNumLinks(); ++k) {
     const btMultibodyLink& l = mb.getLink(k);
-    if (l.m_dofCount == 1) mb.setJointVel(k, add(mb.getJointVel(k), a[6 + l.m_dofOffset]));
+    if (l.m_dofCount == 1) mb.setJointVel(k, add(jointVel(mb, k), a[6 + l.m_dofOffset]));
   }
 }
 

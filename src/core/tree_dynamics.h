@@ -28,6 +28,22 @@ class TreeDynamics {
   // velocity order (6 base values, then one per joint dof).
   const std::vector<double>& accelerations(const btMultiBody& mb);
 
+  // Brings the per-body frames below to the multibody's positions: recomputed only if what
+  // they are made of (the base's rotation, Bullet's cached parent-to-link rotations and
+  // offsets, the masses and inertias) changed since the last call. A step's momentum taken
+  // after its positions then serves the next step's accelerations as well.
+  void updateFrames(const btMultiBody& mb);
+  // Of the last updateFrames(), per body (0: the base, k + 1: link k): its rotation (body to
+  // world), its COM minus the base's, and its inertia about its COM in world axes.
+  const std::vector<Mat3, Eigen::aligned_allocator<Mat3>>& rotations() const { return rot_; }
+  const std::vector<Vec3, Eigen::aligned_allocator<Vec3>>& coms() const { return com_; }
+  const std::vector<Mat3, Eigen::aligned_allocator<Mat3>>& comInertias() const {
+    return com_inertia_;
+  }
+  // Every body's spatial velocity [angular; linear at the base's COM], world axes, at the
+  // multibody's velocities and the frames of the last updateFrames().
+  const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& velocities(const btMultiBody& mb);
+
   // Of the last accelerations(), per body (0: the base, k + 1: link k), about the base's COM,
   // world axes: spatial inertias and joint motion subspaces (zero for the base and fixed
   // joints).
@@ -40,24 +56,31 @@ class TreeDynamics {
 
  private:
   void linkFrames(const btMultiBody& mb);
+  // Whether the frames' inputs are those of the last linkFrames(); records them if not.
+  bool framesCurrent(const btMultiBody& mb);
   void velocitiesAndBias(const btMultiBody& mb);
   void inwardPass(const btMultiBody& mb);
   void outwardPass(const btMultiBody& mb);
 
   // Per body (0: the base, k + 1: link k), about the base's COM, world axes.
-  std::vector<Quat, Eigen::aligned_allocator<Quat>> to_local_;  // world to body rotation
-  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rot_;       // body to world
-  std::vector<Vec3, Eigen::aligned_allocator<Vec3>> com_;       // body COM - base COM
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> axis_;      // joint's motion subspace
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> velocity_;  // spatial velocity
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> coriolis_;  // velocity-product accel.
-  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_;      // spatial inertia
-  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> inertia_;   // articulated inertia
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_;      // articulated bias force
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> u_vec_;     // inertia x axis
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> accel_;     // spatial acceleration
+  // World to body rotation, by multiBodyFrames()' arithmetic: the same bits as the frames.
+  btAlignedObjectArray<btQuaternion> to_local_;
+  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rot_;          // body to world
+  std::vector<Vec3, Eigen::aligned_allocator<Vec3>> com_;          // body COM - base COM
+  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> com_inertia_;  // about its COM
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> axis_;         // joint's motion subspace
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> velocity_;     // spatial velocity
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> coriolis_;     // velocity-product accel.
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_;         // spatial inertia
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> inertia_;      // articulated inertia
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_;         // articulated bias force
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> u_vec_;        // inertia x axis
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> accel_;        // spatial acceleration
   std::vector<double> inv_d_, u_;
   std::vector<double> out_;  // Bullet's velocity order
+  // The inputs of the frames (framesCurrent()), and scratch to gather them.
+  const btMultiBody* framed_ = nullptr;
+  std::vector<btScalar> frame_inputs_, inputs_;
 };
 
 }  // namespace flapsim
