@@ -36,48 +36,20 @@ void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& 
 }
 
 void ServoWorld::step(btScalar h) {
-  frames_fresh_ = false;
+  lean_stepped_ = false;
   if (lean_ && leanCapable(h) && may_touch_ && !may_touch_()) {
     leanStep(h);
+    lean_stepped_ = true;
     return;
   }
-  if (colliders_behind_) catchUpColliders();
+  if (colliders_behind_) placeColliders();
   stepSimulation(h, 0, h);
-}
-
-bool ServoWorld::takeLeanFrames(btAlignedObjectArray<btQuaternion>& world_to_local,
-                                btAlignedObjectArray<btVector3>& local_origin) {
-  if (!frames_fresh_) return false;
-  frames_fresh_ = false;
-  world_to_local = lean_world_to_local_;
-  local_origin = lean_local_origin_;
-  return true;
 }
 
 void ServoWorld::placeColliders() {
   for (int i = 0; i < m_multiBodies.size(); ++i) {
     m_multiBodies[i]->updateCollisionObjectWorldTransforms(m_scratch_world_to_local,
                                                            m_scratch_local_origin);
-  }
-  colliders_behind_ = false;
-  frames_fresh_ = false;
-}
-
-// btMultiBody::updateCollisionObjectWorldTransforms' placement, from the kept frames.
-void ServoWorld::catchUpColliders() {
-  btMultiBody& mb = *m_multiBodies[0];
-  auto place = [this](btCollisionObject* col, int index) {
-    const btQuaternion& q = lean_world_to_local_[index];
-    btTransform tr;
-    tr.setIdentity();
-    tr.setOrigin(lean_local_origin_[index]);
-    tr.setRotation(btQuaternion(-q.x(), -q.y(), -q.z(), q.w()));
-    col->setWorldTransform(tr);
-    col->setInterpolationWorldTransform(tr);
-  };
-  if (mb.getBaseCollider()) place(mb.getBaseCollider(), 0);
-  for (int l = 0; l < mb.getNumLinks(); ++l) {
-    if (btMultiBodyLinkCollider* col = mb.getLink(l).m_collider) place(col, l + 1);
   }
   colliders_behind_ = false;
 }
@@ -128,9 +100,7 @@ void ServoWorld::leanStep(btScalar h) {
   // integrateMultiBodyTransforms(); the colliders wait for the next full step.
   mb.addSplitV();
   mb.stepPositionsMultiDof(h);
-  multiBodyFrames(mb, lean_world_to_local_, lean_local_origin_);
   colliders_behind_ = true;
-  frames_fresh_ = true;
   mb.substractSplitV();
   updateActivationState(h);
   clearForces();

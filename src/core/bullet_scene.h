@@ -54,17 +54,16 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // One step of `h`: what stepSimulation(h, 0, h) does, with the same results up to the
   // rounding of the lean step's velocity update.
   void step(btScalar h);
-  // Right after a lean step: copies the frames of the positions it ended with
-  // (multiBodyFrames) and returns true. Else, or called again, false.
-  bool takeLeanFrames(btAlignedObjectArray<btQuaternion>& world_to_local,
-                      btAlignedObjectArray<btVector3>& local_origin);
+  // Whether the last step() was a lean step (whose colliders stay behind).
+  bool leanStepped() const { return lean_stepped_; }
   // While the servos of a lean step act: its velocity update's tree (inertias and joint
   // subspaces of the step's positions); else null.
   const TreeDynamics* leanTree() const { return tree_fresh_ ? &tree_ : nullptr; }
   // The tree the lean steps use, for the frames and velocities of the multibody between
   // steps (TreeDynamics::updateFrames() and velocities()).
   TreeDynamics& tree() { return tree_; }
-  // Puts the colliders where the multibody now is (after its state was set between steps).
+  // Puts the colliders where the multibody now is (after its state was set between steps,
+  // and before the first full step after lean ones).
   void placeColliders();
 
   void performDiscreteCollisionDetection() override;
@@ -89,20 +88,15 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   void solveConstraintsAfterServos(btContactSolverInfo& info);
   // Bullet's articulated-body pass: velocities += h * accelerations, and its solver caches.
   void bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info);
-  // Where Bullet's step would have left the colliders: at the frames of the last lean step.
-  void catchUpColliders();
-
   std::function<void()> servos_;
   std::function<bool()> may_touch_;
   bool lean_ = true;
   TreeDynamics tree_;  // the lean step's velocity update
   bool tree_fresh_ = false;
-  // Lean steps leave the colliders behind (only collision detection reads them) and keep
-  // the frames they would have been placed at; the next full step places them first.
+  // Lean steps leave the colliders behind (only collision detection reads them); the next
+  // full step first places them where the multibody is then.
   bool colliders_behind_ = false;
-  bool frames_fresh_ = false;  // a lean step's frames, not taken yet
-  btAlignedObjectArray<btQuaternion> lean_world_to_local_;
-  btAlignedObjectArray<btVector3> lean_local_origin_;
+  bool lean_stepped_ = false;
 };
 
 // Bullet's Dantzig LCP keeps its failure flag in a global variable (s_error in

@@ -253,7 +253,6 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   // semi-implicit step takes the end velocity. A servo that holds its target velocity
   // moves at the end velocity all step, as Bullet has it. Not in contact: impulses there.
   // Nor near a joint's stop, where the limit's impulse may have acted.
-  bool moved = false;  // a joint, since Bullet's step
   if (!scene->hasContacts()) {
     for (size_t k = 1; k < solution.saturated.size(); ++k) {
       if (!solution.saturated[k]) continue;
@@ -264,21 +263,20 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
       const double reach = dt * std::max(std::abs(v0), std::abs(v1));
       if (j.limited && (q - j.lower <= reach || j.upper - q <= reach)) continue;
       mb->setJointPos(l, q - 0.5 * dt * (v1 - v0));
-      moved = true;
     }
   }
   const Vec3 origin = fromBt(frames.local_origin[0]);  // of the start of the step
-  // A lean step already has the frames of its end positions.
-  const bool stepped = scene->world().takeLeanFrames(frames.world_to_local, frames.local_origin);
-  // After a lean step the joints moved above have their caches (setJointPos) and the
-  // frames are the same sums as Bullet's forwardKinematics: only the frames again.
-  if (!stepped) {
-    mb->forwardKinematics(frames.world_to_local, frames.local_origin);
-  } else if (moved) {
-    multiBodyFrames(*mb, frames.world_to_local, frames.local_origin);
+  if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) {
+    // Bullet's step placed the links (and the joints moved above have their caches from
+    // setJointPos); after a lean step, the same sums without writing the multibody.
+    if (scene->world().leanStepped()) {
+      multiBodyFrames(*mb, frames.world_to_local, frames.local_origin);
+    } else {
+      mb->forwardKinematics(frames.world_to_local, frames.local_origin);
+    }
+    mb->compTreeLinkVelocities(frames.omega.data(), frames.vel.data());
+    return;
   }
-  mb->compTreeLinkVelocities(frames.omega.data(), frames.vel.data());
-  if (model->fixed_base || scene->hasContacts() || start_.mass <= 0.0) return;
   // What the momentum must be: the start plus the external impulses (gravity has no moment
   // about the centre of mass).
   const Vec3 linear =
@@ -292,20 +290,26 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   // The centre of mass moves with the bodies' new momentum.
   const Vec3 body_velocity = now.body_linear / now.mass + c.velocity;
   const Vec3 shift = start_.com + dt * body_velocity - now.com;
-  // The same rigid motion on the multibody's base and on the cached frames.
+  // The same rigid motion on the multibody's base and on the frames, which are those of the
+  // measure (its tree's rotations are the sums of forwardKinematics) plus the correction.
   const Vec3 base = fromBt(mb->getBasePos());
   mb->setBasePos(toBt(base + shift));
   mb->setBaseOmega(mb->getBaseOmega() + toBt(c.angular_velocity));
   mb->setBaseVel(mb->getBaseVel() + toBt(c.velocity + c.angular_velocity.cross(base - now.com)));
-  const auto& rotations = scene->world().tree().rotations();  // measureMomentum()'s
-  for (int k = 0; k < frames.local_origin.size(); ++k) {
-    const Vec3 x = fromBt(frames.local_origin[k]);
-    // Into the link's frame (the tree's rotations have the bits of the frames').
-    const Mat3& to_world = rotations[k];
-    const Vec3 v = c.velocity + c.angular_velocity.cross(x - now.com);
-    frames.vel[k] += toBt(to_world.transpose() * v);
-    frames.omega[k] += toBt(to_world.transpose() * c.angular_velocity);
-    frames.local_origin[k] += toBt(shift);
+  const TreeDynamics& tree = scene->world().tree();
+  const int bodies = static_cast<int>(motions_.size());
+  frames.world_to_local.resize(bodies);
+  frames.local_origin.resize(bodies);
+  for (int k = 0; k < bodies; ++k) {
+    const BodyMotion& b = motions_[k];
+    // Velocities into the link's frame, as Bullet keeps them.
+    const Mat3& to_world = tree.rotations()[k];
+    const Vec3 w = b.angular_velocity + c.angular_velocity;
+    const Vec3 v = b.velocity + c.velocity + c.angular_velocity.cross(b.com - now.com);
+    frames.world_to_local[k] = tree.worldToLocal()[k];
+    frames.local_origin[k] = toBt(Vec3(b.com + shift));
+    frames.omega[k] = toBt(Vec3(to_world.transpose() * w));
+    frames.vel[k] = toBt(Vec3(to_world.transpose() * v));
   }
   // The momentum is now the target, about the shifted centre of mass: the next step starts
   // from it instead of measuring it again.

@@ -36,6 +36,9 @@ class TreeDynamics {
   // Of the last updateFrames(), per body (0: the base, k + 1: link k): its rotation (body to
   // world), its COM minus the base's, and its inertia about its COM in world axes.
   const std::vector<Mat3, Eigen::aligned_allocator<Mat3>>& rotations() const { return rot_; }
+  // The same rotations as quaternions, world to body, by btMultiBody::forwardKinematics'
+  // arithmetic (the same bits as its frames).
+  const btAlignedObjectArray<btQuaternion>& worldToLocal() const { return to_local_; }
   const std::vector<Vec3, Eigen::aligned_allocator<Vec3>>& coms() const { return com_; }
   const std::vector<Mat3, Eigen::aligned_allocator<Mat3>>& comInertias() const {
     return com_inertia_;
