@@ -195,29 +195,47 @@ const SpatialFactor& CreatureBody::turnedAddedMass(AeroBody& a, const Mat3& rota
 }
 
 SystemMomentum CreatureBody::measureMomentum() {
-  const CreatureModel& m = *model;
   TreeDynamics& tree = scene->world().tree();
   tree.updateFrames(*mb);
   const auto& velocity = tree.velocities(*mb);
   const auto& com = tree.coms();
+  const auto& inertia = tree.bodyInertias();
   const Vec3 base = fromBt(mb->getBasePos());
-  motions_.resize(m.links.size());
-  for (size_t k = 0; k < m.links.size(); ++k) {
-    BodyMotion& b = motions_[k];
-    b.mass = m.links[k].mass;
+  // Sums about the base's COM (systemMomentum()'s, from the tree's spatial inertias): the
+  // mass and its first moment, the spatial momentum, and the rotational inertia.
+  const size_t n = com.size();
+  motions_.resize(n);
+  SystemMomentum s;
+  Vec3 first_moment = Vec3::Zero();
+  Vec6 momentum = Vec6::Zero();
+  Mat3 about_base = Mat3::Zero();
+  for (size_t k = 0; k < n; ++k) {
+    const double mass = model->links[k].mass;
+    s.mass += mass;
+    first_moment += mass * com[k];
+    momentum.noalias() += inertia[k] * velocity[k];
+    about_base += inertia[k].topLeftCorner<3, 3>();
+    LinkMotion& b = motions_[k];
     b.com = base + com[k];
-    b.inertia = tree.comInertias()[k];
     b.angular_velocity = velocity[k].head<3>();
     b.velocity = velocity[k].tail<3>() + b.angular_velocity.cross(com[k]);
   }
-  SystemMomentum s = systemMomentum(motions_);
+  if (s.mass <= 0.0) return s;
+  // About the common COM c: the same linear momentum, the moment less c x p, and the
+  // inertia less that of the whole mass at c (parallel axes).
+  const Vec3 c = first_moment / s.mass;
+  s.com = base + c;
+  s.linear = momentum.tail<3>();
+  s.body_linear = s.linear;
+  s.angular = momentum.head<3>() - c.cross(s.linear);
+  s.inertia = about_base - s.mass * (c.squaredNorm() * Mat3::Identity() - c * c.transpose());
   if (added_mass_density_ <= 0.0) return s;
   for (AeroBody& a : aero) {
     if (!a.has_added_mass) continue;
-    const BodyMotion& b = motions_[a.link];
-    Vec6 velocity;
-    velocity << b.angular_velocity, b.velocity;
-    addFluidMomentum(s, turnedAddedMass(a, tree.rotations()[a.link]), b.com, velocity);
+    const LinkMotion& b = motions_[a.link];
+    Vec6 v;
+    v << b.angular_velocity, b.velocity;
+    addFluidMomentum(s, turnedAddedMass(a, tree.rotations()[a.link]), b.com, v);
   }
   return s;
 }
@@ -301,7 +319,7 @@ void CreatureBody::endStep(const Vec3& gravity, double dt) {
   frames.world_to_local.resize(bodies);
   frames.local_origin.resize(bodies);
   for (int k = 0; k < bodies; ++k) {
-    const BodyMotion& b = motions_[k];
+    const LinkMotion& b = motions_[k];
     // Velocities into the link's frame, as Bullet keeps them.
     const Mat3& to_world = tree.rotations()[k];
     const Vec3 w = b.angular_velocity + c.angular_velocity;

@@ -115,7 +115,12 @@ struct CreatureBody {
   Vec6 drag_impulse_ = Vec6::Zero();  // of the implicit part of the drag
   double added_mass_density_ = 0.0;
   // Scratch, kept between steps: no allocation once warm.
-  std::vector<BodyMotion> motions_;
+  struct LinkMotion {  // of a link's COM, world frame
+    Vec3 com = Vec3::Zero();
+    Vec3 velocity = Vec3::Zero();
+    Vec3 angular_velocity = Vec3::Zero();
+  };
+  std::vector<LinkMotion> motions_;           // measureMomentum()'s
   std::vector<double> start_joint_velocity_;  // per Bullet link
   Vec3 start_base_omega_ = Vec3::Zero();      // world frame
   Vec3 start_base_velocity_ = Vec3::Zero();   // of the base's COM
