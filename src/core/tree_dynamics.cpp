@@ -57,15 +57,14 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
   to_local_.resize(n + 1);
   rot_.resize(n + 1);
   com_.resize(n + 1);
-  com_inertia_.resize(n + 1);
   axis_.resize(n + 1);
   body_.resize(n + 1);
   to_local_[0] = mb.getWorldToBaseRot();
   rot_[0] = fromBt(to_local_[0].inverse()).toRotationMatrix();
   com_[0].setZero();
   const Vec3 base_inertia = fromBt(mb.getBaseInertia());
-  com_inertia_[0] = rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose();
-  body_[0] = spatialInertia(mb.getBaseMass(), com_[0], com_inertia_[0]);
+  body_[0] = spatialInertia(mb.getBaseMass(), com_[0],
+                            rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose());
   axis_[0].setZero();
   for (int k = 0; k < n; ++k) {
     const btMultibodyLink& l = mb.getLink(k);
@@ -74,8 +73,8 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
     rot_[b] = fromBt(to_local_[b].inverse()).toRotationMatrix();
     com_[b] = com_[p] + rot_[b] * fromBt(l.m_cachedRVector);
     const Vec3 inertia = fromBt(l.m_inertiaLocal);
-    com_inertia_[b] = rot_[b] * inertia.asDiagonal() * rot_[b].transpose();
-    body_[b] = spatialInertia(l.m_mass, com_[b], com_inertia_[b]);
+    body_[b] =
+        spatialInertia(l.m_mass, com_[b], rot_[b] * inertia.asDiagonal() * rot_[b].transpose());
     axis_[b].setZero();
     if (l.m_dofCount == 1) {
       // Bullet's axis moves the link's COM (linear part); about the base's COM instead.

@@ -34,22 +34,19 @@ class TreeDynamics {
   // after its positions then serves the next step's accelerations as well.
   void updateFrames(const btMultiBody& mb);
   // Of the last updateFrames(), per body (0: the base, k + 1: link k): its rotation (body to
-  // world), its COM minus the base's, and its inertia about its COM in world axes.
+  // world) and its COM minus the base's.
   const std::vector<Mat3, Eigen::aligned_allocator<Mat3>>& rotations() const { return rot_; }
   // The same rotations as quaternions, world to body, by btMultiBody::forwardKinematics'
   // arithmetic (the same bits as its frames).
   const btAlignedObjectArray<btQuaternion>& worldToLocal() const { return to_local_; }
   const std::vector<Vec3, Eigen::aligned_allocator<Vec3>>& coms() const { return com_; }
-  const std::vector<Mat3, Eigen::aligned_allocator<Mat3>>& comInertias() const {
-    return com_inertia_;
-  }
   // Every body's spatial velocity [angular; linear at the base's COM], world axes, at the
   // multibody's velocities and the frames of the last updateFrames().
   const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& velocities(const btMultiBody& mb);
 
-  // Of the last accelerations(), per body (0: the base, k + 1: link k), about the base's COM,
-  // world axes: spatial inertias and joint motion subspaces (zero for the base and fixed
-  // joints).
+  // Of the last updateFrames() (which accelerations() calls), per body (0: the base, k + 1:
+  // link k), about the base's COM, world axes: spatial inertias and joint motion subspaces
+  // (zero for the base and fixed joints).
   const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>& bodyInertias() const { return body_; }
   const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& jointAxes() const { return axis_; }
 
@@ -68,17 +65,16 @@ class TreeDynamics {
   // Per body (0: the base, k + 1: link k), about the base's COM, world axes.
   // World to body rotation, by multiBodyFrames()' arithmetic: the same bits as the frames.
   btAlignedObjectArray<btQuaternion> to_local_;
-  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rot_;          // body to world
-  std::vector<Vec3, Eigen::aligned_allocator<Vec3>> com_;          // body COM - base COM
-  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> com_inertia_;  // about its COM
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> axis_;         // joint's motion subspace
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> velocity_;     // spatial velocity
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> coriolis_;     // velocity-product accel.
-  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_;         // spatial inertia
-  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> inertia_;      // articulated inertia
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_;         // articulated bias force
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> u_vec_;        // inertia x axis
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> accel_;        // spatial acceleration
+  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rot_;       // body to world
+  std::vector<Vec3, Eigen::aligned_allocator<Vec3>> com_;       // body COM - base COM
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> axis_;      // joint's motion subspace
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> velocity_;  // spatial velocity
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> coriolis_;  // velocity-product accel.
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_;      // spatial inertia
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> inertia_;   // articulated inertia
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_;      // articulated bias force
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> u_vec_;     // inertia x axis
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> accel_;     // spatial acceleration
   std::vector<double> inv_d_, u_;
   std::vector<double> out_;  // Bullet's velocity order
   // The inputs of the frames (framesCurrent()), and scratch to gather them.
