@@ -36,9 +36,12 @@ JointLimits::JointLimits(btMultiBody* body, std::vector<Limit> limits)
 }
 
 bool JointLimits::mayAct(btScalar dt) const {
+  // Every step: Bullet's getJointPos and getJointVel inline (they are not).
+  const btScalar* velocity = m_bodyA->getVelocityVector() + 6;
   for (const Limit& l : limits_) {
-    const Nearer n = nearer(l, m_bodyA->getJointPos(l.link));
-    const btScalar approach = -n.direction * m_bodyA->getJointVel(l.link);
+    const btMultibodyLink& link = m_bodyA->getLink(l.link);
+    const Nearer n = nearer(l, link.m_jointPos[0]);
+    const btScalar approach = -n.direction * velocity[link.m_dofOffset];
     if (n.gap <= kMargin + 2 * dt * std::max<btScalar>(approach, 0)) return true;
   }
   return false;

@@ -32,6 +32,25 @@ Vec6 spatialForce(const btVector3& force, const btVector3& torque, const Vec3& c
   return out;
 }
 
+// What spatialInertia(mass, com, rot diag(d) rot^T) is, written into `out`: the rotated
+// inertia is symmetric, so its six distinct entries are summed once each.
+void setSpatialInertia(double mass, const Vec3& com, const Mat3& rot, const Vec3& d, Mat6& out) {
+  const Vec3 mc = mass * com;
+  const double mcc = mc.dot(com);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = i; j < 3; ++j) {
+      double v = rot(i, 0) * d[0] * rot(j, 0) + rot(i, 1) * d[1] * rot(j, 1) +
+                 rot(i, 2) * d[2] * rot(j, 2) - mc[i] * com[j];
+      if (i == j) v += mcc;
+      out(i, j) = v;
+      out(j, i) = v;
+    }
+  }
+  out.topRightCorner<3, 3>() << 0.0, -mc.z(), mc.y(), mc.z(), 0.0, -mc.x(), -mc.y(), mc.x(), 0.0;
+  out.bottomLeftCorner<3, 3>() = -out.topRightCorner<3, 3>();
+  out.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
+}
+
 }  // namespace
 
 bool TreeDynamics::handles(const btMultiBody& mb) {
@@ -62,9 +81,7 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
   to_local_[0] = mb.getWorldToBaseRot();
   rot_[0] = fromBt(to_local_[0].inverse()).toRotationMatrix();
   com_[0].setZero();
-  const Vec3 base_inertia = fromBt(mb.getBaseInertia());
-  body_[0] = spatialInertia(mb.getBaseMass(), com_[0],
-                            rot_[0] * base_inertia.asDiagonal() * rot_[0].transpose());
+  setSpatialInertia(mb.getBaseMass(), com_[0], rot_[0], fromBt(mb.getBaseInertia()), body_[0]);
   axis_[0].setZero();
   for (int k = 0; k < n; ++k) {
     const btMultibodyLink& l = mb.getLink(k);
@@ -72,9 +89,7 @@ void TreeDynamics::linkFrames(const btMultiBody& mb) {
     to_local_[b] = l.m_cachedRotParentToThis * to_local_[p];
     rot_[b] = fromBt(to_local_[b].inverse()).toRotationMatrix();
     com_[b] = com_[p] + rot_[b] * fromBt(l.m_cachedRVector);
-    const Vec3 inertia = fromBt(l.m_inertiaLocal);
-    body_[b] =
-        spatialInertia(l.m_mass, com_[b], rot_[b] * inertia.asDiagonal() * rot_[b].transpose());
+    setSpatialInertia(l.m_mass, com_[b], rot_[b], fromBt(l.m_inertiaLocal), body_[b]);
     axis_[b].setZero();
     if (l.m_dofCount == 1) {
       // Bullet's axis moves the link's COM (linear part); about the base's COM instead.
