@@ -124,7 +124,9 @@ TEST(LeanStep, FallsBackToTheSolverNearAJointStop) {
 // A floating base with a revolute joint, a prismatic one on it, a fixed link and a second
 // revolute branch, in random states under random forces and joint torques: TreeDynamics'
 // accelerations are those of Bullet's articulated-body pass (which differ by 4e-13 at most
-// here, for accelerations up to 190).
+// here, for accelerations up to 190). One TreeDynamics throughout: the frames it keeps while
+// the positions are the same must follow every change of them (a new pose of everything,
+// one joint moved) and serve new velocities and forces at the same positions.
 TEST(LeanStep, TreeDynamicsAcceleratesAsBullet) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -143,12 +145,10 @@ TEST(LeanStep, TreeDynamicsAcceleratesAsBullet) {
   mb.setAngularDamping(0);
   mb.setUseGyroTerm(true);
   ASSERT_TRUE(TreeDynamics::handles(mb));
-  for (int trial = 0; trial < 20; ++trial) {
-    mb.setBaseWorldTransform(btTransform(rot(), vec()));
+  auto velocitiesAndForces = [&] {
     mb.setBaseOmega(5.0 * vec());
     mb.setBaseVel(vec());
     for (int l : {0, 1, 3}) {
-      mb.setJointPos(l, uni(rng));
       mb.setJointVel(l, 10.0 * uni(rng));
       mb.addJointTorque(l, 0.01 * uni(rng));
     }
@@ -158,7 +158,9 @@ TEST(LeanStep, TreeDynamicsAcceleratesAsBullet) {
       mb.addLinkForce(l, vec());
       mb.addLinkTorque(l, 0.01 * vec());
     }
-    TreeDynamics tree;
+  };
+  TreeDynamics tree;
+  auto expectAsBullet = [&](const std::string& what) {
     const std::vector<double> ours = tree.accelerations(mb);
     btAlignedObjectArray<btScalar> r;
     btAlignedObjectArray<btVector3> v;
@@ -168,9 +170,21 @@ TEST(LeanStep, TreeDynamicsAcceleratesAsBullet) {
     ASSERT_EQ(ours.size(), 6u + mb.getNumDofs());
     for (size_t i = 0; i < ours.size(); ++i) {
       EXPECT_NEAR(ours[i], bullet[i], 1e-10 * (1.0 + std::abs(bullet[i])))
-          << "trial " << trial << ", acceleration " << i;
+          << what << ", acceleration " << i;
     }
     mb.clearForcesAndTorques();
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    const std::string name = "trial " + std::to_string(trial);
+    mb.setBaseWorldTransform(btTransform(rot(), vec()));
+    for (int l : {0, 1, 3}) mb.setJointPos(l, uni(rng));
+    velocitiesAndForces();
+    expectAsBullet(name + ", new pose");
+    velocitiesAndForces();
+    expectAsBullet(name + ", same positions");
+    mb.setJointPos(3, mb.getJointPos(3) + 0.5 * uni(rng));
+    velocitiesAndForces();
+    expectAsBullet(name + ", joint 3 moved");
   }
 }
 
