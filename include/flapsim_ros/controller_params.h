@@ -53,8 +53,9 @@ struct AnnControllerParams {
   bool lockstep = false;
   double lockstep_duration = 0.0;        // s of sim time
   bool lockstep_wait_for_start = false;  // wait for a call of ~start before stepping
-  // Lockstep only: the creatures this node flies and steps together, each with the network
-  // on its `pairs` units (a flock in one lockstep); empty: {creature}.
+  // Lockstep only (set without lockstep: ParamError): the creatures this node flies and steps
+  // together, each with the network on its `pairs` units (a flock in one lockstep); empty:
+  // {creature}.
   std::vector<std::string> lockstep_creatures;
   std::string step_service = "/flapsim/step";
   // s, the simulator's step (for the steps per control period); 0 (unset): the parameter

@@ -91,9 +91,8 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   controller_ = std::make_unique<flapsim::AnnWingController>(
       flapsim::FlapUnitController(spec_.params, spec_.weights));
   if (params_.rate <= 0.0) params_.rate = 1.0 / spec_.params.control_period;
-  creatures_ = params_.lockstep && !params_.lockstep_creatures.empty()
-                   ? params_.lockstep_creatures
-                   : std::vector<std::string>{params_.creature};
+  creatures_ = !params_.lockstep_creatures.empty() ? params_.lockstep_creatures
+                                                   : std::vector<std::string>{params_.creature};
   for (const std::string& c : creatures_) {
     frames_.emplace_back();
     for (const auto& link : layout_.body_links) frames_.back().push_back(c + "/" + link);

@@ -114,6 +114,10 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   atLeast(d, "lockstep_duration", p.lockstep_duration, 0.0, false);
   p.lockstep_wait_for_start = d.boolean("lockstep_wait_for_start", p.lockstep_wait_for_start);
   if (d.has("lockstep_creatures")) {
+    // Only a lockstep node flies several creatures: without it the list would be ignored.
+    if (!p.lockstep) {
+      failParam(d.key("lockstep_creatures"), "is set, but '" + d.key("lockstep") + "' is not true");
+    }
     p.lockstep_creatures = d.strings("lockstep_creatures");
     for (size_t i = 0; i < p.lockstep_creatures.size(); ++i) {
       if (p.lockstep_creatures[i].empty()) {

@@ -99,25 +99,42 @@ TEST(AnnControllerParams, RequiresWeightsAndReadsLockstep) {
                ParamError);  // no creature: neither a parameter nor a namespace
 }
 
-// A flock in one lockstep: lockstep_creatures, a list of non-empty names; the simulator's
-// step size is read from it unless ~step_size is given (0: unset).
+// A flock in one lockstep: lockstep_creatures, a list of non-empty names, with lockstep
+// only; the simulator's step size is read from it unless ~step_size is given (0: unset).
 TEST(AnnControllerParams, LockstepCreaturesAndStepSize) {
   XmlRpc::XmlRpcValue names;
   names[0] = "afc0";
   names[1] = "afc1";
+  const XmlRpc::XmlRpcValue on(true);
   AnnControllerParams p = parseAnnControllerParams(
-      yamlish({{"weights", XmlRpc::XmlRpcValue("w")}, {"lockstep_creatures", names}}), "afc");
+      yamlish(
+          {{"weights", XmlRpc::XmlRpcValue("w")}, {"lockstep", on}, {"lockstep_creatures", names}}),
+      "afc");
   EXPECT_EQ(p.lockstep_creatures, (std::vector<std::string>{"afc0", "afc1"}));
   EXPECT_EQ(p.step_size, 0.0);
-  names[1] = "";
+  // Without lockstep the node would fly ~creature alone: refused, not ignored.
   try {
     parseAnnControllerParams(
         yamlish({{"weights", XmlRpc::XmlRpcValue("w")}, {"lockstep_creatures", names}}), "afc");
+    ADD_FAILURE() << "lockstep_creatures was taken without lockstep";
+  } catch (const ParamError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("'lockstep_creatures': is set, but 'lockstep' is not true"),
+        std::string::npos)
+        << e.what();
+  }
+  names[1] = "";
+  try {
+    parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w")},
+                                      {"lockstep", on},
+                                      {"lockstep_creatures", names}}),
+                             "afc");
     ADD_FAILURE() << "an empty name was taken";
   } catch (const ParamError& e) {
     EXPECT_NE(std::string(e.what()).find("lockstep_creatures[1]"), std::string::npos) << e.what();
   }
   EXPECT_THROW(parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w")},
+                                                 {"lockstep", on},
                                                  {"lockstep_creatures", XmlRpc::XmlRpcValue(3)}}),
                                         "afc"),
                ParamError);
