@@ -164,6 +164,30 @@ TEST(World, HugeJointDampingStaysStable) {
   EXPECT_LT(std::abs(s.joint_velocities[0]), 1.0);
 }
 
+// The values a world lowers are named: on the flap's hinge (I = 1.34e-4 kg m^2 about it), a
+// 1 ms step keeps damping up to I / (4 dt) = 0.0335 N m s/rad and a spring up to
+// I / (4 dt^2) = 33.5 N m/rad; at 0.1 ms, ten and a hundred times more.
+TEST(World, CappedJointValuesAreNamed) {
+  auto stiff = flapOnHinge("continuous", "1 0 0", R"(<dynamics damping="0.1"/>)",
+                           R"(<spring joint="hinge" stiffness="5000" reference="0"/>)");
+  const std::vector<std::string> at1ms = cappedJointValues(*stiff, 0.001);
+  ASSERT_EQ(at1ms.size(), 2u);
+  EXPECT_EQ(at1ms[0],
+            "joint 'hinge': damping 0.1 is more than an explicit step of 0.001 s keeps stable; "
+            "0.0335 is used");
+  EXPECT_EQ(at1ms[1],
+            "joint 'hinge': spring stiffness 5000 is more than an explicit step of 0.001 s keeps "
+            "stable; 33.5 is used");
+  const std::vector<std::string> at01ms = cappedJointValues(*stiff, 0.0001);
+  ASSERT_EQ(at01ms.size(), 1u);  // the damping is kept (0.335 allowed), not the spring
+  EXPECT_NE(at01ms[0].find("spring stiffness 5000"), std::string::npos) << at01ms[0];
+  EXPECT_NE(at01ms[0].find("3350 is used"), std::string::npos) << at01ms[0];
+  EXPECT_TRUE(cappedJointValues(*flapOnHinge("continuous", "1 0 0", R"(<dynamics damping="0.01"/>)",
+                                             R"(<spring joint="hinge" stiffness="0.01"/>)"),
+                                0.001)
+                  .empty());
+}
+
 WorldParams vacuum() {
   WorldParams p = openSky();
   p.air.enabled = false;

@@ -70,8 +70,11 @@ class SimulatorNode {
     std::optional<WingCommandRequest> command;         // last valid one, re-applied after reset
   };
 
-  void spawn(const std::string& name, const std::string& urdf_xml, const std::string& source,
-             const flapsim::Pose& pose, const flapsim::Twist& twist);
+  // Returns (and logs as warnings) the URDF values the world lowers for its step
+  // (flapsim::cappedJointValues), each line prefixed with the creature.
+  std::vector<std::string> spawn(const std::string& name, const std::string& urdf_xml,
+                                 const std::string& source, const flapsim::Pose& pose,
+                                 const flapsim::Twist& twist);
   void remove(const std::string& name);
   /// Wing commands of a step request: all or nothing; InputError naming the cause.
   void applyWingCommands(const std::vector<std::string>& creatures,

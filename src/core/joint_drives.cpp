@@ -1,8 +1,12 @@
 #include "joint_drives.h"
 
 #include <algorithm>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "creature_body.h"
+#include "flapsim/world.h"
 
 namespace flapsim {
 
@@ -25,6 +29,26 @@ double dampingLimit(const CreatureModel& m, const JointModel& j, double dt) {
 
 double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt) {
   return 0.25 * childInertia(m, j) / (dt * dt);
+}
+
+std::vector<std::string> cappedJointValues(const CreatureModel& model, double step_size) {
+  std::vector<std::string> out;
+  auto note = [&](const JointModel& j, const char* what, double value, double used) {
+    std::ostringstream line;
+    line.precision(4);
+    line << "joint '" << j.name << "': " << what << " " << value
+         << " is more than an explicit step of " << step_size << " s keeps stable; " << used
+         << " is used";
+    out.push_back(line.str());
+  };
+  for (const JointModel& j : model.joints) {
+    if (!j.movable()) continue;
+    const double damping = dampingLimit(model, j, step_size);
+    const double stiffness = stiffnessLimit(model, j, step_size);
+    if (j.damping > damping) note(j, "damping", j.damping, damping);
+    if (j.stiffness > stiffness) note(j, "spring stiffness", j.stiffness, stiffness);
+  }
+  return out;
 }
 
 namespace {

@@ -128,9 +128,9 @@ SimulatorNode::~SimulatorNode() {
 
 // ---- creatures ---------------------------------------------------------------------
 
-void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
-                          const std::string& source, const flapsim::Pose& pose,
-                          const flapsim::Twist& twist) {
+std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
+                                              const std::string& source, const flapsim::Pose& pose,
+                                              const flapsim::Twist& twist) {
   const std::string err = validateCreatureName(name);
   if (!err.empty()) throw flapsim::InputError(err);
   if (world_.has(name)) throw flapsim::InputError("creature name '" + name + "' is taken");
@@ -159,6 +159,12 @@ void SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
   }
   creatures_.push_back(std::move(c));
   publishCreatureMarkers();
+  std::vector<std::string> capped = flapsim::cappedJointValues(*model, params_.world.step_size);
+  for (std::string& line : capped) {
+    line = "creature '" + name + "', " + line;
+    ROS_WARN_STREAM("flapsim: " << line);
+  }
+  return capped;
 }
 
 void SimulatorNode::remove(const std::string& name) {
@@ -483,9 +489,10 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
                                 "': give exactly one of urdf_xml and urdf_file");
     }
     const bool from_file = !req.urdf_file.empty();
-    spawn(req.name, from_file ? readSpawnUrdf(req.urdf_file, params_.urdf_roots) : req.urdf_xml,
-          from_file ? req.urdf_file : "spawn request '" + req.name + "'", fromMsg(req.initial_pose),
-          fromMsg(req.initial_twist));
+    const std::vector<std::string> capped =
+        spawn(req.name, from_file ? readSpawnUrdf(req.urdf_file, params_.urdf_roots) : req.urdf_xml,
+              from_file ? req.urdf_file : "spawn request '" + req.name + "'",
+              fromMsg(req.initial_pose), fromMsg(req.initial_twist));
     Creature* c = find(req.name);
     tf2_msgs::TFMessage tf;
     publishCreature(*c, now(), &tf.transforms);
@@ -493,6 +500,7 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
     res.success = true;
     res.status_message = "spawned '" + req.name + "': " + std::to_string(c->model->links.size()) +
                          " links, " + std::to_string(c->model->wing_joints.size()) + " wing joints";
+    for (const std::string& line : capped) res.status_message += "; " + line;
     ROS_INFO_STREAM("flapsim: " << res.status_message);
     publishDiagnostics();
   } catch (const std::bad_alloc&) {
