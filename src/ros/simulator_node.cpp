@@ -500,8 +500,8 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
     res.success = true;
     res.status_message = "spawned '" + req.name + "': " + std::to_string(c->model->links.size()) +
                          " links, " + std::to_string(c->model->wing_joints.size()) + " wing joints";
+    ROS_INFO_STREAM("flapsim: " << res.status_message);  // the lines below were warned
     for (const std::string& line : capped) res.status_message += "; " + line;
-    ROS_INFO_STREAM("flapsim: " << res.status_message);
     publishDiagnostics();
   } catch (const std::bad_alloc&) {
     res.success = false;

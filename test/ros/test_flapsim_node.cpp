@@ -572,6 +572,31 @@ TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {
   EXPECT_TRUE(d.response.success);
 }
 
+// A hinge damped beyond what the 1 ms step keeps stable (I / (4 dt) = 0.0335 N m s/rad for
+// this flap): spawned, with the value the world uses named in the reply and in a warning.
+TEST_F(Node, SpawnNamesTheJointValuesItLowers) {
+  flapsim::SpawnCreature s;
+  s.request.name = "damped";
+  s.request.urdf_xml = R"(<robot name="d"><link name="world"/>
+    <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
+      <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
+      <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
+    <joint name="hinge" type="continuous"><parent link="world"/><child link="flap"/>
+      <axis xyz="1 0 0"/><dynamics damping="1000"/></joint></robot>)";
+  s.request.initial_pose.position.z = 5.0;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(s.response.success) << s.response.status_message;
+  const std::string line =
+      "creature 'damped', joint 'hinge': damping 1000 is more than an explicit step of 0.001 s "
+      "keeps stable; 0.0335 is used";
+  EXPECT_NE(s.response.status_message.find(line), std::string::npos) << s.response.status_message;
+  EXPECT_TRUE(warned(line));
+  flapsim::DeleteCreature d;
+  d.request.name = "damped";
+  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  EXPECT_TRUE(d.response.success) << d.response.status_message;
+}
+
 TEST_F(Node, BadWingCommandsWarnAndKeepTheLastValidCommand) {
   reset();
   ASSERT_TRUE(commandAndWait(30, 10, 0.8));
