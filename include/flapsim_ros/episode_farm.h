@@ -92,8 +92,8 @@ struct FarmParams {
 std::map<std::string, std::string> findWorkers(const std::string& ns);
 
 /// Sends the tasks of an evolution to the workers under params.ns, several
-/// calls in flight per worker; a call that fails (worker died) or times out
-/// is sent to another worker, and workers that appear are used from the next
+/// calls in flight per worker; a call that fails twice in a row (worker died)
+/// or times out is sent to another worker, and workers that appear are used from the next
 /// look at the master on. Results are put in task order, so the evolution is
 /// the same bit for bit as in process.
 class FarmEvaluator : public flapsim::EpisodeEvaluator {

@@ -3,6 +3,7 @@
 #include <ros/master.h>
 
 #include <algorithm>
+#include <chrono>
 #include <condition_variable>
 #include <deque>
 #include <thread>
@@ -264,7 +265,15 @@ std::vector<double> FarmEvaluator::evaluate(const std::vector<flapsim::EpisodeTa
         ros::ServiceClient client = nh.serviceClient<flapsim::EvaluateEpisodes>(name);
         Answer a;
         a.call = id;
+        // A call that fails is made once more before it counts: a dead worker fails again,
+        // while a transient failure of the transport (the master's lookup of the service, the
+        // connection) under a burst of calls does not bury a live worker. Tasks are pure, so
+        // a batch computed twice gives the same values.
         a.ok = client.call(srv);
+        if (!a.ok) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(50));
+          a.ok = client.call(srv);
+        }
         a.response = std::move(srv.response);
         {
           std::lock_guard<std::mutex> lock(mailbox->mutex);
