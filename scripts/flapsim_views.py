@@ -17,8 +17,10 @@ from PIL import Image
 
 # Colours of rviz's background (48, 48, 48) and grid are grey; the creatures' materials
 # (wings and plates 0.95 0.8 0.3, bodies 0.25 0.3 0.45) are not, nor are the force arrows
-# (1 0.5 0, hue 30 degrees).
-SATURATION = 40  # max - min of r, g, b (0..255) above which a pixel is not grey
+# (1 0.5 0, hue 30 degrees). Saturation is relative: a wing lit edge-on is a dark olive
+# such as (49, 41, 15), within 40 levels of grey but as saturated as a lit one.
+SATURATION = 0.35  # (max - min) / max of r, g, b above which a pixel is coloured
+DARKEST = 24  # max of r, g, b (0..255) below which a pixel counts as black
 ARROW_HUES = (20.0, 38.0)  # degrees: the orange of the force arrows
 
 
@@ -27,7 +29,8 @@ def pixel_counts(png):
     creature = arrows = 0
     with Image.open(png) as im:
         for (r, g, b), n in _colours(im.convert("RGB")):
-            if max(r, g, b) - min(r, g, b) <= SATURATION:
+            brightest = max(r, g, b)
+            if brightest < DARKEST or brightest - min(r, g, b) <= SATURATION * brightest:
                 continue
             hue = 360.0 * colorsys.rgb_to_hsv(r / 255, g / 255, b / 255)[0]
             if ARROW_HUES[0] <= hue <= ARROW_HUES[1]:
