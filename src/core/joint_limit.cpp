@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "bullet_scene.h"
+
 namespace flapsim {
 
 namespace {
@@ -37,11 +39,9 @@ JointLimits::JointLimits(btMultiBody* body, std::vector<Limit> limits)
 
 bool JointLimits::mayAct(btScalar dt) const {
   // Every step: Bullet's getJointPos and getJointVel inline (they are not).
-  const btScalar* velocity = m_bodyA->getVelocityVector() + 6;
   for (const Limit& l : limits_) {
-    const btMultibodyLink& link = m_bodyA->getLink(l.link);
-    const Nearer n = nearer(l, link.m_jointPos[0]);
-    const btScalar approach = -n.direction * velocity[link.m_dofOffset];
+    const Nearer n = nearer(l, m_bodyA->getLink(l.link).m_jointPos[0]);
+    const btScalar approach = -n.direction * jointVel(*m_bodyA, l.link);
     if (n.gap <= kMargin + 2 * dt * std::max<btScalar>(approach, 0)) return true;
   }
   return false;
