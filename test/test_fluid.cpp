@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "flapsim/fluid_inertia.h"
+#include "fluid/fluid_inertia.h"
 #include "test_util.h"
 
 namespace flapsim {

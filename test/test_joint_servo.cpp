@@ -7,7 +7,7 @@
 #include <random>
 #include <vector>
 
-#include "flapsim/joint_servo.h"
+#include "dynamics/joint_servo.h"
 
 namespace flapsim {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "../src/core/tree_dynamics.h"
+#include "dynamics/tree_dynamics.h"
 #include "flapsim/make_creature.h"
 #include "test_util.h"
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "flapsim/fluid_inertia.h"
-#include "flapsim/momentum.h"
+#include "fluid/fluid_inertia.h"
+#include "dynamics/momentum.h"
 #include "test_util.h"
 
 namespace flapsim {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "flapsim/momentum.h"
+#include "dynamics/momentum.h"
 #include "test_util.h"
 
 namespace flapsim {

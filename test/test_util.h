@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "flapsim/creature_model.h"
-#include "flapsim/momentum.h"
+#include "dynamics/momentum.h"
 #include "flapsim/world.h"
 
 namespace flapsim {

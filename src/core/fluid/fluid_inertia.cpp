@@ -1,4 +1,4 @@
-#include "flapsim/fluid_inertia.h"
+#include "fluid/fluid_inertia.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "flapsim/air_model.h"
-#include "flapsim/joint_servo.h"
+#include "dynamics/joint_servo.h"
 #include "flapsim/types.h"
 
 namespace flapsim {

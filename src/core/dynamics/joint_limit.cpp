@@ -1,4 +1,4 @@
-#include "joint_limit.h"
+#include "dynamics/joint_limit.h"
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <utility>
 
-#include "bullet_scene.h"
+#include "dynamics/bullet_scene.h"
 
 namespace flapsim {
 

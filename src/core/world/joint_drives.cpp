@@ -1,11 +1,11 @@
-#include "joint_drives.h"
+#include "world/joint_drives.h"
 
 #include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "creature_body.h"
+#include "dynamics/creature_body.h"
 #include "flapsim/world.h"
 
 namespace flapsim {

@@ -1,9 +1,9 @@
-#include "creature_body.h"
+#include "dynamics/creature_body.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "flapsim/fluid_inertia.h"
+#include "fluid/fluid_inertia.h"
 
 namespace flapsim {
 

@@ -14,7 +14,7 @@
 
 #include "flapsim/types.h"
 #include "flapsim/world.h"
-#include "tree_dynamics.h"
+#include "dynamics/tree_dynamics.h"
 
 namespace flapsim {
 

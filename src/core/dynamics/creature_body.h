@@ -10,12 +10,12 @@
 #include <memory>
 #include <vector>
 
-#include "bullet_scene.h"
+#include "dynamics/bullet_scene.h"
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
-#include "flapsim/joint_servo.h"
-#include "flapsim/momentum.h"
-#include "world_air.h"
+#include "dynamics/joint_servo.h"
+#include "dynamics/momentum.h"
+#include "world/world_air.h"
 
 namespace flapsim {
 

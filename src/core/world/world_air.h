@@ -9,8 +9,8 @@
 
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
-#include "flapsim/fluid_inertia.h"
-#include "flapsim/joint_servo.h"
+#include "fluid/fluid_inertia.h"
+#include "dynamics/joint_servo.h"
 #include "flapsim/world.h"
 
 namespace flapsim {

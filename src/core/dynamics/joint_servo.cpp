@@ -1,4 +1,4 @@
-#include "flapsim/joint_servo.h"
+#include "dynamics/joint_servo.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 
 #include <memory>
 
-#include "creature_body.h"
+#include "dynamics/creature_body.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/types.h"
 #include "flapsim/world.h"

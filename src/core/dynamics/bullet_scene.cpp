@@ -1,4 +1,4 @@
-#include "bullet_scene.h"
+#include "dynamics/bullet_scene.h"
 
 #include <BulletDynamics/Featherstone/btMultiBodyInplaceSolverIslandCallback.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
@@ -6,7 +6,7 @@
 
 #include <atomic>
 
-#include "joint_limit.h"
+#include "dynamics/joint_limit.h"
 
 namespace flapsim {
 

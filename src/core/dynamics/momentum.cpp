@@ -1,9 +1,9 @@
-#include "flapsim/momentum.h"
+#include "dynamics/momentum.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
 
-#include "flapsim/fluid_inertia.h"
+#include "fluid/fluid_inertia.h"
 
 namespace flapsim {
 

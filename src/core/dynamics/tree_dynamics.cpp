@@ -1,8 +1,8 @@
-#include "tree_dynamics.h"
+#include "dynamics/tree_dynamics.h"
 
 #include <cstring>
 
-#include "bullet_scene.h"
+#include "dynamics/bullet_scene.h"
 
 namespace flapsim {
 

@@ -13,7 +13,7 @@
 
 #include <vector>
 
-#include "flapsim/joint_servo.h"
+#include "dynamics/joint_servo.h"
 
 namespace flapsim {
 

@@ -1,11 +1,11 @@
-#include "body_builder.h"
+#include "dynamics/body_builder.h"
 
 #include <algorithm>
 #include <utility>
 #include <vector>
 
-#include "joint_drives.h"
-#include "joint_limit.h"
+#include "world/joint_drives.h"
+#include "dynamics/joint_limit.h"
 
 namespace flapsim {
 

@@ -1,11 +1,11 @@
-#include "world_air.h"
+#include "world/world_air.h"
 
 #include <utility>
 
-#include "bullet_scene.h"
-#include "creature_body.h"
+#include "dynamics/bullet_scene.h"
+#include "dynamics/creature_body.h"
 #include "flapsim/air_models.h"
-#include "flapsim/fluid_inertia.h"
+#include "fluid/fluid_inertia.h"
 
 namespace flapsim {
 

@@ -15,7 +15,7 @@
 
 #include <vector>
 
-#include "flapsim/joint_servo.h"
+#include "dynamics/joint_servo.h"
 #include "flapsim/types.h"
 
 namespace flapsim {

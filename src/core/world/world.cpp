@@ -7,11 +7,11 @@
 #include <thread>
 #include <utility>
 
-#include "body_builder.h"
-#include "creature_body.h"
+#include "dynamics/body_builder.h"
+#include "dynamics/creature_body.h"
 #include "flapsim/air_models.h"
-#include "joint_drives.h"
-#include "world_air.h"
+#include "world/joint_drives.h"
+#include "world/world_air.h"
 
 namespace flapsim {
 
