@@ -57,6 +57,7 @@
 
 #include "bench_common.h"
 #include "flapsim/air_model.h"
+#include "fluid/pressure.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/stroke.h"

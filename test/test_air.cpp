@@ -5,9 +5,21 @@
 #include <cmath>
 
 #include "flapsim/air_model.h"
+#include "fluid/box_union.h"
+#include "fluid/buoyancy.h"
+#include "fluid/pressure.h"
+#include "fluid/quasi_steady.h"
+#include "fluid/surface.h"
 
 namespace flapsim {
 namespace {
+
+// Water at density rho, for buoyancy.
+AirParams water(double rho) {
+  AirParams air = waterParams();
+  air.density = rho;
+  return air;
+}
 
 constexpr double kRho = 1.204;
 constexpr double kCd = 1.15;
@@ -276,7 +288,8 @@ TEST(UnionOfBoxes, AlignedOverlapIsCountedOnceExactly) {
   const AeroSurface s = buildSurface({box(cube, Vec3::Zero()), box(cube, Vec3(0.05, 0, 0))}, 2, 2);
   EXPECT_NEAR(s.volume, 1.5e-3, 1e-15);
   EXPECT_NEAR((s.centroid - Vec3(0.025, 0, 0)).norm(), 0.0, 1e-15);
-  const Wrench w = buoyancyWrench(s, BodyKinematics(), 1000.0, Vec3(0, 0, -9.81));
+  const Wrench w =
+      buoyancyLaw(FluidInput{BodyKinematics(), s, water(1000.0), Vec3(0, 0, -9.81)}, nullptr);
   EXPECT_NEAR(w.force.z(), 1000.0 * 1.5e-3 * 9.81, 1e-12);
   // A 0.1 x 0.2 x 0.1 box turned 90 degrees about z is axis-aligned too: still exact. It
   // spans x in [0, 0.2] and shares 0.05 x 0.1 x 0.1 with the cube.
@@ -320,7 +333,7 @@ TEST(BuoyancyWrench, BottomHeavyCubeIsTurnedBackUpright) {
       const Vec3 axis = Vec3::Unit(i);
       BodyKinematics k;
       k.orientation = Quat(Eigen::AngleAxisd(theta, axis));
-      const Wrench w = buoyancyWrench(s, k, rho, Vec3(0, 0, -g));
+      const Wrench w = buoyancyLaw(FluidInput{k, s, water(rho), Vec3(0, 0, -g)}, nullptr);
       EXPECT_NEAR(w.force.z(), rho * a * a * a * g, 1e-12);
       EXPECT_NEAR(w.torque.dot(axis), -rho * a * a * a * g * h * std::sin(theta), 1e-12);
       EXPECT_LT(w.torque.dot(axis) * theta, 0.0);  // against the tilt

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "fluid/fluid_inertia.h"
+#include "fluid/added_mass.h"
+#include "fluid/pressure.h"
+#include "fluid/surface.h"
 #include "test_util.h"
 
 namespace flapsim {
@@ -52,7 +54,7 @@ TEST(DragDamping, FaceOnPlateIsTheForceDerivative) {
   air.density = kWater;
   BodyKinematics body;
   body.linear_velocity = Vec3(0, 0, -2.0);
-  const Mat6 d = dragDamping(body, surface, air);
+  const Mat6 d = pressureDragDamping(FluidInput{body, surface, air});
   const double k = 0.5 * kWater * 1.15;
   EXPECT_NEAR(d(5, 5), 2.0 * k * 0.06 * 2.0, 1e-9);
   EXPECT_NEAR(d(3, 3), 0.0, 1e-9);  // the edges (0.002 x 0.3) are parallel to the motion
@@ -77,8 +79,8 @@ TEST(DragDamping, GridSumsEqualPerCellSum) {
   body.orientation = Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
   body.linear_velocity = Vec3(1.0, -2.0, 0.5);
   body.angular_velocity = Vec3(20.0, -5.0, 8.0);
-  const Mat6 a = dragDamping(body, grid, air);
-  const Mat6 b = dragDamping(body, cells, air);
+  const Mat6 a = pressureDragDamping(FluidInput{body, grid, air});
+  const Mat6 b = pressureDragDamping(FluidInput{body, cells, air});
   ASSERT_GT(b.norm(), 1e-3);
   EXPECT_LT((a - b).norm(), 1e-12 * b.norm());
   EXPECT_LT((a - a.transpose()).norm(), 1e-12 * a.norm());  // symmetric

@@ -8,6 +8,7 @@
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
+#include "fluid/surface.h"
 #include "test_util.h"
 
 namespace flapsim {

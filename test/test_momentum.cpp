@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "fluid/fluid_inertia.h"
 #include "dynamics/momentum.h"
+#include "fluid/added_mass.h"
 #include "test_util.h"
 
 namespace flapsim {

@@ -18,6 +18,7 @@
 
 #include "flapsim/air_model.h"
 #include "flapsim/world.h"
+#include "fluid/pressure.h"
 #include "test_util.h"
 
 namespace flapsim {

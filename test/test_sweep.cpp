@@ -6,6 +6,7 @@
 
 #include "flapsim/air_model.h"
 #include "flapsim/sweep.h"
+#include "fluid/quasi_steady.h"
 
 namespace flapsim {
 namespace {

@@ -1,5 +1,8 @@
-// The air model as pure functions plus a small interface the world calls
-// once per step for every aero body. No Bullet, no ROS, no state.
+// The air's public face: its parameters, the surface and motion of a rigid body that an air
+// model reads, and the interface of an air model (the world calls it for every aero body in
+// every (sub)step; a model of your own is one class, given to World::setAirModel). The
+// built-in laws (pressure, quasi-steady, buoyancy, added mass) are pure functions in
+// src/core/fluid/. No Bullet, no ROS, no state.
 #pragma once
 
 #include <memory>
@@ -105,47 +108,6 @@ struct AeroSurface {
   Vec3 pitch_axis_point = Vec3::Zero();
 };
 
-/// Adds the 6 faces of a box (size, pose in the body frame), nu x nv cells each, to
-/// `surface`, and its volume: the centroid becomes the volume-weighted mean of the boxes', so
-/// this is right only for boxes that do not overlap (buildSurface handles overlaps). The span
-/// of each face is its longer edge.
-void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv);
-
-/// The volume and centroid of a union of boxes (body frame), overlaps counted once.
-struct BoxUnion {
-  double volume = 0.0;
-  Vec3 centroid = Vec3::Zero();
-};
-
-/// Exact when every box is axis-aligned with the first one (any 90-degree turns) or overlaps
-/// no other. Otherwise a box whose bounds overlap an earlier box's adds what of it lies outside
-/// the earlier boxes, measured along 128 x 128 lines parallel to its x edge: exactly along
-/// each line, by the midpoint rule across them, so the error is second order (3.5e-5 of the
-/// overlap for a cube turned 45 degrees in another, see test_air).
-BoxUnion unionOfBoxes(const std::vector<Box>& boxes);
-
-/// The aero surface of a rigid body made of `boxes` (poses in the body/COM frame): the faces
-/// of every box, nu x nv cells each, minus the cells whose centre lies inside another box or
-/// on its surface (within 1e-6 of the largest box dimension): faces flush against or buried
-/// in another box feel no air. Faces that keep all their cells keep the fast regular grid.
-/// `span` (body frame, any length), projected onto each face that it is not nearly normal
-/// to (at least 0.1 of it in the face plane), gives the faces' span; else the longer edge.
-/// volume/centroid: unionOfBoxes. drag_coefficient and pitch_axis_point keep defaults.
-AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
-                         const std::optional<Vec3>& span = std::nullopt);
-
-/// A link's boxes in its COM frame, and its cells per face edge (its AeroSettings', else the
-/// world's), as its aero surface and its added mass use them.
-std::vector<Box> comFrameBoxes(const LinkModel& link);
-int subdivisionsU(const LinkModel& link, const AirParams& air);
-int subdivisionsV(const LinkModel& link, const AirParams& air);
-
-/// The aero surface of link `link` of `model`, as the world uses it: its boxes in its COM
-/// frame, subdivisions and drag coefficient from its AeroSettings else from `air`, the span
-/// of spanAxis(model, link), and the pitch axis through the link frame's origin when its
-/// parent joint is a feather joint (else through the COM).
-AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParams& air);
-
 /// World-frame kinematics of a rigid body at its centre of mass.
 struct BodyKinematics {
   Quat orientation = Quat::Identity();  // body (COM) frame -> world
@@ -172,36 +134,11 @@ struct Wrench {
   }
 };
 
-/// Splits each of the 6 faces of a box (size, pose in the body frame) into an
-/// nu x nv grid of cells.
-std::vector<SurfaceCell> boxSurfaceCells(const Vec3& size, const Pose& origin, int nu, int nv);
-
 /// Velocity of a point at offset r from the COM relative to the air: u = v + w x r - wind
 /// (the air's velocity seen from the point is -u).
 inline Vec3 relativeAirVelocity(const Vec3& v, const Vec3& w, const Vec3& r, const Vec3& wind) {
   return v + w.cross(r) - wind;
 }
-
-/// The paper's pressure on one cell (world frame): zero unless the face
-/// advances into the air (u.n > 0), then -1/2 rho Cd s |u| (u.n) n.
-inline double pressureMagnitude(const Vec3& u, const Vec3& n, double area, double density,
-                                double cd) {
-  const double un = u.dot(n);
-  return un > 0.0 ? 0.5 * density * cd * area * u.norm() * un : 0.0;
-}
-inline Vec3 pressureForce(const Vec3& u, const Vec3& n, double area, double density, double cd) {
-  return -pressureMagnitude(u, n, area, density, cd) * n;
-}
-
-/// Buoyancy rho V g opposite to gravity (gravity is a vector, e.g. (0,0,-9.81)).
-inline Vec3 buoyancyForce(double volume, double density, const Vec3& gravity) {
-  return -density * volume * gravity;
-}
-
-/// Buoyancy of a body as a wrench about its COM (world frame): the force -rho V g of the
-/// surface's displaced volume, acting at its centroid, so torque (R centroid) x force.
-Wrench buoyancyWrench(const AeroSurface& surface, const BodyKinematics& body, double density,
-                      const Vec3& gravity);
 
 /// An air model maps a body's motion to the wrench the air exerts on it.
 /// Implementations must be pure: same inputs, same output.
@@ -213,53 +150,16 @@ class AirModel {
                             const AirParams& air, std::vector<Vec3>* cell_forces) const = 0;
 };
 
-/// The paper's model (IEEE SMC 2010, eq. 3): pressure on advancing sub-surfaces.
-class PressureAirModel : public AirModel {
- public:
-  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
-                    std::vector<Vec3>* cell_forces) const override;
-};
-
-/// Angle of attack in [0, 90] deg of a face with normal n moving at u (spanwise part of u
-/// removed), and the lift and drag coefficients there.
-double angleOfAttack(const Vec3& u_chordwise, const Vec3& n);
-double liftCoefficient(double alpha_deg, const QuasiSteadyCoefficients& c);
-double dragCoefficient(double alpha_deg, const QuasiSteadyCoefficients& c);
-
-/// Quasi-steady blade-element force on one cell of an advancing face (zero otherwise):
-/// with u' = u minus its component along the span s, drag 1/2 rho s_i C_D |u'|^2 against
-/// u' and lift 1/2 rho s_i C_L |u'|^2 perpendicular to u' in the chord plane, on the side
-/// the face pushes the air from (-n).
-Vec3 quasiSteadyForce(const Vec3& u, const Vec3& n, const Vec3& span, double area, double density,
-                      const QuasiSteadyCoefficients& c);
-
-/// Whitney & Wood (2010): the centre of pressure of a chordwise strip at angle of attack
-/// alpha (degrees, 0..90) lies d_cp / c = 0.82 alpha / 180 + 0.05 from its leading edge.
-double centreOfPressureFraction(double alpha_deg);
-
-/// Sane & Dickinson (2002): rotational force coefficient C_rot = pi (0.75 - x0), x0 the
-/// pitch axis' distance from the leading edge over the chord.
-double rotationalLiftCoefficient(double x0);
-
-/// A quasi-steady blade-element model: per cell, angle of attack from the chordwise
-/// velocity; lift and drag from QuasiSteadyCoefficients. Needs AeroSurface::faces.
-/// With AirParams::centre_of_pressure_shift, each cell's force acts (c/2 - d_cp) ahead of the
-/// cell's centre, towards the leading edge (the chordwise edge the cell moves towards), which
-/// puts a uniformly loaded strip's force at d_cp. With AirParams::rotational_lift, each cell
-/// of an advancing face also feels C_rot rho U c s_i omega along the face normal, where U and
-/// the leading edge are taken at the pitch axis (same span station, so pure pitching about the
-/// axis in still air gives none), omega is the angular velocity about the span, positive when
-/// it raises the angle of attack, and the force then adds to the translational normal force.
-/// Faces without span information (no AeroSurface::faces) get neither.
-class QuasiSteadyAirModel : public AirModel {
- public:
-  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
-                    std::vector<Vec3>* cell_forces) const override;
-};
-
 using AirModelPtr = std::shared_ptr<const AirModel>;
 
 /// The model of that name ("pressure", "quasi_steady"), or null for an unknown name.
 AirModelPtr makeAirModel(const std::string& name);
+
+/// Names of the built-in air models, in a fixed order: {"pressure", "quasi_steady"}: the one
+/// list that validation, error messages and per-link model lookups derive from.
+const std::vector<std::string>& airModelNames();
+
+/// "unknown air model '<name>' (pressure, quasi_steady)", the list taken from airModelNames().
+std::string unknownAirModelMessage(const std::string& name);
 
 }  // namespace flapsim

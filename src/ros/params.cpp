@@ -9,7 +9,7 @@
 #include <set>
 #include <sstream>
 
-#include "flapsim/air_models.h"
+#include "flapsim/air_model.h"
 #include "flapsim_ros/urdf_source.h"
 
 namespace flapsim_ros {

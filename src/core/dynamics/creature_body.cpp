@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "fluid/fluid_inertia.h"
+#include "fluid/added_mass.h"
 
 namespace flapsim {
 

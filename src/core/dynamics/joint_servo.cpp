@@ -7,25 +7,6 @@
 
 namespace flapsim {
 
-Mat3 skew(const Vec3& v) {
-  Mat3 m;
-  m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return m;
-}
-
-Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia) {
-  // -m [c]x [c]x = m (|c|^2 1 - c c^T), without the 3x3 product.
-  const Vec3 mc = mass * com;
-  const Mat3 c = skew(mc);
-  Mat6 out;
-  out.topLeftCorner<3, 3>() = inertia - mc * com.transpose();
-  out.topLeftCorner<3, 3>().diagonal().array() += mc.dot(com);
-  out.topRightCorner<3, 3>() = c;
-  out.bottomLeftCorner<3, 3>() = -c;
-  out.bottomRightCorner<3, 3>() = mass * Mat3::Identity();
-  return out;
-}
-
 Vec6 motionSubspace(const ServoLink& link) {
   Vec6 s = Vec6::Zero();
   switch (link.joint) {
@@ -40,37 +21,6 @@ Vec6 motionSubspace(const ServoLink& link) {
       break;
   }
   return s;
-}
-
-Vec6 solveSymmetric(const Mat6& a, const Vec6& b) {
-  // a = L L^T, column by column as Eigen's LLT; the diagonal kept as its inverse.
-  double l[6][6];
-  double inv[6];
-#pragma GCC unroll 6
-  for (int j = 0; j < 6; ++j) {
-    double d = a(j, j);
-    for (int k = 0; k < j; ++k) d -= l[j][k] * l[j][k];
-    inv[j] = 1.0 / std::sqrt(d);
-    for (int i = j + 1; i < 6; ++i) {
-      double s = a(i, j);
-      for (int k = 0; k < j; ++k) s -= l[i][k] * l[j][k];
-      l[i][j] = s * inv[j];
-    }
-  }
-  Vec6 x;
-#pragma GCC unroll 6
-  for (int i = 0; i < 6; ++i) {  // L y = b
-    double s = b[i];
-    for (int k = 0; k < i; ++k) s -= l[i][k] * x[k];
-    x[i] = s * inv[i];
-  }
-#pragma GCC unroll 6
-  for (int i = 5; i >= 0; --i) {  // L^T x = y
-    double s = x[i];
-    for (int k = i + 1; k < 6; ++k) s -= l[k][i] * x[k];
-    x[i] = s * inv[i];
-  }
-  return x;
 }
 
 void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,

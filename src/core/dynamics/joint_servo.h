@@ -13,17 +13,11 @@
 // loop; each pass costs O(links). Pure functions of the tree at one instant: no Bullet.
 #pragma once
 
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
 #include <vector>
 
-#include "flapsim/types.h"
+#include "dynamics/spatial.h"
 
 namespace flapsim {
-
-using Mat3 = Eigen::Matrix3d;
-using Vec6 = Eigen::Matrix<double, 6, 1>;
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 enum class ServoJointType { kFixed, kRevolute, kPrismatic };
 
@@ -75,17 +69,8 @@ struct ServoSolution {
   int passes = 0;               // active-set passes (each O(links))
 };
 
-/// The cross-product matrix: skew(v) * x = v x x.
-Mat3 skew(const Vec3& v);
-/// Spatial inertia about the frame origin, for velocities [angular; linear at origin].
-Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia);
 /// The joint's motion subspace: the spatial velocity of a unit joint rate.
 Vec6 motionSubspace(const ServoLink& link);
-/// Solves a x = b for a symmetric positive definite `a` (its lower triangle is read) by
-/// Cholesky: a.llt().solve(b) up to rounding, unrolled for the 6x6 case (about a third of
-/// the instructions).
-Vec6 solveSymmetric(const Mat6& a, const Vec6& b);
-
 class JointServoSolver {
  public:
   /// Solves the servos of `demands` (one per link; the root's is ignored). `fixed_root`:

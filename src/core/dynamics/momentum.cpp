@@ -3,7 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Dense>
 
-#include "fluid/fluid_inertia.h"
+#include "dynamics/spatial.h"
 
 namespace flapsim {
 

@@ -15,7 +15,7 @@
 
 #include <vector>
 
-#include "dynamics/joint_servo.h"
+#include "dynamics/spatial.h"
 #include "flapsim/types.h"
 
 namespace flapsim {
@@ -62,10 +62,5 @@ struct RigidCorrection {
 
 RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& linear,
                                    const Vec3& angular);
-
-/// The moment about `point` of a spatial impulse [moment about `origin`; force].
-inline Vec3 momentAbout(const Vec6& impulse, const Vec3& origin, const Vec3& point) {
-  return impulse.head<3>() + (origin - point).cross(impulse.tail<3>());
-}
 
 }  // namespace flapsim

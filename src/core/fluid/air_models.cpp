@@ -1,6 +1,13 @@
-#include "flapsim/air_models.h"
+#include "fluid/pressure.h"
+#include "fluid/quasi_steady.h"
 
 namespace flapsim {
+
+AirModelPtr makeAirModel(const std::string& name) {
+  if (name == "pressure") return std::make_shared<PressureAirModel>();
+  if (name == "quasi_steady") return std::make_shared<QuasiSteadyAirModel>();
+  return nullptr;
+}
 
 const std::vector<std::string>& airModelNames() {
   static const std::vector<std::string> names{"pressure", "quasi_steady"};

@@ -4,6 +4,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "fluid/surface.h"
+
 namespace flapsim {
 
 std::vector<SweepRow> pressureSweep(const SweepParams& p) {

@@ -283,7 +283,7 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
     }
     if (const char* model = e->Attribute("model")) {
       if (!makeAirModel(model)) {
-        fail(source, where + ": unknown air model '" + model + "' (pressure, quasi_steady)");
+        fail(source, where + ": " + unknownAirModelMessage(model));
       }
       s.model = model;
     }

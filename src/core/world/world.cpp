@@ -9,8 +9,9 @@
 
 #include "dynamics/body_builder.h"
 #include "dynamics/creature_body.h"
-#include "flapsim/air_models.h"
+#include "flapsim/air_model.h"
 #include "world/joint_drives.h"
+#include "fluid/surface.h"
 #include "world/world_air.h"
 
 namespace flapsim {

@@ -4,8 +4,11 @@
 
 #include "dynamics/bullet_scene.h"
 #include "dynamics/creature_body.h"
-#include "flapsim/air_models.h"
-#include "fluid/fluid_inertia.h"
+#include "flapsim/air_model.h"
+#include "fluid/added_mass.h"
+#include "fluid/buoyancy.h"
+#include "fluid/pressure.h"
+#include "fluid/surface.h"
 
 namespace flapsim {
 
@@ -88,7 +91,7 @@ void AirStage::apply(CreatureBody& b, const WorldParams& params, double step) co
     const BodyKinematics kin = b.frames.kinematics(k, &rotation);
     Wrench w =
         modelOf(a).bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
-    if (air.buoyancy) w += buoyancyWrench(a.surface, kin, air.density, params.gravity);
+    if (air.buoyancy) w += buoyancyLaw(FluidInput{kin, a.surface, air, params.gravity}, nullptr);
     a.last.com = kin.com;
     a.last.wrench = w;
     b.addExternal(kin.com, w);
@@ -97,7 +100,7 @@ void AirStage::apply(CreatureBody& b, const WorldParams& params, double step) co
     // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
     // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
     if (implicit) {
-      a.drag = 0.5 * step * dragDamping(kin, a.surface, air);
+      a.drag = 0.5 * step * pressureDragDamping(FluidInput{kin, a.surface, air});
       a.drag_zero = false;
     } else if (!a.drag_zero) {
       a.drag.setZero();

@@ -7,11 +7,11 @@
 #include <utility>
 #include <vector>
 
+#include "dynamics/spatial.h"
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
-#include "fluid/fluid_inertia.h"
-#include "dynamics/joint_servo.h"
 #include "flapsim/world.h"
+#include "fluid/added_mass.h"
 
 namespace flapsim {
 

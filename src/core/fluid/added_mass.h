@@ -1,0 +1,38 @@
+// The added mass of plates: the fluid a plate carries along when it moves along its normal,
+// strip theory, spread over the plate's cells as point masses that act along the normal. The
+// world treats it implicitly (an inertia added in the velocity update: a wing in water
+// carries ~175 times its own mass and stays stable). Pure functions. Private to flapsim_core.
+#pragma once
+
+#include <vector>
+
+#include "dynamics/spatial.h"
+#include "flapsim/types.h"
+
+namespace flapsim {
+
+/// Added mass of a flat plate moving along its normal, strip theory (Sane & Dickinson
+/// 2002; Whitney & Wood 2010): rho pi c^2 b / 4, c the shorter edge, b the longer.
+double plateAddedMass(double density, double chord, double span);
+
+/// A box is plate-like when its thinnest edge is at most this fraction of the middle one.
+constexpr double kPlateThickness = 0.25;
+
+/// A point mass of the fluid that acts only along `normal` (body/COM frame).
+struct NormalMass {
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitZ();
+  double mass = 0.0;
+};
+
+/// The added mass of a plate-like box (size, pose in the body frame) at density 1: spread
+/// over an nu x nv grid of its mid-plane, each cell's share acting along the plate normal
+/// at the cell centre (appends nothing for a box that is not plate-like).
+void appendPlateAddedMass(std::vector<NormalMass>& masses, const Vec3& size, const Pose& origin,
+                          int nu, int nv);
+
+/// Sum of w f f^T over `masses` (times `scale`, e.g. the density), about the body's COM in
+/// body axes: constant for a rigid body.
+Mat6 normalInertia(const std::vector<NormalMass>& masses, double scale);
+
+}  // namespace flapsim

@@ -1,0 +1,30 @@
+// The fluid's laws, one kernel each (after MuJoCo's fluid model: pure functions of a body's
+// motion). The explicit laws -- the paper's pressure (fluid/pressure.h), the quasi-steady
+// blade element (fluid/quasi_steady.h) and buoyancy (fluid/buoyancy.h) -- share one
+// signature, FluidLaw: the wrench a law exerts on one rigid body about its centre of mass, in
+// the world frame, from the body's kinematics, its aero surface and the fluid, and, when asked
+// for, each cell's share. The fluid's implicit part (treated in the velocity update, not as a
+// force) is the plates' added mass (fluid/added_mass.h, an inertia constant in the body
+// frame) and the pressure law's linearised drag (pressureDragDamping). Private to flapsim_core.
+#pragma once
+
+#include <vector>
+
+#include "flapsim/air_model.h"
+#include "flapsim/types.h"
+
+namespace flapsim {
+
+/// What a fluid law reads: one rigid body's motion and surface, the fluid, and gravity.
+struct FluidInput {
+  const BodyKinematics& body;
+  const AeroSurface& surface;
+  const AirParams& air;
+  Vec3 gravity = Vec3(0.0, 0.0, -9.81);
+};
+
+/// A fluid law: the wrench about the body's COM (world frame); with `cell_forces`, the force on
+/// each cell of the surface (world frame; a law acting on the whole body leaves them).
+using FluidLaw = Wrench (*)(const FluidInput& in, std::vector<Vec3>* cell_forces);
+
+}  // namespace flapsim

@@ -1,0 +1,191 @@
+#include "fluid/surface.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "fluid/box_union.h"
+
+namespace flapsim {
+
+namespace {
+
+// The cells of face f of a box (boxSurfaceCells' order: axis f / 2, sign + then -), nu x nv.
+std::vector<SurfaceCell> faceCells(const Vec3& size, const Pose& origin, int f, int nu, int nv) {
+  const int axis = f / 2;
+  const double sign = f % 2 == 0 ? 1.0 : -1.0;
+  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+  const double cell_area = size[b] * size[c] / (nu * nv);
+  Vec3 normal = Vec3::Zero();
+  normal[axis] = sign;
+  std::vector<SurfaceCell> cells;
+  cells.reserve(static_cast<size_t>(nu * nv));
+  for (int i = 0; i < nu; ++i) {
+    for (int j = 0; j < nv; ++j) {
+      Vec3 p = Vec3::Zero();
+      p[axis] = sign * 0.5 * size[axis];
+      p[b] = size[b] * ((i + 0.5) / nu - 0.5);
+      p[c] = size[c] * ((j + 0.5) / nv - 0.5);
+      cells.push_back(SurfaceCell{origin.apply(p), origin.orientation * normal, cell_area});
+    }
+  }
+  return cells;
+}
+
+}  // namespace
+
+std::vector<SurfaceCell> boxSurfaceCells(const Vec3& size, const Pose& origin, int nu, int nv) {
+  std::vector<SurfaceCell> cells;
+  if (nu < 1 || nv < 1) return cells;
+  cells.reserve(static_cast<size_t>(6 * nu * nv));
+  for (int f = 0; f < 6; ++f) {
+    const std::vector<SurfaceCell> face = faceCells(size, origin, f, nu, nv);
+    cells.insert(cells.end(), face.begin(), face.end());
+  }
+  return cells;
+}
+
+namespace {
+
+// A face's span and chord axes: `span` projected onto the face if enough of it lies in the
+// face plane, else `longer_edge`; the chord normal x span and the face's extent along it.
+void setFaceAxes(SurfaceFace& face, const Vec3& longer_edge, const std::optional<Vec3>& span) {
+  face.span = longer_edge;
+  if (span) {
+    const Vec3 in_plane = *span - span->dot(face.normal) * face.normal;
+    if (in_plane.norm() >= 0.1 * span->norm()) face.span = in_plane.normalized();
+  }
+  face.chord = face.normal.cross(face.span).normalized();
+  face.chord_min = face.chord_max = face.corners[0].dot(face.chord);
+  for (const Vec3& corner : face.corners) {
+    face.chord_min = std::min(face.chord_min, corner.dot(face.chord));
+    face.chord_max = std::max(face.chord_max, corner.dot(face.chord));
+  }
+}
+
+// Adds the faces of a box to `surface`, without the cells for which hidden(centre) holds: a
+// face that keeps every cell is a regular grid, one that keeps some a plain list, one that
+// keeps none is left out. With `thin_edges`, a face edge at most kThinEdge of the face's other
+// edge (the rim of a plate) gets one row of cells: across it the flow does not change.
+template <typename Hidden>
+void addBoxFaces(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv,
+                 const std::optional<Vec3>& span, bool thin_edges, Hidden hidden) {
+  if (nu < 1 || nv < 1) return;
+  constexpr double kThinEdge = 0.25;
+  for (int f = 0; f < 6; ++f) {
+    const int axis = f / 2;
+    const double sign = f % 2 == 0 ? 1.0 : -1.0;
+    const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+    const int fu = thin_edges && size[b] <= kThinEdge * size[c] ? 1 : nu;
+    const int fv = thin_edges && size[c] <= kThinEdge * size[b] ? 1 : nv;
+    const std::vector<SurfaceCell> cells = faceCells(size, origin, f, fu, fv);
+    SurfaceFace face;
+    face.normal = cells.front().normal;
+    for (int k = 0; k < 4; ++k) {
+      Vec3 p = Vec3::Zero();
+      p[axis] = sign * 0.5 * size[axis];
+      p[b] = (k & 1 ? 0.5 : -0.5) * size[b];
+      p[c] = (k & 2 ? 0.5 : -0.5) * size[c];
+      face.corners[k] = origin.apply(p);
+    }
+    Vec3 edge = Vec3::Zero();
+    edge[size[b] >= size[c] ? b : c] = 1.0;
+    setFaceAxes(face, origin.orientation * edge, span);
+    face.first_cell = static_cast<int>(surface.cells.size());
+    for (const SurfaceCell& cell : cells) {
+      if (!hidden(cell.centre)) surface.cells.push_back(cell);
+    }
+    face.cell_count = static_cast<int>(surface.cells.size()) - face.first_cell;
+    if (face.cell_count == 0) continue;
+    if (face.cell_count == fu * fv) {
+      face.nu = fu;
+      face.nv = fv;
+      Vec3 step = Vec3::Zero();
+      step[b] = size[b] / fu;
+      face.step_u = origin.orientation * step;
+      step = Vec3::Zero();
+      step[c] = size[c] / fv;
+      face.step_v = origin.orientation * step;
+      face.centre_x_normal = surface.cells[face.first_cell].centre.cross(face.normal);
+      face.step_u_x_normal = face.step_u.cross(face.normal);
+      face.step_v_x_normal = face.step_v.cross(face.normal);
+      face.steps_of = static_cast<int>(surface.faces.size());
+      for (size_t k = 0; k < surface.faces.size(); ++k) {
+        const SurfaceFace& other = surface.faces[k];
+        if (other.nu > 0 && other.step_u == face.step_u && other.step_v == face.step_v) {
+          face.steps_of = static_cast<int>(k);
+          break;
+        }
+      }
+    }
+    surface.faces.push_back(face);
+  }
+}
+
+// Whether p lies inside `box` or within `tolerance` of it.
+bool insideBox(const Box& box, const Vec3& p, double tolerance) {
+  return (inBox(box, p).cwiseAbs() - 0.5 * box.size).maxCoeff() <= tolerance;
+}
+
+}  // namespace
+
+void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv) {
+  addBoxFaces(surface, size, origin, nu, nv, std::nullopt, false,
+              [](const Vec3&) { return false; });
+  const double v = size.prod(), total = surface.volume + v;
+  if (total > 0.0)
+    surface.centroid = (surface.volume * surface.centroid + v * origin.position) / total;
+  surface.volume = total;
+}
+
+AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
+                         const std::optional<Vec3>& span) {
+  AeroSurface surface;
+  double largest = 0.0;
+  for (const Box& box : boxes) largest = std::max(largest, box.size.maxCoeff());
+  const double tolerance = 1e-6 * largest;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    auto hidden = [&](const Vec3& centre) {
+      for (size_t j = 0; j < boxes.size(); ++j) {
+        if (j != i && insideBox(boxes[j], centre, tolerance)) return true;
+      }
+      return false;
+    };
+    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, true, hidden);
+  }
+  const BoxUnion u = unionOfBoxes(boxes);
+  surface.volume = u.volume;
+  surface.centroid = u.centroid;
+  return surface;
+}
+
+std::vector<Box> comFrameBoxes(const LinkModel& link) {
+  const Pose com_inv{-link.com, Quat::Identity()};
+  std::vector<Box> boxes;
+  for (const Box& b : link.boxes) boxes.push_back(Box{b.size, com_inv * b.origin});
+  return boxes;
+}
+
+int subdivisionsU(const LinkModel& link, const AirParams& air) {
+  return link.aero.subdivisions_u > 0 ? link.aero.subdivisions_u : air.subdivisions_u;
+}
+
+int subdivisionsV(const LinkModel& link, const AirParams& air) {
+  return link.aero.subdivisions_v > 0 ? link.aero.subdivisions_v : air.subdivisions_v;
+}
+
+AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParams& air) {
+  const LinkModel& l = model.links.at(static_cast<size_t>(link));
+  AeroSurface surface = buildSurface(comFrameBoxes(l), subdivisionsU(l, air), subdivisionsV(l, air),
+                                     spanAxis(model, link));
+  surface.drag_coefficient =
+      l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
+  if (l.parent_joint >= 0) {
+    for (int w : model.wing_joints) {
+      if (model.joints[w].feather_joint == l.parent_joint) surface.pitch_axis_point = -l.com;
+    }
+  }
+  return surface;
+}
+
+}  // namespace flapsim
