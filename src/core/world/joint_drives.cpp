@@ -5,80 +5,33 @@
 #include <string>
 #include <vector>
 
-#include "dynamics/creature_body.h"
-#include "flapsim/world.h"
+#include "dynamics/bullet_scene.h"
+#include "dynamics/servo_stage.h"
 
 namespace flapsim {
 
 namespace {
 
-// The child link's own inertia about the joint axis (its mass, if prismatic): a lower bound
-// of what the joint moves.
-double childInertia(const CreatureModel& m, const JointModel& j) {
-  const LinkModel& child = m.links[j.child_link];
-  if (j.type == JointType::kPrismatic) return child.mass;
-  const Vec3 r = child.com - child.com.dot(j.axis) * j.axis;  // COM off the axis
-  return child.inertia.dot(j.axis.cwiseAbs2()) + child.mass * r.squaredNorm();
-}
-
-}  // namespace
-
-double dampingLimit(const CreatureModel& m, const JointModel& j, double dt) {
-  return 0.25 * childInertia(m, j) / dt;
-}
-
-double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt) {
-  return 0.25 * childInertia(m, j) / (dt * dt);
-}
-
-std::vector<std::string> cappedJointValues(const CreatureModel& model, double step_size) {
-  std::vector<std::string> out;
-  auto note = [&](const JointModel& j, const char* what, double value, double used) {
-    std::ostringstream line;
-    line.precision(4);
-    line << "joint '" << j.name << "': " << what << " " << value
-         << " is more than an explicit step of " << step_size << " s keeps stable; " << used
-         << " is used";
-    out.push_back(line.str());
-  };
-  for (const JointModel& j : model.joints) {
-    if (!j.movable()) continue;
-    const double damping = dampingLimit(model, j, step_size);
-    const double stiffness = stiffnessLimit(model, j, step_size);
-    if (j.damping > damping) note(j, "damping", j.damping, damping);
-    if (j.stiffness > stiffness) note(j, "spring stiffness", j.stiffness, stiffness);
-  }
-  return out;
-}
-
-namespace {
-
-// A servo on the joint to `joint_link` with target velocity `target` and torque bound
-// `effort`.
-void demand(CreatureBody& b, int joint_link, double target, double effort, double dt) {
-  ServoDemand& d = b.demands[joint_link];
-  d.active = true;
-  d.max_impulse = effort * dt;
-  b.servo_target[joint_link] = target;
-}
-
-void driveJoint(const JointModel& j, size_t ji, JointDrive& d, CreatureBody& b, double dt) {
-  btMultiBody* mb = b.mb.get();
+void driveJoint(const JointModel& j, size_t ji, JointDrive& d, ServoStage& servos, btMultiBody& mb,
+                double dt) {
   const int link = j.child_link - 1;
-  b.demands[j.child_link].active = false;
+  servos.release(j.child_link);
   switch (d.mode) {
     case JointDrive::Mode::kStroke:
-      demand(b, j.child_link, d.stroke.target(mb->getJointPos(link), dt), b.max_effort[ji], dt);
+      servos.demand(j.child_link, d.stroke.target(mb.getJointPos(link), dt), servos.maxEffort(ji),
+                    dt);
       break;
     case JointDrive::Mode::kVelocity:
-      demand(b, j.child_link, d.velocity, b.max_effort[ji], dt);
+      servos.demand(j.child_link, d.velocity, servos.maxEffort(ji), dt);
       break;
     case JointDrive::Mode::kPassive:
       // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
-      if (j.friction > 0.0) demand(b, j.child_link, 0.0, j.friction, dt);
-      if (b.damping[ji] > 0.0) mb->addJointTorque(link, -b.damping[ji] * mb->getJointVel(link));
-      if (b.stiffness[ji] > 0.0) {
-        mb->addJointTorque(link, -b.stiffness[ji] * (mb->getJointPos(link) - j.reference));
+      if (j.friction > 0.0) servos.demand(j.child_link, 0.0, j.friction, dt);
+      if (servos.damping(ji) > 0.0) {
+        mb.addJointTorque(link, -servos.damping(ji) * mb.getJointVel(link));
+      }
+      if (servos.stiffness(ji) > 0.0) {
+        mb.addJointTorque(link, -servos.stiffness(ji) * (mb.getJointPos(link) - j.reference));
       }
       break;
   }
@@ -86,8 +39,8 @@ void driveJoint(const JointModel& j, size_t ji, JointDrive& d, CreatureBody& b, 
 
 // Feathering: a stroking wing pitches its feather joint to the commanded angle during the
 // upstroke and back to flat for the downstroke (a stiff position servo).
-void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives, CreatureBody& b,
-                   double dt) {
+void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives,
+                   ServoStage& servos, const btMultiBody& mb, double dt) {
   for (int wi : m.wing_joints) {
     const JointModel& wing = m.joints[wi];
     const JointDrive& d = drives[wi];
@@ -95,26 +48,24 @@ void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives
     const JointModel& feather = m.joints[wing.feather_joint];
     const double target =
         d.stroke.phase() == StrokeGenerator::Phase::kUp ? d.stroke.command().feather : 0.0;
-    const double position = b.mb->getJointPos(feather.child_link - 1);
-    demand(b, feather.child_link, (target - position) / kFeatherTime,
-           b.max_effort[wing.feather_joint], dt);
+    const double position = mb.getJointPos(feather.child_link - 1);
+    servos.demand(feather.child_link, (target - position) / kFeatherTime,
+                  servos.maxEffort(wing.feather_joint), dt);
   }
 }
 
 }  // namespace
 
 StrokeTurn strokeTurn(const CreatureModel& m, const std::vector<JointDrive>& drives,
-                      const CreatureBody& b, double dt) {
+                      const ServoStage& servos, const btMultiBody& mb, double dt) {
   StrokeTurn turn;
   turn.first_turn = dt;
   for (int ji : m.wing_joints) {
     const JointDrive& d = drives[ji];
     if (d.mode != JointDrive::Mode::kStroke) continue;
     const int k = m.joints[ji].child_link;
-    if (static_cast<size_t>(k) < b.solution.saturated.size() && b.solution.saturated[k]) {
-      turn.reversing = true;
-    }
-    const double t = d.stroke.timeToTurn(b.mb->getJointPos(k - 1));
+    if (servos.saturated(static_cast<size_t>(k))) turn.reversing = true;
+    const double t = d.stroke.timeToTurn(mb.getJointPos(k - 1));
     if (t <= dt) {
       turn.reversing = true;
       turn.first_turn = std::min(turn.first_turn, t);
@@ -123,13 +74,13 @@ StrokeTurn strokeTurn(const CreatureModel& m, const std::vector<JointDrive>& dri
   return turn;
 }
 
-void applyDrives(const CreatureModel& m, std::vector<JointDrive>& drives, CreatureBody& b,
-                 double dt) {
+void applyDrives(const CreatureModel& m, std::vector<JointDrive>& drives, ServoStage& servos,
+                 btMultiBody& mb, double dt) {
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const JointModel& j = m.joints[ji];
-    if (j.movable()) driveJoint(j, ji, drives[ji], b, dt);
+    if (j.movable()) driveJoint(j, ji, drives[ji], servos, mb, dt);
   }
-  driveFeathers(m, drives, b, dt);
+  driveFeathers(m, drives, servos, mb, dt);
 }
 
 }  // namespace flapsim
