@@ -99,7 +99,9 @@ void recordRow(const SurfaceFace& face, int i, double un_i, double n_j, double k
 
 }  // namespace
 
-Wrench pressureLaw(const FluidInput& in, std::vector<Vec3>* cell_forces) {
+// Flattened: its small helpers and Eigen products inline into the loops, whatever the
+// inliner's budget (instructions, not results, depend on it).
+__attribute__((flatten)) Wrench pressureLaw(const FluidInput& in, std::vector<Vec3>* cell_forces) {
   const BodyKinematics& body = in.body;
   const AeroSurface& surface = in.surface;
   const AirParams& air = in.air;
