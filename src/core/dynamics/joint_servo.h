@@ -90,6 +90,17 @@ class JointServoSolver {
 
  private:
   enum class Status { kFixed, kFree, kPrescribed };
+  // Throws std::invalid_argument unless every vector has one entry per link.
+  void checkArguments(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands,
+                      const ServoLoads& loads, const ServoTree& tree) const;
+  // Sizes the scratch, takes the links' inertias and subspaces, and starts every joint's
+  // status (warm from the last solve); returns how many joints are driven.
+  int prepare(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands,
+              const ServoLoads& loads, const ServoTree& tree, ServoSolution& out);
+  // Passes until no servo changes between driven and pushing with its bound.
+  void settleActiveSet(const std::vector<ServoLink>& links, bool fixed_root,
+                       const std::vector<ServoDemand>& demands, const ServoLoads& loads, int driven,
+                       ServoSolution& out);
   void pass(const std::vector<ServoLink>& links, bool fixed_root,
             const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
 
