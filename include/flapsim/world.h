@@ -152,7 +152,8 @@ class World {
   void reset();
   /// Advances `steps` fixed steps. A creature whose state after a step would be non-finite
   /// or faster than `max_speed` anywhere keeps the state before that step and is not stepped
-  /// again until reset() (it is "frozen"); the others go on.
+  /// again until reset() (it is "frozen", its joint efforts zero: nothing drives it); the
+  /// others go on.
   void step(int steps = 1);
   /// The watchdog's verdict on a creature: none while it runs normally.
   std::optional<Divergence> divergence(const std::string& creature) const;

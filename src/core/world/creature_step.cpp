@@ -96,6 +96,7 @@ void stepCreature(CreatureRecord& r, CreatureSim& s, const StepContext& c, std::
   }
   s.before.restore(s.body.multiBody());
   s.body.updateKinematics();
+  s.servos.forget();  // a frozen creature is driven by nothing: no efforts of the refused step
   s.momentum.forget();
   r.root_acceleration.setZero();
   r.divergence = Divergence{r.name, number, std::move(fault)};
