@@ -1,5 +1,7 @@
-// World: a Bullet multibody world of creatures with the air model applied
-// once per fixed step. Owns sim time; never reads a clock.
+// World: a Bullet multibody world of creatures, stepped at a fixed step (a step in which a
+// wing reverses is taken in substeps, see turn_substep) with the air applied in every
+// (sub)step. The stages of a step: src/core/world/creature_step.h. Owns sim time; never
+// reads a clock.
 #pragma once
 
 #include <cstdint>
@@ -202,7 +204,8 @@ class World {
   /// Acceleration of the root link's centre of mass over the last step, world frame (zero
   /// before the first step after a spawn, reset or setState, and while frozen).
   Vec3 rootAcceleration(const std::string& creature) const;
-  /// Pose of the root link frame and the twist of its centre of mass.
+  /// Pose of the root link frame and the twist of the root link frame's origin (world frame;
+  /// CreatureState's convention), which is not its centre of mass's unless the two coincide.
   Pose rootPose(const std::string& creature) const;
   Twist rootTwist(const std::string& creature) const;
 
