@@ -10,6 +10,8 @@ import os
 import re
 import sys
 
+from gtest_xml import write_result
+
 MAX_FILE_LINES = 500
 MAX_FUNCTION_LINES = 80
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..')
@@ -82,15 +84,7 @@ def main():
     problems = check(ROOT)
     for p in problems:
         print(p)
-    out = [a.split('xml:', 1)[1] for a in sys.argv[1:] if a.startswith('--gtest_output=xml:')]
-    if out:
-        from xml.sax.saxutils import escape
-        body = ''.join(f'<failure message="{escape(p, {chr(34): "&quot;"})}"/>' for p in problems)
-        os.makedirs(os.path.dirname(out[0]), exist_ok=True)
-        with open(out[0], 'w') as f:
-            f.write('<?xml version="1.0"?>\n<testsuites><testsuite name="CodeSize" tests="1" '
-                    f'failures="{1 if problems else 0}"><testcase name="FilesAndFunctionsWithinLimits" '
-                    f'classname="CodeSize">{body}</testcase></testsuite></testsuites>\n')
+    write_result(sys.argv[1:], 'CodeSize', 'FilesAndFunctionsWithinLimits', problems)
     print(f'code_size: {len(problems)} problem(s)')
     return 1 if problems else 0
 

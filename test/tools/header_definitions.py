@@ -14,6 +14,8 @@ import re
 import subprocess
 import sys
 
+from gtest_xml import write_result
+
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..')
 HEADER_DIRS = ['include/flapsim', 'include/flapsim_ros']
 NOT_NAMES = {'if', 'for', 'while', 'switch', 'return', 'sizeof', 'static_assert', 'decltype',
@@ -87,7 +89,6 @@ def defined_names(libs):
 
 def main():
     libs = [a for a in sys.argv[1:] if not a.startswith('--')]
-    out = [a.split('xml:', 1)[1] for a in sys.argv[1:] if a.startswith('--gtest_output=xml:')]
     defined = defined_names(libs)
     problems = []
     checked = 0
@@ -104,15 +105,7 @@ def main():
     for p in problems:
         print(p)
     print(f'header_definitions: {checked} declarations, {len(problems)} undefined')
-    if out:
-        from xml.sax.saxutils import escape
-        body = ''.join(f'<failure message="{escape(p, {chr(34): "&quot;"})}"/>' for p in problems)
-        os.makedirs(os.path.dirname(out[0]), exist_ok=True)
-        with open(out[0], 'w') as f:
-            f.write('<?xml version="1.0"?>\n<testsuites><testsuite name="PublicHeaders" tests="1" '
-                    f'failures="{1 if problems else 0}"><testcase '
-                    f'name="EveryDeclaredFunctionIsDefined" classname="PublicHeaders">{body}'
-                    '</testcase></testsuite></testsuites>\n')
+    write_result(sys.argv[1:], 'PublicHeaders', 'EveryDeclaredFunctionIsDefined', problems)
     return 1 if problems or checked == 0 else 0
 
 
