@@ -8,10 +8,11 @@
 # --check: warnings, non-finite or runaway speeds, the height reached, against RK4 at
 # 0.25 ms); an unstable setting is reported and not timed. Prints figures; never passes or
 # fails on time.
-#   bash bench/vs_mujoco.sh [--pairs N] [--bin DIR] [--mujoco PREFIX]
+#   bash bench/vs_mujoco.sh [--pairs N] [--seconds S] [--bin DIR] [--mujoco PREFIX]
 #        [--mujoco-include DIR] [--mujoco-lib DIR] [--integrator I] [--step S]
 #        [--jacobian J] [--check-seconds T] [NAME...]
 #   NAME: flap_unit, chain_4, chain_6, chain_12, chain_25 (default: all)
+#   --seconds S: simulated seconds per run (1; a flap unit's second is a few ms of CPU)
 #   MuJoCo: by default Debian's (the catkin build's mujoco_bench). --mujoco PREFIX takes
 #     PREFIX/include/mujoco/mujoco.h and PREFIX/lib/libmujoco.so (an install tree);
 #     --mujoco-include and --mujoco-lib name the two folders apart (a build tree). Then
@@ -23,6 +24,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 pairs=5
+seconds=1
 bin="$root/build/devel/lib/flapsim"
 names=()
 mj_include="" mj_lib=""
@@ -31,6 +33,7 @@ check=10
 while [ $# -gt 0 ]; do
   case "$1" in
     --pairs) pairs="$2"; shift 2 ;;
+    --seconds) seconds="$2"; shift 2 ;;
     --bin) bin="$2"; shift 2 ;;
     --mujoco) mj_include="$2/include"; mj_lib="$2/lib"; shift 2 ;;
     --mujoco-include) mj_include="$2"; shift 2 ;;
@@ -39,7 +42,7 @@ while [ $# -gt 0 ]; do
     --step) setting[3]="$2"; shift 2 ;;
     --jacobian) setting[5]="$2"; shift 2 ;;
     --check-seconds) check="$2"; shift 2 ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
     -*) echo "vs_mujoco.sh: unknown option '$1'" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
@@ -78,7 +81,7 @@ fi
 rate() { awk -v n="$2" '$1 == n { print $3 }' <<< "$1"; }
 step_of() { grep -o 'steps of [0-9.e+-]* ms' <<< "$1" | head -1 | awk '{ print $3 / 1000 }'; }
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
-flags=(--runs 3 --seconds 1 --cpu-time)
+flags=(--runs 3 --seconds "$seconds" --cpu-time)
 
 echo "MuJoCo: $("$mujoco" "${setting[@]}" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//')"
 echo "ratio: flapsim / MuJoCo per simulated second (steps/s x step), CPU time; order: which ran first"
