@@ -35,6 +35,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iomanip>
 #include <memory>
 #include <sstream>
@@ -220,15 +221,17 @@ std::string toMjcf(const flapsim::CreatureModel& model, const Setting& s) {
 // between MuJoCo 2 and 3; a file reads the same in both). Throws std::runtime_error with
 // MuJoCo's message.
 mjModel* compile(const std::string& xml) {
-  char path[] = "/tmp/mujoco_bench_XXXXXX.xml";
-  const int fd = mkstemps(path, 4);
+  std::string name = (std::filesystem::temp_directory_path() / "mujoco_bench_XXXXXX.xml").string();
+  std::vector<char> path(name.begin(), name.end());
+  path.push_back('\0');
+  const int fd = mkstemps(path.data(), 4);
   if (fd < 0) throw std::runtime_error("cannot create a temporary file for the model");
   FILE* f = fdopen(fd, "w");
   const bool written = f && std::fwrite(xml.data(), 1, xml.size(), f) == xml.size();
   if (f) std::fclose(f);
   char error[1000] = "";
-  mjModel* m = written ? mj.loadXML(path, nullptr, error, sizeof(error)) : nullptr;
-  std::remove(path);
+  mjModel* m = written ? mj.loadXML(path.data(), nullptr, error, sizeof(error)) : nullptr;
+  std::remove(path.data());
   if (!written) throw std::runtime_error("cannot write the model to a temporary file");
   if (!m) throw std::runtime_error(std::string("mj_loadXML: ") + error);
   return m;
@@ -279,6 +282,7 @@ struct RunResult {
   double max_time = 0.0;                  // and when, s
   double late_min = 0.0, late_max = 0.0;  // the first wing's range over the second half
   double early_height = 0.0;              // the root's at kHeightTime (or the end, if sooner)
+  double early_time = 0.0;                // when that was, s
 };
 
 // When the probe compares heights: the flights stay predictable up to about then (over 10 s
@@ -316,7 +320,10 @@ RunResult run(const Creature& c, int steps, bool probe = false) {
     }
     mj.step(c.model, d);
     if (!probe) continue;
-    if (i + 1 == std::min(steps, stepsOf(kHeightTime, step))) r.early_height = d->qpos[2];
+    if (i + 1 == std::min(steps, stepsOf(kHeightTime, step))) {
+      r.early_height = d->qpos[2];
+      r.early_time = d->time;
+    }
     for (int v = 0; v < nv; ++v) {
       const double speed = std::abs(d->qvel[v]);
       if (!std::isfinite(speed)) r.finite = false;
@@ -381,7 +388,7 @@ void printProbe(const char* label, const Setting& s, const RunResult& r) {
       "after %g s (%.4f m at the end), %d strokes, first wing in [%.3f, %.3f] rad over the second "
       "half\n",
       label, describe(s).c_str(), r.warnings, r.finite ? "finite" : "NON-FINITE", r.max_qvel,
-      r.max_dof, r.max_time, r.early_height - kStartHeight, kHeightTime,
+      r.max_dof, r.max_time, r.early_height - kStartHeight, r.early_time,
       r.root_height - kStartHeight, r.strokes, r.late_min, r.late_max);
 }
 

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Where a step's time goes: instructions per 1 ms step of flapsim's core world, by stage.
 
-  bench/step_profile.py [--bin DIR] [--seconds 2] [--units 1,12] [--no-timing]
+  bench/step_profile.py [--bin DIR] [--seconds 2] [--skip 0] [--units 1,12] [--no-timing]
 
 For each creature of N flap units (make_creature --pairs N, flying from z = 50 m with every
 wing stroking at 30/10 rad/s and amplitude 0.8 rad, as flapsim_bench does) it runs
@@ -12,7 +12,10 @@ sums apart), the servo solve, the articulated-body velocity update, Bullet's own
 (position integration; collision and constraint solving, which lean steps skip), the
 momentum balance, the drives, the watchdog and the rest. Unless --no-timing, it then times
 the same creature natively (`flapsim_bench --urdf --cpu-time --runs 5`, CPU time of the
-thread) for nanoseconds per step and per instruction. Prints figures; never passes or fails.
+thread) for nanoseconds per step and per instruction. With --skip S the profile is of the
+stretch [S, S + seconds] of the flight: the difference of two callgrind runs, over S + seconds
+and over S (the runs are deterministic, so the counts subtract exactly), and the timing skips
+S untimed. Prints figures; never passes or fails.
 """
 import argparse
 import os
@@ -22,6 +25,12 @@ import sys
 import tempfile
 
 STEP = 0.001  # s, WorldParams::step_size
+
+# Bullet's constraint solve: its solver, and on a lean step the frames and islands it needs.
+CONSTRAINTS = [("incl", "btMultiBodyDynamicsWorld::solveInternalConstraints("),
+               ("in", "flapsim::ServoWorld::solveConstraintsAfterServos(", "btMultiBodyDynamicsWorld::forwardKinematics("),
+               ("in", "flapsim::ServoWorld::solveConstraintsAfterServos(", "btMultiBodyDynamicsWorld::calculateSimulationIslands("),
+               ("in", "flapsim::ServoWorld::solveConstraintsAfterServos(", "btMultiBodyDynamicsWorld::buildIslands(")]
 
 # Stages: (label, how its instructions are found). "incl F": F's inclusive count; "in P > F":
 # what F cost when called from P. Sub-stages are indented under their stage and included
@@ -39,20 +48,18 @@ STAGES = [
                                                   ("in", "flapsim::AirStage::apply(", "flapsim::needsImplicitDrag("),
                                                   ("in", "flapsim::AirStage::apply(", "flapsim::dragDamping(")]),
     ("servo solve (servos + fluid implicit part)", [("incl", "flapsim::CreatureBody::applyServos(")]),
-    ("articulated-body velocity update", [("incl", "flapsim::TreeDynamics::velocityStep("),
-                                          ("incl", "flapsim::ServoWorld::bulletVelocityStep(")]),
+    ("articulated-body velocity update", [("incl", "flapsim::TreeDynamics::velocityStep(")]),
+    ("Bullet: its articulated-body pass", [("incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof(")]),
     ("Bullet: position integration", [("incl", "btMultiBody::stepPositionsMultiDof(")]),
     ("Bullet: collision detection", [("incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]),
-    ("Bullet: constraint solve (limits, contacts)", [("incl", "flapsim::ServoWorld::solveConstraintsAfterServos("),
-                                                     ("incl", "btMultiBodyDynamicsWorld::solveConstraints(")]),
+    ("Bullet: constraint solve (joint limits, contacts)", CONSTRAINTS),
     ("Bullet: rest of its step", [("incl", "flapsim::ServoWorld::step("),
                                   ("-incl", "flapsim::CreatureBody::applyServos("),
                                   ("-incl", "flapsim::TreeDynamics::velocityStep("),
-                                  ("-incl", "flapsim::ServoWorld::bulletVelocityStep("),
+                                  ("-incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof("),
                                   ("-incl", "btMultiBody::stepPositionsMultiDof("),
-                                  ("-incl", "flapsim::ServoWorld::performDiscreteCollisionDetection("),
-                                  ("-incl", "flapsim::ServoWorld::solveConstraintsAfterServos("),
-                                  ("-incl", "btMultiBodyDynamicsWorld::solveConstraints(")]),
+                                  ("-incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]
+     + [("-" + r[0],) + r[1:] for r in CONSTRAINTS]),
     ("momentum balance (end of step)", [("incl", "flapsim::CreatureBody::endStep("),
                                         ("incl", "flapsim::CreatureBody::beginStep(")]),
     ("drives and stroke turns", [("incl", "flapsim::applyDrives("), ("incl", "flapsim::strokeTurn(")]),
@@ -84,6 +91,26 @@ def parse_tree(text):
     return inclusive, calls, times
 
 
+def profile(bench, urdf, seconds, tmp):
+    """parse_tree() of a callgrind run of `seconds` of flight, World::step only."""
+    out = os.path.join(tmp, "callgrind.out")
+    subprocess.run(["valgrind", "--tool=callgrind", f"--toggle-collect={TOTAL}",
+                    f"--callgrind-out-file={out}", bench, "--urdf", urdf, "--runs", "1",
+                    "--seconds", str(seconds)],
+                   check=True, capture_output=True)
+    tree = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--tree=calling",
+                           "--threshold=100", out],
+                          check=True, capture_output=True, text=True).stdout
+    return parse_tree(tree)
+
+
+def subtract(runs):
+    """The first run's counts less the second's (if any), per key."""
+    if len(runs) == 1:
+        return runs[0]
+    return tuple({k: v - b.get(k, 0) for k, v in a.items()} for a, b in zip(runs[0], runs[1]))
+
+
 def count(inclusive, calls, rules):
     def incl(prefix):
         return sum(v for k, v in inclusive.items() if k.startswith(prefix))
@@ -93,6 +120,9 @@ def count(inclusive, calls, rules):
             total += incl(rule[1])
         elif rule[0] == "-incl":
             total -= incl(rule[1])
+        elif rule[0] == "-in":
+            total -= sum(v for (p, c), v in calls.items()
+                         if p.startswith(rule[1]) and c.startswith(rule[2]))
         else:
             total += sum(v for (p, c), v in calls.items()
                          if p.startswith(rule[1]) and c.startswith(rule[2]))
@@ -111,6 +141,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--bin", default=os.path.join(here, "..", "build", "devel", "lib", "flapsim"))
     ap.add_argument("--seconds", type=float, default=2.0, help="simulated seconds profiled")
+    ap.add_argument("--skip", type=float, default=0.0, help="simulated seconds before them")
     ap.add_argument("--units", default="1,12", help="flap units per creature, comma-separated")
     ap.add_argument("--no-timing", action="store_true", help="instructions only")
     args = ap.parse_args()
@@ -122,22 +153,17 @@ def main():
             urdf = os.path.join(tmp, f"units_{n}.urdf")
             subprocess.run([make, "--pairs", str(n), "--output", urdf], check=True,
                            capture_output=True)
-            out = os.path.join(tmp, f"callgrind_{n}.out")
-            subprocess.run(["valgrind", "--tool=callgrind", f"--toggle-collect={TOTAL}",
-                            f"--callgrind-out-file={out}", bench, "--urdf", urdf, "--runs", "1",
-                            "--seconds", str(args.seconds)],
-                           check=True, capture_output=True)
-            tree = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--tree=calling",
-                                   "--threshold=100", out],
-                                  check=True, capture_output=True, text=True).stdout
-            inclusive, calls, times = parse_tree(tree)
+            runs = [profile(bench, urdf, args.skip + args.seconds, tmp)]
+            if args.skip > 0:
+                runs.append(profile(bench, urdf, args.skip, tmp))
+            inclusive, calls, times = subtract(runs)
             bodies, cells, _ = flapsim_bench(bench, urdf, 0.001, ["--runs", "1"])
             total = count(inclusive, calls, [("incl", TOTAL)])
             substeps = sum(v for k, v in times.items() if k.startswith("flapsim::ServoWorld::step("))
             full = sum(v for k, v in times.items() if k.startswith("btDiscreteDynamicsWorld::stepSimulation("))
             print(f"\n{n} unit(s): {bodies} bodies, {cells} air cells; callgrind over {steps} "
-                  f"steps of 1 ms from rest at z = 50 m: {substeps} substeps, {full} of them "
-                  f"Bullet's full step")
+                  f"steps of 1 ms after {args.skip:g} s of flight from rest at z = 50 m: "
+                  f"{substeps} substeps, {full} of them Bullet's full step")
             print(f"{'stage':46s} {'instr/step':>11s} {'share':>7s} {'/body':>8s} {'/cell':>7s}")
             named = 0
             for label, rules in STAGES:
@@ -153,9 +179,10 @@ def main():
             print(f"{'whole step (World::step)':46s} {total / steps:11.0f} {100.0:6.1f}% "
                   f"{total / steps / bodies:8.0f} {total / steps / cells:7.1f}")
             if not args.no_timing:
-                _, _, sps = flapsim_bench(bench, urdf, 1.0, ["--runs", "5", "--cpu-time"])
+                _, _, sps = flapsim_bench(bench, urdf, args.seconds,
+                                          ["--runs", "5", "--cpu-time", "--skip", str(args.skip)])
                 ns = 1e9 / sps
-                print(f"native, CPU time, median of 5 runs of 1 s: {sps:.0f} steps/s = "
+                print(f"native, CPU time, median of 5 runs: {sps:.0f} steps/s = "
                       f"{ns:.0f} ns/step, {ns / bodies:.0f} ns/body, {ns / cells:.1f} ns/cell, "
                       f"{ns / (total / steps):.3f} ns/instruction")
     return 0
