@@ -142,9 +142,9 @@ TEST(WingControllers, ChainPitchTermSlowsTheNoseAndSpeedsTheTailWhileTheNoseIsUp
       Quat(Eigen::AngleAxisd(-0.05, Vec3::UnitY())) * Quat(Eigen::AngleAxisd(0.05, Vec3::UnitX()));
   ASSERT_NEAR(flapInputs(q)[0], nose_up, 1e-12);
   const FlapUnitController plain(FlapControllerParams(), w);
-  const std::vector<StrokeCommand> one = AnnWingController(plain).commands({q});
+  const std::vector<StrokeCommand> one = AnnWingController(plain).commands(FlapSensing({q}));
   const std::vector<StrokeCommand> chain =
-      AnnWingController(FlapUnitController(p, w)).commands({q, q, q});
+      AnnWingController(FlapUnitController(p, w)).commands(FlapSensing({q, q, q}));
   ASSERT_EQ(chain.size(), 6u);
   for (int side = 0; side < 2; ++side) {
     EXPECT_DOUBLE_EQ(
@@ -164,7 +164,7 @@ TEST(WingControllers, ChainPitchTermSlowsTheNoseAndSpeedsTheTailWhileTheNoseIsUp
   p.pitch_limit = 0.5;
   const std::vector<double> fast = {0, 0, 0, 0, 0, 0, 0, 0, 50, 0, 0, 50};  // both at 60
   const std::vector<StrokeCommand> capped =
-      AnnWingController(FlapUnitController(p, fast)).commands({nose_down, nose_down});
+      AnnWingController(FlapUnitController(p, fast)).commands(FlapSensing({nose_down, nose_down}));
   EXPECT_DOUBLE_EQ(capped[0].downstroke_rate, p.pitch_max_downstroke_rate);
   EXPECT_DOUBLE_EQ(capped[2].downstroke_rate, 30.0);
 }
@@ -192,12 +192,12 @@ TEST(WingControllers, OneNetPerUnitInLayoutOrder) {
   const FlapUnitController c(FlapControllerParams(), {0, 5, 0, 0, 0, 0, 4, 0, 0, -4, 0, 0});
   const AnnWingController ann(c);
   const std::vector<Quat> bodies = {Quat::Identity(), Quat(Eigen::AngleAxisd(0.1, Vec3::UnitX()))};
-  const std::vector<StrokeCommand> cmds = ann.commands(bodies);
+  const std::vector<StrokeCommand> cmds = ann.commands(FlapSensing(bodies));
   ASSERT_EQ(cmds.size(), 4u);
   EXPECT_DOUBLE_EQ(cmds[0].downstroke_rate, cmds[1].downstroke_rate);  // unit 0 level
   EXPECT_GT(cmds[3].downstroke_rate, cmds[2].downstroke_rate);         // unit 1: right > left
   const OpenLoopWingController open(StrokeCommand{30, 10, 0.8});
-  const std::vector<StrokeCommand> o = open.commands(bodies);
+  const std::vector<StrokeCommand> o = open.commands(FlapSensing(bodies));
   ASSERT_EQ(o.size(), 4u);
   EXPECT_EQ(o[3].downstroke_rate, 30.0);
 }

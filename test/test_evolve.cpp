@@ -200,9 +200,9 @@ EpisodeParams heldOutTilted(double duration, int episodes) {
 // A controller that always gives the network's output for a level unit.
 struct LevelOutput : WingController {
   WingPairCommand c;
-  std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const override {
+  std::vector<StrokeCommand> commands(const FlapSensing& sensed) const override {
     std::vector<StrokeCommand> out;
-    for (size_t i = 0; i < bodies.size(); ++i) {
+    for (size_t i = 0; i < sensed.orientations.size(); ++i) {
       out.push_back(c.left);
       out.push_back(c.right);
     }

@@ -3,10 +3,12 @@
 // ROS-free; no clock; plain structs for parameters.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "flapsim/creature_model.h"
+#include "flapsim/sensors.h"
 #include "flapsim/stroke.h"
 #include "flapsim/types.h"
 
@@ -48,11 +50,39 @@ class FeedForwardNet {
   std::vector<double> parameters_;
 };
 
+/// The per-unit network's form.
+enum class FlapNetwork {
+  /// The paper's: one net, output 0 the right wing's downstroke rate, output 1 the left's.
+  kPaper,
+  /// Left-right mirror-symmetric by construction (an extension): one net with one output,
+  /// the right wing's rate from the unit's inputs; the left wing's rate is the same net on
+  /// the mirrored inputs (the reflection y -> -y of the body: up . left, the roll rate and the
+  /// yaw rate change sign). Half the weights of two outputs, and no steady bank in still air:
+  /// a level unit commands equal rates whatever the weights.
+  kMirror,
+};
+
+/// "paper", "mirror"; throws std::invalid_argument otherwise.
+FlapNetwork flapNetworkFromString(const std::string& name);
+std::string toString(FlapNetwork network);
+
 /// Settings of the per-wing-pair network (the paper: 2 inputs, 2 hidden, 2
 /// outputs). The outputs (sigmoid, 0..1) are mapped linearly onto
 /// [min_downstroke_rate, max_downstroke_rate]; upstroke rate and amplitude
-/// are fixed here.
+/// are fixed here. The inputs (flapNetworkInputs) are the paper's two, then optionally the
+/// unit's gyro rates and the altitude error; the output neurons' biases are the trim of the
+/// rates (the rate commanded with every input zero).
 struct FlapControllerParams {
+  FlapNetwork network = FlapNetwork::kPaper;
+  /// Gyro inputs (an extension): the unit body's roll, pitch and yaw rates (its angular
+  /// velocity in its own axes, from the IMU), each divided by rate_scale. They let the net
+  /// damp a roll before the attitude shows it (a gust, a push on a wing).
+  bool rate_inputs = false;
+  double rate_scale = 10.0;  // rad/s per unit input
+  /// Altitude input (an extension): clamp((setpoint - altitude) / altitude_scale, -1, 1),
+  /// the altimeter's error; +1 without a setpoint (climb, the paper's aim).
+  bool altitude_input = false;
+  double altitude_scale = 1.0;  // m
   int hidden = 2;
   Activation hidden_activation = Activation::kTanh;
   double min_downstroke_rate = 20.0;  // rad/s
@@ -93,11 +123,30 @@ double upstrokeRate(const FlapControllerParams& params, double downstroke);
 /// Empty if valid, else a message naming the bad field.
 std::string validateFlapControllerParams(const FlapControllerParams& params);
 
-/// The network's inputs for a unit body with orientation `body` (body x =
+/// The paper's inputs for a unit body with orientation `body` (body x =
 /// forward, y = left wing direction, z = up): {world_up . body_x,
 /// world_up . body_y}. A unit rolled to the right (right wing low) has
 /// input[1] > 0; nose up has input[0] > 0.
 std::vector<double> flapInputs(const Quat& body);
+
+/// The inputs of the network `params` describes, for one unit: flapInputs(body), then with
+/// rate_inputs its body-frame angular velocity / rate_scale (roll, pitch, yaw), then with
+/// altitude_input `altitude_input` (see FlapControllerParams::altitude_input).
+std::vector<double> flapNetworkInputs(const FlapControllerParams& params, const Quat& body,
+                                      const Vec3& rate, double altitude_input);
+/// Their count, and their names as the weights file lists them.
+int flapInputCount(const FlapControllerParams& params);
+std::vector<std::string> flapInputNames(const FlapControllerParams& params);
+std::vector<std::string> flapOutputNames(const FlapControllerParams& params);
+
+/// The inputs of the mirror image of a unit (FlapNetwork::kMirror): up . left, the roll rate
+/// and the yaw rate negated.
+std::vector<double> mirroredInputs(const FlapControllerParams& params,
+                                   const std::vector<double>& inputs);
+
+/// The altitude input for an altimeter reading `altitude` and a setpoint (none: climb, +1).
+double altitudeInput(const FlapControllerParams& params, double altitude,
+                     const std::optional<double>& setpoint);
 
 /// Left and right wing stroke of one unit.
 struct WingPairCommand {
@@ -113,8 +162,11 @@ class FlapUnitController {
   FlapUnitController(const FlapControllerParams& params, const std::vector<double>& weights);
   static int weightCount(const FlapControllerParams& params);
 
-  WingPairCommand command(const Quat& body) const;
-  /// Downstroke rates {right, left} for raw inputs (for tests and plots).
+  /// The command for a unit at `body`, turning at `rate` (own axes), with altitude input
+  /// `altitude_input` (altitudeInput()); the last two are read only if the net takes them.
+  WingPairCommand command(const Quat& body, const Vec3& rate = Vec3::Zero(),
+                          double altitude_input = 1.0) const;
+  /// Downstroke rates {right, left} for raw inputs (flapNetworkInputs; for tests and plots).
   std::vector<double> rates(const std::vector<double>& inputs) const;
 
   const FlapControllerParams& params() const { return params_; }
@@ -140,20 +192,21 @@ FlapUnitLayout flapUnitLayout(int pairs);
 /// Throws InputError if there is no unit0 or a unit lacks a wing joint.
 FlapUnitLayout flapUnitLayout(const CreatureModel& model);
 
-/// Something that turns unit body orientations into stroke commands in
+/// Something that turns the sensed units (FlapSensing) into stroke commands in
 /// FlapUnitLayout::wing_joints order (left, right per unit).
 class WingController {
  public:
   virtual ~WingController() = default;
-  virtual std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const = 0;
+  virtual std::vector<StrokeCommand> commands(const FlapSensing& sensed) const = 0;
 };
 
 /// The same network on every unit (the paper's multi-pair creatures), with the chain pitch
-/// term of its params on top (FlapControllerParams::pitch_gain).
+/// term of its params on top (FlapControllerParams::pitch_gain), holding the sensing's
+/// setpoint if it has one (FlapSensing::setpoint), else climbing.
 class AnnWingController : public WingController {
  public:
   explicit AnnWingController(const FlapUnitController& unit) : unit_(unit) {}
-  std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const override;
+  std::vector<StrokeCommand> commands(const FlapSensing& sensed) const override;
   const FlapUnitController& unit() const { return unit_; }
 
  private:
@@ -164,7 +217,7 @@ class AnnWingController : public WingController {
 class OpenLoopWingController : public WingController {
  public:
   explicit OpenLoopWingController(const StrokeCommand& stroke) : stroke_(stroke) {}
-  std::vector<StrokeCommand> commands(const std::vector<Quat>& bodies) const override;
+  std::vector<StrokeCommand> commands(const FlapSensing& sensed) const override;
 
  private:
   StrokeCommand stroke_;

@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "flapsim/creature_model.h"
 #include "flapsim/ga.h"
 #include "flapsim/make_creature.h"
+#include "flapsim/sensors.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -51,12 +54,43 @@ struct EpisodeParams {
   double max_roll = 0.087;  // rad (5 deg)
   double max_pitch = 0.035;
   // Robust flight (all off in the paper's preset): each episode draws its own.
-  double max_start_rate = 0.0;     // rad/s: start angular velocity, uniform per axis
-  double max_gust = 0.0;           // m/s: a horizontal wind step of up to this speed
-  double input_noise = 0.0;        // rad: attitude-sensor noise (a random tilt, normal)
+  double max_start_rate = 0.0;  // rad/s: start angular velocity, uniform per axis
+  double max_gust = 0.0;        // m/s: a horizontal wind step of up to this speed
+  /// m/s: a steady horizontal wind from t = 0, its speed uniform in [min_wind, max_wind],
+  /// from a heading uniform in [0, 2 pi).
+  double min_wind = 0.0;
+  double max_wind = 0.0;
+  /// The controller's sensors (flapsim/sensors.h): the root's IMU (seeded noise per
+  /// episode), exact joint encoders, and the altimeter's noise (m).
+  ImuNoise imu_noise;
+  double altitude_noise = 0.0;
+  /// Gusts, each once per episode at a time uniform in [gust_window_start,
+  /// gust_window_end] x duration (drawn apart): a roll torque of gust_torque N m about the
+  /// root body's x axis (as it points then), its sign drawn, for gust_torque_duration s; and
+  /// a vertical force of gust_force N (> 0: up) at the centre of mass of link gust_link
+  /// for gust_force_duration s; gust_link empty: a wing drawn per episode (any unit's, left
+  /// or right), pushed up or down (drawn). 0: no such gust.
+  double gust_torque = 0.0;
+  double gust_torque_duration = 0.5;
+  double gust_force = 0.0;
+  double gust_force_duration = 0.2;
+  std::string gust_link;
+  double gust_window_start = 0.1;
+  double gust_window_end = 0.6;
+  /// Altitude hold: each episode draws a setpoint uniform in [min_altitude, max_altitude]
+  /// (m, the root link frame's height), the controller is asked to hold it
+  /// (FlapSensing::setpoint), and a sample scores -|height - setpoint| - tilt_weight (1 -
+  /// up-component) instead of the height. Off: the controller climbs, a sample scores its
+  /// height (the paper's accumulated height).
+  bool altitude_hold = false;
+  double min_altitude = 5.0;
+  double max_altitude = 5.0;
+  double tilt_weight = 1.0;  // m per unit of (1 - up-component)
+  /// The altitude error's rms is taken over the samples after this (s).
+  double settle_time = 10.0;
   std::vector<double> step_sizes;  // s: drawn per episode (empty: world.step_size)
   // The body's up axis below the horizon ends the episode: every sample left
-  // scores the height at the flip less this (m). 0: flips are not detected
+  // scores the score at the flip less this (m). 0: flips are not detected
   // (the paper's accumulated height).
   double flip_penalty = 0.0;
   int episodes = 8;        // per fitness evaluation
@@ -71,14 +105,23 @@ struct EpisodeStart {
   double roll = 0.0;         // rad about body x; > 0 = right wing low
   double pitch = 0.0;        // rad about body y; > 0 = nose down
   Vec3 rate = Vec3::Zero();  // rad/s, world frame
-  Vec3 gust = Vec3::Zero();  // m/s, horizontal wind from gust_time on
+  Vec3 gust = Vec3::Zero();  // m/s, horizontal wind step from gust_time on
   double gust_time = 0.0;    // s
-  double step_size = 0.0;    // s; 0: the world's
+  Vec3 wind = Vec3::Zero();  // m/s, steady from t = 0
+  double torque_time = 0.0;  // s: the roll torque gust starts
+  double torque_sign = 1.0;  // +1: a torque along +x of the body (rolls it right wing down)
+  double force_time = 0.0;   // s: the push on a wing starts
+  double force_sign = 1.0;   // +1: as EpisodeParams::gust_force says
+  std::string force_link;    // the link pushed
+  std::optional<double> altitude;  // m: the setpoint (altitude hold)
+  double step_size = 0.0;          // s; 0: the world's
   std::uint64_t noise_seed = 0;
 };
 
-/// The `episodes` start attitudes drawn from `params.seed` (deterministic).
-std::vector<EpisodeStart> episodeStarts(const EpisodeParams& params);
+/// The `episodes` start attitudes drawn from `params.seed` (deterministic). `model` names
+/// the wings a push may be drawn on (needed only with gust_force and no gust_link).
+std::vector<EpisodeStart> episodeStarts(const EpisodeParams& params,
+                                        const CreatureModel* model = nullptr);
 
 struct EpisodeSample {
   double time = 0.0;
@@ -88,14 +131,21 @@ struct EpisodeSample {
 };
 
 struct EpisodeResult {
-  double fitness = 0.0;  // mean sampled height (after a flip: less the penalty)
+  double fitness = 0.0;  // mean sample score (after a flip: less the penalty)
   bool flipped = false;  // the root's up axis went below the horizon
   double min_height = 0.0;
   double final_height = 0.0;  // at t = T
   double max_height = 0.0;
   double min_upright = 1.0;  // over all samples
   double final_upright = 1.0;
-  double upright_fraction = 0.0;     // of the samples with the up axis within 60 deg of vertical
+  double upright_fraction = 0.0;  // of the samples with the up axis within 60 deg of vertical
+  /// m: rms of height - setpoint over the samples after settle_time (NaN without a setpoint
+  /// or such samples).
+  double altitude_rms = std::numeric_limits<double>::quiet_NaN();
+  double lateral_drift = 0.0;  // m: the root's horizontal distance from its start at t = T
+  /// rad: the mean over the samples of the root's bank, asin(world_up . body_left) (> 0:
+  /// right wing low).
+  double mean_bank = 0.0;
   std::vector<EpisodeSample> trace;  // one per sample if asked for
 };
 

@@ -1,10 +1,15 @@
 // The flight check: a creature flown by its controller from held-out starts (a seed of its
-// own, not the evolution's), each reported as flipped or not, its lowest up-component, its
-// final and lowest height and the fraction of time it was upright. Used by the
-// flight_check executable and the tests. ROS-free; no clock.
+// own, not the evolution's), in still air or in disturbances nobody trained on (a steady
+// wind from a heading drawn per start, a roll torque or a push on a wing at a time drawn
+// per start, sensor noise), climbing or holding an altitude; each start reported as flipped
+// or not, its lowest up-component, its final and lowest height, the fraction of time it was
+// upright, the altitude error's rms after 10 s, its lateral drift and its mean bank. Used by
+// the flight_check executable and the tests. ROS-free; no clock.
 #pragma once
 
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +27,15 @@ struct FlightCheckParams {
   double start_height = 1.0;  // m, root body
   double step_size = 0.001;   // s
   int threads = 1;            // results do not depend on it
+  // Disturbances (EpisodeParams says how each is drawn per start from `seed`).
+  double wind = 0.0;         // m/s: steady from t = 0, from a heading drawn per start
+  double gust_torque = 0.0;  // N m: a roll torque at a drawn time (10-60 % of the flight), sign drawn
+  double gust_force = 0.0;   // N: a vertical push (> 0: up) on gust_link at a drawn time
+  std::string gust_link;     // empty: a wing drawn per start, pushed up or down
+  double gust_time = 0.5;    // s: how long each gust acts
+  double noise = 0.0;        // the IMU's noise: orientation (rad) and angular velocity (rad/s)
+  double altitude_noise = 0.0;    // m: the altimeter's
+  std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
 
 struct FlightCheckRun {
@@ -31,6 +45,9 @@ struct FlightCheckRun {
   double final_height = 0.0;  // m
   double min_height = 0.0;    // m
   double upright_fraction = 0.0;
+  double altitude_rms = std::numeric_limits<double>::quiet_NaN();  // m, after 10 s
+  double lateral_drift = 0.0;  // m: horizontal distance from the start at the end
+  double mean_bank = 0.0;      // rad (> 0: right wing low)
   /// No flip, up-component never below 0.5, final height above the start.
   bool passed(double start_height) const {
     return !flipped && min_upright >= 0.5 && final_height > start_height;
@@ -42,5 +59,13 @@ struct FlightCheckRun {
 std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
                                         const FlightCheckParams& params);
+
+/// The table flight_check prints: a line per start (start attitude and wind, flipped, lowest
+/// up-component, final and lowest height, time upright, altitude error rms after 10 s, lateral
+/// drift, mean bank, pass or FAIL) and a summary naming `source`; `failed` gets the number of
+/// starts that did not pass.
+std::string flightCheckReport(const FlightCheckParams& params,
+                              const std::vector<FlightCheckRun>& runs, const std::string& source,
+                              int& failed);
 
 }  // namespace flapsim

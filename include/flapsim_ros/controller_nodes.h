@@ -2,19 +2,25 @@
 // ann_controller (the evolved network on every unit of a creature).
 #pragma once
 
+#include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/JointState.h>
 #include <std_srvs/Empty.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include <atomic>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "flapsim/ann.h"
 #include "flapsim/controller_file.h"
+#include "flapsim/sensors.h"
 #include "flapsim_ros/controller_params.h"
 
 namespace flapsim_ros {
@@ -41,9 +47,11 @@ class StrokeControllerNode {
   ros::WallTimer reread_timer_;
 };
 
-/// Reads world -> <creature>/unit<k>_body from tf, runs the network of the
-/// weights file on every unit and publishes <creature>/wing_command. Free
-/// running: a sim-time timer at `rate`. Lockstep: see AnnControllerParams.
+/// Reads the units of its creature(s) from their sensors (AttitudeSource: the IMU, the
+/// encoders and the altimeter by default, tf as the ground truth), runs the network of the
+/// weights file on every unit and publishes <creature>/wing_command. Free running: a
+/// sim-time timer at `rate`, on the latest readings. Lockstep: see AnnControllerParams; the
+/// readings stamped with the current sim time.
 class AnnControllerNode {
  public:
   /// Throws ParamError on bad parameters, std::runtime_error on a bad weights file.
@@ -56,10 +64,24 @@ class AnnControllerNode {
   const AnnControllerParams& params() const { return params_; }
 
  private:
-  /// Orientations of the unit bodies of creature `c` (an index of creatures_) at `stamp`
-  /// (ros::Time(0): latest), if every transform is available.
-  std::optional<std::vector<flapsim::Quat>> bodies(const ros::Time& stamp, size_t c = 0) const;
-  void command(const std::vector<flapsim::Quat>& bodies, const ros::Time& stamp);
+  // The latest sensor messages of one creature (imu source), written by the subscriptions.
+  struct Readings {
+    sensor_msgs::Imu::ConstPtr imu;
+    nav_msgs::Odometry::ConstPtr odom;
+    sensor_msgs::JointState::ConstPtr joints;
+    flapsim::CreatureModelPtr model;  // from <creature>/robot_description, once it is set
+    std::vector<int> bodies;          // the unit bodies' link indices in it
+  };
+
+  /// The units of creature `c` (an index of creatures_) as sensed at `stamp` (ros::Time(0):
+  /// the latest), if every reading is there.
+  std::optional<flapsim::FlapSensing> sense(const ros::Time& stamp, size_t c);
+  std::optional<flapsim::FlapSensing> senseTf(const ros::Time& stamp, size_t c) const;
+  std::optional<flapsim::FlapSensing> senseImu(const ros::Time& stamp, size_t c);
+  /// What sense() waits for, for the messages.
+  std::string missing(size_t c) const;
+  void subscribe();
+  flapsim::WingCommand command(const flapsim::FlapSensing& sensed, const ros::Time& stamp) const;
   void onTimer(const ros::TimerEvent& event);
   // The simulator step the lockstep counts in: ~step_size, else the simulator's parameter.
   double simulatorStepSize() const;
@@ -72,11 +94,17 @@ class AnnControllerNode {
   flapsim::FlapUnitLayout layout_;
   std::vector<std::string> creatures_;            // params_.creature, or lockstep_creatures
   std::vector<std::vector<std::string>> frames_;  // per creature: its unit bodies' frames
+  std::string simulator_ns_;  // the namespace of the simulator's topics
   std::unique_ptr<flapsim::AnnWingController> controller_;
   tf2_ros::Buffer buffer_;
   tf2_ros::TransformListener listener_;
   ros::Publisher pub_;
   ros::ServiceServer start_srv_;
+  std::vector<ros::Subscriber> subscribers_;
+  mutable std::mutex mutex_;        // guards readings_
+  std::vector<Readings> readings_;  // per creature
+  std::mt19937_64 altimeter_rng_;   // the altimeter's noise, seeded from ~noise_seed
+  std::normal_distribution<double> normal_;
   std::atomic<bool> started_{false};
 };
 

@@ -5,6 +5,7 @@
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,11 +40,30 @@ StrokeControllerParams parseStrokeControllerParams(const XmlRpc::XmlRpcValue& ns
 /// entries (left, right) per pair.
 flapsim::WingCommand strokeCommandMsg(const std::vector<flapsim::StrokeCommand>& strokes);
 
+/// Where ann_controller reads the units from.
+enum class AttitudeSource {
+  /// The sensors (flapsim/sensors.h), as a real creature would: <creature>/imu (the root
+  /// link's orientation and gyro, with the simulator's imu noise), <creature>/joint_states
+  /// (the encoders: the other units of a chain through forward kinematics of
+  /// <creature>/robot_description) and the altimeter, <creature>/odom's z plus
+  /// altitude_noise. The topics are under the simulator's namespace (the parent of
+  /// step_service's: /afc/imu for the default /flapsim/step).
+  kImu,
+  /// The exact orientations of the unit bodies from tf, world -> <creature>/unit<k>_body,
+  /// and the root frame's height (the ground truth; no gyro: a network with rate inputs is
+  /// refused).
+  kTf,
+};
+
 /// ann_controller: the evolved network on every unit of a creature.
 struct AnnControllerParams {
   std::string creature;      // tf frames <creature>/unit<k>_body, topic <creature>/wing_command
   std::string weights_file;  // YAML written by `evolve` (required)
   int pairs = 1;
+  AttitudeSource attitude_source = AttitudeSource::kImu;
+  std::optional<double> altitude;  // m: the root link frame's height to hold; unset: climb
+  double altitude_noise = 0.0;     // m: the altimeter's standard deviation (imu source)
+  int noise_seed = 0;              // seeds the altimeter's noise (a run repeats exactly)
   std::string world_frame = "world";
   double rate = 0.0;  // Hz (sim time); 0: 1 / control_period of the weights file
   // Lockstep (tests, exact replays): the node drives a paused flapsim_node
@@ -66,7 +86,8 @@ struct AnnControllerParams {
 };
 
 /// Private namespace of ann_controller. Keys: weights (required), creature,
-/// pairs, world_frame, rate, lockstep, lockstep_duration,
+/// pairs, attitude_source (imu or tf), altitude, altitude_noise, noise_seed, world_frame,
+/// rate, lockstep, lockstep_duration,
 /// lockstep_wait_for_start, lockstep_creatures, step_service, step_size, wait_timeout.
 /// Throws ParamError naming the bad key.
 AnnControllerParams parseAnnControllerParams(const XmlRpc::XmlRpcValue& ns,

@@ -22,6 +22,7 @@
 #include "flapsim/SetState.h"
 #include "flapsim/WingCommand.h"
 #include "flapsim/creature_model.h"
+#include "flapsim/sensors.h"
 #include "flapsim/stroke.h"
 #include "flapsim/types.h"
 #include "flapsim/world.h"
@@ -89,20 +90,28 @@ flapsim::StateRequest stateRequest(const flapsim::CreatureModel& model,
 /// A flapsim/apply_wrench request in core terms (World::applyWrench checks the values).
 flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req);
 
-/// The IMU of the root link, frame "<creature>/<root link>": orientation in the world, and in
-/// the link's axes its angular velocity and what an accelerometer at its centre of mass
-/// reads, `acceleration` - `gravity` (at rest: +g up), each plus `noise` (a standard
-/// deviation per axis, drawn from `draw`, which returns a standard normal sample); the
-/// covariances are the noise variances (orientation: exact).
-struct ImuNoise {
-  double angular_velocity = 0.0;
-  double linear_acceleration = 0.0;
-};
+/// The IMU of the root link, frame "<creature>/<root link>": flapsim::imuReading() (the
+/// reading the episodes of evolution take): orientation in the world, and in the link's axes
+/// its angular velocity and what an accelerometer at its centre of mass reads,
+/// `acceleration` - `gravity` (at rest: +g up), each plus `noise` (standard deviations, drawn
+/// from `draw`, which returns a standard normal sample); the covariances are the noise
+/// variances (the orientation's: of its rotation vector's components).
 sensor_msgs::Imu imuMsg(const std::string& creature, const flapsim::CreatureModel& model,
                         const flapsim::CreatureState& state, const flapsim::Vec3& acceleration,
                         const flapsim::Vec3& gravity, const ros::Time& stamp,
-                        const ImuNoise& noise = ImuNoise(),
+                        const flapsim::ImuNoise& noise = flapsim::ImuNoise(),
                         const std::function<double()>& draw = nullptr);
+
+/// An IMU message in core terms (imuMsg's inverse; the orientation normalised). Throws
+/// flapsim::InputError for a non-finite value or a zero quaternion.
+flapsim::ImuReading fromMsg(const sensor_msgs::Imu& msg);
+
+/// The joint positions and velocities of a joint_states message as one value per joint of
+/// `model` (fixed joints and joints the message does not name: 0). Throws
+/// flapsim::InputError for a name `model` does not have, a movable joint the message does not
+/// name, lists of other lengths than the names or a non-finite value.
+void jointVectors(const sensor_msgs::JointState& msg, const flapsim::CreatureModel& model,
+                  std::vector<double>& positions, std::vector<double>& velocities);
 
 /// One transform world -> "<creature>/<link>" for every link.
 std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,

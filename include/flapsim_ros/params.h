@@ -42,6 +42,7 @@ struct MarkerParams {
 /// `<creature>/imu`: Gaussian noise (standard deviations; 0: none) from a seeded generator,
 /// so a run with noise repeats exactly.
 struct ImuParams {
+  double orientation_noise = 0.0;          // rad (each rotation-vector component, root frame)
   double angular_velocity_noise = 0.0;     // rad/s
   double linear_acceleration_noise = 0.0;  // m/s^2
   int seed = 0;

@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
     const flapsim::AnnWingController ann(flapsim::FlapUnitController(spec.params, spec.weights));
     const flapsim::EpisodeResult ep =
         flapsim::runEpisode(model, ann, spec.params.control_period, episode,
-                            flapsim::episodeStarts(episode).front(), true);
+                            flapsim::episodeStarts(episode, model.get()).front(), true);
     flapsim::writeTextFile(out_dir + "/rates.csv", flapsim::ratesCsv(ep.trace));
     std::printf(
         "best fitness %.4f (generation 0: %.4f), wall time %.1f s; wrote %s, %s/fitness.csv,"

@@ -1,12 +1,14 @@
 #include "flapsim_ros/controller_nodes.h"
 
 #include <geometry_msgs/TransformStamped.h>
+#include <ros/names.h>
 
 #include <cmath>
 #include <stdexcept>
 
 #include "flapsim/Step.h"
 #include "flapsim/control_loop.h"
+#include "flapsim_ros/conversions.h"
 
 namespace flapsim_ros {
 
@@ -27,6 +29,18 @@ bool waitFor(F done, double timeout) {
     ros::WallDuration(0.0005).sleep();
   }
   return ros::ok();
+}
+
+/// Subscribes `topic`, keeping its latest message in `slot` (under `mutex`).
+template <typename M>
+ros::Subscriber keepLatest(ros::NodeHandle& nh, const std::string& topic, std::mutex& mutex,
+                           boost::shared_ptr<const M>& slot) {
+  return nh.subscribe<M>(topic, 10,
+                         boost::function<void(const boost::shared_ptr<const M>&)>(
+                             [&mutex, &slot](const boost::shared_ptr<const M>& msg) {
+                               std::lock_guard<std::mutex> lock(mutex);
+                               slot = msg;
+                             }));
 }
 
 }  // namespace
@@ -88,7 +102,13 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
           parseAnnControllerParams(privateNamespace(pnh), namespaceBasename(nh.getNamespace()))),
       spec_(flapsim::loadControllerYaml(params_.weights_file)),
       layout_(flapsim::flapUnitLayout(params_.pairs)),
-      listener_(buffer_, nh) {
+      listener_(buffer_, nh),
+      altimeter_rng_(static_cast<std::uint64_t>(params_.noise_seed)) {
+  if (params_.attitude_source == AttitudeSource::kTf && spec_.params.rate_inputs) {
+    throw ParamError("parameter '" + pnh_.resolveName("attitude_source") +
+                     "': tf has no angular velocities, and the network of " +
+                     params_.weights_file + " takes the gyro's rates: use imu");
+  }
   controller_ = std::make_unique<flapsim::AnnWingController>(
       flapsim::FlapUnitController(spec_.params, spec_.weights));
   if (params_.rate <= 0.0) params_.rate = 1.0 / spec_.params.control_period;
@@ -98,6 +118,10 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
     frames_.emplace_back();
     for (const auto& link : layout_.body_links) frames_.back().push_back(c + "/" + link);
   }
+  simulator_ns_ = ros::names::parentNamespace(
+      ros::names::parentNamespace(ros::names::resolve(params_.step_service)));
+  readings_.resize(creatures_.size());
+  if (params_.attitude_source == AttitudeSource::kImu) subscribe();
   pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
   if (params_.lockstep)
     start_srv_ = pnh_.advertiseService("start", &AnnControllerNode::onStart, this);
@@ -106,38 +130,121 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   }
   ROS_INFO_STREAM("ann_controller: " << params_.pairs << " unit(s) of '" << params_.creature
                                      << "' at " << params_.rate << " Hz, weights "
-                                     << params_.weights_file
+                                     << params_.weights_file << ", attitude from "
+                                     << (params_.attitude_source == AttitudeSource::kImu
+                                             ? subscribers_.front().getTopic()
+                                             : std::string("tf"))
+                                     << (params_.altitude ? ", holding " +
+                                                                std::to_string(*params_.altitude) +
+                                                                " m"
+                                                          : std::string(", climbing"))
                                      << (params_.lockstep ? ", lockstep" : ""));
 }
 
-std::optional<std::vector<flapsim::Quat>> AnnControllerNode::bodies(const ros::Time& stamp,
-                                                                    size_t c) const {
+void AnnControllerNode::subscribe() {
+  for (size_t c = 0; c < creatures_.size(); ++c) {
+    const std::string base = ros::names::append(simulator_ns_, creatures_[c]);
+    Readings& r = readings_[c];  // readings_ is not resized after this
+    subscribers_.push_back(keepLatest(nh_, base + "/imu", mutex_, r.imu));
+    if (spec_.params.altitude_input) {
+      subscribers_.push_back(keepLatest(nh_, base + "/odom", mutex_, r.odom));
+    }
+    if (layout_.units() > 1) {
+      subscribers_.push_back(keepLatest(nh_, base + "/joint_states", mutex_, r.joints));
+    }
+  }
+}
+
+std::optional<flapsim::FlapSensing> AnnControllerNode::sense(const ros::Time& stamp, size_t c) {
+  std::optional<flapsim::FlapSensing> s =
+      params_.attitude_source == AttitudeSource::kTf ? senseTf(stamp, c) : senseImu(stamp, c);
+  if (s) s->setpoint = params_.altitude;
+  return s;
+}
+
+std::optional<flapsim::FlapSensing> AnnControllerNode::senseTf(const ros::Time& stamp,
+                                                               size_t c) const {
   std::vector<flapsim::Quat> out;
+  double altitude = 0.0;
   for (const auto& frame : frames_[c]) {
     if (!buffer_.canTransform(params_.world_frame, frame, stamp)) return std::nullopt;
     const geometry_msgs::TransformStamped t =
         buffer_.lookupTransform(params_.world_frame, frame, stamp);
     const auto& r = t.transform.rotation;
     out.emplace_back(r.w, r.x, r.y, r.z);
+    if (out.size() == 1) altitude = t.transform.translation.z;  // unit 0's body is the root
   }
-  return out;
+  flapsim::FlapSensing s(out);
+  s.altitude = altitude;
+  return s;
 }
 
-void AnnControllerNode::command(const std::vector<flapsim::Quat>& bodies, const ros::Time& stamp) {
-  flapsim::WingCommand msg = annCommandMsg(layout_, controller_->commands(bodies));
+std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time& stamp, size_t c) {
+  Readings r;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    r = readings_[c];
+  }
+  // A reading of the wanted time (any, free running) of every sensor the network reads.
+  auto fresh = [&](const auto& msg) {
+    return msg && (stamp.isZero() || msg->header.stamp == stamp);
+  };
+  const bool need_odom = spec_.params.altitude_input, need_joints = layout_.units() > 1;
+  if (!fresh(r.imu) || (need_odom && !fresh(r.odom)) || (need_joints && !fresh(r.joints))) {
+    return std::nullopt;
+  }
+  if (!r.model) {
+    const std::string key = ros::names::append(simulator_ns_, creatures_[c]) + "/robot_description";
+    std::string urdf;
+    if (!nh_.getParam(key, urdf)) return std::nullopt;
+    r.model = flapsim::parseCreatureModel(urdf, key);
+    for (const auto& link : layout_.body_links) {
+      const int b = r.model->findLink(link);
+      if (b < 0) throw flapsim::InputError(key + " has no link '" + link + "'");
+      r.bodies.push_back(b);
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    readings_[c].model = r.model;
+    readings_[c].bodies = r.bodies;
+  }
+  std::vector<double> q(r.model->joints.size(), 0.0), qd(q.size(), 0.0);
+  if (need_joints) jointVectors(*r.joints, *r.model, q, qd);
+  double altitude = need_odom ? r.odom->pose.pose.position.z : 0.0;
+  if (need_odom && params_.altitude_noise > 0.0) {
+    altitude += params_.altitude_noise * normal_(altimeter_rng_);
+  }
+  return flapsim::unitSensing(*r.model, r.bodies, fromMsg(*r.imu), q, qd, altitude);
+}
+
+std::string AnnControllerNode::missing(size_t c) const {
+  if (params_.attitude_source == AttitudeSource::kTf) {
+    return "transform " + params_.world_frame + " -> " + frames_[c].front() + " (or another unit)";
+  }
+  return "reading of " + ros::names::append(simulator_ns_, creatures_[c]) + "/imu" +
+         (spec_.params.altitude_input ? ", odom" : "") +
+         (layout_.units() > 1 ? ", joint_states" : "") + " or its robot_description";
+}
+
+flapsim::WingCommand AnnControllerNode::command(const flapsim::FlapSensing& sensed,
+                                                const ros::Time& stamp) const {
+  flapsim::WingCommand msg = annCommandMsg(layout_, controller_->commands(sensed));
   msg.header.stamp = stamp;
-  pub_.publish(msg);
+  return msg;
 }
 
 void AnnControllerNode::onTimer(const ros::TimerEvent&) {
-  const auto q = bodies(ros::Time(0));
-  if (!q) {
-    ROS_WARN_STREAM_THROTTLE(5.0, "ann_controller: no transform " << params_.world_frame << " -> "
-                                                                  << frames_.front().front()
-                                                                  << " (or another unit) yet");
+  std::optional<flapsim::FlapSensing> s;
+  try {
+    s = sense(ros::Time(0), 0);
+  } catch (const std::exception& e) {
+    ROS_WARN_STREAM_THROTTLE(5.0, "ann_controller: " << e.what());
     return;
   }
-  command(*q, ros::Time::now());
+  if (!s) {
+    ROS_WARN_STREAM_THROTTLE(5.0, "ann_controller: no " << missing(0) << " yet");
+    return;
+  }
+  pub_.publish(command(*s, ros::Time::now()));
 }
 
 bool AnnControllerNode::onStart(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
@@ -207,24 +314,30 @@ bool AnnControllerNode::runLockstep() {
   std::vector<flapsim::WingCommand> commands(creatures_.size());
   for (long k = 0; ros::ok() && (periods < 0 || k < periods); ++k) {
     for (size_t c = 0; c < creatures_.size(); ++c) {
-      std::optional<std::vector<flapsim::Quat>> q;
+      std::optional<flapsim::FlapSensing> q;
       ros::WallTime repeat = ros::WallTime::now() + ros::WallDuration(1.0);
-      const bool got = waitFor(
-          [&] {
-            q = bodies(t, c);
-            if (!q && ros::WallTime::now() > repeat) {  // lost publication: ask again
-              repeat = ros::WallTime::now() + ros::WallDuration(1.0);
-              call(0);
-            }
-            return q.has_value();
-          },
-          timeout);
-      if (!got) {
-        ROS_ERROR_STREAM("ann_controller: no transforms of " << creatures_[c] << " at t = " << t);
+      bool got = false;
+      try {
+        got = waitFor(
+            [&] {
+              q = sense(t, c);
+              if (!q && ros::WallTime::now() > repeat) {  // lost publication: ask again
+                repeat = ros::WallTime::now() + ros::WallDuration(1.0);
+                call(0);
+              }
+              return q.has_value();
+            },
+            timeout);
+      } catch (const std::exception& e) {
+        ROS_ERROR_STREAM("ann_controller: " << creatures_[c] << " at t = " << t << ": "
+                                            << e.what());
         return false;
       }
-      commands[c] = annCommandMsg(layout_, controller_->commands(*q));
-      commands[c].header.stamp = t;
+      if (!got) {
+        ROS_ERROR_STREAM("ann_controller: no " << missing(c) << " at t = " << t);
+        return false;
+      }
+      commands[c] = command(*q, t);
     }
     if (!call(static_cast<std::uint32_t>(steps), commands)) return false;
     const ros::Duration advanced = srv.response.sim_time - t;

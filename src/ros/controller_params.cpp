@@ -106,6 +106,22 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   p.weights_file = d.string("weights", "");
   if (p.weights_file.empty()) failParam("weights", "(a weights YAML) is required");
   p.pairs = getPairs(d);
+  const std::string source = d.string("attitude_source", "imu");
+  if (source != "imu" && source != "tf") {
+    failParam(d.key("attitude_source"), "'" + source + "' is neither imu nor tf");
+  }
+  p.attitude_source = source == "tf" ? AttitudeSource::kTf : AttitudeSource::kImu;
+  if (d.has("altitude")) {
+    p.altitude = d.number("altitude", 0.0);
+    if (!(std::abs(*p.altitude) <= flapsim::kMaxPosition)) {
+      failParam(d.key("altitude"), "must be finite (at most 1e6 m)");
+    }
+  }
+  p.altitude_noise = d.number("altitude_noise", p.altitude_noise);
+  if (!(p.altitude_noise >= 0.0 && p.altitude_noise <= 1e3)) {
+    failParam(d.key("altitude_noise"), "must be in [0, 1000]");
+  }
+  p.noise_seed = d.integer("noise_seed", p.noise_seed);
   p.world_frame = d.string("world_frame", p.world_frame);
   p.rate = d.number("rate", p.rate);
   atLeast(d, "rate", p.rate, 0.0, false);

@@ -254,33 +254,67 @@ flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req) {
 
 sensor_msgs::Imu imuMsg(const std::string& creature, const flapsim::CreatureModel& model,
                         const flapsim::CreatureState& state, const flapsim::Vec3& acceleration,
-                        const flapsim::Vec3& gravity, const ros::Time& stamp, const ImuNoise& noise,
-                        const std::function<double()>& draw) {
+                        const flapsim::Vec3& gravity, const ros::Time& stamp,
+                        const flapsim::ImuNoise& noise, const std::function<double()>& draw) {
+  const flapsim::ImuReading r = flapsim::imuReading(state, acceleration, gravity, noise, draw);
   sensor_msgs::Imu m;
   m.header.stamp = stamp;
   m.header.frame_id = linkFrame(creature, model.links.at(0).name);
-  const flapsim::Pose& pose = state.link_poses.at(0);
-  m.orientation = toMsg(pose).orientation;
-  const flapsim::Quat to_body = pose.orientation.conjugate();
-  flapsim::Vec3 rate = to_body * state.link_twists.at(0).angular;
-  flapsim::Vec3 specific = to_body * (acceleration - gravity);
-  if (draw) {
-    for (int i = 0; i < 3; ++i) {
-      if (noise.angular_velocity > 0.0) rate[i] += noise.angular_velocity * draw();
-      if (noise.linear_acceleration > 0.0) specific[i] += noise.linear_acceleration * draw();
-    }
-  }
-  m.angular_velocity.x = rate.x();
-  m.angular_velocity.y = rate.y();
-  m.angular_velocity.z = rate.z();
-  m.linear_acceleration.x = specific.x();
-  m.linear_acceleration.y = specific.y();
-  m.linear_acceleration.z = specific.z();
+  m.orientation = toQuaternion(r.orientation);
+  m.angular_velocity = toVector(r.angular_velocity);
+  m.linear_acceleration = toVector(r.linear_acceleration);
   for (int i = 0; i < 3; ++i) {
+    m.orientation_covariance[4 * i] = noise.orientation * noise.orientation;
     m.angular_velocity_covariance[4 * i] = noise.angular_velocity * noise.angular_velocity;
     m.linear_acceleration_covariance[4 * i] = noise.linear_acceleration * noise.linear_acceleration;
   }
   return m;
+}
+
+flapsim::ImuReading fromMsg(const sensor_msgs::Imu& msg) {
+  flapsim::ImuReading r;
+  const auto& q = msg.orientation;
+  r.orientation = flapsim::Quat(q.w, q.x, q.y, q.z);
+  r.angular_velocity = fromVector(msg.angular_velocity);
+  r.linear_acceleration = fromVector(msg.linear_acceleration);
+  const double n = r.orientation.norm();
+  if (!std::isfinite(n) || n == 0.0 || !r.angular_velocity.allFinite() ||
+      !r.linear_acceleration.allFinite()) {
+    throw flapsim::InputError("imu: a non-finite value or a zero quaternion");
+  }
+  r.orientation.normalize();
+  return r;
+}
+
+void jointVectors(const sensor_msgs::JointState& msg, const flapsim::CreatureModel& model,
+                  std::vector<double>& positions, std::vector<double>& velocities) {
+  const size_t n = msg.name.size();
+  if (msg.position.size() != n || msg.velocity.size() != n) {
+    throw flapsim::InputError("joint_states: " + std::to_string(msg.position.size()) +
+                              " positions and " + std::to_string(msg.velocity.size()) +
+                              " velocities for " + std::to_string(n) + " names");
+  }
+  positions.assign(model.joints.size(), 0.0);
+  velocities.assign(model.joints.size(), 0.0);
+  std::vector<bool> named(model.joints.size(), false);
+  for (size_t i = 0; i < n; ++i) {
+    const int j = model.findJoint(msg.name[i]);
+    if (j < 0) {
+      throw flapsim::InputError("joint_states: '" + model.name + "' has no joint '" +
+                                msg.name[i] + "'");
+    }
+    if (!std::isfinite(msg.position[i]) || !std::isfinite(msg.velocity[i])) {
+      throw flapsim::InputError("joint_states: joint '" + msg.name[i] + "' is not finite");
+    }
+    positions[j] = msg.position[i];
+    velocities[j] = msg.velocity[i];
+    named[j] = true;
+  }
+  for (size_t j = 0; j < model.joints.size(); ++j) {
+    if (model.joints[j].movable() && !named[j]) {
+      throw flapsim::InputError("joint_states: joint '" + model.joints[j].name + "' is missing");
+    }
+  }
 }
 
 std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,

@@ -72,10 +72,12 @@ MarkerParams parseMarkers(const Dict& d, MarkerParams m) {
 }
 
 ImuParams parseImu(const Dict& d, ImuParams m) {
+  m.orientation_noise = d.number("orientation_noise", m.orientation_noise);
   m.angular_velocity_noise = d.number("angular_velocity_noise", m.angular_velocity_noise);
   m.linear_acceleration_noise = d.number("linear_acceleration_noise", m.linear_acceleration_noise);
   m.seed = d.integer("seed", m.seed);
-  for (const char* k : {"angular_velocity_noise", "linear_acceleration_noise"}) {
+  for (const char* k :
+       {"orientation_noise", "angular_velocity_noise", "linear_acceleration_noise"}) {
     const double v = d.number(k, 0.0);
     if (!(v >= 0.0 && v <= 1e3)) fail(d.key(k), "must be in [0, 1000]");
   }

@@ -256,7 +256,9 @@ void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp,
   if (!need_tf && !need_js && !need_odom && !need_imu) return;
   const flapsim::CreatureState s = world_.state(c.name);
   if (need_imu) {
-    const ImuNoise noise{params_.imu.angular_velocity_noise, params_.imu.linear_acceleration_noise};
+    const flapsim::ImuNoise noise{params_.imu.orientation_noise,
+                                  params_.imu.angular_velocity_noise,
+                                  params_.imu.linear_acceleration_noise};
     c.imu.publish(imuMsg(c.name, *c.model, s, world_.rootAcceleration(c.name),
                          world_.params().gravity, stamp, noise,
                          [this] { return imu_normal_(imu_rng_); }));

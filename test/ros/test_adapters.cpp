@@ -479,7 +479,8 @@ TEST(Conversions, AeroMarkersAreScaledArrows) {
 // An accelerometer reads acceleration less gravity in its own axes, gyros the angular
 // velocity in its own axes: after a +90 deg roll about x the body's y axis is the world's z,
 // so at rest +g reads along body y, and a yaw rate too. Noise adds sigma x the drawn sample on
-// each axis; the covariances are sigma^2.
+// each axis; the orientation turns by the rotation vector sigma x the samples in the body's
+// axes; the covariances are sigma^2.
 TEST(Imu, ReadsSpecificForceAndRatesInBodyAxesWithNoise) {
   auto model = flapsim::loadCreatureModel(sourcePath("urdf/plate.urdf"));
   flapsim::CreatureState s;
@@ -500,13 +501,25 @@ TEST(Imu, ReadsSpecificForceAndRatesInBodyAxesWithNoise) {
   m = flapsim_ros::imuMsg("p", *model, s, g, g, ros::Time(5));
   EXPECT_NEAR(m.linear_acceleration.y, 0.0, 1e-12);
   // noise: every sample 1.0 adds sigma on each axis
-  const flapsim_ros::ImuNoise noise{0.01, 0.2};
+  const flapsim::ImuNoise noise{0.03, 0.01, 0.2};
   m = flapsim_ros::imuMsg("p", *model, s, g, g, ros::Time(5), noise, [] { return 1.0; });
   EXPECT_NEAR(m.linear_acceleration.x, 0.2, 1e-12);
   EXPECT_NEAR(m.angular_velocity.x, 0.01, 1e-12);
   EXPECT_NEAR(m.angular_velocity.y, 2.01, 1e-12);
   EXPECT_NEAR(m.linear_acceleration_covariance[4], 0.04, 1e-15);
   EXPECT_NEAR(m.angular_velocity_covariance[8], 1e-4, 1e-18);
+  EXPECT_NEAR(m.orientation_covariance[0], 9e-4, 1e-18);
+  const Vec3 n(0.03, 0.03, 0.03);
+  const flapsim::Quat sensed = roll * flapsim::Quat(Eigen::AngleAxisd(n.norm(), n.normalized()));
+  const flapsim::Quat got(m.orientation.w, m.orientation.x, m.orientation.y, m.orientation.z);
+  EXPECT_NEAR(got.angularDistance(sensed), 0.0, 1e-12);
+  EXPECT_NEAR(got.angularDistance(roll), n.norm(), 1e-12);
+  // the reading back in core terms
+  const flapsim::ImuReading back = flapsim_ros::fromMsg(m);
+  EXPECT_NEAR(back.orientation.angularDistance(sensed), 0.0, 1e-12);
+  EXPECT_NEAR(back.angular_velocity.y(), 2.01, 1e-12);
+  m.angular_velocity.z = std::nan("");
+  EXPECT_THROW(flapsim_ros::fromMsg(m), flapsim::InputError);
 }
 
 // set_state's joint lists: named joints take the values, the others keep the current ones;

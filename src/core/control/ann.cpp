@@ -99,8 +99,24 @@ std::vector<double> FeedForwardNet::evaluate(const std::vector<double>& input) c
 
 // ---- The per-wing-pair controller ------------------------------------------------------------
 
+FlapNetwork flapNetworkFromString(const std::string& name) {
+  if (name == "paper") return FlapNetwork::kPaper;
+  if (name == "mirror") return FlapNetwork::kMirror;
+  throw std::invalid_argument("unknown network '" + name + "' (expected paper or mirror)");
+}
+
+std::string toString(FlapNetwork network) {
+  return network == FlapNetwork::kMirror ? "mirror" : "paper";
+}
+
 std::string validateFlapControllerParams(const FlapControllerParams& p) {
   if (p.hidden < 1) return "hidden must be >= 1";
+  if (!std::isfinite(p.rate_scale) || p.rate_scale <= 0.0) {
+    return "rate_scale must be finite and > 0";
+  }
+  if (!std::isfinite(p.altitude_scale) || p.altitude_scale <= 0.0) {
+    return "altitude_scale must be finite and > 0";
+  }
   if (!std::isfinite(p.min_downstroke_rate) || p.min_downstroke_rate < 0.0) {
     return "min_downstroke_rate must be finite and >= 0";
   }
@@ -154,34 +170,87 @@ std::vector<double> flapInputs(const Quat& body) {
   return {r(2, 0), r(2, 1)};
 }
 
+int flapInputCount(const FlapControllerParams& p) {
+  return 2 + (p.rate_inputs ? 3 : 0) + (p.altitude_input ? 1 : 0);
+}
+
+std::vector<std::string> flapInputNames(const FlapControllerParams& p) {
+  std::vector<std::string> names = {"world_up.body_forward", "world_up.body_left"};
+  if (p.rate_inputs) names.insert(names.end(), {"roll_rate", "pitch_rate", "yaw_rate"});
+  if (p.altitude_input) names.push_back("altitude_error");
+  return names;
+}
+
+std::vector<std::string> flapOutputNames(const FlapControllerParams& p) {
+  if (p.network == FlapNetwork::kMirror) return {"right_downstroke_rate"};
+  return {"right_downstroke_rate", "left_downstroke_rate"};
+}
+
+std::vector<double> flapNetworkInputs(const FlapControllerParams& p, const Quat& body,
+                                      const Vec3& rate, double altitude_input) {
+  std::vector<double> x = flapInputs(body);
+  if (p.rate_inputs) {
+    for (int i = 0; i < 3; ++i) x.push_back(rate[i] / p.rate_scale);
+  }
+  if (p.altitude_input) x.push_back(altitude_input);
+  return x;
+}
+
+std::vector<double> mirroredInputs(const FlapControllerParams& p,
+                                   const std::vector<double>& inputs) {
+  std::vector<double> m = inputs;
+  m[1] = -m[1];  // up . left
+  if (p.rate_inputs) {
+    m[2] = -m[2];  // roll rate (a pseudovector's x and z change sign under y -> -y)
+    m[4] = -m[4];  // yaw rate
+  }
+  return m;
+}
+
+double altitudeInput(const FlapControllerParams& p, double altitude,
+                     const std::optional<double>& setpoint) {
+  if (!setpoint) return 1.0;
+  return std::clamp((*setpoint - altitude) / p.altitude_scale, -1.0, 1.0);
+}
+
 namespace {
 const FlapControllerParams& checked(const FlapControllerParams& p) {
   const std::string err = validateFlapControllerParams(p);
   if (!err.empty()) throw std::invalid_argument("flap controller: " + err);
   return p;
 }
+
+// The layer sizes of the net `p` describes.
+std::vector<int> netLayers(const FlapControllerParams& p) {
+  return {flapInputCount(p), p.hidden, p.network == FlapNetwork::kMirror ? 1 : 2};
+}
+
 }  // namespace
 
 FlapUnitController::FlapUnitController(const FlapControllerParams& params,
                                        const std::vector<double>& weights)
     : params_(checked(params)),
-      net_({2, params.hidden, 2}, params.hidden_activation, Activation::kSigmoid) {
+      net_(netLayers(params), params.hidden_activation, Activation::kSigmoid) {
   net_.setParameters(weights);
 }
 
 int FlapUnitController::weightCount(const FlapControllerParams& params) {
-  return FeedForwardNet::parameterCount({2, checked(params).hidden, 2});
+  return FeedForwardNet::parameterCount(netLayers(checked(params)));
 }
 
 std::vector<double> FlapUnitController::rates(const std::vector<double>& inputs) const {
   std::vector<double> y = net_.evaluate(inputs);
+  if (params_.network == FlapNetwork::kMirror) {
+    y.push_back(net_.evaluate(mirroredInputs(params_, inputs))[0]);  // the left wing
+  }
   const double span = params_.max_downstroke_rate - params_.min_downstroke_rate;
   for (double& v : y) v = params_.min_downstroke_rate + span * v;
   return y;
 }
 
-WingPairCommand FlapUnitController::command(const Quat& body) const {
-  const std::vector<double> r = rates(flapInputs(body));
+WingPairCommand FlapUnitController::command(const Quat& body, const Vec3& rate,
+                                            double altitude_input) const {
+  const std::vector<double> r = rates(flapNetworkInputs(params_, body, rate, altitude_input));
   WingPairCommand c;
   c.right = StrokeCommand{r[0], upstrokeRate(params_, r[0]), params_.amplitude};
   c.left = StrokeCommand{r[1], upstrokeRate(params_, r[1]), params_.amplitude};
@@ -224,8 +293,14 @@ FlapUnitLayout flapUnitLayout(const CreatureModel& model) {
   return layout;
 }
 
-std::vector<StrokeCommand> AnnWingController::commands(const std::vector<Quat>& bodies) const {
+std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed) const {
   const FlapControllerParams& p = unit_.params();
+  const std::vector<Quat>& bodies = sensed.orientations;
+  if (sensed.rates.size() != bodies.size()) {
+    throw std::invalid_argument("ann controller: " + std::to_string(sensed.rates.size()) +
+                                " rates for " + std::to_string(bodies.size()) + " units");
+  }
+  const double altitude = altitudeInput(p, sensed.altitude, sensed.setpoint);
   const int units = static_cast<int>(bodies.size());
   double pitch = 0.0;
   if (p.pitch_gain > 0.0) {
@@ -235,7 +310,7 @@ std::vector<StrokeCommand> AnnWingController::commands(const std::vector<Quat>& 
   std::vector<StrokeCommand> out;
   out.reserve(2 * bodies.size());
   for (int k = 0; k < units; ++k) {
-    WingPairCommand c = unit_.command(bodies[k]);
+    WingPairCommand c = unit_.command(bodies[k], sensed.rates[k], altitude);
     const double scale = chainPitchScale(p, k, units, pitch);
     if (scale != 1.0) {
       for (StrokeCommand* s : {&c.left, &c.right}) {
@@ -250,8 +325,8 @@ std::vector<StrokeCommand> AnnWingController::commands(const std::vector<Quat>& 
   return out;
 }
 
-std::vector<StrokeCommand> OpenLoopWingController::commands(const std::vector<Quat>& bodies) const {
-  return std::vector<StrokeCommand>(2 * bodies.size(), stroke_);
+std::vector<StrokeCommand> OpenLoopWingController::commands(const FlapSensing& sensed) const {
+  return std::vector<StrokeCommand>(2 * sensed.orientations.size(), stroke_);
 }
 
 }  // namespace flapsim

@@ -18,12 +18,13 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   e.SetDoublePrecision(17);
   const FlapControllerParams& p = spec.params;
   e << YAML::BeginMap << YAML::Key << "flap_unit_controller" << YAML::Value << YAML::BeginMap;
-  e << YAML::Key << "inputs" << YAML::Value << YAML::Flow << YAML::BeginSeq
-    << "world_up.body_forward"
-    << "world_up.body_left" << YAML::EndSeq;
-  e << YAML::Key << "outputs" << YAML::Value << YAML::Flow << YAML::BeginSeq
-    << "right_downstroke_rate"
-    << "left_downstroke_rate" << YAML::EndSeq;
+  e << YAML::Key << "network" << YAML::Value << toString(p.network);
+  e << YAML::Key << "inputs" << YAML::Value << YAML::Flow << flapInputNames(p);
+  e << YAML::Key << "outputs" << YAML::Value << YAML::Flow << flapOutputNames(p);
+  e << YAML::Key << "rate_inputs" << YAML::Value << p.rate_inputs;
+  e << YAML::Key << "rate_scale" << YAML::Value << p.rate_scale;
+  e << YAML::Key << "altitude_input" << YAML::Value << p.altitude_input;
+  e << YAML::Key << "altitude_scale" << YAML::Value << p.altitude_scale;
   e << YAML::Key << "hidden" << YAML::Value << p.hidden;
   e << YAML::Key << "hidden_activation" << YAML::Value << toString(p.hidden_activation);
   e << YAML::Key << "output_activation" << YAML::Value << "sigmoid";
@@ -74,10 +75,31 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
   get("hidden", p.hidden);
   std::string act = toString(p.hidden_activation);
   get("hidden_activation", act);
+  std::string network = toString(p.network);
+  get("network", network);
   try {
     p.hidden_activation = activationFromString(act);
+    p.network = flapNetworkFromString(network);
   } catch (const std::invalid_argument& e) {
     throw fail(e.what());
+  }
+  get("rate_inputs", p.rate_inputs);
+  get("rate_scale", p.rate_scale);
+  get("altitude_input", p.altitude_input);
+  get("altitude_scale", p.altitude_scale);
+  // The lists of inputs and outputs are what the settings above make them: a file whose
+  // lists disagree was edited by hand or written by another version.
+  const std::pair<const char*, std::vector<std::string>> lists[] = {
+      {"inputs", flapInputNames(p)}, {"outputs", flapOutputNames(p)}};
+  for (const auto& [key, expected] : lists) {
+    std::vector<std::string> names = expected;
+    get(key, names);
+    if (names != expected) {
+      std::string want;
+      for (const auto& n : expected) want += (want.empty() ? "" : ", ") + n;
+      throw fail(std::string("'") + key + "' does not match the network's settings (" + want +
+                 ")");
+    }
   }
   get("min_downstroke_rate", p.min_downstroke_rate);
   get("max_downstroke_rate", p.max_downstroke_rate);

@@ -12,7 +12,7 @@ EpisodeRunner::EpisodeRunner(const EvaluationSpec& spec) : spec_(spec) {
   if (err.empty() && spec.pairs < 1) err = "pairs must be >= 1";
   if (!err.empty()) throw InputError("evaluation spec: " + err);
   model_ = parseCreatureModel(makeCreatureUrdf(spec.pairs, "afc", spec.unit), "make_creature");
-  starts_ = episodeStarts(spec.episode);
+  starts_ = episodeStarts(spec.episode, model_.get());
   weight_count_ = FlapUnitController::weightCount(spec.controller);
 }
 

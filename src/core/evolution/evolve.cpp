@@ -16,150 +16,6 @@
 
 namespace flapsim {
 
-// ---- Episodes ------------------------------------------------------------------------------
-
-std::string validateEpisodeParams(const EpisodeParams& p) {
-  if (!std::isfinite(p.duration) || p.duration <= 0.0) return "duration must be > 0";
-  if (!std::isfinite(p.start_height)) return "start_height must be finite";
-  if (!std::isfinite(p.min_roll) || !std::isfinite(p.max_roll) || p.min_roll < 0.0 ||
-      p.max_roll < p.min_roll) {
-    return "need 0 <= min_roll <= max_roll";
-  }
-  if (!std::isfinite(p.max_pitch) || p.max_pitch < 0.0) return "max_pitch must be >= 0";
-  if (!std::isfinite(p.max_start_rate) || p.max_start_rate < 0.0) {
-    return "max_start_rate must be >= 0";
-  }
-  if (!std::isfinite(p.max_gust) || p.max_gust < 0.0) return "max_gust must be >= 0";
-  if (!std::isfinite(p.input_noise) || p.input_noise < 0.0) return "input_noise must be >= 0";
-  if (!std::isfinite(p.flip_penalty) || p.flip_penalty < 0.0) return "flip_penalty must be >= 0";
-  for (double dt : p.step_sizes) {
-    WorldParams w = p.world;
-    w.step_size = dt;
-    if (!validateWorldParams(w).empty()) return "step_sizes: " + validateWorldParams(w);
-  }
-  if (p.episodes < 1) return "episodes must be >= 1";
-  const std::string w = validateWorldParams(p.world);
-  return w.empty() ? "" : "world: " + w;
-}
-
-std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p) {
-  Rng rng(mixSeed(p.seed, 0x57A27ULL));
-  std::vector<EpisodeStart> starts(std::max(p.episodes, 0));
-  for (size_t k = 0; k < starts.size(); ++k) {
-    const double roll = rng.uniform(p.min_roll, p.max_roll);
-    starts[k].roll = k % 2 == 0 ? roll : -roll;
-    starts[k].pitch = rng.uniform(-p.max_pitch, p.max_pitch);
-  }
-  // The robust draws come from streams of their own, so the paper's starts stay the same.
-  Rng robust(mixSeed(p.seed, 0x20B057ULL));
-  for (EpisodeStart& s : starts) {
-    for (int a = 0; a < 3; ++a) s.rate[a] = robust.uniform(-p.max_start_rate, p.max_start_rate);
-    const double heading = robust.uniform(0.0, 2.0 * M_PI);
-    const double speed = robust.uniform(0.0, p.max_gust);
-    s.gust = Vec3(speed * std::cos(heading), speed * std::sin(heading), 0.0);
-    s.gust_time = robust.uniform(0.0, 0.5 * p.duration);
-    if (!p.step_sizes.empty()) s.step_size = p.step_sizes[robust.index(p.step_sizes.size())];
-    s.noise_seed = robust.next();
-  }
-  return starts;
-}
-
-namespace {
-
-// The unit bodies' attitudes as the controller senses them: each tilted by a small random
-// rotation (normal, `noise` rad per axis) when `noise` > 0.
-void senseAttitudes(const CreatureState& state, const std::vector<int>& bodies, double noise,
-                    Rng& rng, std::vector<Quat>& out) {
-  for (size_t u = 0; u < bodies.size(); ++u) {
-    out[u] = state.link_poses[bodies[u]].orientation;
-    if (noise > 0.0) {
-      const Vec3 tilt(noise * rng.normal(), noise * rng.normal(), 0.0);
-      out[u] = Quat(Eigen::AngleAxisd(
-                   tilt.norm(), tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitX())) *
-               out[u];
-    }
-  }
-}
-
-// One sample of the root's height z and up-component `up` into the result's extremes.
-void addSample(EpisodeResult& r, double z, double up) {
-  r.min_upright = std::min(r.min_upright, up);
-  r.min_height = std::min(r.min_height, z);
-  r.max_height = std::max(r.max_height, z);
-  r.final_height = z;
-  r.final_upright = up;
-}
-
-}  // namespace
-
-EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& controller,
-                         double control_period, const EpisodeParams& p, const EpisodeStart& start,
-                         bool record_trace) {
-  const std::string err = validateEpisodeParams(p);
-  if (!err.empty()) throw InputError("episode: " + err);
-  WorldParams world_params = p.world;
-  if (start.step_size > 0.0) world_params.step_size = start.step_size;
-  const ControlLoop loop(control_period, world_params.step_size);
-  const FlapUnitLayout layout = flapUnitLayout(*model);
-  std::vector<int> bodies;
-  for (const auto& name : layout.body_links) bodies.push_back(model->findLink(name));
-
-  World world(world_params);
-  // As a launch file's pose {xyz: [0, 0, h], rpy: [roll, pitch, 0]} gives it.
-  const Pose pose =
-      poseFromXyzRpy(Vec3(0.0, 0.0, p.start_height), Vec3(start.roll, start.pitch, 0.0));
-  const std::string name = "creature";
-  Twist twist;
-  twist.angular = start.rate;
-  world.spawn(name, model, pose, twist);
-
-  const std::int64_t samples = loop.periodsIn(p.duration);
-  const double gust_sample = std::floor(start.gust_time / control_period);
-  Rng noise(start.noise_seed);
-  EpisodeResult result;
-  result.max_height = -std::numeric_limits<double>::infinity();
-  result.min_height = std::numeric_limits<double>::infinity();
-  double sum = 0.0;
-  std::vector<Quat> orientations(bodies.size());
-  for (std::int64_t s = 0; s < samples; ++s) {
-    if (static_cast<double>(s) == gust_sample && start.gust.squaredNorm() > 0.0) {
-      AirParams air = world.params().air;
-      air.wind += start.gust;
-      world.setAirParams(air);
-    }
-    senseAttitudes(world.state(name), bodies, p.input_noise, noise, orientations);
-    const std::vector<StrokeCommand> commands = controller.commands(orientations);
-    world.setWingCommands(name, layout.wing_joints, commands);
-    world.step(loop.stepsPerPeriod());
-
-    const Pose root = world.rootPose(name);
-    const double z = root.position.z();
-    const double up = (root.orientation * Vec3::UnitZ()).z();
-    if (p.flip_penalty > 0.0 && up < 0.0) {
-      // Upside down: the rest of the flight scores the height here less the penalty.
-      result.flipped = true;
-      sum += static_cast<double>(samples - s) * (z - p.flip_penalty);
-      addSample(result, z, up);
-      break;
-    }
-    result.flipped = result.flipped || up < 0.0;
-    if (up >= 0.5) result.upright_fraction += 1.0;
-    sum += z;
-    addSample(result, z, up);
-    if (record_trace) {
-      EpisodeSample sample;
-      sample.time = static_cast<double>(s + 1) * control_period;
-      sample.height = z;
-      sample.upright = up;
-      for (const auto& c : commands) sample.downstroke.push_back(c.downstroke_rate);
-      result.trace.push_back(std::move(sample));
-    }
-  }
-  result.fitness = samples > 0 ? sum / static_cast<double>(samples) : 0.0;
-  if (samples > 0) result.upright_fraction /= static_cast<double>(samples);
-  return result;
-}
-
 double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& controller,
                    const std::vector<double>& weights, const EpisodeParams& params) {
   const AnnWingController ann(FlapUnitController(controller, weights));
@@ -174,23 +30,36 @@ double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& co
 EvolveParams paperPreset(int pairs) {
   EvolveParams p;  // the defaults are the paper's
   p.pairs = pairs;
+  p.unit.body_com_drop = 0.0;  // the paper's unit (Fig. 5): no ballast
   return p;
 }
 
 EvolveParams robustPreset(int pairs) {
   EvolveParams p;
   p.pairs = pairs;
-  p.ga.population = 16;
-  p.ga.generations = 40;
-  p.controller.phase_lock = true;
+  p.ga.population = 24;
+  p.ga.generations = 60;
+  FlapControllerParams& c = p.controller;
+  c.network = FlapNetwork::kMirror;
+  c.rate_inputs = true;
+  c.altitude_input = true;
+  c.hidden = 4;
+  c.phase_lock = true;
   EpisodeParams& e = p.episode;
-  e.duration = 15.0;
+  e.duration = 20.0;
   e.min_roll = 0.0;
-  e.max_roll = 0.35;
-  e.max_pitch = 0.35;
+  e.max_roll = 0.52;
+  e.max_pitch = 0.52;
   e.max_start_rate = 1.0;
-  e.max_gust = 1.0;
-  e.input_noise = 0.02;
+  e.max_wind = 2.0;
+  e.imu_noise.orientation = 0.05;
+  e.imu_noise.angular_velocity = 0.05;
+  e.altitude_noise = 0.05;
+  e.gust_torque = 0.05;
+  e.gust_force = 1.0;
+  e.altitude_hold = true;
+  e.min_altitude = 2.0;
+  e.max_altitude = 8.0;
   e.step_sizes = {0.001, 0.0005};
   e.flip_penalty = 20.0;
   e.episodes = 8;

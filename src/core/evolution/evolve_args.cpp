@@ -12,7 +12,8 @@ namespace {
 const char* kUsage =
     "usage: evolve [options]\n"
     "  --preset NAME      robust (default) or paper; the options below change it\n"
-    "                     (defaults shown are the paper preset's)\n"
+    "                     (defaults shown are the paper preset's, the robust preset's after\n"
+    "                     'robust')\n"
     "  --pairs N          wing pairs of the creature (1)\n"
     "  --generations G    generations after the initial one (200)\n"
     "  --population P     individuals (10)\n"
@@ -25,13 +26,30 @@ const char* kUsage =
     "  --upstroke-rate R  upstroke rate, rad/s (10)\n"
     "  --amplitude A      stroke amplitude, rad (1.2)\n"
     "  --control-period P network update period, s (0.02)\n"
-    "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.35)\n"
-    "  --pitch P          start pitch range +-P, rad (0.035; robust 0.35)\n"
+    "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.52)\n"
+    "  --pitch P          start pitch range +-P, rad (0.035; robust 0.52)\n"
     "  --link-axis A      axis of the joints between units: roll or pitch (roll)\n"
     "  --link-stiffness K spring on the joints between units, N m/rad (2)\n"
     "  --start-rate W     start angular velocity, up to W rad/s per axis (0; robust 1)\n"
-    "  --gust G           a horizontal wind step of up to G m/s (0; robust 1)\n"
-    "  --input-noise N    attitude-sensor noise, rad (0; robust 0.02)\n"
+    "  --gust G           a horizontal wind step of up to G m/s (0)\n"
+    "  --wind LO HI       steady wind from t = 0, speed uniform in [LO, HI] m/s, any heading\n"
+    "                     (0 0; robust 0 2)\n"
+    "  --noise N          IMU noise: orientation N rad, angular velocity N rad/s (0; robust 0.05)\n"
+    "  --altitude-noise N altimeter noise, m (0; robust 0.05)\n"
+    "  --gust-torque T    a roll torque of T N m at a random time, random sign (0; robust 0.05)\n"
+    "  --gust-torque-time S  for S s (0.5)\n"
+    "  --gust-force F     a vertical push of F N on one wing at a random time (0; robust 1)\n"
+    "  --gust-force-time S   for S s (0.2)\n"
+    "  --gust-link LINK   the link pushed (a wing drawn per episode, up or down)\n"
+    "  --altitude LO HI   hold an altitude drawn in [LO, HI] m (robust 2 8); fitness\n"
+    "                     -|height - setpoint| - (1 - up-component) per sample\n"
+    "  --altitude-hold B  on/off (off; robust on); off: climb, fitness = height\n"
+    "  --network N        paper (2 outputs) or mirror (1 output, left = mirrored inputs)\n"
+    "                     (paper; robust mirror)\n"
+    "  --hidden H         hidden neurons (2; robust 4)\n"
+    "  --rate-inputs B    on/off: the gyro's roll, pitch, yaw rates as inputs (off; robust on)\n"
+    "  --altitude-input B on/off: the altitude error as an input (off; robust on)\n"
+    "  --com-drop M       the unit's ballast, m below the hinges (paper 0, robust 0.02)\n"
     "  --step-sizes LIST  step sizes drawn per episode, e.g. 0.001,0.0005 (robust)\n"
     "  --flip-penalty P   a flip ends the episode, less P m (0: off; robust 20)\n"
     "  --phase-lock B     on/off: upstroke follows downstroke, fixed period (robust on)\n"
@@ -71,6 +89,11 @@ double toDouble(const std::string& flag, const std::string& v) {
   }
   if (used == 0 || used != v.size()) throw InputError(flag + ": '" + v + "' is not a number");
   return x;
+}
+
+bool onOff(const std::string& flag, const std::string& v) {
+  if (v != "on" && v != "off") throw InputError(flag + " takes on or off, not '" + v + "'");
+  return v == "on";
 }
 
 }  // namespace
@@ -156,13 +179,53 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads)
       p.episode.max_start_rate = toDouble(a, v);
     } else if (a == "--gust") {
       p.episode.max_gust = toDouble(a, v);
-    } else if (a == "--input-noise") {
-      p.episode.input_noise = toDouble(a, v);
+    } else if (a == "--noise") {
+      p.episode.imu_noise.orientation = p.episode.imu_noise.angular_velocity = toDouble(a, v);
+    } else if (a == "--altitude-noise") {
+      p.episode.altitude_noise = toDouble(a, v);
+    } else if (a == "--wind" || a == "--altitude") {
+      if (i + 1 >= args.size()) throw InputError(a + " takes two values");
+      const double lo = toDouble(a, v), hi = toDouble(a, args[++i]);
+      if (a == "--wind") {
+        p.episode.min_wind = lo;
+        p.episode.max_wind = hi;
+      } else {
+        p.episode.altitude_hold = true;
+        p.episode.min_altitude = lo;
+        p.episode.max_altitude = hi;
+      }
+      o.spec_args.insert(o.spec_args.end(), {a, v, args[i]});
+      continue;
+    } else if (a == "--gust-torque") {
+      p.episode.gust_torque = toDouble(a, v);
+    } else if (a == "--gust-torque-time") {
+      p.episode.gust_torque_duration = toDouble(a, v);
+    } else if (a == "--gust-force") {
+      p.episode.gust_force = toDouble(a, v);
+    } else if (a == "--gust-force-time") {
+      p.episode.gust_force_duration = toDouble(a, v);
+    } else if (a == "--gust-link") {
+      p.episode.gust_link = v;
+    } else if (a == "--altitude-hold") {
+      p.episode.altitude_hold = onOff(a, v);
+    } else if (a == "--network") {
+      try {
+        p.controller.network = flapNetworkFromString(v);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(a + ": " + e.what());
+      }
+    } else if (a == "--hidden") {
+      p.controller.hidden = toInt(a, v);
+    } else if (a == "--rate-inputs") {
+      p.controller.rate_inputs = onOff(a, v);
+    } else if (a == "--altitude-input") {
+      p.controller.altitude_input = onOff(a, v);
+    } else if (a == "--com-drop") {
+      p.unit.body_com_drop = toDouble(a, v);
     } else if (a == "--flip-penalty") {
       p.episode.flip_penalty = toDouble(a, v);
     } else if (a == "--phase-lock") {
-      if (v != "on" && v != "off") throw InputError("--phase-lock takes on or off");
-      p.controller.phase_lock = v == "on";
+      p.controller.phase_lock = onOff(a, v);
     } else if (a == "--pitch-gain") {
       p.controller.pitch_gain = toDouble(a, v);
     } else if (a == "--step-sizes") {

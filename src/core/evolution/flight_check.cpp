@@ -1,6 +1,7 @@
 #include "flapsim/flight_check.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "flapsim/ga.h"
 
@@ -20,6 +21,15 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.episodes = p.starts;
   episode.seed = p.seed;
   episode.world.step_size = p.step_size;
+  episode.min_wind = episode.max_wind = p.wind;
+  episode.gust_torque = p.gust_torque;
+  episode.gust_force = p.gust_force;
+  episode.gust_link = p.gust_link;
+  episode.gust_torque_duration = episode.gust_force_duration = p.gust_time;
+  episode.imu_noise.orientation = episode.imu_noise.angular_velocity = p.noise;
+  episode.altitude_noise = p.altitude_noise;
+  episode.altitude_hold = p.altitude.has_value();
+  if (p.altitude) episode.min_altitude = episode.max_altitude = *p.altitude;
   const std::string err = validateEpisodeParams(episode);
   if (!err.empty()) throw InputError("flight check: " + err);
   return episode;
@@ -33,7 +43,7 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
   if (p.threads < 1) throw InputError("flight check: threads must be >= 1");
   const EpisodeParams episode = flightCheckEpisodes(p);
   // Roll uniform in +-max_roll (episodeStarts alternates the sign of |roll| in [0, max]).
-  const std::vector<EpisodeStart> starts = episodeStarts(episode);
+  const std::vector<EpisodeStart> starts = episodeStarts(episode, model.get());
   const AnnWingController ann(FlapUnitController(controller.params, controller.weights));
   std::vector<FlightCheckRun> runs(starts.size());
   parallelMap(static_cast<int>(starts.size()), p.threads, [&](int i) {
@@ -46,9 +56,45 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
     run.final_height = r.final_height;
     run.min_height = r.min_height;
     run.upright_fraction = r.upright_fraction;
+    run.altitude_rms = r.altitude_rms;
+    run.lateral_drift = r.lateral_drift;
+    run.mean_bank = r.mean_bank;
     return 0.0;
   });
   return runs;
+}
+
+std::string flightCheckReport(const FlightCheckParams& p, const std::vector<FlightCheckRun>& runs,
+                              const std::string& source, int& failed) {
+  constexpr double kDeg = 180.0 / M_PI;
+  char line[320];
+  std::snprintf(line, sizeof line, "%-5s %7s %7s %9s %7s %6s %8s %8s %7s %8s %8s %7s %6s\n",
+                "start", "roll", "pitch", "wind", "flipped", "min_up", "final_z", "min_z",
+                "upright", "alt_rms", "drift", "bank", "result");
+  std::string out = line;
+  failed = 0;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const FlightCheckRun& r = runs[i];
+    const bool ok = r.passed(p.start_height);
+    failed += ok ? 0 : 1;
+    const Vec3& w = r.start.wind;
+    char wind[32] = "-";
+    if (w.norm() > 0.0) {
+      std::snprintf(wind, sizeof wind, "%.1f@%.0f°", w.norm(), std::atan2(w.y(), w.x()) * kDeg);
+    }
+    char rms[16] = "-";
+    if (std::isfinite(r.altitude_rms)) std::snprintf(rms, sizeof rms, "%.3fm", r.altitude_rms);
+    std::snprintf(line, sizeof line,
+                  "%-5zu %6.1f° %6.1f° %9s %7s %6.3f %7.2fm %7.2fm %6.1f%% %8s %7.2fm %6.2f° %6s\n",
+                  i, r.start.roll * kDeg, r.start.pitch * kDeg, wind, r.flipped ? "yes" : "no",
+                  r.min_upright, r.final_height, r.min_height, 100.0 * r.upright_fraction, rms,
+                  r.lateral_drift, r.mean_bank * kDeg, ok ? "pass" : "FAIL");
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "%d of %zu starts passed (%s, %g s at %g ms)\n",
+                static_cast<int>(runs.size()) - failed, runs.size(), source.c_str(), p.duration,
+                1000.0 * p.step_size);
+  return out + line;
 }
 
 }  // namespace flapsim

@@ -1,0 +1,73 @@
+// What a controller of flap units measures, and how: an IMU on the root link (orientation,
+// angular velocity and specific force, each with seeded Gaussian noise), the joint encoders
+// (exact joint positions and velocities), and an altimeter (the root link frame's height
+// with Gaussian noise; through ROS the creature's odometry z stands in for it). The simulator
+// node's <creature>/imu and the episodes of evolution read the root through the same
+// imuReading() and the units through the same unitSensing(), so what was evolved is what
+// flies through ROS. The node's IMU has no delay: the reading stamped t is the state at t, and
+// a lockstep controller commands [t, t + P) from it, as an episode does. ROS-free; no clock.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flapsim/creature_model.h"
+#include "flapsim/types.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+
+/// Standard deviations of the IMU's noise (0: exact).
+struct ImuNoise {
+  /// rad: each component of a rotation vector in the root frame, q_sensed = q exp(n).
+  double orientation = 0.0;
+  double angular_velocity = 0.0;     // rad/s, per axis
+  double linear_acceleration = 0.0;  // m/s^2, per axis
+};
+
+/// Empty if every value is finite and in [0, 1000], else a message naming the bad one.
+std::string validateImuNoise(const ImuNoise& noise);
+
+/// The root link's IMU: its orientation in the world; in its own axes its angular velocity
+/// and the specific force an accelerometer at its centre of mass reads (acceleration -
+/// gravity: at rest +g up).
+struct ImuReading {
+  Quat orientation = Quat::Identity();
+  Vec3 angular_velocity = Vec3::Zero();
+  Vec3 linear_acceleration = Vec3::Zero();
+};
+
+/// The reading of `state`'s root link given its centre of mass's `acceleration`, plus
+/// `noise`. The standard normals come from `normal` in a fixed order: for each axis x, y, z
+/// the angular velocity's then the acceleration's, then the orientation's three (a zero
+/// deviation draws nothing), so a seeded generator repeats a run exactly.
+ImuReading imuReading(const CreatureState& state, const Vec3& acceleration, const Vec3& gravity,
+                      const ImuNoise& noise, const std::function<double()>& normal);
+
+/// The units of a flap-unit creature as its controller senses them.
+struct FlapSensing {
+  std::vector<Quat> orientations;  // per unit body, in the world
+  std::vector<Vec3> rates;         // per unit body, its angular velocity in its own axes (rad/s)
+  double altitude = 0.0;           // m: the root link frame's height, as the altimeter reads it
+  /// Not a measurement but the task: the altitude to hold (m, the root link frame's); none:
+  /// climb.
+  std::optional<double> setpoint;
+
+  FlapSensing() = default;
+  /// Orientations only (rates zero, altitude 0): enough for the paper's network.
+  explicit FlapSensing(std::vector<Quat> bodies)
+      : orientations(std::move(bodies)), rates(orientations.size(), Vec3::Zero()) {}
+};
+
+/// The bodies `body_links` (link indices of `model`) as sensed from the root's IMU reading
+/// and the joint encoders: forward kinematics through the joints from the root to each body
+/// (orientations, and angular velocities from the joint velocities). `joint_positions` and
+/// `joint_velocities` hold one value per model joint (fixed joints' are ignored). Throws
+/// InputError for a wrong count or a link index out of range.
+FlapSensing unitSensing(const CreatureModel& model, const std::vector<int>& body_links,
+                        const ImuReading& imu, const std::vector<double>& joint_positions,
+                        const std::vector<double>& joint_velocities, double altitude);
+
+}  // namespace flapsim

@@ -1,0 +1,268 @@
+// Episodes: the starts an evaluation draws (attitude, wind, gusts, setpoint, step size,
+// sensor noise) and one flight under a controller that reads the creature's sensors.
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "flapsim/control_loop.h"
+#include "flapsim/evolve.h"
+#include "flapsim/ga.h"
+
+namespace flapsim {
+
+// ---- Episodes ------------------------------------------------------------------------------
+
+std::string validateEpisodeParams(const EpisodeParams& p) {
+  if (!std::isfinite(p.duration) || p.duration <= 0.0) return "duration must be > 0";
+  if (!std::isfinite(p.start_height)) return "start_height must be finite";
+  if (!std::isfinite(p.min_roll) || !std::isfinite(p.max_roll) || p.min_roll < 0.0 ||
+      p.max_roll < p.min_roll) {
+    return "need 0 <= min_roll <= max_roll";
+  }
+  if (!std::isfinite(p.max_pitch) || p.max_pitch < 0.0) return "max_pitch must be >= 0";
+  if (!std::isfinite(p.max_start_rate) || p.max_start_rate < 0.0) {
+    return "max_start_rate must be >= 0";
+  }
+  if (!std::isfinite(p.max_gust) || p.max_gust < 0.0) return "max_gust must be >= 0";
+  if (!std::isfinite(p.min_wind) || !std::isfinite(p.max_wind) || p.min_wind < 0.0 ||
+      p.max_wind < p.min_wind || p.max_wind > kMaxPosition) {
+    return "need 0 <= min_wind <= max_wind (finite)";
+  }
+  const std::string imu = validateImuNoise(p.imu_noise);
+  if (!imu.empty()) return "imu_noise: " + imu;
+  if (!(p.altitude_noise >= 0.0 && p.altitude_noise <= 1e3)) {
+    return "altitude_noise must be in [0, 1000]";
+  }
+  if (!(std::abs(p.gust_torque) <= kMaxTorque) || !(std::abs(p.gust_force) <= kMaxForce)) {
+    return "gust_torque and gust_force must be finite (and at most 1e6)";
+  }
+  if (!(p.gust_torque_duration > 0.0 && p.gust_torque_duration <= p.duration) ||
+      !(p.gust_force_duration > 0.0 && p.gust_force_duration <= p.duration)) {
+    return "gust durations must be > 0 and at most the duration";
+  }
+  if (!(p.gust_window_start >= 0.0 && p.gust_window_start <= p.gust_window_end &&
+        p.gust_window_end <= 1.0)) {
+    return "need 0 <= gust_window_start <= gust_window_end <= 1";
+  }
+  if (p.altitude_hold &&
+      !(std::abs(p.min_altitude) <= kMaxPosition && std::abs(p.max_altitude) <= kMaxPosition &&
+        p.min_altitude <= p.max_altitude)) {
+    return "need min_altitude <= max_altitude (finite)";
+  }
+  if (!(p.tilt_weight >= 0.0 && p.tilt_weight <= 1e6)) return "tilt_weight must be >= 0";
+  if (!(p.settle_time >= 0.0 && p.settle_time <= 1e9)) return "settle_time must be >= 0";
+  if (!std::isfinite(p.flip_penalty) || p.flip_penalty < 0.0) return "flip_penalty must be >= 0";
+  for (double dt : p.step_sizes) {
+    WorldParams w = p.world;
+    w.step_size = dt;
+    if (!validateWorldParams(w).empty()) return "step_sizes: " + validateWorldParams(w);
+  }
+  if (p.episodes < 1) return "episodes must be >= 1";
+  const std::string w = validateWorldParams(p.world);
+  return w.empty() ? "" : "world: " + w;
+}
+
+std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureModel* model) {
+  Rng rng(mixSeed(p.seed, 0x57A27ULL));
+  std::vector<EpisodeStart> starts(std::max(p.episodes, 0));
+  for (size_t k = 0; k < starts.size(); ++k) {
+    const double roll = rng.uniform(p.min_roll, p.max_roll);
+    starts[k].roll = k % 2 == 0 ? roll : -roll;
+    starts[k].pitch = rng.uniform(-p.max_pitch, p.max_pitch);
+  }
+  // The robust draws come from streams of their own, so the paper's starts stay the same.
+  Rng robust(mixSeed(p.seed, 0x20B057ULL));
+  for (EpisodeStart& s : starts) {
+    for (int a = 0; a < 3; ++a) s.rate[a] = robust.uniform(-p.max_start_rate, p.max_start_rate);
+    const double heading = robust.uniform(0.0, 2.0 * M_PI);
+    const double speed = robust.uniform(0.0, p.max_gust);
+    s.gust = Vec3(speed * std::cos(heading), speed * std::sin(heading), 0.0);
+    s.gust_time = robust.uniform(0.0, 0.5 * p.duration);
+    if (!p.step_sizes.empty()) s.step_size = p.step_sizes[robust.index(p.step_sizes.size())];
+    s.noise_seed = robust.next();
+  }
+  // Wind, gusts and setpoints from a third stream: the same draws for every start whatever
+  // is switched on, so switching one on changes nothing else.
+  std::vector<std::string> wings;
+  if (p.gust_force != 0.0 && !p.gust_link.empty() && model != nullptr &&
+      model->findLink(p.gust_link) < 0) {
+    throw InputError("episode: '" + model->name + "' has no link '" + p.gust_link +
+                     "' (gust_link)");
+  }
+  if (p.gust_force != 0.0 && p.gust_link.empty()) {
+    if (model == nullptr) throw InputError("episode: a push on a drawn wing needs the creature");
+    for (int j : model->wing_joints) wings.push_back(model->links[model->joints[j].child_link].name);
+    if (wings.empty()) throw InputError("episode: '" + model->name + "' has no wing to push");
+  }
+  Rng disturb(mixSeed(p.seed, 0xD157B5ULL));
+  const double t0 = p.gust_window_start * p.duration, t1 = p.gust_window_end * p.duration;
+  for (EpisodeStart& s : starts) {
+    const double speed = disturb.uniform(p.min_wind, p.max_wind);
+    const double heading = disturb.uniform(0.0, 2.0 * M_PI);
+    s.wind = Vec3(speed * std::cos(heading), speed * std::sin(heading), 0.0);
+    s.torque_time = disturb.uniform(t0, t1);
+    s.torque_sign = disturb.bernoulli(0.5) ? 1.0 : -1.0;
+    s.force_time = disturb.uniform(t0, t1);
+    const double force_sign = disturb.bernoulli(0.5) ? 1.0 : -1.0;
+    const std::uint64_t wing = disturb.next();
+    const double altitude = disturb.uniform(p.min_altitude, p.max_altitude);
+    s.force_link = p.gust_link;
+    if (!wings.empty()) {
+      s.force_link = wings[wing % wings.size()];
+      s.force_sign = force_sign;
+    }
+    if (p.altitude_hold) s.altitude = altitude;
+  }
+  return starts;
+}
+
+namespace {
+
+// The units as the controller senses them (flapsim/sensors.h): the root's IMU with the
+// episode's noise, exact joint encoders, the altimeter with its noise.
+FlapSensing sense(const World& world, const std::string& name, const CreatureModel& model,
+                  const std::vector<int>& bodies, const EpisodeParams& p, Rng& rng) {
+  const CreatureState state = world.state(name);
+  const std::function<double()> normal = [&rng] { return rng.normal(); };
+  const ImuReading imu = imuReading(state, world.rootAcceleration(name), world.params().gravity,
+                                    p.imu_noise, normal);
+  double altitude = state.link_poses[0].position.z();
+  if (p.altitude_noise > 0.0) altitude += p.altitude_noise * rng.normal();
+  return unitSensing(model, bodies, imu, state.joint_positions, state.joint_velocities, altitude);
+}
+
+// The gusts of `start` due at sample `s` (the step of their time), applied to the world.
+void applyGusts(World& world, const std::string& name, const CreatureModel& model,
+                const EpisodeParams& p, const EpisodeStart& start, std::int64_t s,
+                double control_period) {
+  auto due = [&](double time) {
+    return static_cast<double>(s) == std::floor(time / control_period);
+  };
+  if (due(start.gust_time) && start.gust.squaredNorm() > 0.0) {
+    AirParams air = world.params().air;
+    air.wind += start.gust;
+    world.setAirParams(air);
+  }
+  if (p.gust_torque != 0.0 && due(start.torque_time)) {
+    ExternalWrench w;
+    w.torque = start.torque_sign * p.gust_torque * (world.rootPose(name).orientation * Vec3::UnitX());
+    w.duration = p.gust_torque_duration;
+    world.applyWrench(name, w);
+  }
+  if (p.gust_force != 0.0 && due(start.force_time)) {
+    const int link = model.findLink(start.force_link);
+    if (link < 0) {
+      throw InputError("episode: '" + model.name + "' has no link '" + start.force_link + "'");
+    }
+    ExternalWrench w;
+    w.link = start.force_link;
+    w.force = Vec3(0.0, 0.0, start.force_sign * p.gust_force);
+    w.point = world.state(name).link_poses[link].apply(model.links[link].com);
+    w.duration = p.gust_force_duration;
+    world.applyWrench(name, w);
+  }
+}
+
+// The running sums of an episode's samples.
+struct Tally {
+  double score = 0.0;
+  double bank = 0.0;
+  double altitude_sq = 0.0;
+  std::int64_t settled = 0;
+  std::int64_t samples = 0;
+};
+
+// One sample of the root at `root` (time `t`) into the result's extremes and the tally;
+// returns its score.
+double addSample(EpisodeResult& r, Tally& tally, const EpisodeParams& p, const EpisodeStart& start,
+                 const Pose& root, double t) {
+  const double z = root.position.z();
+  const Eigen::Matrix3d axes = root.orientation.toRotationMatrix();
+  const double up = axes(2, 2);
+  r.min_upright = std::min(r.min_upright, up);
+  r.min_height = std::min(r.min_height, z);
+  r.max_height = std::max(r.max_height, z);
+  r.final_height = z;
+  r.final_upright = up;
+  r.lateral_drift = std::hypot(root.position.x(), root.position.y());
+  if (up >= 0.5) r.upright_fraction += 1.0;
+  tally.bank += std::asin(std::clamp(axes(2, 1), -1.0, 1.0));
+  ++tally.samples;
+  if (!start.altitude) return z;
+  const double error = z - *start.altitude;
+  if (t > p.settle_time + 1e-9) {
+    tally.altitude_sq += error * error;
+    ++tally.settled;
+  }
+  return -std::abs(error) - p.tilt_weight * (1.0 - up);
+}
+
+}  // namespace
+
+EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& controller,
+                         double control_period, const EpisodeParams& p, const EpisodeStart& start,
+                         bool record_trace) {
+  const std::string err = validateEpisodeParams(p);
+  if (!err.empty()) throw InputError("episode: " + err);
+  WorldParams world_params = p.world;
+  if (start.step_size > 0.0) world_params.step_size = start.step_size;
+  world_params.air.wind += start.wind;
+  const ControlLoop loop(control_period, world_params.step_size);
+  const FlapUnitLayout layout = flapUnitLayout(*model);
+  std::vector<int> bodies;
+  for (const auto& name : layout.body_links) bodies.push_back(model->findLink(name));
+
+  World world(world_params);
+  // As a launch file's pose {xyz: [0, 0, h], rpy: [roll, pitch, 0]} gives it.
+  const Pose pose =
+      poseFromXyzRpy(Vec3(0.0, 0.0, p.start_height), Vec3(start.roll, start.pitch, 0.0));
+  const std::string name = "creature";
+  Twist twist;
+  twist.angular = start.rate;
+  world.spawn(name, model, pose, twist);
+
+  const std::int64_t samples = loop.periodsIn(p.duration);
+  Rng noise(start.noise_seed);
+  EpisodeResult result;
+  result.max_height = -std::numeric_limits<double>::infinity();
+  result.min_height = std::numeric_limits<double>::infinity();
+  Tally tally;
+  for (std::int64_t s = 0; s < samples; ++s) {
+    applyGusts(world, name, *model, p, start, s, control_period);
+    FlapSensing sensed = sense(world, name, *model, bodies, p, noise);
+    sensed.setpoint = start.altitude;
+    const std::vector<StrokeCommand> commands = controller.commands(sensed);
+    world.setWingCommands(name, layout.wing_joints, commands);
+    world.step(loop.stepsPerPeriod());
+
+    const Pose root = world.rootPose(name);
+    const double t = static_cast<double>(s + 1) * control_period;
+    const double score = addSample(result, tally, p, start, root, t);
+    result.flipped = result.flipped || result.final_upright < 0.0;
+    if (p.flip_penalty > 0.0 && result.flipped) {
+      // Upside down: the rest of the flight scores the score here less the penalty.
+      tally.score += static_cast<double>(samples - s) * (score - p.flip_penalty);
+      break;
+    }
+    tally.score += score;
+    if (record_trace) {
+      EpisodeSample sample;
+      sample.time = t;
+      sample.height = root.position.z();
+      sample.upright = result.final_upright;
+      for (const auto& c : commands) sample.downstroke.push_back(c.downstroke_rate);
+      result.trace.push_back(std::move(sample));
+    }
+  }
+  const double n = static_cast<double>(std::max<std::int64_t>(samples, 1));
+  result.fitness = tally.score / n;
+  result.upright_fraction /= n;
+  result.mean_bank = tally.bank / static_cast<double>(std::max<std::int64_t>(tally.samples, 1));
+  if (tally.settled > 0) {
+    result.altitude_rms = std::sqrt(tally.altitude_sq / static_cast<double>(tally.settled));
+  }
+  return result;
+}
+
+}  // namespace flapsim
