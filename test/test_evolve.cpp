@@ -49,9 +49,23 @@ TEST(Episodes, RobustDrawsStayInTheirRangesAndAreSeeded) {
   EpisodeParams p = robustPreset().episode;
   p.episodes = 16;
   p.seed = 5;
-  const auto a = episodeStarts(p), b = episodeStarts(p);
+  const CreatureModelPtr unit = creature(1);
+  const auto a = episodeStarts(p, unit.get()), b = episodeStarts(p, unit.get());
   int small_steps = 0;
   for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].wind.z(), 0.0);
+    EXPECT_LE(a[k].wind.norm(), p.max_wind);
+    EXPECT_GE(a[k].torque_time, p.gust_window_start * p.duration);
+    EXPECT_LE(a[k].torque_time, p.gust_window_end * p.duration);
+    EXPECT_GE(a[k].force_time, p.gust_window_start * p.duration);
+    EXPECT_LE(a[k].force_time, p.gust_window_end * p.duration);
+    EXPECT_TRUE(a[k].force_link == "unit0_wing_left" || a[k].force_link == "unit0_wing_right")
+        << a[k].force_link;
+    ASSERT_TRUE(a[k].altitude.has_value());
+    EXPECT_GE(*a[k].altitude, p.min_altitude);
+    EXPECT_LE(*a[k].altitude, p.max_altitude);
+    EXPECT_EQ(a[k].wind, b[k].wind);
+    EXPECT_EQ(a[k].force_link, b[k].force_link);
     EXPECT_LE(a[k].rate.cwiseAbs().maxCoeff(), 1.0);
     EXPECT_EQ(a[k].gust.z(), 0.0);
     EXPECT_LE(a[k].gust.norm(), 1.0);
@@ -84,14 +98,14 @@ TEST(Episodes, AFlipEndsTheEpisodeAtThePenalty) {
   no_ballast.body_com_drop = 0.0;
   const auto unit = parseCreatureModel(makeCreatureUrdf(1, "afc", no_ballast), "no ballast");
   const OpenLoopWingController open(StrokeCommand{60, 10, 1.2});
-  const EpisodeResult free_run = runEpisode(unit, open, 0.02, p, EpisodeStart{0.3, 0.0}, true);
+  const EpisodeResult free_run = runEpisode(unit, open, 0.02, p, attitudeStart(0.3, 0.0), true);
   ASSERT_TRUE(free_run.flipped) << "min up " << free_run.min_upright;
   size_t flip = 0;
   while (free_run.trace[flip].upright >= 0.0) ++flip;
   double before = 0.0;
   for (size_t i = 0; i < flip; ++i) before += free_run.trace[i].height;
   p.flip_penalty = 20.0;
-  const EpisodeResult penalised = runEpisode(unit, open, 0.02, p, EpisodeStart{0.3, 0.0});
+  const EpisodeResult penalised = runEpisode(unit, open, 0.02, p, attitudeStart(0.3, 0.0));
   EXPECT_TRUE(penalised.flipped);
   const double n = static_cast<double>(free_run.trace.size());
   const double expected = (before + (n - flip) * (free_run.trace[flip].height - 20.0)) / n;
@@ -103,7 +117,7 @@ TEST(Episodes, FitnessIsTheMeanSampledHeight) {
   EpisodeParams p;
   p.duration = 1.0;
   const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
-  const EpisodeResult r = runEpisode(creature(1), open, 0.02, p, EpisodeStart{0.05, 0.0}, true);
+  const EpisodeResult r = runEpisode(creature(1), open, 0.02, p, attitudeStart(0.05, 0.0), true);
   ASSERT_EQ(r.trace.size(), 50u);
   double sum = 0.0, max = -1e9;
   for (const auto& s : r.trace) {

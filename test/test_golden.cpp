@@ -228,10 +228,19 @@ TEST(Golden, ContactWrenchesAndThreads) {
 TEST(Golden, EvolvedControllerEpisode) {
   const ControllerSpec spec = loadControllerYaml(sourcePath("config/afc_1_weights.yaml"));
   const AnnWingController ann(FlapUnitController(spec.params, spec.weights));
-  EvolveParams e = robustPreset(1);
+  // The robust episodes of the controller's evolution, spelled out (the preset moves on).
+  EvolveParams e;
   e.episode.duration = 3.0;
   e.episode.seed = 7;
   e.episode.episodes = 2;
+  e.episode.min_roll = 0.0;
+  e.episode.max_roll = 0.35;
+  e.episode.max_pitch = 0.35;
+  e.episode.max_start_rate = 1.0;
+  e.episode.max_gust = 1.0;
+  e.episode.imu_noise.orientation = 0.02;
+  e.episode.step_sizes = {0.001, 0.0005};
+  e.episode.flip_penalty = 20.0;
   const CreatureModelPtr m = loadUrdf("afc_1.urdf");
   Trajectory t;
   const std::vector<EpisodeStart> starts = episodeStarts(e.episode);

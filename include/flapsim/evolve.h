@@ -102,21 +102,24 @@ struct EpisodeParams {
 std::string validateEpisodeParams(const EpisodeParams& params);
 
 struct EpisodeStart {
-  double roll = 0.0;         // rad about body x; > 0 = right wing low
-  double pitch = 0.0;        // rad about body y; > 0 = nose down
-  Vec3 rate = Vec3::Zero();  // rad/s, world frame
-  Vec3 gust = Vec3::Zero();  // m/s, horizontal wind step from gust_time on
-  double gust_time = 0.0;    // s
-  Vec3 wind = Vec3::Zero();  // m/s, steady from t = 0
-  double torque_time = 0.0;  // s: the roll torque gust starts
-  double torque_sign = 1.0;  // +1: a torque along +x of the body (rolls it right wing down)
-  double force_time = 0.0;   // s: the push on a wing starts
-  double force_sign = 1.0;   // +1: as EpisodeParams::gust_force says
-  std::string force_link;    // the link pushed
+  double roll = 0.0;               // rad about body x; > 0 = right wing low
+  double pitch = 0.0;              // rad about body y; > 0 = nose down
+  Vec3 rate = Vec3::Zero();        // rad/s, world frame
+  Vec3 gust = Vec3::Zero();        // m/s, horizontal wind step from gust_time on
+  double gust_time = 0.0;          // s
+  Vec3 wind = Vec3::Zero();        // m/s, steady from t = 0
+  double torque_time = 0.0;        // s: the roll torque gust starts
+  double torque_sign = 1.0;        // +1: a torque along +x of the body (rolls it right wing down)
+  double force_time = 0.0;         // s: the push on a wing starts
+  double force_sign = 1.0;         // +1: as EpisodeParams::gust_force says
+  std::string force_link;          // the link pushed
   std::optional<double> altitude;  // m: the setpoint (altitude hold)
   double step_size = 0.0;          // s; 0: the world's
   std::uint64_t noise_seed = 0;
 };
+
+/// A start at `roll` and `pitch` (rad), everything else still.
+EpisodeStart attitudeStart(double roll, double pitch);
 
 /// The `episodes` start attitudes drawn from `params.seed` (deterministic). `model` names
 /// the wings a push may be drawn on (needed only with gust_force and no gust_link).

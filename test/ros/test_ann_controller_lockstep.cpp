@@ -61,7 +61,7 @@ TEST(AnnControllerLockstep, MatchesTheInProcessEvaluation) {
   const flapsim::AnnWingController ann(flapsim::FlapUnitController(spec.params, spec.weights));
   const flapsim::EpisodeResult in_process =
       flapsim::runEpisode(flapsim::loadCreatureModel(urdf), ann, period, episode,
-                          flapsim::EpisodeStart{roll, pitch}, true);
+                          flapsim::attitudeStart(roll, pitch), true);
   // Diagnostics: where the two flights part, if they do (they need not be bit-identical).
   for (long k = 1; k <= samples; ++k) {
     const double d = height[k] - in_process.trace[k - 1].height;

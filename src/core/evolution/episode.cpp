@@ -63,6 +63,13 @@ std::string validateEpisodeParams(const EpisodeParams& p) {
   return w.empty() ? "" : "world: " + w;
 }
 
+EpisodeStart attitudeStart(double roll, double pitch) {
+  EpisodeStart s;
+  s.roll = roll;
+  s.pitch = pitch;
+  return s;
+}
+
 std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureModel* model) {
   Rng rng(mixSeed(p.seed, 0x57A27ULL));
   std::vector<EpisodeStart> starts(std::max(p.episodes, 0));
@@ -92,7 +99,8 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureMo
   }
   if (p.gust_force != 0.0 && p.gust_link.empty()) {
     if (model == nullptr) throw InputError("episode: a push on a drawn wing needs the creature");
-    for (int j : model->wing_joints) wings.push_back(model->links[model->joints[j].child_link].name);
+    for (int j : model->wing_joints)
+      wings.push_back(model->links[model->joints[j].child_link].name);
     if (wings.empty()) throw InputError("episode: '" + model->name + "' has no wing to push");
   }
   Rng disturb(mixSeed(p.seed, 0xD157B5ULL));
@@ -125,8 +133,8 @@ FlapSensing sense(const World& world, const std::string& name, const CreatureMod
                   const std::vector<int>& bodies, const EpisodeParams& p, Rng& rng) {
   const CreatureState state = world.state(name);
   const std::function<double()> normal = [&rng] { return rng.normal(); };
-  const ImuReading imu = imuReading(state, world.rootAcceleration(name), world.params().gravity,
-                                    p.imu_noise, normal);
+  const ImuReading imu =
+      imuReading(state, world.rootAcceleration(name), world.params().gravity, p.imu_noise, normal);
   double altitude = state.link_poses[0].position.z();
   if (p.altitude_noise > 0.0) altitude += p.altitude_noise * rng.normal();
   return unitSensing(model, bodies, imu, state.joint_positions, state.joint_velocities, altitude);
@@ -146,7 +154,8 @@ void applyGusts(World& world, const std::string& name, const CreatureModel& mode
   }
   if (p.gust_torque != 0.0 && due(start.torque_time)) {
     ExternalWrench w;
-    w.torque = start.torque_sign * p.gust_torque * (world.rootPose(name).orientation * Vec3::UnitX());
+    w.torque =
+        start.torque_sign * p.gust_torque * (world.rootPose(name).orientation * Vec3::UnitX());
     w.duration = p.gust_torque_duration;
     world.applyWrench(name, w);
   }
