@@ -19,7 +19,7 @@ namespace flapsim {
 double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& controller,
                    const std::vector<double>& weights, const EpisodeParams& params) {
   const AnnWingController ann(FlapUnitController(controller, weights));
-  const std::vector<EpisodeStart> starts = episodeStarts(params);
+  const std::vector<EpisodeStart> starts = episodeStarts(params, model.get());
   double sum = 0.0;
   for (const auto& start : starts) {
     sum += runEpisode(model, ann, controller.control_period, params, start).fitness;
@@ -37,8 +37,8 @@ EvolveParams paperPreset(int pairs) {
 EvolveParams robustPreset(int pairs) {
   EvolveParams p;
   p.pairs = pairs;
-  p.ga.population = 24;
-  p.ga.generations = 60;
+  p.ga.population = 32;
+  p.ga.generations = 100;
   FlapControllerParams& c = p.controller;
   c.network = FlapNetwork::kMirror;
   c.rate_inputs = true;
@@ -52,8 +52,8 @@ EvolveParams robustPreset(int pairs) {
   e.max_pitch = 0.52;
   e.max_start_rate = 1.0;
   e.max_wind = 2.0;
-  e.imu_noise.orientation = 0.05;
-  e.imu_noise.angular_velocity = 0.05;
+  e.imu_noise.orientation = 0.1;
+  e.imu_noise.angular_velocity = 0.1;
   e.altitude_noise = 0.05;
   e.gust_torque = 0.05;
   e.gust_force = 1.0;
@@ -62,7 +62,7 @@ EvolveParams robustPreset(int pairs) {
   e.max_altitude = 8.0;
   e.step_sizes = {0.001, 0.0005};
   e.flip_penalty = 20.0;
-  e.episodes = 8;
+  e.episodes = 12;
   return p;
 }
 
