@@ -3,7 +3,6 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -104,26 +103,13 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
 }
 
 ControllerSpec loadControllerYaml(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read controller YAML '" + path + "'");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return controllerFromYaml(buf.str(), path);
-}
-
-void writeTextFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-}
-
-std::string readTextFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  std::string text;
+  try {
+    text = readTextFile(path, kMaxControllerFileBytes);
+  } catch (const InputError& e) {
+    throw std::runtime_error(std::string("controller YAML ") + e.what());
+  }
+  return controllerFromYaml(text, path);
 }
 
 }  // namespace flapsim

@@ -1,7 +1,6 @@
 #include "flapsim/creature_model.h"
 
 #include <console_bridge/console.h>
-#include <sys/stat.h>
 #include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
@@ -17,6 +16,7 @@
 #include <sstream>
 
 #include "flapsim/air_model.h"
+#include "flapsim/text_file.h"
 
 namespace flapsim {
 
@@ -512,26 +512,11 @@ std::optional<Vec3> spanAxis(const CreatureModel& model, int link) {
 }
 
 std::string readUrdfFile(const std::string& path) {
-  struct stat info {};
-  if (::stat(path.c_str(), &info) != 0) throw ModelError(path + ": cannot open file");
-  if (!S_ISREG(info.st_mode)) throw ModelError(path + ": not a regular file");
-  if (static_cast<std::uintmax_t>(info.st_size) > kMaxUrdfFileBytes) {
-    throw ModelError(path + ": " + std::to_string(info.st_size) + " bytes, over the limit of " +
-                     std::to_string(kMaxUrdfFileBytes) + " bytes");
+  try {
+    return readTextFile(path, kMaxUrdfFileBytes);
+  } catch (const InputError& e) {
+    throw ModelError(e.what());
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError(path + ": cannot open file");
-  // In chunks, stopping past the limit: the file may have grown since stat().
-  std::string text;
-  text.reserve(static_cast<size_t>(info.st_size));
-  char chunk[65536];
-  while (text.size() <= kMaxUrdfFileBytes && in.read(chunk, sizeof chunk).gcount() > 0) {
-    text.append(chunk, static_cast<size_t>(in.gcount()));
-  }
-  if (text.size() > kMaxUrdfFileBytes) {
-    throw ModelError(path + ": over the limit of " + std::to_string(kMaxUrdfFileBytes) + " bytes");
-  }
-  return text;
 }
 
 CreatureModelPtr loadCreatureModel(const std::string& path) {

@@ -21,7 +21,7 @@ flapsim::EvaluateEpisodes::Request request(int weight_count, std::vector<int> ep
 }
 
 TEST(Worker, ABatchGetsTheRunnersFitnessPerTaskInOrder) {
-  flapsim_ros::RunnerCache cache;
+  flapsim::RunnerCache cache;
   const flapsim::EpisodeRunner runner(flapsim::evaluationSpecFromArgs(kSpec));
   const int n = runner.weightCount();
   const auto req = request(n, {1, 0, 1});
@@ -36,7 +36,7 @@ TEST(Worker, ABatchGetsTheRunnersFitnessPerTaskInOrder) {
 }
 
 TEST(Worker, BadRequestsAreRefusedNamingTheFault) {
-  flapsim_ros::RunnerCache cache;
+  flapsim::RunnerCache cache;
   const int n = flapsim::EpisodeRunner(flapsim::evaluationSpecFromArgs(kSpec)).weightCount();
   auto expectRefused = [&](const flapsim::EvaluateEpisodes::Request& req, const std::string& why) {
     const auto res = flapsim_ros::evaluateEpisodes(cache, req);
@@ -46,7 +46,7 @@ TEST(Worker, BadRequestsAreRefusedNamingTheFault) {
   };
   auto bad_spec = request(n, {0});
   bad_spec.spec = {"--preset", "fast"};
-  expectRefused(bad_spec, "bad spec: unknown preset 'fast'");
+  expectRefused(bad_spec, "bad spec: --preset: 'fast' is not one of robust, paper");
   auto short_batch = request(n, {0, 1});
   short_batch.weights.pop_back();
   expectRefused(short_batch, "malformed batch");
