@@ -40,4 +40,19 @@ TEST(EvolveCli, ResumeEndsWithTheFilesOfTheUninterruptedRun) {
   std::filesystem::remove_all(dir);
 }
 
+// Issue 27, case 8: a checkpoint whose args were given `--weights <elsewhere>` made
+// `evolve --resume` write there. It is refused (exit 2) and nothing is written.
+TEST(EvolveCli, ATamperedCheckpointWritesNothingOutsideTheRun) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("flapsim_evolve_tamper_" + std::to_string(::getpid()));
+  const std::string run = (dir / "run").string(), elsewhere = (dir / "elsewhere.yaml").string();
+  ASSERT_EQ(evolve(kFlags + " --generations 0 --out " + run), 0);
+  flapsim::EvolveCheckpoint c = flapsim::readCheckpointFile(run + "/checkpoint.txt");
+  c.args.insert(c.args.end(), {"--weights", elsewhere});
+  flapsim::writeCheckpointFile(run + "/checkpoint.txt", c);
+  EXPECT_EQ(evolve(" --resume " + run + " --generations 1 --no-plot") / 256, 2);
+  EXPECT_FALSE(std::filesystem::exists(elsewhere));
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace

@@ -1,5 +1,6 @@
 #include "flapsim/evolve_args.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -207,15 +208,16 @@ void checkSpecArgs(const std::vector<std::string>& spec_args) {
   o.preset = presetOf(spec_args);
   o.params = o.preset == "paper" ? paperPreset() : robustPreset();
   CliParser table = evolveTable(o);
+  // The flags first, before any value is read: values never start with "--".
   for (const std::string& a : spec_args) {
-    if (a == "--help" || a == "-h") throw InputError("spec: '" + a + "' is not a flag of a run");
-  }
-  for (const CliSeen& s : table.parse(spec_args)) {
-    if (s.flag->tag != kSpec && s.flag->names.front() != "--preset") {
-      throw InputError("spec: '" + s.flag->names.front() +
-                       "' is not a flag of the evolution's definition");
+    for (const CliFlag& f : table.flags()) {
+      if (f.tag == kSpec || f.names.front() == "--preset") continue;
+      if (std::find(f.names.begin(), f.names.end(), a) != f.names.end() || a == "--help") {
+        throw InputError("spec: '" + a + "' is not a flag of the evolution's definition");
+      }
     }
   }
+  table.parse(spec_args);
 }
 
 EvaluationSpec evaluationSpecFromArgs(const std::vector<std::string>& spec_args) {
