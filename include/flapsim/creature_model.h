@@ -83,8 +83,8 @@ struct CreatureModel {
 
 using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 
-/// Parses URDF text; `source` names it in errors. Throws ModelError naming the
-/// source and the link or joint at fault.
+/// Parses URDF text of at most kMaxUrdfFileBytes; `source` names it in errors. Throws
+/// ModelError naming the source and the link or joint at fault.
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
                                     const std::string& source = "<string>");
 
@@ -100,6 +100,10 @@ constexpr double kMaxUrdfInertia = 1e6;
 /// The text of a URDF file: a regular file (not a directory, FIFO or device) of at most
 /// kMaxUrdfFileBytes. Throws ModelError naming the file and what is wrong.
 std::string readUrdfFile(const std::string& path);
+
+/// The lowest z of the corners of the model's boxes with its links at `link_poses` (link
+/// frames in the world); +infinity for a model without boxes.
+double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses);
 
 /// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.
 CreatureModelPtr loadCreatureModel(const std::string& path);

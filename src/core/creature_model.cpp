@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <locale>
 #include <map>
 #include <mutex>
@@ -319,6 +320,10 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
 }  // namespace
 
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::string& source) {
+  if (urdf_xml.size() > kMaxUrdfFileBytes) {
+    throw ModelError(source + ": " + std::to_string(urdf_xml.size()) +
+                     " bytes, over the limit of " + std::to_string(kMaxUrdfFileBytes) + " bytes");
+  }
   Annotations notes = readAnnotations(urdf_xml, source);
 
   urdf::ModelInterfaceSharedPtr urdf;
@@ -517,6 +522,20 @@ std::string readUrdfFile(const std::string& path) {
   } catch (const InputError& e) {
     throw ModelError(e.what());
   }
+}
+
+double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (size_t l = 0; l < model.links.size() && l < link_poses.size(); ++l) {
+    for (const Box& box : model.links[l].boxes) {
+      const Pose frame = link_poses[l] * box.origin;
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 half(corner & 1 ? 0.5 : -0.5, corner & 2 ? 0.5 : -0.5, corner & 4 ? 0.5 : -0.5);
+        lowest = std::min(lowest, frame.apply(half.cwiseProduct(box.size)).z());
+      }
+    }
+  }
+  return lowest;
 }
 
 CreatureModelPtr loadCreatureModel(const std::string& path) {

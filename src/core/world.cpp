@@ -466,6 +466,10 @@ class World::Impl {
       throw InputError("creature '" + creature + "': wrench duration " +
                        std::to_string(w.duration) + " s is shorter than half a step");
     }
+    if (r.wrenches.size() >= static_cast<size_t>(kMaxWrenches)) {
+      throw InputError("creature '" + creature + "' has " + std::to_string(kMaxWrenches) +
+                       " wrenches acting, the limit: clear some first");
+    }
     const BodyKinematics kin = bodies_[c]->frames.kinematics(k);
     ActiveWrench a;
     a.link = k;
@@ -858,7 +862,7 @@ void World::applyWrench(const std::string& creature, const ExternalWrench& wrenc
   if (!finite(wrench.point) || wrench.point.cwiseAbs().maxCoeff() > kMaxPosition) {
     throw InputError(prefix + "point must be finite, each coordinate within +-1e6 m");
   }
-  if (!std::isfinite(wrench.duration) || wrench.duration > 1e9) {
+  if (!std::isfinite(wrench.duration) || wrench.duration > kMaxWrenchDuration) {
     throw InputError(prefix + "duration must be finite and at most 1e9 s (< 0: until cleared)");
   }
   impl_->applyWrench(creature, wrench);
