@@ -29,6 +29,10 @@ using flapsim::FarmError;
 
 // ---- Worker --------------------------------------------------------------------------------
 
+/// Empty if a batch of `tasks` tasks of `weight_count` weights, `weights` in all, is within
+/// kMaxTasksPerCall and well formed, else why not.
+std::string batchFault(std::size_t tasks, std::size_t weights, std::uint32_t weight_count);
+
 /// Answers one request: success and one fitness per task, or success=false and a message
 /// naming the fault without evaluating anything: too many tasks (kMaxTasksPerCall), a bad
 /// spec (flapsim::checkSpecArgs), a malformed batch, a wrong weight count, too much work
@@ -37,7 +41,8 @@ flapsim::EvaluateEpisodes::Response evaluateEpisodes(flapsim::RunnerCache& cache
                                                      const flapsim::EvaluateEpisodes::Request& req);
 
 /// flapsim_worker: ~evaluate_episodes on `~threads` threads (one request per
-/// thread at a time; default: the hardware's).
+/// thread at a time; default: the hardware's). A request over the limits of a batch is
+/// refused from its serialized bytes, before its arrays are copied.
 class EpisodeWorkerNode {
  public:
   EpisodeWorkerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
@@ -46,8 +51,9 @@ class EpisodeWorkerNode {
   const std::string& serviceName() const { return service_name_; }
 
  private:
-  bool onEvaluate(flapsim::EvaluateEpisodes::Request& req,
-                  flapsim::EvaluateEpisodes::Response& res);
+  /// Answers `req` (null: refused from its bytes, `res` holds why) and logs a refusal.
+  void answer(const flapsim::EvaluateEpisodes::Request* req,
+              flapsim::EvaluateEpisodes::Response& res);
 
   ros::NodeHandle nh_, pnh_;
   int threads_ = 1;

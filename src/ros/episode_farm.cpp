@@ -1,9 +1,13 @@
 #include "flapsim_ros/episode_farm.h"
 
+#include <malloc.h>
 #include <ros/master.h>
+#include <ros/service_callback_helper.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
+#include <functional>
 #include <sstream>
 #include <thread>
 
@@ -45,22 +49,25 @@ std::string requestTasks(const flapsim::EpisodeRunner& runner,
 
 }  // namespace
 
+std::string batchFault(std::size_t tasks, std::size_t weights, std::uint32_t weight_count) {
+  if (tasks > static_cast<size_t>(flapsim::kMaxTasksPerCall)) {
+    return "too many tasks: " + std::to_string(tasks) + ", over the limit of " +
+           std::to_string(flapsim::kMaxTasksPerCall) + " per call";
+  }
+  if (weights != static_cast<size_t>(weight_count) * tasks) {
+    return "malformed batch: " + std::to_string(weights) + " weights for " + std::to_string(tasks) +
+           " tasks of " + std::to_string(weight_count);
+  }
+  return "";
+}
+
 flapsim::EvaluateEpisodes::Response evaluateEpisodes(
     flapsim::RunnerCache& cache, const flapsim::EvaluateEpisodes::Request& req) {
   flapsim::EvaluateEpisodes::Response res;
   res.success = false;
-  const size_t n = req.episodes.size();
   // What sizes the work and memory comes first: nothing is built for a call refused here.
-  if (n > static_cast<size_t>(flapsim::kMaxTasksPerCall)) {
-    res.message = "too many tasks: " + std::to_string(n) + ", over the limit of " +
-                  std::to_string(flapsim::kMaxTasksPerCall) + " per call";
-    return res;
-  }
-  if (req.weights.size() != static_cast<size_t>(req.weight_count) * n) {
-    res.message = "malformed batch: " + std::to_string(req.weights.size()) + " weights for " +
-                  std::to_string(n) + " tasks of " + std::to_string(req.weight_count);
-    return res;
-  }
+  res.message = batchFault(req.episodes.size(), req.weights.size(), req.weight_count);
+  if (!res.message.empty()) return res;
   std::shared_ptr<const flapsim::EpisodeRunner> runner;
   try {
     runner = cache.get(req.spec);
@@ -82,12 +89,84 @@ flapsim::EvaluateEpisodes::Response evaluateEpisodes(
   return res;
 }
 
+namespace {
+
+struct RequestCounts {
+  std::uint32_t weight_count = 0, weights = 0, episodes = 0;
+};
+
+// The counts of a serialized EvaluateEpisodes request, read in place (its arrays are not
+// copied); false if the bytes end before them.
+bool peekCounts(const std::uint8_t* data, std::size_t size, RequestCounts& n) {
+  std::size_t at = 0;
+  auto u32 = [&](std::uint32_t& v) {
+    if (size - at < 4) return false;
+    std::memcpy(&v, data + at, 4);
+    at += 4;
+    return true;
+  };
+  std::uint32_t strings = 0, length = 0;
+  if (!u32(strings)) return false;
+  for (std::uint32_t i = 0; i < strings; ++i) {
+    if (!u32(length) || size - at < length) return false;
+    at += length;
+  }
+  if (!u32(n.weight_count) || !u32(n.weights) || (size - at) / 8 < n.weights) return false;
+  at += static_cast<std::size_t>(n.weights) * 8;
+  return u32(n.episodes);
+}
+
+// ~evaluate_episodes: a request whose counts are beyond the limits is refused from its bytes,
+// before they are copied into a request (roscpp's own helper held an 80 MB batch twice); the
+// others are deserialized and given to `answer`.
+class EvaluateHelper : public ros::ServiceCallbackHelper {
+ public:
+  using Answer = std::function<void(const flapsim::EvaluateEpisodes::Request*,
+                                    flapsim::EvaluateEpisodes::Response&)>;
+  explicit EvaluateHelper(Answer answer) : answer_(std::move(answer)) {}
+  bool call(ros::ServiceCallbackHelperCallParams& params) override {
+    const ros::SerializedMessage& m = params.request;
+    const std::size_t size = m.num_bytes - (m.message_start - m.buf.get());
+    flapsim::EvaluateEpisodes::Response res;
+    res.success = false;
+    RequestCounts n;
+    res.message = peekCounts(m.message_start, size, n)
+                      ? batchFault(n.episodes, n.weights, n.weight_count)
+                      : "malformed request: it ends before its arrays";
+    if (res.message.empty()) {
+      flapsim::EvaluateEpisodes::Request req;
+      ros::serialization::deserializeMessage(m, req);
+      answer_(&req, res);
+    } else {
+      answer_(nullptr, res);
+    }
+    params.response = ros::serialization::serializeServiceResponse(true, res);
+    return true;
+  }
+
+ private:
+  Answer answer_;
+};
+
+}  // namespace
+
 EpisodeWorkerNode::EpisodeWorkerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
     : nh_(nh), pnh_(pnh) {
   threads_ = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   pnh_.param("threads", threads_, threads_);
   if (threads_ < 1 || threads_ > 256) throw std::invalid_argument("~threads must be in [1, 256]");
-  server_ = pnh_.advertiseService(kEvaluateServiceName, &EpisodeWorkerNode::onEvaluate, this);
+  // Blocks of 1 MiB and more (a large request, its strings) are mapped and handed back when
+  // freed: glibc's threshold would otherwise rise to the size of the last one freed (up to
+  // 32 MiB), and the next ones would stay in the heap (+32 MB after the campaign's calls).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  ros::AdvertiseServiceOptions options;
+  options.init<flapsim::EvaluateEpisodes>(
+      kEvaluateServiceName, [](flapsim::EvaluateEpisodes::Request&,
+                               flapsim::EvaluateEpisodes::Response&) { return false; });
+  options.helper = boost::make_shared<EvaluateHelper>(
+      [this](const flapsim::EvaluateEpisodes::Request* req,
+             flapsim::EvaluateEpisodes::Response& res) { answer(req, res); });
+  server_ = pnh_.advertiseService(options);
   service_name_ = server_.getService();
   if (service_name_.rfind(std::string(kFarmNamespace) + "/", 0) != 0) {
     ROS_WARN_STREAM("flapsim_worker: " << service_name_ << " is not under " << kFarmNamespace
@@ -98,16 +177,15 @@ EpisodeWorkerNode::EpisodeWorkerNode(const ros::NodeHandle& nh, const ros::NodeH
                                              << " thread(s)");
 }
 
-bool EpisodeWorkerNode::onEvaluate(flapsim::EvaluateEpisodes::Request& req,
-                                   flapsim::EvaluateEpisodes::Response& res) {
-  res = evaluateEpisodes(cache_, req);
+void EpisodeWorkerNode::answer(const flapsim::EvaluateEpisodes::Request* req,
+                               flapsim::EvaluateEpisodes::Response& res) {
+  if (req != nullptr) res = evaluateEpisodes(cache_, *req);
   if (!res.success) {
     ROS_WARN_STREAM_THROTTLE(5.0, "flapsim_worker: refused a batch: " << res.message);
   } else {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     tasks_done_ += res.fitness.size();
   }
-  return true;
 }
 
 void EpisodeWorkerNode::run() {
