@@ -83,8 +83,8 @@ struct CreatureModel {
 
 using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 
-/// Parses URDF text of at most kMaxUrdfFileBytes; `source` names it in errors. Throws
-/// ModelError naming the source and the link or joint at fault.
+/// Parses URDF text; `source` names it in errors. Throws ModelError naming the
+/// source and the link or joint at fault.
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
                                     const std::string& source = "<string>");
 

@@ -320,10 +320,6 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
 }  // namespace
 
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::string& source) {
-  if (urdf_xml.size() > kMaxUrdfFileBytes) {
-    throw ModelError(source + ": " + std::to_string(urdf_xml.size()) +
-                     " bytes, over the limit of " + std::to_string(kMaxUrdfFileBytes) + " bytes");
-  }
   Annotations notes = readAnnotations(urdf_xml, source);
 
   urdf::ModelInterfaceSharedPtr urdf;

@@ -93,6 +93,46 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p) {
   return starts;
 }
 
+namespace {
+
+// World steps per control period: a positive whole number, else InputError.
+int stepsPerControl(double control_period, double step) {
+  const double steps_real = control_period / step;
+  const int steps = static_cast<int>(std::lround(steps_real));
+  if (!(control_period > 0.0) || steps < 1 || std::abs(steps_real - steps) > 1e-9 * steps_real) {
+    throw InputError("control period " + std::to_string(control_period) +
+                     " s is not a positive multiple of the step " + std::to_string(step) + " s");
+  }
+  return steps;
+}
+
+// Control periods of an episode. Bounded by validateEpisodeParams (samples <= steps <=
+// kMaxEpisodeSteps), so an int holds it: a 1e9 s episode overflowed it and scored 0.
+int episodeSamples(double duration, double control_period) {
+  const double samples = std::round(duration / control_period);
+  if (!(samples <= kMaxEpisodeSteps)) {
+    throw InputError("episode: " + std::to_string(samples) + " control periods, over the limit");
+  }
+  return static_cast<int>(samples);
+}
+
+// The unit bodies' orientations as the attitude sensor reads them: each tilted by a small
+// random rotation (normal, `noise` rad per axis) if noise > 0.
+void readAttitudes(const CreatureState& state, const std::vector<int>& bodies, double noise,
+                   Rng& rng, std::vector<Quat>& out) {
+  for (size_t u = 0; u < bodies.size(); ++u) {
+    out[u] = state.link_poses[bodies[u]].orientation;
+    if (noise > 0.0) {
+      const Vec3 tilt(noise * rng.normal(), noise * rng.normal(), 0.0);
+      out[u] = Quat(Eigen::AngleAxisd(
+                   tilt.norm(), tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitX())) *
+               out[u];
+    }
+  }
+}
+
+}  // namespace
+
 EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& controller,
                          double control_period, const EpisodeParams& p, const EpisodeStart& start,
                          bool record_trace) {
@@ -100,13 +140,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   if (!err.empty()) throw InputError("episode: " + err);
   WorldParams world_params = p.world;
   if (start.step_size > 0.0) world_params.step_size = start.step_size;
-  const double step = world_params.step_size;
-  const double steps_real = control_period / step;
-  const int steps = static_cast<int>(std::lround(steps_real));
-  if (!(control_period > 0.0) || steps < 1 || std::abs(steps_real - steps) > 1e-9 * steps_real) {
-    throw InputError("control period " + std::to_string(control_period) +
-                     " s is not a positive multiple of the step " + std::to_string(step) + " s");
-  }
+  const int steps = stepsPerControl(control_period, world_params.step_size);
   const FlapUnitLayout layout = flapUnitLayout(*model);
   std::vector<int> bodies;
   for (const auto& name : layout.body_links) bodies.push_back(model->findLink(name));
@@ -120,13 +154,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   twist.angular = start.rate;
   world.spawn(name, model, pose, twist);
 
-  // Bounded by validateEpisodeParams (samples <= steps <= kMaxEpisodeSteps): an int holds it.
-  const double samples_real = std::round(p.duration / control_period);
-  if (!(samples_real <= kMaxEpisodeSteps)) {
-    throw InputError("episode: " + std::to_string(samples_real) +
-                     " control periods, over the limit");
-  }
-  const int samples = static_cast<int>(samples_real);
+  const int samples = episodeSamples(p.duration, control_period);
   const int gust_sample = static_cast<int>(std::floor(start.gust_time / control_period));
   Rng noise(start.noise_seed);
   EpisodeResult result;
@@ -140,18 +168,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
       air.wind += start.gust;
       world.setAirParams(air);
     }
-    CreatureState state = world.state(name);
-    for (size_t u = 0; u < bodies.size(); ++u) {
-      orientations[u] = state.link_poses[bodies[u]].orientation;
-      if (p.input_noise > 0.0) {
-        // A noisy attitude sensor: the reading tilted by a small random rotation.
-        const Vec3 tilt(p.input_noise * noise.normal(), p.input_noise * noise.normal(), 0.0);
-        orientations[u] =
-            Quat(Eigen::AngleAxisd(tilt.norm(),
-                                   tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitX())) *
-            orientations[u];
-      }
-    }
+    readAttitudes(world.state(name), bodies, p.input_noise, noise, orientations);
     const std::vector<StrokeCommand> commands = controller.commands(orientations);
     world.setWingCommands(name, layout.wing_joints, commands);
     world.step(steps);

@@ -136,6 +136,10 @@ std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std
   const std::string err = validateCreatureName(name);
   if (!err.empty()) throw flapsim::InputError(err);
   if (world_.has(name)) throw flapsim::InputError("creature name '" + name + "' is taken");
+  if (urdf_xml.size() > flapsim::kMaxUrdfFileBytes) {  // a file's limit, for any URDF text
+    throw flapsim::InputError(source + ": " + std::to_string(urdf_xml.size()) +
+                              " bytes, over the limit of 16 MiB");
+  }
   flapsim::CreatureModelPtr model = flapsim::parseCreatureModel(urdf_xml, source);
   world_.spawn(name, model, pose, twist);
   auto c = std::make_unique<Creature>();

@@ -247,7 +247,7 @@ TEST_F(NodeGuards, AUrdfXmlOverTheFileLimitIsRefusedByName) {
   ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
   EXPECT_FALSE(s.response.success);
   EXPECT_EQ(s.response.status_message,
-            "spawn request 'huge': 16777225 bytes, over the limit of 16777216 bytes");
+            "spawn request 'huge': 16777225 bytes, over the limit of 16 MiB");
   flapsim::GetState g;
   g.request.name = "huge";
   ASSERT_TRUE(ros::service::call("/flapsim/get_state", g));
