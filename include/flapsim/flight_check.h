@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "flapsim/cli_args.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
 
@@ -28,13 +29,14 @@ struct FlightCheckParams {
   double step_size = 0.001;   // s
   int threads = 1;            // results do not depend on it
   // Disturbances (EpisodeParams says how each is drawn per start from `seed`).
-  double wind = 0.0;         // m/s: steady from t = 0, from a heading drawn per start
-  double gust_torque = 0.0;  // N m: a roll torque at a drawn time (10-60 % of the flight), sign drawn
-  double gust_force = 0.0;   // N: a vertical push (> 0: up) on gust_link at a drawn time
-  std::string gust_link;     // empty: a wing drawn per start, pushed up or down
-  double gust_time = 0.5;    // s: how long each gust acts
-  double noise = 0.0;        // the IMU's noise: orientation (rad) and angular velocity (rad/s)
-  double altitude_noise = 0.0;    // m: the altimeter's
+  double wind = 0.0;  // m/s: steady from t = 0, from a heading drawn per start
+  double gust_torque =
+      0.0;  // N m: a roll torque at a drawn time (10-60 % of the flight), sign drawn
+  double gust_force = 0.0;      // N: a vertical push (> 0: up) on gust_link at a drawn time
+  std::string gust_link;        // empty: a wing drawn per start, pushed up or down
+  double gust_time = 0.5;       // s: how long each gust acts
+  double noise = 0.0;           // the IMU's noise: orientation (rad) and angular velocity (rad/s)
+  double altitude_noise = 0.0;  // m: the altimeter's
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
 
@@ -60,12 +62,22 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
                                         const FlightCheckParams& params);
 
+/// The flight_check tool's settings.
+struct FlightCheckOptions {
+  FlightCheckParams params;
+  std::string weights;  // controller weights YAML (required)
+  std::string urdf;     // a creature of flap units from a URDF file; empty: make_creature
+  int pairs = 1;        // make_creature --pairs
+};
+
+/// flight_check's flags (flapsim/cli_args.h), over `options`.
+CliParser flightCheckCli(FlightCheckOptions& options);
+
 /// The table flight_check prints: a line per start (start attitude and wind, flipped, lowest
 /// up-component, final and lowest height, time upright, altitude error rms after 10 s, lateral
-/// drift, mean bank, pass or FAIL) and a summary naming `source`; `failed` gets the number of
-/// starts that did not pass.
-std::string flightCheckReport(const FlightCheckParams& params,
-                              const std::vector<FlightCheckRun>& runs, const std::string& source,
-                              int& failed);
+/// drift, mean bank, pass or FAIL) and a summary; `failed` gets the number of starts that did
+/// not pass.
+std::string flightCheckReport(const FlightCheckOptions& options,
+                              const std::vector<FlightCheckRun>& runs, int wing_pairs, int& failed);
 
 }  // namespace flapsim

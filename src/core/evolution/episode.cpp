@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <sstream>
 
 #include "flapsim/control_loop.h"
 #include "flapsim/evolve.h"
@@ -13,54 +14,85 @@ namespace flapsim {
 
 // ---- Episodes ------------------------------------------------------------------------------
 
-std::string validateEpisodeParams(const EpisodeParams& p) {
-  if (!std::isfinite(p.duration) || p.duration <= 0.0) return "duration must be > 0";
-  if (!std::isfinite(p.start_height)) return "start_height must be finite";
-  if (!std::isfinite(p.min_roll) || !std::isfinite(p.max_roll) || p.min_roll < 0.0 ||
-      p.max_roll < p.min_roll) {
-    return "need 0 <= min_roll <= max_roll";
-  }
-  if (!std::isfinite(p.max_pitch) || p.max_pitch < 0.0) return "max_pitch must be >= 0";
-  if (!std::isfinite(p.max_start_rate) || p.max_start_rate < 0.0) {
-    return "max_start_rate must be >= 0";
-  }
-  if (!std::isfinite(p.max_gust) || p.max_gust < 0.0) return "max_gust must be >= 0";
-  if (!std::isfinite(p.min_wind) || !std::isfinite(p.max_wind) || p.min_wind < 0.0 ||
-      p.max_wind < p.min_wind || p.max_wind > kMaxPosition) {
-    return "need 0 <= min_wind <= max_wind (finite)";
+namespace {
+
+// "<name> must be in [lo, hi]" unless lo <= x <= hi (NaN is outside).
+std::string range(const char* name, double x, double lo, double hi, const char* unit = "") {
+  if (x >= lo && x <= hi) return "";
+  std::ostringstream msg;
+  msg << name << " must be in [" << lo << ", " << hi << "]" << unit;
+  return msg.str();
+}
+
+// The disturbances' and the altitude hold's settings.
+std::string validateDisturbances(const EpisodeParams& p) {
+  if (!(p.min_wind >= 0.0 && p.max_wind >= p.min_wind && p.max_wind <= kMaxGust)) {
+    return "need 0 <= min_wind <= max_wind <= " + std::to_string(static_cast<int>(kMaxGust));
   }
   const std::string imu = validateImuNoise(p.imu_noise);
   if (!imu.empty()) return "imu_noise: " + imu;
-  if (!(p.altitude_noise >= 0.0 && p.altitude_noise <= 1e3)) {
-    return "altitude_noise must be in [0, 1000]";
+  for (const std::string& err :
+       {range("altitude_noise", p.altitude_noise, 0.0, 1e3, " m"),
+        range("gust_torque", p.gust_torque, -kMaxTorque, kMaxTorque, " N m"),
+        range("gust_force", p.gust_force, -kMaxForce, kMaxForce, " N"),
+        range("gust_torque_duration", p.gust_torque_duration, 1e-9, p.duration, " s"),
+        range("gust_force_duration", p.gust_force_duration, 1e-9, p.duration, " s"),
+        range("gust_window_start", p.gust_window_start, 0.0, 1.0),
+        range("gust_window_end", p.gust_window_end, p.gust_window_start, 1.0),
+        range("tilt_weight", p.tilt_weight, 0.0, 1e6),
+        range("settle_time", p.settle_time, 0.0, kMaxEpisodeDuration, " s")}) {
+    if (!err.empty()) return err;
   }
-  if (!(std::abs(p.gust_torque) <= kMaxTorque) || !(std::abs(p.gust_force) <= kMaxForce)) {
-    return "gust_torque and gust_force must be finite (and at most 1e6)";
-  }
-  if (!(p.gust_torque_duration > 0.0 && p.gust_torque_duration <= p.duration) ||
-      !(p.gust_force_duration > 0.0 && p.gust_force_duration <= p.duration)) {
-    return "gust durations must be > 0 and at most the duration";
-  }
-  if (!(p.gust_window_start >= 0.0 && p.gust_window_start <= p.gust_window_end &&
-        p.gust_window_end <= 1.0)) {
-    return "need 0 <= gust_window_start <= gust_window_end <= 1";
-  }
-  if (p.altitude_hold &&
-      !(std::abs(p.min_altitude) <= kMaxPosition && std::abs(p.max_altitude) <= kMaxPosition &&
-        p.min_altitude <= p.max_altitude)) {
+  if (p.altitude_hold && !(p.min_altitude >= -kMaxPosition && p.max_altitude <= kMaxPosition &&
+                           p.min_altitude <= p.max_altitude)) {
     return "need min_altitude <= max_altitude (finite)";
   }
-  if (!(p.tilt_weight >= 0.0 && p.tilt_weight <= 1e6)) return "tilt_weight must be >= 0";
-  if (!(p.settle_time >= 0.0 && p.settle_time <= 1e9)) return "settle_time must be >= 0";
-  if (!std::isfinite(p.flip_penalty) || p.flip_penalty < 0.0) return "flip_penalty must be >= 0";
-  for (double dt : p.step_sizes) {
-    WorldParams w = p.world;
-    w.step_size = dt;
-    if (!validateWorldParams(w).empty()) return "step_sizes: " + validateWorldParams(w);
-  }
-  if (p.episodes < 1) return "episodes must be >= 1";
+  return "";
+}
+
+}  // namespace
+
+std::string validateEpisodeParams(const EpisodeParams& p) {
   const std::string w = validateWorldParams(p.world);
-  return w.empty() ? "" : "world: " + w;
+  if (!w.empty()) return "world: " + w;
+  if (!(p.duration > 0.0 && p.duration <= kMaxEpisodeDuration)) {
+    return "duration must be in (0, " + std::to_string(static_cast<int>(kMaxEpisodeDuration)) +
+           "] s";
+  }
+  if (p.episodes < 1 || p.episodes > kMaxEpisodes) {
+    return "episodes must be in [1, " + std::to_string(kMaxEpisodes) + "]";
+  }
+  if (!(p.min_roll >= 0.0 && p.max_roll >= p.min_roll && p.max_roll <= M_PI)) {
+    return "need 0 <= min_roll <= max_roll <= pi";
+  }
+  for (const std::string& err :
+       {range("start_height", p.start_height, -kMaxPosition, kMaxPosition, " m"),
+        range("max_pitch", p.max_pitch, 0.0, M_PI, " rad"),
+        range("max_start_rate", p.max_start_rate, 0.0, kMaxStartRate, " rad/s"),
+        range("max_gust", p.max_gust, 0.0, kMaxGust, " m/s"),
+        range("flip_penalty", p.flip_penalty, 0.0, kMaxFlipPenalty, " m")}) {
+    if (!err.empty()) return err;
+  }
+  const std::string d = validateDisturbances(p);
+  if (!d.empty()) return d;
+  if (p.step_sizes.size() > static_cast<size_t>(kMaxStepSizes)) {
+    return "step_sizes: more than " + std::to_string(kMaxStepSizes);
+  }
+  std::vector<double> steps = p.step_sizes;
+  if (steps.empty()) steps.push_back(p.world.step_size);
+  for (double dt : steps) {
+    WorldParams step_only;
+    step_only.step_size = dt;
+    const std::string err = validateWorldParams(step_only);
+    if (!err.empty()) return "step_sizes: " + err;
+    if (p.duration / dt > kMaxEpisodeSteps) {
+      std::ostringstream msg;
+      msg << "duration / step size = " << p.duration / dt << " steps, over the limit of "
+          << kMaxEpisodeSteps << " per episode";
+      return msg.str();
+    }
+  }
+  return "";
 }
 
 EpisodeStart attitudeStart(double roll, double pitch) {

@@ -64,8 +64,46 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
   return runs;
 }
 
-std::string flightCheckReport(const FlightCheckParams& p, const std::vector<FlightCheckRun>& runs,
-                              const std::string& source, int& failed) {
+CliParser flightCheckCli(FlightCheckOptions& o) {
+  FlightCheckParams& p = o.params;
+  CliParser t("usage: flight_check --weights FILE [options]");
+  t.text("--weights", "FILE", &o.weights, "controller weights YAML (evolve's output; required)")
+      .integer("--pairs", "N", &o.pairs, {1, 1000}, "the creature: make_creature --pairs N, or")
+      .text("--urdf", "FILE", &o.urdf, "a creature of flap units from a URDF file")
+      .integer("--starts", "N", &p.starts, {1, kMaxEpisodes}, "held-out starts")
+      .seed("--seed", "S", &p.seed, "their seed (it also draws headings, gust times, wings)")
+      .real("--roll", "R", &p.max_roll, {0, M_PI}, "start roll uniform in +-R rad")
+      .real("--pitch", "P", &p.max_pitch, {0, M_PI}, "start pitch uniform in +-P rad")
+      .real("--duration", "T", &p.duration, {0, kMaxEpisodeDuration, true}, "s")
+      .real("--step-size", "DT", &p.step_size, {1e-6, 0.1}, "s")
+      .integer("--threads", "N", &p.threads, {1, 256},
+               "parallel flights; results do not depend on it")
+      .real("--wind", "SPEED", &p.wind, {0, 1e3},
+            "steady wind from t = 0, m/s, from a heading drawn per start")
+      .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
+            "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
+      .real("--gust-force", "N", &p.gust_force, {-1e6, 1e6},
+            "a vertical push (> 0: up) on --gust-link at a time drawn per start")
+      .text("--gust-link", "LINK", &p.gust_link,
+            "the link pushed (default: a wing drawn per start, up or down)")
+      .real("--gust-time", "S", &p.gust_time, {0, kMaxEpisodeDuration, true},
+            "how long each gust acts, s")
+      .real("--noise", "RAD", &p.noise, {0, 1e3},
+            "IMU noise: orientation RAD rad, angular velocity RAD rad/s")
+      .real("--altitude-noise", "M", &p.altitude_noise, {0, 1e3}, "altimeter noise, m")
+      .custom(
+          "--altitude", {"M"},
+          [&p](const std::vector<std::string>& v) {
+            p.altitude = parseCliReal("--altitude", v[0], {-1e6, 1e6});
+          },
+          [&p] { return p.altitude ? formatCliNumber(*p.altitude) : std::string("climb"); },
+          "hold M m (the root link frame's height); default: climb");
+  return t;
+}
+
+std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<FlightCheckRun>& runs,
+                              int wing_pairs, int& failed) {
+  const FlightCheckParams& p = o.params;
   constexpr double kDeg = 180.0 / M_PI;
   char line[320];
   std::snprintf(line, sizeof line, "%-5s %7s %7s %9s %7s %6s %8s %8s %7s %8s %8s %7s %6s\n",
@@ -91,9 +129,11 @@ std::string flightCheckReport(const FlightCheckParams& p, const std::vector<Flig
                   r.lateral_drift, r.mean_bank * kDeg, ok ? "pass" : "FAIL");
     out += line;
   }
-  std::snprintf(line, sizeof line, "%d of %zu starts passed (%s, %g s at %g ms)\n",
-                static_cast<int>(runs.size()) - failed, runs.size(), source.c_str(), p.duration,
-                1000.0 * p.step_size);
+  std::snprintf(line, sizeof line, "%d of %zu starts passed (",
+                static_cast<int>(runs.size()) - failed, runs.size());
+  out += line + o.weights;
+  std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s))\n", p.duration,
+                1000.0 * p.step_size, wing_pairs);
   return out + line;
 }
 
