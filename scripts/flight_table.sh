@@ -1,0 +1,40 @@
+#!/bin/bash
+# The README's flight table: flight_check of one controller in the issue-23 conditions (20
+# held-out starts within +-30 deg, 60 s), one markdown row per condition and step size.
+# usage: scripts/flight_table.sh WEIGHTS PAIRS [STEP_SIZES...]   (default steps: 0.001 0.0005)
+set -u
+weights=$1
+pairs=$2
+shift 2
+steps=${*:-0.001 0.0005}
+fc=$(dirname "$0")/../build/devel/lib/flapsim/flight_check
+conditions=("still air|" "wind 1 m/s|--wind 1" "wind 2 m/s|--wind 2"
+  "roll torque 0.05 N m, 0.5 s|--gust-torque 0.05 --gust-time 0.5"
+  "1 N up on one wing, 0.2 s|--gust-force 1 --gust-time 0.2"
+  "attitude noise 0.1 rad|--noise 0.1" "hold 5 m|--altitude 5"
+  "hold 5 m, wind 1 m/s|--altitude 5 --wind 1")
+echo "| condition | step | passed | flips | lowest up | final height | mean abs bank | max drift | alt. rms after 10 s |"
+echo "|---|---|---|---|---|---|---|---|---|"
+for c in "${conditions[@]}"; do
+  name=${c%%|*}
+  flags=${c#*|}
+  for dt in $steps; do
+    # shellcheck disable=SC2086
+    "$fc" --weights "$weights" --pairs "$pairs" --roll 0.52 --pitch 0.52 --starts 20 \
+      --duration 60 --step-size "$dt" --threads 2 $flags |
+      awk -v name="$name" -v dt="$dt" '
+        $1 ~ /^[0-9]+$/ && $2 != "of" {
+          n++; if ($5 == "yes") flips++; if ($13 == "pass") passed++
+          up = $6 + 0; if (n == 1 || up < minup) minup = up
+          z = $7 + 0; if (n == 1 || z < zlo) zlo = z; if (n == 1 || z > zhi) zhi = z
+          b = $12 + 0; bank += (b < 0 ? -b : b)
+          d = $11 + 0; if (d > drift) drift = d
+          if ($10 != "-") { r = $10 + 0; if (r > rms) rms = r; hold = 1 }
+        }
+        END {
+          printf "| %s | %g ms | %d/%d | %d | %.3f | %.1f to %.1f m | %.2f deg | %.1f m | %s |\n",
+            name, dt * 1000, passed, n, flips, minup, zlo, zhi, bank / n, drift,
+            hold ? sprintf("max %.2f m", rms) : "-"
+        }'
+  done
+done
