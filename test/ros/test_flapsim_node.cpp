@@ -238,13 +238,17 @@ TEST_F(Node, TopicsCarryFramesJointNamesAndSimStamps) {
   ASSERT_TRUE(plate);
   EXPECT_EQ(plate->child_frame_id, "plate/plate");
 
-  for (const char* frame : {"flap_unit/unit0_body", "flap_unit/unit0_wing_left",
-                            "flap_unit/unit0_wing_right", "plate/plate"}) {
+  // the tree of the URDF: the roots in the world, the wings on the body
+  for (const auto& [parent, frame] : std::vector<std::pair<std::string, std::string>>{
+           {"world", "flap_unit/unit0_body"},
+           {"flap_unit/unit0_body", "flap_unit/unit0_wing_left"},
+           {"flap_unit/unit0_body", "flap_unit/unit0_wing_right"},
+           {"world", "plate/plate"}}) {
     const geometry_msgs::TransformStamped* tr = nullptr;
     EXPECT_TRUE(waitUntil([&] { return (tr = findTf(tf_, frame, t)) != nullptr; }))
         << "no tf for " << frame << " at " << t;
     if (tr) {
-      EXPECT_EQ(tr->header.frame_id, "world");
+      EXPECT_EQ(tr->header.frame_id, parent);
     }
   }
 
