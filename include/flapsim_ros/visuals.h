@@ -22,11 +22,12 @@ constexpr const char* kViewFrame = "flapsim/view";
 /// Frame id of the camera of config/flapsim.rviz (rviz's FrameAligned view along its +x,
 /// z up): it looks at the view frame from ViewParams' direction (cameraPose).
 constexpr const char* kCameraFrame = "flapsim/camera";
-/// rviz's vertical field of view (rad): the camera's distance keeps a sphere of the creatures'
-/// radius inside it.
+/// rviz's vertical field of view (rad); the camera's distance keeps the creatures inside it.
 constexpr double kCameraFieldOfView = 0.785398;
-/// m added to the radius of the creatures' link origins about their centroid (a wing reaches
-/// past its link's origin; the view frame lags a little).
+/// Width / height of the view the camera's distance is chosen for (rviz's default window).
+constexpr double kCameraAspect = 4.0 / 3.0;
+/// m kept between a link's origin and the edge of the view (a wing reaches past its link's
+/// origin; the view frame lags a little).
 constexpr double kCameraMargin = 0.4;
 /// Time constant (s of sim time) with which the view frame follows the creatures: slow enough
 /// to hide the flapping, fast enough to keep a climbing unit in view.
@@ -49,12 +50,11 @@ flapsim::Vec3 centreOfMass(const flapsim::CreatureModel& model, const flapsim::C
 geometry_msgs::TransformStamped viewTransform(const flapsim::Vec3& position, const ros::Time& stamp,
                                               const std::string& world_frame);
 
-/// The largest distance of a point of `points` from `centre` (0 if there are none).
-double spreadRadius(const std::vector<flapsim::Vec3>& points, const flapsim::Vec3& centre);
-
-/// How far the camera stands from the view frame: `least`, or farther, so that a sphere of
-/// `radius` + kCameraMargin about it fills at most rviz's field of view.
-double cameraDistance(double radius, double least);
+/// How far the camera stands from `target` (flapsim/view), looking at it from `view`'s
+/// direction: `least`, or farther, so that every one of `points` lies inside rviz's view (its
+/// vertical field of view kCameraFieldOfView, a 4:3 window), kCameraMargin from its edges.
+double cameraDistance(const std::vector<flapsim::Vec3>& points, const flapsim::Vec3& target,
+                      const ViewParams& view, double least);
 
 /// The camera frame: at `distance` from `target` in the direction of `view` (yaw, pitch), its
 /// +x axis pointing at `target`, its z axis up (in the vertical plane of the two).

@@ -335,9 +335,9 @@ void SimulatorNode::updateView(const ros::Time& stamp) {
     centroid += centreOfMass(*c->model, s);
     for (const flapsim::Pose& p : s.link_poses) origins.push_back(p.position);
   }
-  centroid /= static_cast<double>(creatures_.size());
-  const double distance = cameraDistance(spreadRadius(origins, centroid), params_.view.distance);
-  view_.update(centroid, stamp.toSec());
+  view_.update(centroid / static_cast<double>(creatures_.size()), stamp.toSec());
+  const double distance =
+      cameraDistance(origins, view_.position(), params_.view, params_.view.distance);
   view_distance_.update(flapsim::Vec3(distance, 0.0, 0.0), stamp.toSec());
 }
 

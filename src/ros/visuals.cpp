@@ -120,14 +120,18 @@ geometry_msgs::TransformStamped viewTransform(const flapsim::Vec3& position, con
   return t;
 }
 
-double spreadRadius(const std::vector<flapsim::Vec3>& points, const flapsim::Vec3& centre) {
-  double r = 0.0;
-  for (const flapsim::Vec3& p : points) r = std::max(r, (p - centre).norm());
-  return r;
-}
-
-double cameraDistance(double radius, double least) {
-  return std::max(least, (radius + kCameraMargin) / std::sin(0.5 * kCameraFieldOfView));
+double cameraDistance(const std::vector<flapsim::Vec3>& points, const flapsim::Vec3& target,
+                      const ViewParams& view, double least) {
+  const Eigen::Matrix3d axes = cameraPose(target, 1.0, view).orientation.toRotationMatrix();
+  const double up = std::tan(0.5 * kCameraFieldOfView), across = kCameraAspect * up;
+  double distance = least;
+  for (const flapsim::Vec3& p : points) {
+    // in the camera's axes: x ahead (towards the target), y left, z up
+    const flapsim::Vec3 r = axes.transpose() * (p - target);
+    distance = std::max({distance, (std::abs(r.z()) + kCameraMargin) / up - r.x(),
+                         (std::abs(r.y()) + kCameraMargin) / across - r.x()});
+  }
+  return distance;
 }
 
 flapsim::Pose cameraPose(const flapsim::Vec3& target, double distance, const ViewParams& view) {
@@ -153,7 +157,7 @@ visualization_msgs::Marker viewReadout(const ros::Time& stamp, const flapsim::Ve
   m.pose.position.x = 1.0;
   m.pose.position.z = 0.34;
   m.pose.orientation.w = 1.0;
-  m.scale.z = 0.045;  // m: the height of a capital letter, about 1/18 of the view
+  m.scale.z = 0.035;  // m: the height of a capital letter, about 1/23 of the view
   m.color.r = m.color.g = m.color.b = 0.9f;
   m.color.a = 1.0f;
   char text[64];
