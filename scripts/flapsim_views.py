@@ -189,10 +189,12 @@ def _pixels(png):
         return im.convert("RGB").tobytes()
 
 
-def rviz_args(width, height, bare_args=False):
-    """rviz.py arguments for a bare, full-screen 3D view (no panels, menus or cursor): as a
-    launch argument, or (bare_args) as they are."""
+def rviz_args(width, height, bare_args=False, config=None):
+    """rviz.py arguments for a bare, full-screen 3D view (no panels, menus or cursor), of
+    `config` (default: the package's): as a launch argument, or (bare_args) as they are."""
     args = f"--bare --size {width}x{height} --fullscreen"
+    if config:
+        args += f" --config {os.path.abspath(config)}"
     return args if bare_args else f"rviz_args:={args}"
 
 

@@ -4,6 +4,7 @@
 screenshot.py --out FILE.png --at T [--size 800x600] LAUNCH [launch args ...]
 screenshot.py --out FILE.png --at T [--size 800x600] --bag FILE.bag [replay.launch args ...]
 screenshot.py --out FILE.png [--at T] [--size 800x600] --attach [--port N]
+(each also with --rviz-config FILE: an rviz config of your own)
 e.g. screenshot.py --out doc/flap_unit.png --at 3 flap_unit.launch
 
 Starts a private X server and `roslaunch flapsim LAUNCH rviz:=true paused:=true` with a bare,
@@ -54,33 +55,35 @@ def main(argv):
     parser.add_argument("--timeout", type=float, default=120.0, help="wall seconds at most")
     parser.add_argument("--bag", help="replay this bag instead of running a scenario")
     parser.add_argument("--summary", help="YAML file: the creature markers rviz was given")
+    parser.add_argument("--rviz-config", help="an rviz config of your own")
     parser.add_argument("launch", nargs=argparse.REMAINDER, help="launch file and its args")
     args = parser.parse_args(argv)
     if args.attach or args.port:
         t, counts = shoot_attached(views.master_uri(args.port), args.out, args.at or 0.0,
-                                   args.size, args.min_pixels, args.timeout, args.summary)
+                                   args.size, args.min_pixels, args.timeout, args.summary,
+                                   args.rviz_config)
     elif args.at is None:
         parser.error("--at is needed (but with --attach)")
     elif args.bag:
         t, counts = shoot_replay(args.bag, args.out, args.at, args.size, args.min_pixels,
-                                 args.timeout, args.launch)
+                                 args.timeout, args.launch, config=args.rviz_config)
     else:
         t, counts = shoot(args.launch, args.out, args.at, args.size, args.min_pixels,
-                          args.timeout, summary=args.summary)
+                          args.timeout, summary=args.summary, config=args.rviz_config)
     print(f"{args.out}: t = {t:.2f} s, {counts[0]} creature pixels, {counts[1]} arrow pixels")
     return 0
 
 
 # One screenshot per process: rospy initialises its node once.
 def shoot(launch, out, at, size="800x600", min_pixels=50, timeout=120.0, log=None,
-          summary=None):
+          summary=None, config=None):
     """Runs the scenario to sim time `at` and saves a screenshot; returns (t, pixel counts)."""
     width, height = (int(v) for v in size.split("x"))
     out = os.path.abspath(out)
     log = log or os.path.splitext(out)[0] + ".log"
     with views.xvfb(width, height) as display:
         with views.roslaunch(list(launch) + ["rviz:=true", "paused:=true",
-                                             views.rviz_args(width, height)],
+                                             views.rviz_args(width, height, config=config)],
                              display, log) as (proc, env):
             views.use_master(env)
             views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
@@ -89,7 +92,7 @@ def shoot(launch, out, at, size="800x600", min_pixels=50, timeout=120.0, log=Non
             rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__(0, m.clock.to_sec()))
             seen = Seen(width / height)
             master = rosgraph.Master(rospy.get_name())
-            pattern = re.compile(TOPICS)
+            pattern = re.compile(TOPICS if not config else "/clock|/tf")  # a config's own
             # rviz, and with record:=true the recorder too, before the flight starts
             listeners = ["/rviz"] + (["/record"] if "record:=true" in launch else [])
             views.wait_for(lambda: not any(starter.unconnected(master, "/flapsim", n, pattern)
@@ -109,14 +112,15 @@ def shoot(launch, out, at, size="800x600", min_pixels=50, timeout=120.0, log=Non
             return t, counts
 
 
-def shoot_attached(uri, out, at, size="800x600", min_pixels=50, timeout=120.0, summary=None):
+def shoot_attached(uri, out, at, size="800x600", min_pixels=50, timeout=120.0, summary=None,
+                   config=None):
     """Starts an rviz of its own on the running simulation of master `uri`, and saves a
     screenshot once sim time reaches `at`; returns (t, pixel counts)."""
     width, height = (int(v) for v in size.split("x"))
     out = os.path.abspath(out)
     with views.xvfb(width, height) as display:
         with views.rviz_attached(uri, display, os.path.splitext(out)[0] + ".log",
-                                 views.rviz_args(width, height, bare_args=True)) as (_, name, env):
+                                 views.rviz_args(width, height, True, config)) as (_, name, env):
             views.use_master(env)
             views.wait_for(rosgraph.is_master_online, 30, f"the ROS master at {uri}")
             rospy.init_node("flapsim_screenshot", anonymous=True, disable_signals=True)
@@ -124,7 +128,7 @@ def shoot_attached(uri, out, at, size="800x600", min_pixels=50, timeout=120.0, s
             rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__(0, m.clock.to_sec()))
             seen = Seen(width / height)
             master = rosgraph.Master(rospy.get_name())
-            pattern = re.compile(TOPICS)
+            pattern = re.compile(TOPICS if not config else "/clock|/tf")  # a config's own
             missing = []
 
             def received():
@@ -205,7 +209,7 @@ def rotate_back(q, v):
 
 
 def shoot_replay(bag, out, at, size="800x600", min_pixels=50, timeout=120.0, launch_args=(),
-                 log=None):
+                 log=None, config=None):
     """Replays `bag` into rviz, pauses the playback at sim time `at` and saves a screenshot;
     returns (t, pixel counts)."""
     width, height = (int(v) for v in size.split("x"))
@@ -216,7 +220,7 @@ def shoot_replay(bag, out, at, size="800x600", min_pixels=50, timeout=120.0, lau
         # still pause it (on a busy machine the end may come before the pause).
         with views.roslaunch(["replay.launch", f"bag:={os.path.abspath(bag)}",
                               "play_args:=--keep-alive"] + list(launch_args) +
-                             [views.rviz_args(width, height)],
+                             [views.rviz_args(width, height, config=config)],
                              display, log) as (proc, env):
             views.use_master(env)
             views.wait_for(rosgraph.is_master_online, 30, "the ROS master")

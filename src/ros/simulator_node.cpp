@@ -444,8 +444,8 @@ void SimulatorNode::run() {
     if (paused_) {
       queue_.callAvailable(ros::WallDuration(kPausedPoll));
       tf_->serveNewSubscribers(now());
-      // As gazebo's: /clock goes on while paused (rospy's subscribers of one topic share a
-      // connection, so `rostopic echo /clock` misses the message a new connection gets).
+      // /clock goes on while paused: rospy's subscribers of one topic share a connection, so
+      // `rostopic echo /clock` with use_sim_time may miss the message a new connection gets.
       if (paused_ && (ros::WallTime::now() - clock_wall_).toSec() >= kPausedClockPeriod) {
         clock_wall_ = ros::WallTime::now();
         clock_pub_.publish(clockMsg());

@@ -154,6 +154,16 @@ class Views(unittest.TestCase):
         creature, _ = views.pixel_counts(png)
         self.assertGreaterEqual(creature, 8 * 100, f"{png}: fewer creature pixels than 8 units")
 
+    def test_robot_model_display_with_tf_prefix_draws_a_chain(self):
+        """rviz's RobotModel display (config/robot_model_afc.rviz: afc/robot_description, TF
+        prefix afc; no creature markers) draws the 4-unit chain from the tf tree."""
+        png = os.path.join(OUT, "robot_model_afc_4.png")
+        out = run("screenshot.py", "--out", png, "--at", "1", "--rviz-config",
+                  os.path.join(PKG, "config", "robot_model_afc.rviz"), "afc.launch", "pairs:=4")
+        self.assertGreaterEqual(shot_time(out), 1.0)
+        creature, _ = views.pixel_counts(png)
+        self.assertGreaterEqual(creature, 4 * MIN_CREATURE, f"{png}: the chain is not drawn")
+
     def test_attach_films_a_simulation_already_running(self):
         """screenshot.py and render_movie.py --port: a flight started on its own (a master of
         its own, no rviz) is filmed by an rviz they start on it, which they leave running."""
