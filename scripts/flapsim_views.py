@@ -13,7 +13,10 @@ import subprocess
 import tempfile
 import time
 
+import rosgraph
+import rospy
 from PIL import Image
+from rosgraph_msgs.msg import Clock
 
 # Colours of rviz's background (48, 48, 48) and grid are grey; the creatures' materials
 # (wings and plates 0.95 0.8 0.3, bodies 0.25 0.3 0.45) are not, nor are the force arrows
@@ -96,13 +99,18 @@ def roslaunch(args, display, log_path):
     try:
         yield proc, env
     finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                proc.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        stop(proc)
+
+
+def stop(proc):
+    """Interrupts a process group started with start_new_session (SIGKILL after 30 s)."""
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
 
 
 @contextlib.contextmanager
@@ -120,13 +128,7 @@ def rviz_attached(master_uri, display, log_path, rviz_args):
     try:
         yield proc, name, env
     finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                proc.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        stop(proc)
 
 
 def master_uri(port):
@@ -137,6 +139,18 @@ def master_uri(port):
     if not uri:
         raise RuntimeError("--attach needs ROS_MASTER_URI (or --port)")
     return uri
+
+
+def join(env, node, what="the ROS master"):
+    """Makes this process a node `node` (anonymous) of the master of `env` once it is up, and
+    follows its /clock; returns a one-element list that holds the latest sim time (-1 before
+    the first)."""
+    use_master(env)
+    wait_for(rosgraph.is_master_online, 30, what)
+    rospy.init_node(node, anonymous=True, disable_signals=True)
+    latest = [-1.0]
+    rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__(0, m.clock.to_sec()))
+    return latest
 
 
 def use_master(env):

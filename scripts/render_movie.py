@@ -24,7 +24,6 @@ whatever real-time factor it ran at. It neither pauses nor unpauses the simulati
 import argparse
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import time
@@ -34,7 +33,6 @@ import re
 import rosbag
 import rosgraph
 import rospy
-from rosgraph_msgs.msg import Clock
 from std_srvs.srv import SetBool
 
 import flapsim_views as views
@@ -102,12 +100,7 @@ def render(bag, out, size="640x480", speed=1.0, rate=0.5, fps=25, distance=None,
                                   f"distance:={distance or ''}", "start:=false",
                                   views.rviz_args(width, height)],
                                  display, os.path.join(work, "roslaunch.log")) as (proc, env):
-                views.use_master(env)
-                views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
-                rospy.init_node("flapsim_movie", anonymous=True, disable_signals=True)
-                latest = [-1.0]
-                rospy.Subscriber("/clock", Clock,
-                                 lambda m: latest.__setitem__(0, m.clock.to_sec()))
+                latest = views.join(env, "flapsim_movie")
                 # The playback waits, paused, until rviz receives it and ffmpeg films: no
                 # second of the flight is lost to ffmpeg's start-up.
                 master = rosgraph.Master(rospy.get_name())
@@ -174,12 +167,7 @@ def render_attached(uri, out, duration, size="640x480", speed=1.0, fps=25, dista
         with views.xvfb(width, height) as display:
             with views.rviz_attached(uri, display, os.path.join(work, "rviz.log"),
                                      rviz_args) as (_, name, env):
-                views.use_master(env)
-                views.wait_for(rosgraph.is_master_online, 30, f"the ROS master at {uri}")
-                rospy.init_node("flapsim_movie", anonymous=True, disable_signals=True)
-                latest = [-1.0]
-                rospy.Subscriber("/clock", Clock,
-                                 lambda m: latest.__setitem__(0, m.clock.to_sec()))
+                latest = views.join(env, "flapsim_movie", f"the ROS master at {uri}")
                 master = rosgraph.Master(rospy.get_name())
                 pattern = re.compile(TOPICS)
                 views.wait_for(lambda: not starter.unconnected(master, "/flapsim", name, pattern),

@@ -29,7 +29,6 @@ import sys
 
 import rosgraph
 import rospy
-from rosgraph_msgs.msg import Clock
 from std_srvs.srv import Empty, SetBool
 from tf2_msgs.msg import TFMessage
 from visualization_msgs.msg import Marker, MarkerArray
@@ -85,11 +84,7 @@ def shoot(launch, out, at, size="800x600", min_pixels=50, timeout=120.0, log=Non
         with views.roslaunch(list(launch) + ["rviz:=true", "paused:=true",
                                              views.rviz_args(width, height, config=config)],
                              display, log) as (proc, env):
-            views.use_master(env)
-            views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
-            rospy.init_node("flapsim_screenshot", anonymous=True, disable_signals=True)
-            latest = [-1.0]
-            rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__(0, m.clock.to_sec()))
+            latest = views.join(env, "flapsim_screenshot")
             seen = Seen(width / height)
             master = rosgraph.Master(rospy.get_name())
             pattern = re.compile(TOPICS if not config else "/clock|/tf")  # a config's own
@@ -121,11 +116,7 @@ def shoot_attached(uri, out, at, size="800x600", min_pixels=50, timeout=120.0, s
     with views.xvfb(width, height) as display:
         with views.rviz_attached(uri, display, os.path.splitext(out)[0] + ".log",
                                  views.rviz_args(width, height, True, config)) as (_, name, env):
-            views.use_master(env)
-            views.wait_for(rosgraph.is_master_online, 30, f"the ROS master at {uri}")
-            rospy.init_node("flapsim_screenshot", anonymous=True, disable_signals=True)
-            latest = [-1.0]
-            rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__(0, m.clock.to_sec()))
+            latest = views.join(env, "flapsim_screenshot", f"the ROS master at {uri}")
             seen = Seen(width / height)
             master = rosgraph.Master(rospy.get_name())
             pattern = re.compile(TOPICS if not config else "/clock|/tf")  # a config's own
@@ -222,11 +213,7 @@ def shoot_replay(bag, out, at, size="800x600", min_pixels=50, timeout=120.0, lau
                               "play_args:=--keep-alive"] + list(launch_args) +
                              [views.rviz_args(width, height, config=config)],
                              display, log) as (proc, env):
-            views.use_master(env)
-            views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
-            rospy.init_node("flapsim_screenshot", anonymous=True, disable_signals=True)
-            latest = [-1.0]
-            rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__(0, m.clock.to_sec()))
+            latest = views.join(env, "flapsim_screenshot")
             rospy.wait_for_service("/play/pause_playback", timeout=timeout)
             pause = rospy.ServiceProxy("/play/pause_playback", SetBool)
             views.wait_for(lambda: latest[0] >= at, timeout, f"sim time {at} s in the replay")

@@ -81,6 +81,8 @@ class SimulatorNode {
     FrameMotion motion;    // in the world
   };
 
+  /// Spawns the creatures of ~creatures, with their wing commands. ParamError naming a bad one.
+  void spawnConfigured();
   // Returns (and logs as warnings) the URDF values the world lowers for its step
   // (flapsim::cappedJointValues) and the shapes it ignores (flapsim::ignoredGeometry), each
   // line prefixed with the creature.
@@ -139,6 +141,15 @@ class SimulatorNode {
                      const std::string& message);
 
   // Services and callbacks (simulator_services.cpp).
+  /// A refused request: `res` says `refusal` + the error, and a throttled warning too (its
+  /// kind: the service, the first word of `refusal`, and the error's kind).
+  template <class Response>
+  void refuse(Response& res, const std::string& refusal, const std::string& creature,
+              const flapsim::InputError& e);
+  /// Runs `body`, which fills in `res` (but its `success`); an InputError it throws makes the
+  /// request refused (refuse). Returns true (the call itself is answered).
+  template <class Response, class Body>
+  bool serve(Response& res, const std::string& refusal, const std::string& creature, Body body);
   void advertiseServices();
   void onWingCommand(const std::string& creature, const flapsim::WingCommand::ConstPtr& msg);
   bool onReset(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);

@@ -80,6 +80,23 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
     onReconfigure(config, level);
   });
 
+  spawnConfigured();
+  ROS_INFO_STREAM("flapsim: " << creatures_.size() << " creature(s), step "
+                              << params_.world.step_size << " s, publishing every "
+                              << publish_every_ << " steps, real-time factor "
+                              << params_.real_time_factor << (paused_ ? ", paused" : ""));
+  publishCreatureMarkers();  // also with no creature: the latched topics say so
+  publishStaticTransforms();
+  publishAll();
+}
+
+SimulatorNode::~SimulatorNode() {
+  for (const auto& c : creatures_) nh_.deleteParam(c->name + "/robot_description");
+}
+
+// ---- creatures ---------------------------------------------------------------------
+
+void SimulatorNode::spawnConfigured() {
   for (const CreatureSpec& spec : params_.creatures) {
     const bool from_file = !spec.urdf_file.empty();
     const std::string text = from_file ? flapsim::readUrdfFile(spec.urdf_file) : spec.urdf_xml;
@@ -101,20 +118,7 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
       commanded(*c, r);
     }
   }
-  ROS_INFO_STREAM("flapsim: " << creatures_.size() << " creature(s), step "
-                              << params_.world.step_size << " s, publishing every "
-                              << publish_every_ << " steps, real-time factor "
-                              << params_.real_time_factor << (paused_ ? ", paused" : ""));
-  publishCreatureMarkers();  // also with no creature: the latched topics say so
-  publishStaticTransforms();
-  publishAll();
 }
-
-SimulatorNode::~SimulatorNode() {
-  for (const auto& c : creatures_) nh_.deleteParam(c->name + "/robot_description");
-}
-
-// ---- creatures ---------------------------------------------------------------------
 
 std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std::string& urdf_xml,
                                               const std::string& source, const flapsim::Pose& pose,

@@ -8,6 +8,27 @@
 
 namespace flapsim_ros {
 
+template <class Response>
+void SimulatorNode::refuse(Response& res, const std::string& refusal, const std::string& creature,
+                           const flapsim::InputError& e) {
+  res.success = false;
+  res.status_message = refusal + e.what();
+  warnThrottled(refusal.substr(0, refusal.find(' ')) + "/" + WarningLimiter::kindOf(e.what()),
+                creature, res.status_message);
+}
+
+template <class Response, class Body>
+bool SimulatorNode::serve(Response& res, const std::string& refusal, const std::string& creature,
+                          Body body) {
+  try {
+    body();
+    res.success = true;
+  } catch (const flapsim::InputError& e) {
+    refuse(res, refusal, creature, e);
+  }
+  return true;
+}
+
 void SimulatorNode::advertiseServices() {
   services_.push_back(pnh_.advertiseService("reset", &SimulatorNode::onReset, this));
   services_.push_back(pnh_.advertiseService("pause", &SimulatorNode::onPause, this));
@@ -197,7 +218,7 @@ SimulatorNode::ReferenceFrame SimulatorNode::referenceFrame(const std::string& n
 bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetState::Response& res) {
   res.header.stamp = now();
   res.header.frame_id = params_.world_frame;
-  try {
+  return serve(res, "get_state refused: ", req.name, [&] {
     const Creature* c = find(req.name);
     if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
     const int link = req.link.empty() ? 0 : c->model->findLink(req.link);
@@ -217,20 +238,13 @@ bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetStat
     res.joint_names = joints.name;
     res.joint_positions = joints.position;
     res.joint_velocities = joints.velocity;
-    res.success = true;
     res.status_message = "state of '" + req.name + "' link '" + c->model->links[link].name + "'" +
                          (frame.name.empty() ? "" : " in " + frame.name);
-  } catch (const flapsim::InputError& e) {
-    res.success = false;
-    res.status_message = e.what();
-    warnThrottled("get_state/" + WarningLimiter::kindOf(e.what()), req.name,
-                  "get_state refused: " + res.status_message);
-  }
-  return true;
+  });
 }
 
 bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetState::Response& res) {
-  try {
+  return serve(res, "set_state refused, nothing changed: ", req.name, [&] {
     const Creature* c = find(req.name);
     if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
     const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
@@ -250,51 +264,32 @@ bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetStat
       r.twist = m.twist;
     }
     world_.setState(req.name, r);
-    res.success = true;
     res.status_message = "set the state of '" + req.name + "' at t = " + formatTime(now()) + " s";
     published_step_ = UINT64_MAX;
     publishAll();
-  } catch (const flapsim::InputError& e) {
-    res.success = false;
-    res.status_message = std::string("set_state refused, nothing changed: ") + e.what();
-    warnThrottled("set_state/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
-  }
-  return true;
+  });
 }
 
 bool SimulatorNode::onApplyWrench(flapsim::ApplyWrench::Request& req,
                                   flapsim::ApplyWrench::Response& res) {
-  try {
+  return serve(res, "apply_wrench refused: ", req.name, [&] {
     const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
     flapsim::ExternalWrench w = fromMsg(req);
     if (!frame.name.empty()) w = toWorld(w, frame.motion.pose);
     world_.applyWrench(req.name, w);
-    res.success = true;
     res.status_message = "wrench on '" + req.name + "'" +
                          (req.link.empty() ? "" : " link '" + req.link + "'") +
                          (frame.name.empty() ? "" : " given in " + frame.name) +
                          " from t = " + formatTime(now()) + " s";
-  } catch (const flapsim::InputError& e) {
-    res.success = false;
-    res.status_message = std::string("apply_wrench refused: ") + e.what();
-    warnThrottled("apply_wrench/" + WarningLimiter::kindOf(e.what()), req.name, res.status_message);
-  }
-  return true;
+  });
 }
 
 bool SimulatorNode::onClearWrenches(flapsim::ClearWrenches::Request& req,
                                     flapsim::ClearWrenches::Response& res) {
-  try {
+  return serve(res, "clear_wrenches refused: ", req.name, [&] {
     const int n = world_.clearWrenches(req.name, req.link);
-    res.success = true;
     res.status_message = "cleared " + std::to_string(n) + " wrench(es)";
-  } catch (const flapsim::InputError& e) {
-    res.success = false;
-    res.status_message = std::string("clear_wrenches refused: ") + e.what();
-    warnThrottled("clear_wrenches/" + WarningLimiter::kindOf(e.what()), req.name,
-                  res.status_message);
-  }
-  return true;
+  });
 }
 
 flapsim::FlapsimConfig SimulatorNode::runningConfig() const {
@@ -384,7 +379,7 @@ bool SimulatorNode::onGetPhysics(flapsim::GetPhysics::Request&,
 
 bool SimulatorNode::onSetPhysics(flapsim::SetPhysics::Request& req,
                                  flapsim::SetPhysics::Response& res) {
-  try {
+  return serve(res, "set_physics refused, nothing changed: ", "", [&] {
     if (req.step_size != params_.world.step_size) {
       std::ostringstream what;
       what << "step_size " << req.step_size << " s: the step size cannot change while the node "
@@ -405,14 +400,8 @@ bool SimulatorNode::onSetPhysics(flapsim::SetPhysics::Request& req,
     c.wind_z = req.wind.z;
     applyConfig(c);
     reconfigure_->updateConfig(runningConfig());  // dynparam get shows what runs
-    res.success = true;
     res.status_message = "physics set at t = " + formatTime(now()) + " s";
-  } catch (const flapsim::InputError& e) {
-    res.success = false;
-    res.status_message = std::string("set_physics refused, nothing changed: ") + e.what();
-    warnThrottled("set_physics/" + WarningLimiter::kindOf(e.what()), "", res.status_message);
-  }
-  return true;
+  });
 }
 
 }  // namespace flapsim_ros

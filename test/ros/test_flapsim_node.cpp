@@ -28,6 +28,7 @@
 #include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
+#include "node_calls.h"
 #include "recorder.h"
 
 namespace {
@@ -461,17 +462,7 @@ TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
 
 /// The first message on `topic` as a new subscriber in a process of its own sees it (this
 /// process's subscription already exists, and a node connects to a topic once).
-std::string firstMessageOf(const std::string& topic) {
-  const std::string cmd = "timeout 20 /usr/bin/python3 /usr/bin/rostopic echo -n 1 " + topic;
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-  }
-  return out;
-}
+using flapsim_test::firstMessageOf;
 
 TEST_F(Node, ALateSubscriberOfAPausedNodeGetsTheCurrentStepAtOnce) {
   reset();

@@ -22,69 +22,42 @@
 #include "flapsim/SetState.h"
 #include "flapsim/Step.h"
 #include "flapsim/types.h"
+#include "node_calls.h"
 #include "recorder.h"
 #include "wait_for.h"
 
 namespace {
 
+using flapsim_test::callEmpty;
+using flapsim_test::callService;
+using flapsim_test::firstMessageOf;
+using flapsim_test::getState;
 using flapsim_test::Recorder;
+using flapsim_test::step;
 using flapsim_test::waitFor;
 constexpr double kWait = 20.0;  // s (wall), upper bound of any wait
 constexpr double kPlateMass = 0.01;
 
-ros::Time step(std::uint32_t n) {
-  flapsim::Step s;
-  s.request.steps = n;
-  EXPECT_TRUE(ros::service::call("/flapsim/step", s) && s.response.success)
-      << s.response.status_message;
-  return s.response.sim_time;
-}
-
-void call(const std::string& service) {
-  std_srvs::Empty e;
-  ASSERT_TRUE(ros::service::call(service, e)) << service;
-}
-
-flapsim::GetState::Response getState(const std::string& name, const std::string& link = "",
-                                     const std::string& frame = "") {
-  flapsim::GetState g;
-  g.request.name = name;
-  g.request.link = link;
-  g.request.reference_frame = frame;
-  EXPECT_TRUE(ros::service::call("/flapsim/get_state", g));
-  return g.response;
-}
-
 flapsim::SetState::Response setState(const flapsim::SetState::Request& req) {
-  flapsim::SetState s;
-  s.request = req;
-  EXPECT_TRUE(ros::service::call("/flapsim/set_state", s));
-  return s.response;
+  return callService<flapsim::SetState>("/flapsim/set_state", req);
 }
 
 flapsim::ApplyWrench::Response applyWrench(const flapsim::ApplyWrench::Request& req) {
-  flapsim::ApplyWrench a;
-  a.request = req;
-  EXPECT_TRUE(ros::service::call("/flapsim/apply_wrench", a));
-  return a.response;
+  return callService<flapsim::ApplyWrench>("/flapsim/apply_wrench", req);
 }
 
 void clearWrenches() {
-  flapsim::ClearWrenches c;
-  EXPECT_TRUE(ros::service::call("/flapsim/clear_wrenches", c) && c.response.success);
+  EXPECT_TRUE(callService<flapsim::ClearWrenches>("/flapsim/clear_wrenches").success);
 }
 
 flapsim::GetPhysics::Response getPhysics() {
-  flapsim::GetPhysics g;
-  EXPECT_TRUE(ros::service::call("/flapsim/get_physics", g) && g.response.success);
-  return g.response;
+  const auto p = callService<flapsim::GetPhysics>("/flapsim/get_physics");
+  EXPECT_TRUE(p.success) << p.status_message;
+  return p;
 }
 
 flapsim::SetPhysics::Response setPhysics(const flapsim::SetPhysics::Request& req) {
-  flapsim::SetPhysics s;
-  s.request = req;
-  EXPECT_TRUE(ros::service::call("/flapsim/set_physics", s));
-  return s.response;
+  return callService<flapsim::SetPhysics>("/flapsim/set_physics", req);
 }
 
 flapsim::SetPhysics::Request asRequest(const flapsim::GetPhysics::Response& p) {
@@ -119,7 +92,7 @@ class Interfaces : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(ros::service::waitForService("/flapsim/step", ros::Duration(60)));
-    call("/flapsim/pause");
+    callEmpty("/flapsim/pause");
   }
   ros::NodeHandle nh_;
 };
@@ -255,18 +228,6 @@ TEST_F(Interfaces, SetPhysicsChangesGravityAndTheAirAndTheConfigFollows) {
   EXPECT_EQ(getPhysics().gravity.z, -9.81);
 }
 
-std::string firstMessageOf(const std::string& topic) {
-  const std::string cmd = "timeout 20 /usr/bin/python3 /usr/bin/rostopic echo -n 1 " + topic;
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-  }
-  return out;
-}
-
 // With use_sim_time (as every launch file sets it), `rostopic echo -n1` of /clock, of a
 // creature's odom and imu, answers while the node is paused, with the current sim time.
 TEST_F(Interfaces, RostopicEchoAnswersWhilePaused) {
@@ -325,7 +286,7 @@ flapsim::Step commandStep(std::uint32_t steps) {
 // request) starts them again, and its own timeout.
 TEST_F(Interfaces, WingsAreHeldOnceTheCommandTimesOut) {
   Wings wings(nh_);
-  call("/flapsim/reset");  // fu's wing_command parameter: commanded at t = 0
+  callEmpty("/flapsim/reset");  // fu's wing_command parameter: commanded at t = 0
   auto stroking = wings.at(step(49));
   ASSERT_TRUE(stroking);
   EXPECT_GT(std::abs(stroking->velocity[0]), 5.0);
@@ -352,7 +313,7 @@ TEST_F(Interfaces, WingsAreHeldOnceTheCommandTimesOut) {
 // no torque at all, and the wings swing on freely.
 TEST_F(Interfaces, WingsAreReleasedOnceTheCommandTimesOut) {
   Wings wings(nh_);
-  call("/flapsim/reset");
+  callEmpty("/flapsim/reset");
   auto stroking = wings.at(step(49));
   ASSERT_TRUE(stroking);
   EXPECT_NE(stroking->effort[0], 0.0);

@@ -27,12 +27,16 @@
 #include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/creature_model.h"
+#include "node_calls.h"
 #include "recorder.h"
 #include "wait_for.h"
 
 namespace {
 
+using flapsim_test::callEmpty;
+using flapsim_test::getState;
 using flapsim_test::Recorder;
+using flapsim_test::step;
 using flapsim_test::waitFor;
 constexpr double kWait = 30.0;  // s (wall), upper bound of a wait
 
@@ -94,29 +98,6 @@ flapsim::Step stepRequest(std::uint32_t n) {
   return s;
 }
 
-ros::Time step(std::uint32_t n) {
-  flapsim::Step s = stepRequest(n);
-  EXPECT_TRUE(ros::service::call("/flapsim/step", s) && s.response.success)
-      << s.response.status_message;
-  return s.response.sim_time;
-}
-
-void call(const std::string& service) {
-  std_srvs::Empty e;
-  ASSERT_TRUE(ros::service::call(service, e)) << service;
-}
-
-flapsim::GetState::Response state(const std::string& name, const std::string& link,
-                                  const std::string& reference_frame = "") {
-  flapsim::GetState g;
-  g.request.name = name;
-  g.request.link = link;
-  g.request.reference_frame = reference_frame;
-  EXPECT_TRUE(ros::service::call("/flapsim/get_state", g) && g.response.success)
-      << g.response.status_message;
-  return g.response;
-}
-
 // ---- tf_tree.test: a paused flapsim with afc (urdf/afc_4.urdf: 11 revolute joints) and
 // copter (urdf/bamboo_copter.urdf: 2 fixed joints) ----------------------------------------
 
@@ -124,7 +105,7 @@ class Tree : public ::testing::Test {
  protected:
   void SetUp() override {
     ASSERT_TRUE(ros::service::waitForService("/flapsim/step", ros::Duration(60)));
-    call("/flapsim/pause");
+    callEmpty("/flapsim/pause");
   }
   ros::NodeHandle nh_;
 };
@@ -210,8 +191,8 @@ TEST_F(Tree, AnyTwoLinksLookUpAsGetStateGivesThem) {
       ASSERT_TRUE(waitFor([&] { return buffer.canTransform(a, b, t); }, kWait)) << a << " " << b;
       const flapsim::Pose looked_up = poseOf(buffer.lookupTransform(a, b, t).transform);
       const flapsim::Pose from_world =
-          poseOf(state(ca, la).pose).inverse() * poseOf(state(cb, lb).pose);
-      const flapsim::GetState::Response relative = state(cb, lb, a);
+          poseOf(getState(ca, la).pose).inverse() * poseOf(getState(cb, lb).pose);
+      const flapsim::GetState::Response relative = getState(cb, lb, a);
       EXPECT_EQ(relative.header.frame_id, a);
       const auto [dp, da] = difference(looked_up, from_world);
       EXPECT_LT(dp, 1e-9) << a << " -> " << b;
@@ -256,12 +237,12 @@ TEST_F(Tree, NoListenerGetsAFrameTwiceAtOneStamp) {
   step(0);
   step(7);
   // running: a listener joins every 30 ms of wall time for 60 listeners
-  call("/flapsim/unpause");
+  callEmpty("/flapsim/unpause");
   for (int i = 0; i < 60; ++i) {
     waitFor([] { return false; }, 0.03);
     join();
   }
-  call("/flapsim/pause");
+  callEmpty("/flapsim/pause");
   const ros::Time paused_at = step(0);
   join();  // gets the step it is paused at
   EXPECT_TRUE(waitFor(
