@@ -2,6 +2,7 @@
 // simulator steps 0.5 ms. Its first control period (20 steps) advances sim time by 0.01 s,
 // not the 0.02 s period; it logs an error naming both step sizes and steps no further.
 #include <gtest/gtest.h>
+#include <ros/master.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <std_srvs/Empty.h>
@@ -25,7 +26,19 @@ TEST(LockstepStepMismatch, StopsAfterOnePeriodNamingBothStepSizes) {
         }
       });
   ASSERT_TRUE(ros::service::waitForService("/afc/ann_controller/start", ros::Duration(60.0)));
-  ASSERT_TRUE(waitFor([&] { return sub.getNumPublishers() > 0; }, 60.0));
+  // Connected to every node that logs, the controller included (its one error is not resent).
+  auto loggers = [] {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = ros::this_node::getName();
+    if (!ros::master::execute("getSystemState", args, result, payload, true)) return -1;
+    for (int i = 0; i < payload[0].size(); ++i) {
+      if (static_cast<std::string>(payload[0][i][0]) == "/rosout") return payload[0][i][1].size();
+    }
+    return -1;
+  };
+  ASSERT_TRUE(waitFor(
+      [&] { return loggers() > 1 && static_cast<int>(sub.getNumPublishers()) >= loggers(); },
+      60.0));
   std_srvs::Empty start;
   ASSERT_TRUE(ros::service::call("/afc/ann_controller/start", start));
   ASSERT_TRUE(waitFor([&] { return !error.empty(); }, 60.0)) << "no error from ann_controller";

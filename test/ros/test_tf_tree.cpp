@@ -171,6 +171,9 @@ TEST_F(Tree, MovingJointsAreOnTfAndFixedJointsOnTfStatic) {
 TEST_F(Tree, AnyTwoLinksLookUpAsGetStateGivesThem) {
   tf2_ros::Buffer buffer;
   tf2_ros::TransformListener listener(buffer, nh_);
+  // connected (it has the paused step) before the step it is to see
+  ASSERT_TRUE(
+      waitFor([&] { return buffer.canTransform("world", "afc/unit0_body", ros::Time(0)); }, kWait));
   flapsim::Step s = stepRequest(137);
   s.request.creatures = {"afc"};
   s.request.wing_commands.resize(1);
@@ -207,22 +210,39 @@ TEST_F(Tree, AnyTwoLinksLookUpAsGetStateGivesThem) {
 // Everything that republished a step before: flapsim/step of 0 steps, set_state and spawn
 // while paused, a pause between publications, listeners joining while paused and while
 // running as fast as it goes.
+// One tf2 listener at a time: each join drops the last one and subscribes anew. (roscpp gives
+// every subscriber of a topic in one process one connection: only a listener that is alone in
+// its process joins with a connection of its own, which the node sees as a new subscriber.)
+class Joining {
+ public:
+  explicit Joining(ros::NodeHandle& nh) : nh_(nh) { join(); }
+  void join() {
+    listener_.reset();
+    buffer_ = std::make_unique<tf2_ros::Buffer>();
+    listener_ = std::make_unique<tf2_ros::TransformListener>(*buffer_, nh_);
+    ++joins_;
+  }
+  bool has(const std::string& frame, const ros::Time& t) {
+    return waitFor([&] { return buffer_->canTransform("world", frame, t); }, kWait);
+  }
+  int joins() const { return joins_; }
+
+ private:
+  ros::NodeHandle& nh_;
+  std::unique_ptr<tf2_ros::Buffer> buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> listener_;
+  int joins_ = 0;
+};
+
 TEST_F(Tree, NoListenerGetsAFrameTwiceAtOneStamp) {
   RosoutRepeats rosout;
   rosout.start(nh_);
   const int before = repeats.count();
-  std::vector<std::unique_ptr<tf2_ros::Buffer>> buffers;
-  std::vector<std::unique_ptr<tf2_ros::TransformListener>> listeners;
-  auto join = [&] {
-    buffers.push_back(std::make_unique<tf2_ros::Buffer>());
-    listeners.push_back(std::make_unique<tf2_ros::TransformListener>(*buffers.back(), nh_));
-  };
-  join();
-  ASSERT_TRUE(waitFor(
-      [&] { return buffers[0]->canTransform("world", "afc/unit0_body", ros::Time(0)); }, kWait));
+  Joining listener(nh_);
+  ASSERT_TRUE(listener.has("afc/unit0_body", ros::Time(0)));
   step(3);
   step(0);
-  join();
+  listener.join();
   flapsim::SetState set;
   set.request.name = "copter";
   set.request.pose.position.z = 4.0;
@@ -233,31 +253,27 @@ TEST_F(Tree, NoListenerGetsAFrameTwiceAtOneStamp) {
   spawn.request.urdf_file = sourcePath("urdf/plate.urdf");
   spawn.request.initial_pose.position.z = 2.0;
   ASSERT_TRUE(ros::service::call("/flapsim/spawn", spawn) && spawn.response.success);
-  join();
+  listener.join();
   step(0);
   step(7);
-  // running: a listener joins every 30 ms of wall time for 60 listeners
+  // running as fast as it goes: a listener joins every 30 ms of wall time, 60 times
   callEmpty("/flapsim/unpause");
   for (int i = 0; i < 60; ++i) {
     waitFor([] { return false; }, 0.03);
-    join();
+    listener.join();
   }
   callEmpty("/flapsim/pause");
   const ros::Time paused_at = step(0);
-  join();  // gets the step it is paused at
-  EXPECT_TRUE(waitFor(
-      [&] { return buffers.back()->canTransform("world", "plate_tf/plate", paused_at); }, kWait));
-  const ros::Time last = step(1);
-  for (auto& b : buffers) {  // all that was sent has arrived
-    EXPECT_TRUE(waitFor([&] { return b->canTransform("world", "plate_tf/plate", last); }, kWait));
-  }
+  listener.join();  // gets the step it is paused at, at once
+  EXPECT_TRUE(listener.has("plate_tf/plate", paused_at));
+  EXPECT_TRUE(listener.has("plate_tf/plate", step(1)));  // and the next
   EXPECT_EQ(repeats.count() - before, 0) << repeats.first();
   EXPECT_TRUE(rosout.lines.empty()) << rosout.lines.front();
 }
 
 // ---- tf_repeats_*.test: a scenario (flock.launch count:=4, afc.launch) running at rtf 0 ---
 
-// `~listeners` tf2 listeners join, one every 20 ms of wall time (as rviz and controllers
+// A tf2 listener joins `~listeners` times, every 20 ms of wall time (as rviz and controllers
 // do), while the scenario runs to `~duration` s of sim time; none of them, nor any node on
 // /rosout (the controllers' tf2 listeners), sees a repeated stamp.
 TEST(Scenario, NoListenerGetsAFrameTwiceAtOneStamp) {
@@ -271,17 +287,14 @@ TEST(Scenario, NoListenerGetsAFrameTwiceAtOneStamp) {
   Recorder<rosgraph_msgs::Clock> clock;
   clock.start(nh, "/clock");
   ASSERT_TRUE(waitFor([&] { return !clock.msgs.empty(); }, 120.0)) << "no /clock";
-  std::vector<std::unique_ptr<tf2_ros::Buffer>> buffers;
-  std::vector<std::unique_ptr<tf2_ros::TransformListener>> listeners;
+  Joining listener(nh);
   ASSERT_TRUE(waitFor(
       [&] {
-        if (static_cast<int>(buffers.size()) < count) {
-          buffers.push_back(std::make_unique<tf2_ros::Buffer>());
-          listeners.push_back(std::make_unique<tf2_ros::TransformListener>(*buffers.back(), nh));
+        if (listener.joins() < count) {
           waitFor([] { return false; }, 0.02);
+          listener.join();
         }
-        return static_cast<int>(buffers.size()) == count &&
-               clock.msgs.back()->clock.toSec() >= duration;
+        return listener.joins() == count && clock.msgs.back()->clock.toSec() >= duration;
       },
       300.0))
       << "sim time did not reach " << duration << " s";
