@@ -40,6 +40,8 @@ flapsim::Twist fromMsg(const geometry_msgs::Twist& twist);
 
 /// Sim time of `steps` fixed steps of `step_ns` nanoseconds: exact, no rounding drift.
 ros::Time simTime(std::uint64_t steps, std::uint64_t step_ns);
+/// A time in seconds with 9 decimals, e.g. "1.150000000".
+std::string formatTime(const ros::Time& t);
 /// A step size in whole nanoseconds (rounded); >= 1.
 std::uint64_t stepNanoseconds(double step_size);
 
@@ -87,8 +89,24 @@ flapsim::StateRequest stateRequest(const flapsim::CreatureModel& model,
                                    const flapsim::CreatureState& current,
                                    const flapsim::SetState::Request& req);
 
-/// A flapsim/apply_wrench request in core terms (World::applyWrench checks the values).
+/// A flapsim/apply_wrench request in core terms (World::applyWrench checks the values), as
+/// given: in the request's reference frame.
 flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req);
+
+/// A frame's pose and the twist of its origin.
+struct FrameMotion {
+  flapsim::Pose pose;
+  flapsim::Twist twist;
+};
+/// `body` (in the world) seen from the reference frame `frame` (in the world), as
+/// gazebo_msgs/GetModelState and GetLinkState give it: the pose in the frame, and the
+/// difference of the two origins' linear and the two angular velocities, in the frame's axes.
+FrameMotion toFrame(const FrameMotion& frame, const FrameMotion& body);
+/// The inverse of toFrame: `relative` (in `frame`) in the world.
+FrameMotion fromFrame(const FrameMotion& frame, const FrameMotion& relative);
+/// A wrench given in the reference frame `frame` (force, torque and point in its axes and
+/// about its origin, as gazebo_msgs/ApplyBodyWrench), in the world frame.
+flapsim::ExternalWrench toWorld(const flapsim::ExternalWrench& wrench, const flapsim::Pose& frame);
 
 /// The IMU of the root link, frame "<creature>/<root link>": flapsim::imuReading() (the
 /// reading the episodes of evolution take): orientation in the world, and in the link's axes
@@ -112,13 +130,6 @@ flapsim::ImuReading fromMsg(const sensor_msgs::Imu& msg);
 /// name, lists of other lengths than the names or a non-finite value.
 void jointVectors(const sensor_msgs::JointState& msg, const flapsim::CreatureModel& model,
                   std::vector<double>& positions, std::vector<double>& velocities);
-
-/// One transform world -> "<creature>/<link>" for every link.
-std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,
-                                                            const flapsim::CreatureModel& model,
-                                                            const flapsim::CreatureState& state,
-                                                            const ros::Time& stamp,
-                                                            const std::string& world_frame);
 
 /// Force arrows: one per aero link from its centre of mass (namespace
 /// "<creature>"), and one per cell from its centre (namespace
