@@ -67,7 +67,7 @@ TEST(EpisodeRunner, ATaskFliesTheSameAsRunEpisode) {
   std::iota(w.begin(), w.end(), -3.0);
   const auto model = parseCreatureModel(makeCreatureUrdf(1, "afc", p.unit), "afc");
   const AnnWingController ann(FlapUnitController(p.controller, w));
-  const auto starts = episodeStarts(spec.episode);
+  const auto starts = episodeStarts(spec.episode, model.get());
   for (int k = 0; k < 2; ++k) {
     EXPECT_EQ(runner.evaluate(EpisodeTask{w, k}),
               runEpisode(model, ann, p.controller.control_period, spec.episode, starts[k]).fitness);
@@ -189,7 +189,8 @@ TEST(EpisodeLimits, ALongEpisodeIsRefusedNotScoredZero) {
   e.duration = 1e9;
   EXPECT_EQ(validateEpisodeParams(e), "duration must be in (0, 10000] s");
   const auto model = parseCreatureModel(makeCreatureUrdf(1, "afc", p.unit), "afc");
-  const AnnWingController ann(FlapUnitController(p.controller, std::vector<double>(12, 0.1)));
+  const AnnWingController ann(FlapUnitController(
+      p.controller, std::vector<double>(FlapUnitController::weightCount(p.controller), 0.1)));
   EXPECT_THROW(runEpisode(model, ann, 0.02, e, EpisodeStart()), InputError);
   e.duration = 15.0;
   e.step_sizes = {0.001, 1e-6};  // 1.5e7 steps at the second
