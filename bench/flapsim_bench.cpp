@@ -20,6 +20,7 @@
 #include "bench_common.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
+#include "fluid/surface.h"
 
 namespace {
 
