@@ -101,6 +101,10 @@ constexpr double kMaxUrdfInertia = 1e6;
 /// kMaxUrdfFileBytes. Throws ModelError naming the file and what is wrong.
 std::string readUrdfFile(const std::string& path);
 
+/// The lowest z of the corners of the model's boxes with its links at `link_poses` (link
+/// frames in the world); +infinity for a model without boxes.
+double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses);
+
 /// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.
 CreatureModelPtr loadCreatureModel(const std::string& path);
 

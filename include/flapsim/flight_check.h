@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "flapsim/cli_args.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
 
@@ -42,5 +43,21 @@ struct FlightCheckRun {
 std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
                                         const FlightCheckParams& params);
+
+/// The flight_check tool's settings.
+struct FlightCheckOptions {
+  FlightCheckParams params;
+  std::string weights;  // controller weights YAML (required)
+  std::string urdf;     // a creature of flap units from a URDF file; empty: make_creature
+  int pairs = 1;        // make_creature --pairs
+};
+
+/// flight_check's flags (flapsim/cli_args.h), over `options`.
+CliParser flightCheckCli(FlightCheckOptions& options);
+
+/// The table flight_check prints: a line per start and a summary; `failed` gets the number of
+/// starts that did not pass.
+std::string flightCheckReport(const FlightCheckOptions& options,
+                              const std::vector<FlightCheckRun>& runs, int wing_pairs, int& failed);
 
 }  // namespace flapsim

@@ -1,8 +1,12 @@
 // Generator of flapping creatures: N flap units chained by passive joints.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "flapsim/cli_args.h"
 
 namespace flapsim {
 
@@ -79,5 +83,19 @@ double wingEffort(const FlapUnitParams& params, int pairs);
 /// Throws std::invalid_argument for pairs < 1.
 std::string makeCreatureUrdf(int pairs, const std::string& name = "afc",
                              const FlapUnitParams& params = FlapUnitParams());
+
+/// The make_creature tool's settings.
+struct MakeCreatureOptions {
+  int pairs = 1;
+  FlapUnitParams params;
+  std::string name = "afc";
+  std::string output;  // empty: stdout
+};
+
+/// The setter of a --link-axis flag (roll or pitch; InputError naming the flag otherwise).
+std::function<void(const std::vector<std::string>&)> linkAxisSetter(LinkAxis* field);
+
+/// make_creature's flags (flapsim/cli_args.h) over `options`.
+CliParser makeCreatureCli(MakeCreatureOptions& options);
 
 }  // namespace flapsim

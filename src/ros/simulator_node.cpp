@@ -11,6 +11,7 @@
 #include <new>
 #include <sstream>
 
+#include "flapsim_ros/reconfigure_bounds.h"
 #include "flapsim_ros/urdf_source.h"
 
 namespace flapsim_ros {
@@ -26,6 +27,7 @@ constexpr double kRunSlice = 0.05;      // s (wall) of stepping between callback
 constexpr std::uint64_t kSliceSteps = 10;
 constexpr double kSliceTarget = 0.01;       // s (wall)
 constexpr double kDiagnosticsPeriod = 1.0;  // s (wall) between unchanged diagnostics
+constexpr double kGroundTolerance = 1e-3;   // m below the ground before set_state says so
 
 std::string formatTime(const ros::Time& t) {
   std::ostringstream os;
@@ -134,6 +136,10 @@ std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std
   const std::string err = validateCreatureName(name);
   if (!err.empty()) throw flapsim::InputError(err);
   if (world_.has(name)) throw flapsim::InputError("creature name '" + name + "' is taken");
+  if (urdf_xml.size() > flapsim::kMaxUrdfFileBytes) {  // a file's limit, for any URDF text
+    throw flapsim::InputError(source + ": " + std::to_string(urdf_xml.size()) +
+                              " bytes, over the limit of 16 MiB");
+  }
   flapsim::CreatureModelPtr model = flapsim::parseCreatureModel(urdf_xml, source);
   world_.spawn(name, model, pose, twist);
   auto c = std::make_unique<Creature>();
@@ -382,7 +388,9 @@ void SimulatorNode::run() {
 
 void SimulatorNode::warnThrottled(const std::string& kind, const std::string& creature,
                                   const std::string& message) {
-  if (warnings_.allow(kind, creature, ros::WallTime::now().toSec())) {
+  // The cause holds no caller's text: a name that is not a creature's counts as none.
+  const std::string& known = find(creature) ? creature : std::string();
+  if (warnings_.allow(kind, known, ros::WallTime::now().toSec())) {
     ROS_WARN_STREAM("flapsim: " << message);
   } else {
     ROS_DEBUG_STREAM("flapsim: " << message);
@@ -569,6 +577,14 @@ bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetStat
     world_.setState(req.name, r);
     res.success = true;
     res.status_message = "set the state of '" + req.name + "' at t = " + formatTime(now()) + " s";
+    const double lowest = flapsim::lowestBoxPoint(*c->model, world_.state(req.name).link_poses);
+    if (params_.world.ground && lowest < -kGroundTolerance) {
+      std::ostringstream below;
+      below << "; its boxes reach " << -lowest << " m below the ground (z = 0): the contact "
+            << "will push it out";
+      res.status_message += below.str();
+      warnThrottled("set_state/below_ground", req.name, "set_state: " + res.status_message);
+    }
     published_step_ = UINT64_MAX;
     publishAll();
   } catch (const flapsim::InputError& e) {
@@ -629,6 +645,7 @@ flapsim::FlapsimConfig SimulatorNode::runningConfig() const {
 }
 
 void SimulatorNode::onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t) {
+  const flapsim::FlapsimConfig before = runningConfig();
   try {
     if (!std::isfinite(config.real_time_factor) ||
         (config.real_time_factor != 0.0 &&
@@ -665,6 +682,10 @@ void SimulatorNode::onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t)
                     << ", drag coefficient " << air.drag_coefficient << ", gravity ["
                     << gravity.transpose() << "], markers "
                     << (config.show_markers ? "on" : "off"));
+    for (const std::string& bound : valuesAtBounds(config, before)) {
+      ROS_WARN_STREAM("flapsim: reconfigure: " << bound << " (dynamic_reconfigure clamps a "
+                                               << "value outside the range to the bound)");
+    }
   } catch (const flapsim::InputError& e) {
     warnThrottled("reconfigure/" + WarningLimiter::kindOf(e.what()), "",
                   std::string("reconfigure refused, nothing changed: ") + e.what());

@@ -49,6 +49,16 @@ TEST(WarningLimiter, DistinctBadNamesAreOneCauseAndTheTableIsBounded) {
   EXPECT_LE(w.causes(), 256u);
 }
 
+// Issue 27, case 7: a full table was cleared, so a stream of distinct causes logged a line
+// each. At most max_causes per period get through.
+TEST(WarningLimiter, AStreamOfDistinctCausesIsBoundedPerPeriod) {
+  WarningLimiter w(10.0, 256);
+  int allowed = 0;
+  for (int i = 0; i < 3000; ++i) allowed += w.allow("get_state/" + std::to_string(i), "", 1e-4 * i);
+  EXPECT_EQ(allowed, 256);
+  EXPECT_TRUE(w.allow("get_state/new", "", 10.0));  // the old ones have aged out
+}
+
 class SpawnFiles : public ::testing::Test {
  protected:
   void SetUp() override {

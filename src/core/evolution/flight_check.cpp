@@ -1,6 +1,7 @@
 #include "flapsim/flight_check.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include "flapsim/ga.h"
 
@@ -49,6 +50,49 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
     return 0.0;
   });
   return runs;
+}
+
+CliParser flightCheckCli(FlightCheckOptions& o) {
+  FlightCheckParams& p = o.params;
+  CliParser t("usage: flight_check --weights FILE [options]");
+  t.text("--weights", "FILE", &o.weights, "controller weights YAML (evolve's output; required)")
+      .integer("--pairs", "N", &o.pairs, {1, 1000}, "the creature: make_creature --pairs N, or")
+      .text("--urdf", "FILE", &o.urdf, "a creature of flap units from a URDF file")
+      .integer("--starts", "N", &p.starts, {1, kMaxEpisodes}, "held-out starts")
+      .seed("--seed", "S", &p.seed, "their seed")
+      .real("--roll", "R", &p.max_roll, {0, M_PI}, "start roll uniform in +-R rad")
+      .real("--pitch", "P", &p.max_pitch, {0, M_PI}, "start pitch uniform in +-P rad")
+      .real("--duration", "T", &p.duration, {0, kMaxEpisodeDuration, true}, "s")
+      .real("--step-size", "DT", &p.step_size, {1e-6, 0.1}, "s")
+      .integer("--threads", "N", &p.threads, {1, 256},
+               "parallel flights; results do not depend on it");
+  return t;
+}
+
+std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<FlightCheckRun>& runs,
+                              int wing_pairs, int& failed) {
+  const FlightCheckParams& p = o.params;
+  char line[256];
+  std::snprintf(line, sizeof line, "%-5s %8s %8s %8s %7s %9s %9s %9s %8s\n", "start", "roll",
+                "pitch", "flipped", "min_up", "final_z", "min_z", "upright", "result");
+  std::string out = line;
+  failed = 0;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    const FlightCheckRun& r = runs[i];
+    const bool ok = r.passed(p.start_height);
+    failed += ok ? 0 : 1;
+    std::snprintf(line, sizeof line, "%-5zu %7.1f° %7.1f° %8s %7.3f %8.2fm %8.2fm %8.1f%% %8s\n", i,
+                  r.start.roll * 180.0 / M_PI, r.start.pitch * 180.0 / M_PI,
+                  r.flipped ? "yes" : "no", r.min_upright, r.final_height, r.min_height,
+                  100.0 * r.upright_fraction, ok ? "pass" : "FAIL");
+    out += line;
+  }
+  std::snprintf(line, sizeof line, "%d of %zu starts passed (",
+                static_cast<int>(runs.size()) - failed, runs.size());
+  out += line + o.weights;
+  std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s))\n", p.duration,
+                1000.0 * p.step_size, wing_pairs);
+  return out + line;
 }
 
 }  // namespace flapsim
