@@ -36,6 +36,9 @@ struct LinkModel {
   Vec3 com = Vec3::Zero();      // centre of mass in the link frame
   Vec3 inertia = Vec3::Zero();  // principal moments about the COM, link axes
   std::vector<Box> boxes;       // collision boxes (visual boxes if there are none)
+  /// The link's other shapes where boxes are looked for, e.g. "collision cylinder", "visual
+  /// mesh": not simulated (see ignoredGeometry).
+  std::vector<std::string> ignored_shapes;
   AeroSettings aero;
   int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
 };
@@ -87,6 +90,10 @@ using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 /// source and the link or joint at fault.
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
                                     const std::string& source = "<string>");
+
+/// One line per shape the model ignores (LinkModel::ignored_shapes), naming the link and the
+/// shape; empty if every shape is simulated. (The simulator node warns these at a spawn.)
+std::vector<std::string> ignoredGeometry(const CreatureModel& model);
 
 /// Largest URDF file read (bytes): 16 MiB, far beyond any creature's description.
 constexpr std::size_t kMaxUrdfFileBytes = 16u << 20;

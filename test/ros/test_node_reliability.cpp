@@ -177,6 +177,8 @@ TEST_F(NodeGuards, RefusedSpawnFilesShareOneText) {
   ASSERT_GE(fd, 0);
   ::close(fd);
   std::ofstream(outside) << readText(urdf + "/plate.urdf");
+  std::vector<std::string> roots;  // the reply names them
+  ASSERT_TRUE(ros::param::get("/flapsim/urdf_roots", roots));
   for (const std::string& path :
        {urdf + "/missing.urdf", urdf, outside, std::string("/dev/zero")}) {
     flapsim::SpawnCreature s;
@@ -184,7 +186,7 @@ TEST_F(NodeGuards, RefusedSpawnFilesShareOneText) {
     s.request.urdf_file = path;
     ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
     EXPECT_FALSE(s.response.success) << path;
-    EXPECT_EQ(s.response.status_message, flapsim_ros::refusedUrdfFileMessage(path));
+    EXPECT_EQ(s.response.status_message, flapsim_ros::refusedUrdfFileMessage(path, roots, ""));
   }
   ::unlink(outside.c_str());
   flapsim::SpawnCreature ok;

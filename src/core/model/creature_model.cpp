@@ -69,15 +69,33 @@ bool finite(const Vec3& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
 
+const char* geometryKind(const urdf::Geometry& g) {
+  switch (g.type) {
+    case urdf::Geometry::BOX:
+      return "box";
+    case urdf::Geometry::CYLINDER:
+      return "cylinder";
+    case urdf::Geometry::SPHERE:
+      return "sphere";
+    case urdf::Geometry::MESH:
+      return "mesh";
+  }
+  return "geometry";
+}
+
 void addBoxes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
-  auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin) {
-    if (!g || g->type != urdf::Geometry::BOX) return;
+  auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* role) {
+    if (!g) return;
+    if (g->type != urdf::Geometry::BOX) {
+      out.ignored_shapes.push_back(std::string(role) + " " + geometryKind(*g));
+      return;
+    }
     auto box = std::static_pointer_cast<urdf::Box>(g);
     out.boxes.push_back(Box{Vec3(box->dim.x, box->dim.y, box->dim.z), toPose(origin)});
   };
-  for (const auto& c : link->collision_array) add(c->geometry, c->origin);
+  for (const auto& c : link->collision_array) add(c->geometry, c->origin, "collision");
   if (out.boxes.empty()) {
-    for (const auto& v : link->visual_array) add(v->geometry, v->origin);
+    for (const auto& v : link->visual_array) add(v->geometry, v->origin, "visual");
   }
 }
 
@@ -283,6 +301,17 @@ double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_
     }
   }
   return lowest;
+}
+
+std::vector<std::string> ignoredGeometry(const CreatureModel& model) {
+  std::vector<std::string> lines;
+  for (const LinkModel& link : model.links) {
+    for (const std::string& shape : link.ignored_shapes) {
+      lines.push_back("link '" + link.name + "': " + shape +
+                      " ignored (no contact, no air): only boxes are simulated");
+    }
+  }
+  return lines;
 }
 
 CreatureModelPtr loadCreatureModel(const std::string& path) {
