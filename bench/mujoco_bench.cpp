@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "bench_common.h"
+#include "mujoco_common.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/stroke.h"
@@ -48,10 +49,6 @@ constexpr double kStartHeight = 50.0;
 // the wing).
 constexpr double kWingKv = 0.1;
 const flapsim::StrokeCommand kStroke{30.0, 10.0, 0.8};
-
-// Suppresses MuJoCo's default warning handler (it writes MUJOCO_LOG.TXT in the working
-// directory); warnings go to stderr instead.
-void warningToStderr(const char* msg) { std::fprintf(stderr, "mujoco warning: %s\n", msg); }
 
 void appendVec(std::ostringstream& out, const char* attr, const flapsim::Vec3& v) {
   out << ' ' << attr << "=\"" << v.x() << ' ' << v.y() << ' ' << v.z() << '"';
@@ -137,23 +134,6 @@ std::string toMjcf(const flapsim::CreatureModel& model) {
   return out.str();
 }
 
-// Compiles MJCF text through MuJoCo's virtual file system. Throws std::runtime_error with
-// MuJoCo's message.
-mjModel* compile(const std::string& xml) {
-  auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const char* file = "creature.xml";
-  if (mj_makeEmptyFileVFS(vfs.get(), file, static_cast<int>(xml.size())) != 0) {
-    throw std::runtime_error("cannot add the model to MuJoCo's VFS");
-  }
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), file)], xml.data(), xml.size());
-  char error[1000] = "";
-  mjModel* m = mj_loadXML(file, vfs.get(), error, sizeof(error));
-  mj_deleteVFS(vfs.get());
-  if (!m) throw std::runtime_error(std::string("mj_loadXML: ") + error);
-  return m;
-}
-
 // A compiled creature: its MJCF, the model and the joint of each wing actuator.
 struct Creature {
   std::string xml;
@@ -169,7 +149,7 @@ std::unique_ptr<Creature> build(const flapsim_bench::BenchCreature& s) {
   auto c = std::make_unique<Creature>();
   c->xml = toMjcf(*cm);
   c->bodies = static_cast<int>(cm->links.size());
-  c->model = compile(c->xml);
+  c->model = flapsim_bench::compileMjcf(c->xml);
   for (int u = 0; u < c->model->nu; ++u) {
     c->wing_qpos.push_back(c->model->jnt_qposadr[c->model->actuator_trnid[2 * u]]);
   }
@@ -222,7 +202,7 @@ int main(int argc, char** argv) {
   if (!flapsim_bench::parseBenchOptions(argc, argv, &o)) {
     return flapsim_bench::referenceUsage("mujoco_bench");
   }
-  mju_user_warning = warningToStderr;
+  mju_user_warning = flapsim_bench::warningToStderr;
   const int steps = std::max(1, static_cast<int>(o.seconds / kTimestep + 0.5));
   std::printf("mujoco_bench: MuJoCo %s, %d runs of %g s simulated (%d steps of %g ms), medians\n",
               mj_versionString(), o.runs, steps * kTimestep, steps, kTimestep * 1e3);

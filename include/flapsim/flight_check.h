@@ -31,6 +31,9 @@ struct FlightCheckRun {
   double final_height = 0.0;  // m
   double min_height = 0.0;    // m
   double upright_fraction = 0.0;
+  double positive_power = 0.0;  // W: the motors' mean positive mechanical power
+  double net_power = 0.0;       // W: their mean net mechanical power
+  double mass = 0.0;            // kg
   /// No flip, up-component never below 0.5, final height above the start.
   bool passed(double start_height) const {
     return !flipped && min_upright >= 0.5 && final_height > start_height;

@@ -9,7 +9,9 @@
 int main(int argc, char** argv) {
   int pairs = 1;
   flapsim::FlapUnitParams params;
-  std::string name = "afc", output;
+  flapsim::HoverParams hover_params;
+  bool hover = false;
+  std::string name, output;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -69,6 +71,33 @@ int main(int argc, char** argv) {
         return 2;
       }
       params.body_com_drop = x;
+    } else if (a == "--layout") {
+      const std::string v = value();
+      if (v != "chain" && v != "hover") {
+        std::cerr << "make_creature: --layout must be chain or hover, got '" << v << "'\n";
+        return 2;
+      }
+      hover = v == "hover";
+    } else if (a == "--stall-torque" || a == "--no-load-speed" || a == "--max-power" ||
+               a == "--hinge-stiffness") {
+      const std::string v = value();
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      const bool positive = a == "--stall-torque";
+      if (*end != '\0' || !(positive ? x > 0.0 : x >= 0.0) || x > 1e6) {
+        std::cerr << "make_creature: " << a << " must be a "
+                  << (positive ? "positive" : "non-negative") << " number, got '" << v << "'\n";
+        return 2;
+      }
+      if (a == "--stall-torque") {
+        hover_params.stall_torque = x;
+      } else if (a == "--no-load-speed") {
+        hover_params.no_load_speed = x;
+      } else if (a == "--max-power") {
+        hover_params.max_power = x;
+      } else {
+        hover_params.hinge_stiffness = x;
+      }
     } else if (a == "--feathering") {
       params.feathering = true;
     } else if (a == "--name") {
@@ -81,20 +110,31 @@ int main(int argc, char** argv) {
              "                     [--wing-mass KG] [--wing-effort NM] [--com-drop M]\n"
              "                     [--link-axis roll|pitch] [--link-stiffness NM_PER_RAD]\n"
              "                     [--output FILE]\n"
+             "       make_creature --layout hover [--name NAME] [--stall-torque NM]\n"
+             "                     [--no-load-speed RAD_PER_S] [--max-power W]\n"
+             "                     [--hinge-stiffness NM_PER_RAD] [--output FILE]\n"
              "Writes the URDF of N flapping units (body + two wings) chained nose to tail by\n"
              "passive joints about --link-axis (default roll), with a <spring> of\n"
              "--link-stiffness (default 2; 0: none); to stdout unless --output is given.\n"
              "--feathering hangs each wing from a pitch joint (its feather_joint). --com-drop\n"
              "puts each body's centre of mass that far below the wing hinges (default 0.02 m;\n"
              "0: at the hinges). --wing-effort is the hinge motors' torque limit (default 8 N m\n"
-             "for one pair, 2 N m per unit in a chain).\n";
+             "for one pair, 2 N m per unit in a chain).\n"
+             "--layout hover (default: chain, the above) writes the hover creature instead\n"
+             "(default name hover): a body under two wings that sweep a horizontal stroke plane\n"
+             "and pitch about their spans, flown with the quasi-steady air model; each stroke\n"
+             "hinge has a DC motor (--stall-torque, default 0.06 N m; --no-load-speed, default\n"
+             "300 rad/s; --max-power, default 3 W; 0: none) and a parallel spring\n"
+             "(--hinge-stiffness, default 0.035 N m/rad; 0: none).\n";
       return 0;
     } else {
       std::cerr << "make_creature: unknown argument '" << a << "' (see --help)\n";
       return 2;
     }
   }
-  const std::string urdf = flapsim::makeCreatureUrdf(pairs, name, params);
+  const std::string urdf =
+      hover ? flapsim::makeHoverUrdf(name.empty() ? "hover" : name, hover_params)
+            : flapsim::makeCreatureUrdf(pairs, name.empty() ? "afc" : name, params);
   if (output.empty()) {
     std::cout << urdf;
     return 0;

@@ -149,6 +149,7 @@ std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std
     c->joint_states = c->nh.advertise<sensor_msgs::JointState>(name + "/joint_states", 10);
     c->odom = c->nh.advertise<nav_msgs::Odometry>(name + "/odom", 10);
     c->imu = c->nh.advertise<sensor_msgs::Imu>(name + "/imu", 10);
+    c->power = std::make_unique<PowerPublisher>(c->nh, name, model);
     c->wing_command = c->nh.subscribe<flapsim::WingCommand>(
         name + "/wing_command", 10,
         [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });
@@ -175,6 +176,7 @@ void SimulatorNode::remove(const std::string& name) {
   (*it)->joint_states.shutdown();
   (*it)->odom.shutdown();
   (*it)->imu.shutdown();
+  (*it)->power->shutdown();
   (*it)->wing_command.shutdown();
   (*it)->description.shutdown();
   nh_.deleteParam(name + "/robot_description");
@@ -253,6 +255,7 @@ void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp,
   const bool need_js = c.joint_states.getNumSubscribers() > 0;
   const bool need_odom = c.odom.getNumSubscribers() > 0;
   const bool need_imu = c.imu.getNumSubscribers() > 0;
+  c.power->publish(world_.power(c.name), stamp);
   if (!need_tf && !need_js && !need_odom && !need_imu) return;
   const flapsim::CreatureState s = world_.state(c.name);
   if (need_imu) {

@@ -46,6 +46,9 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
     run.final_height = r.final_height;
     run.min_height = r.min_height;
     run.upright_fraction = r.upright_fraction;
+    run.positive_power = r.positive_power;
+    run.net_power = r.net_power;
+    run.mass = r.mass;
     return 0.0;
   });
   return runs;

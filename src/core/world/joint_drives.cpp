@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "dynamics/creature_body.h"
+#include "dynamics/motor.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -62,30 +63,45 @@ void demand(CreatureBody& b, int joint_link, double target, double effort, doubl
   b.servo_target[joint_link] = target;
 }
 
+// The motor of joint `j` (index `ji`) driving it towards velocity `target`: bounded by its
+// torque-speed line at the joint's velocity if it has a <motor>, else by its flat effort.
+void motorDemand(const JointModel& j, size_t ji, CreatureBody& b, double target, double dt) {
+  demand(b, j.child_link, target, b.max_effort[ji], dt);
+  if (j.motor) {
+    const TorqueBounds bounds = motorTorqueBounds(*j.motor, b.mb->getJointVel(j.child_link - 1));
+    ServoDemand& d = b.demands[j.child_link];
+    d.max_impulse = bounds.positive * dt;
+    d.max_negative_impulse = bounds.negative * dt;
+  }
+}
+
 void driveJoint(const JointModel& j, size_t ji, JointDrive& d, CreatureBody& b, double dt) {
   btMultiBody* mb = b.mb.get();
   const int link = j.child_link - 1;
   b.demands[j.child_link].active = false;
+  b.demands[j.child_link].max_negative_impulse = -1.0;
   switch (d.mode) {
     case JointDrive::Mode::kStroke:
-      demand(b, j.child_link, d.stroke.target(mb->getJointPos(link), dt), b.max_effort[ji], dt);
+      motorDemand(j, ji, b, d.stroke.target(mb->getJointPos(link), dt), dt);
       break;
     case JointDrive::Mode::kVelocity:
-      demand(b, j.child_link, d.velocity, b.max_effort[ji], dt);
+      motorDemand(j, ji, b, d.velocity, dt);
       break;
     case JointDrive::Mode::kPassive:
       // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
       if (j.friction > 0.0) demand(b, j.child_link, 0.0, j.friction, dt);
       if (b.damping[ji] > 0.0) mb->addJointTorque(link, -b.damping[ji] * mb->getJointVel(link));
-      if (b.stiffness[ji] > 0.0) {
-        mb->addJointTorque(link, -b.stiffness[ji] * (mb->getJointPos(link) - j.reference));
-      }
       break;
+  }
+  // A spring acts whether or not a motor drives the joint (in parallel with it).
+  if (b.stiffness[ji] > 0.0) {
+    mb->addJointTorque(link, -b.stiffness[ji] * (mb->getJointPos(link) - j.reference));
   }
 }
 
-// Feathering: a stroking wing pitches its feather joint to the commanded angle during the
-// upstroke and back to flat for the downstroke (a stiff position servo).
+// Feathering: a stroking wing pitches its feather joint to the stroke's feather angle
+// (StrokeGenerator::featherTarget: a triangle stroke's per half-stroke, approached with the
+// time constant kFeatherTime; a sine stroke's smooth turn, followed step by step).
 void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives, CreatureBody& b,
                    double dt) {
   for (int wi : m.wing_joints) {
@@ -93,11 +109,9 @@ void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives
     const JointDrive& d = drives[wi];
     if (wing.feather_joint < 0 || d.mode != JointDrive::Mode::kStroke) continue;
     const JointModel& feather = m.joints[wing.feather_joint];
-    const double target =
-        d.stroke.phase() == StrokeGenerator::Phase::kUp ? d.stroke.command().feather : 0.0;
-    const double position = b.mb->getJointPos(feather.child_link - 1);
-    demand(b, feather.child_link, (target - position) / kFeatherTime,
-           b.max_effort[wing.feather_joint], dt);
+    const double error = d.stroke.featherTarget() - b.mb->getJointPos(feather.child_link - 1);
+    const double time = d.stroke.command().shape == StrokeShape::kSine ? dt : kFeatherTime;
+    motorDemand(feather, static_cast<size_t>(wing.feather_joint), b, error / time, dt);
   }
 }
 

@@ -10,8 +10,9 @@
 #include "dynamics/body_builder.h"
 #include "dynamics/creature_body.h"
 #include "flapsim/air_model.h"
-#include "world/joint_drives.h"
 #include "fluid/surface.h"
+#include "world/joint_drives.h"
+#include "world/power.h"
 #include "world/world_air.h"
 
 namespace flapsim {
@@ -64,6 +65,7 @@ struct CreatureRecord {
   bool reported = false;                  // handed out by takeDivergences()
   std::vector<ActiveWrench> wrenches;     // external, in the order applied
   Vec3 root_acceleration = Vec3::Zero();  // of the root's COM over the last step
+  PowerMeter power;                       // its motors' work
 };
 
 // What a step may change in a multibody: enough to put it back bit for bit.
@@ -238,6 +240,7 @@ class World::Impl {
     r.pose = Pose{pose.position, pose.orientation.normalized()};
     r.twist = twist;
     r.drives.resize(model->joints.size());
+    r.power.reset(model->joints.size());
     auto body = makeBody(r);
     records_.push_back(std::move(r));
     bodies_.push_back(std::move(body));
@@ -259,6 +262,7 @@ class World::Impl {
       r.reported = false;
       r.wrenches.clear();
       r.root_acceleration.setZero();
+      r.power.reset(r.model->joints.size());
     }
     bodies_.clear();
     for (const auto& r : records_) bodies_.push_back(makeBody(r));
@@ -500,6 +504,11 @@ class World::Impl {
     return records_[index(creature)].root_acceleration;
   }
 
+  CreaturePower power(const std::string& creature) const {
+    const CreatureRecord& r = records_[index(creature)];
+    return r.power.report(r.model->totalMass());
+  }
+
  private:
   std::unique_ptr<CreatureBody> makeBody(const CreatureRecord& r) const {
     return buildBody(*r.model, r.pose, r.twist, params_);
@@ -517,6 +526,7 @@ class World::Impl {
     if (r.divergence) return;
     CreatureBody& b = *bodies_[i];
     snapshots_[i].take(*b.mb);
+    r.power.beginStep();
     const double dt = params_.step_size, most = params_.turn_substep;
     const StrokeTurn turn = most > 0.0 ? strokeTurn(*r.model, r.drives, b, dt) : StrokeTurn();
     if (!turn.reversing) {
@@ -536,8 +546,10 @@ class World::Impl {
     std::string fault = checkMotion(*r.model, b, params_.max_speed);
     if (fault.empty()) {
       r.root_acceleration = fromBt(b.mb->getBaseVel() - snapshots_[i].velocity) / dt;
+      r.power.endStep(dt);
       return;
     }
+    r.power.undoStep();
     snapshots_[i].restore(*b.mb);
     b.updateKinematics();
     b.forgetMomentum();
@@ -575,13 +587,16 @@ class World::Impl {
 
   void subStep(size_t i, double h) {
     CreatureBody& b = *bodies_[i];
+    CreatureRecord& r = records_[i];
+    r.power.beginSubStep(*r.model, b);
     b.beginStep(params_.air.enabled ? params_.air.density : 0.0);
-    applyDrives(*records_[i].model, records_[i].drives, b, h);
+    applyDrives(*r.model, r.drives, b, h);
     b.fluid_active = false;
     if (params_.air.enabled) air_.apply(b, params_, h);
-    applyWrenches(records_[i].wrenches, b);
+    applyWrenches(r.wrenches, b);
     b.scene->world().step(h);
     b.endStep(params_.gravity, h);
+    r.power.endSubStep(*r.model, r.drives, b, h);
   }
 
   void jointState(const CreatureModel& m, const CreatureBody& b, CreatureState& s) const {
@@ -739,13 +754,15 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
     const JointModel& j = model.joints[targets[i]];
     const std::string err = validateStroke(commands[i]);
     if (!err.empty()) throw InputError("joint '" + j.name + "': " + err);
-    // The stroke turns where the wing reaches -amplitude and +amplitude: beyond a limit the
-    // wing would rest on its stop with the motor pushing, and never turn.
-    const double amplitude = commands[i].amplitude;
-    if (j.limited && j.lower < j.upper && (amplitude >= j.upper || -amplitude <= j.lower)) {
+    // The stroke turns where the wing reaches offset -+ amplitude: beyond a limit the wing
+    // would rest on its stop with the motor pushing, and never turn.
+    const double amplitude = commands[i].amplitude, offset = commands[i].offset;
+    if (j.limited && j.lower < j.upper &&
+        (offset + amplitude >= j.upper || offset - amplitude <= j.lower)) {
       std::ostringstream msg;
-      msg << "joint '" << j.name << "': amplitude " << amplitude
-          << " rad does not fit inside its limits [" << j.lower << ", " << j.upper << "]";
+      msg << "joint '" << j.name << "': amplitude " << amplitude;
+      if (offset != 0.0) msg << " about offset " << offset;
+      msg << " rad does not fit inside its limits [" << j.lower << ", " << j.upper << "]";
       throw InputError(msg.str());
     }
   }
@@ -882,6 +899,7 @@ int World::wrenchCount(const std::string& creature) const { return impl_->wrench
 Vec3 World::rootAcceleration(const std::string& creature) const {
   return impl_->rootAcceleration(creature);
 }
+CreaturePower World::power(const std::string& creature) const { return impl_->power(creature); }
 Pose World::rootPose(const std::string& creature) const { return state(creature).link_poses[0]; }
 Twist World::rootTwist(const std::string& creature) const { return state(creature).link_twists[0]; }
 
