@@ -57,10 +57,11 @@
 
 #include "bench_common.h"
 #include "flapsim/air_model.h"
-#include "fluid/pressure.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/stroke.h"
+#include "fluid/pressure.h"
+#include "fluid/surface.h"
 
 namespace {
 
@@ -112,24 +113,16 @@ struct Damper {
 };
 
 // The cells of the two large faces of a box (size, pose in the body's COM frame): the faces
-// normal to its thinnest edge, each split into kCellsPerEdge x kCellsPerEdge cells.
+// normal to its thinnest edge, each split into kCellsPerEdge x kCellsPerEdge cells (as
+// flapsim's surfaces split them: boxSurfaceCells gives face after face, + then -, per axis).
 void appendPlateCells(const Vec3& size, const Pose& origin, std::vector<AirCell>& cells) {
   int thin = 0;
   size.minCoeff(&thin);
-  const int a = (thin + 1) % 3, b = (thin + 2) % 3;
-  const double area = size[a] * size[b] / (kCellsPerEdge * kCellsPerEdge);
-  for (double sign : {1.0, -1.0}) {
-    Vec3 normal = Vec3::Zero();
-    normal[thin] = sign;
-    for (int i = 0; i < kCellsPerEdge; ++i) {
-      for (int j = 0; j < kCellsPerEdge; ++j) {
-        Vec3 p = Vec3::Zero();
-        p[thin] = sign * 0.5 * size[thin];
-        p[a] = size[a] * ((i + 0.5) / kCellsPerEdge - 0.5);
-        p[b] = size[b] * ((j + 0.5) / kCellsPerEdge - 0.5);
-        cells.push_back(AirCell{origin.apply(p), origin.orientation * normal, area});
-      }
-    }
+  const std::vector<flapsim::SurfaceCell> all =
+      flapsim::boxSurfaceCells(size, origin, kCellsPerEdge, kCellsPerEdge);
+  const size_t per_face = kCellsPerEdge * kCellsPerEdge;
+  for (size_t k = 2 * thin * per_face; k < (2 * thin + 2) * per_face; ++k) {
+    cells.push_back(AirCell{all[k].centre, all[k].normal, all[k].area});
   }
 }
 

@@ -20,6 +20,7 @@
 #include "bench_common.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
+#include "fluid/surface.h"
 
 namespace {
 
@@ -39,7 +40,21 @@ struct Scenario {
   std::string name;
   std::function<void(World&)> setup;
   int bodies = 0;
+  int cells = 0;  // air cells at the world's default grid (set by fromUrdf only)
 };
+
+// Air cells of a creature's aero links at the default air parameters (what the air model
+// sums over each step, advancing faces only).
+int airCells(const flapsim::CreatureModel& model) {
+  int cells = 0;
+  for (size_t k = 0; k < model.links.size(); ++k) {
+    const flapsim::LinkModel& l = model.links[k];
+    if (!l.aero.enabled || l.boxes.empty()) continue;
+    cells += static_cast<int>(
+        flapsim::linkAeroSurface(model, static_cast<int>(k), flapsim::AirParams()).cells.size());
+  }
+  return cells;
+}
 
 // The package's creatures: in the source tree it was built from, else where it is installed.
 std::string urdfPath(const std::string& file) {
@@ -62,7 +77,8 @@ Scenario flapper(const std::string& name, int pairs) {
 Scenario fromUrdf(const std::string& file, double height) {
   CreatureModelPtr model = flapsim::loadCreatureModel(file);
   std::string name = file.substr(file.find_last_of('/') + 1);
-  Scenario s{name.substr(0, name.find('.')), nullptr, static_cast<int>(model->links.size())};
+  Scenario s{name.substr(0, name.find('.')), nullptr, static_cast<int>(model->links.size()),
+             airCells(*model)};
   s.setup = [model, height](World& w) {
     w.spawn("c", model, Pose{Vec3(0, 0, height), Quat::Identity()});
     w.setWingCommands("c", {},
@@ -180,8 +196,10 @@ int main(int argc, char** argv) {
     std::printf("%s: motors %.3f W positive (%.0f W/kg), %.3f W net over its %g s\n",
                 s.name.c_str(), power.meanPositivePower(), power.meanPositivePower() / power.mass,
                 power.totalWork() / power.time, power.time);
-    std::printf("%s: %d bodies, %g s simulated after %g s: %.0f steps/s, real-time factor %.1f\n",
-                s.name.c_str(), s.bodies, steps * dt, skip, median(sps), median(sps) * dt);
+    std::printf(
+        "%s: %d bodies, %d air cells, %g s simulated after %g s: %.0f steps/s, real-time factor "
+        "%.1f\n",
+        s.name.c_str(), s.bodies, s.cells, steps * dt, skip, median(sps), median(sps) * dt);
     return 0;
   }
   if (!json) {

@@ -1,46 +1,123 @@
 #!/bin/bash
-# flapsim against MuJoCo 2.2.2 on the same creatures, run in turns: per creature, PAIRS
-# pairs of `flapsim_bench` and `mujoco_bench` (--runs 3 --seconds 1 --cpu-time --only NAME),
-# each pair's ratio, then the medians of the steps per CPU second and of the ratios. Turns
-# rather than one long run each: on a shared machine the speed drifts from minute to
-# minute, and both sides of a pair see about the same machine. Prints figures; never passes
-# or fails on time.
-#   bash bench/vs_mujoco.sh [--pairs N] [--bin DIR] [NAME...]
+# flapsim against MuJoCo on the same creatures, run in turns: per creature, PAIRS pairs of
+# `flapsim_bench` and `mujoco_bench` (--runs 3 --seconds 1 --cpu-time --only NAME), the two in
+# alternating order, each pair's ratio per simulated second (flapsim steps 1 ms; MuJoCo the
+# step given), then the medians. Turns rather than one long run each: on a shared machine the
+# speed drifts from minute to minute, and both sides of a pair see about the same machine.
+# Before a creature is timed, its MuJoCo setting is checked for stability (mujoco_bench
+# --check: warnings, non-finite or runaway speeds, the height reached, against RK4 at
+# 0.25 ms); an unstable setting is reported and not timed. Prints figures; never passes or
+# fails on time.
+#   bash bench/vs_mujoco.sh [--pairs N] [--seconds S] [--bin DIR] [--mujoco PREFIX]
+#        [--mujoco-include DIR] [--mujoco-lib DIR] [--integrator I] [--step S]
+#        [--jacobian J] [--check-seconds T] [NAME...]
 #   NAME: flap_unit, chain_4, chain_6, chain_12, chain_25 (default: all)
+#   --seconds S: simulated seconds per run (1; a flap unit's second is a few ms of CPU)
+#   MuJoCo: by default Debian's (the catkin build's mujoco_bench). --mujoco PREFIX takes
+#     PREFIX/include/mujoco/mujoco.h and PREFIX/lib/libmujoco.so (an install tree);
+#     --mujoco-include and --mujoco-lib name the two folders apart (a build tree). Then
+#     bench/mujoco_bench.cpp is compiled against them (g++ -O3, linked to the build's
+#     flapsim_core; it opens the MuJoCo library at run time) into build/mujoco_bench/<key>/
+#     and rebuilt when a source changes.
+#   --integrator Euler|RK4|implicit|implicitfast (implicit), --step S in s (0.001),
+#   --jacobian dense|sparse|auto (auto), --check-seconds T (10; 0: no check).
 set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
 pairs=5
-bin="$(cd "$(dirname "$0")/.." && pwd)/build/devel/lib/flapsim"
+seconds=1
+bin="$root/build/devel/lib/flapsim"
 names=()
+mj_include="" mj_lib=""
+setting=(--integrator implicit --step 0.001 --jacobian auto)
+check=10
 while [ $# -gt 0 ]; do
   case "$1" in
     --pairs) pairs="$2"; shift 2 ;;
+    --seconds) seconds="$2"; shift 2 ;;
     --bin) bin="$2"; shift 2 ;;
-    -h|--help) sed -n '2,9p' "$0"; exit 0 ;;
+    --mujoco) mj_include="$2/include"; mj_lib="$2/lib"; shift 2 ;;
+    --mujoco-include) mj_include="$2"; shift 2 ;;
+    --mujoco-lib) mj_lib="$2"; shift 2 ;;
+    --integrator) setting[1]="$2"; shift 2 ;;
+    --step) setting[3]="$2"; shift 2 ;;
+    --jacobian) setting[5]="$2"; shift 2 ;;
+    --check-seconds) check="$2"; shift 2 ;;
+    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
     -*) echo "vs_mujoco.sh: unknown option '$1'" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
 done
 [ ${#names[@]} -gt 0 ] || names=(flap_unit chain_4 chain_6 chain_12 chain_25)
-for tool in flapsim_bench mujoco_bench; do
-  [ -x "$bin/$tool" ] || { echo "vs_mujoco.sh: no $bin/$tool (build first)" >&2; exit 2; }
-done
+[ -x "$bin/flapsim_bench" ] || { echo "vs_mujoco.sh: no $bin/flapsim_bench (build first)" >&2; exit 2; }
 
-# The steps per second of NAME in a benchmark's output (its third column).
+if [ -z "$mj_include$mj_lib" ]; then
+  mujoco="$bin/mujoco_bench"
+  [ -x "$mujoco" ] || { echo "vs_mujoco.sh: no $mujoco (apt-get install libmujoco-dev, build)" >&2; exit 2; }
+else
+  [ -f "$mj_include/mujoco/mujoco.h" ] || { echo "vs_mujoco.sh: no mujoco/mujoco.h in '$mj_include'" >&2; exit 2; }
+  [ -e "$mj_lib/libmujoco.so" ] || { echo "vs_mujoco.sh: no libmujoco.so in '$mj_lib'" >&2; exit 2; }
+  mj_include="$(cd "$mj_include" && pwd)" mj_lib="$(cd "$mj_lib" && pwd)"
+  core="$(cd "$bin/.." && pwd)"
+  [ -e "$core/libflapsim_core.so" ] || { echo "vs_mujoco.sh: no $core/libflapsim_core.so (build first)" >&2; exit 2; }
+  out="$root/build/mujoco_bench/$(echo "$mj_include $mj_lib" | md5sum | cut -c1-12)"
+  mujoco="$out/mujoco_bench"
+  sources=("$root/bench/mujoco_bench.cpp" "$root/bench/bench_common.h" "$core/libflapsim_core.so"
+           "$(readlink -f "$mj_lib/libmujoco.so")" "$mj_include/mujoco/mujoco.h")
+  stale=no
+  [ -x "$mujoco" ] || stale=yes
+  for f in "${sources[@]}"; do [ "$f" -nt "$mujoco" ] && stale=yes; done
+  if [ "$stale" = yes ]; then
+    mkdir -p "$out"
+    echo "vs_mujoco.sh: compiling mujoco_bench against $mj_include and $mj_lib into $out" >&2
+    g++ -std=c++17 -O3 -DNDEBUG -Wall -Wextra -o "$mujoco" "$root/bench/mujoco_bench.cpp" \
+      -DFLAPSIM_MUJOCO_LIBRARY="\"$mj_lib/libmujoco.so\"" \
+      -I "$root/include" -isystem /usr/include/eigen3 -isystem "$mj_include" \
+      -L "$core" -lflapsim_core -Wl,-rpath,"$core" -ldl
+  fi
+fi
+
+# The steps per second of NAME in a benchmark's output (its third column), and the step (s)
+# its header line names ("... steps of X ms").
 rate() { awk -v n="$2" '$1 == n { print $3 }' <<< "$1"; }
+step_of() { grep -o 'steps of [0-9.e+-]* ms' <<< "$1" | head -1 | awk '{ print $3 / 1000 }'; }
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+flags=(--runs 3 --seconds "$seconds" --cpu-time)
 
-printf '%-10s %6s %12s %12s %8s\n' creature pair flapsim mujoco ratio
+echo "MuJoCo: $("$mujoco" "${setting[@]}" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//')"
+echo "ratio: flapsim / MuJoCo per simulated second (steps/s x step), CPU time; order: which ran first"
+printf '%-10s %6s %6s %12s %12s %10s %10s %8s\n' creature pair order 'flapsim st/s' 'mujoco st/s' \
+  'flapsim s/s' 'mujoco s/s' ratio
 for name in "${names[@]}"; do
+  if [ "$check" != 0 ]; then
+    probe="$("$mujoco" "${setting[@]}" --check "$check" --only "$name")"
+    sed -n '2,$p' <<< "$probe"
+    if ! grep -q 'verdict: stable' <<< "$probe"; then
+      echo "$name: not counted: MuJoCo unstable at this setting"
+      continue
+    fi
+  fi
   ours=() theirs=() ratios=()
   for p in $(seq "$pairs"); do
-    a=$(rate "$("$bin/flapsim_bench" --runs 3 --seconds 1 --cpu-time --only "$name")" "$name")
-    b=$(rate "$("$bin/mujoco_bench" --runs 3 --seconds 1 --cpu-time --only "$name")" "$name")
-    [ -n "$a" ] && [ -n "$b" ] || { echo "vs_mujoco.sh: no figure for '$name'" >&2; exit 2; }
-    r=$(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.2f", a / b }')
-    ours+=("$a") theirs+=("$b") ratios+=("$r")
-    printf '%-10s %6d %12s %12s %8s\n' "$name" "$p" "$a" "$b" "$r"
+    if [ $((p % 2)) = 1 ]; then
+      order=fm
+      a_out="$("$bin/flapsim_bench" "${flags[@]}" --only "$name")"
+      b_out="$("$mujoco" "${setting[@]}" "${flags[@]}" --only "$name")"
+    else
+      order=mf
+      b_out="$("$mujoco" "${setting[@]}" "${flags[@]}" --only "$name")"
+      a_out="$("$bin/flapsim_bench" "${flags[@]}" --only "$name")"
+    fi
+    a=$(rate "$a_out" "$name") b=$(rate "$b_out" "$name")
+    ha=$(step_of "$a_out") hb=$(step_of "$b_out")
+    [ -n "$a" ] && [ -n "$b" ] && [ -n "$ha" ] && [ -n "$hb" ] ||
+      { echo "vs_mujoco.sh: no figure for '$name'" >&2; exit 2; }
+    sa=$(awk -v r="$a" -v h="$ha" 'BEGIN { printf "%.1f", r * h }')
+    sb=$(awk -v r="$b" -v h="$hb" 'BEGIN { printf "%.2f", r * h }')
+    r=$(awk -v a="$a" -v b="$b" -v ha="$ha" -v hb="$hb" 'BEGIN { printf "%.2f", a * ha / (b * hb) }')
+    ours+=("$sa") theirs+=("$sb") ratios+=("$r")
+    printf '%-10s %6d %6s %12s %12s %10s %10s %8s\n' "$name" "$p" "$order" "$a" "$b" "$sa" "$sb" "$r"
   done
-  printf '%-10s %6s %12s %12s %8s\n' "$name" median \
+  printf '%-10s %6s %6s %12s %12s %10s %10s %8s\n' "$name" median '' '' '' \
     "$(printf '%s\n' "${ours[@]}" | median)" "$(printf '%s\n' "${theirs[@]}" | median)" \
     "$(printf '%s\n' "${ratios[@]}" | median)"
 done

@@ -13,7 +13,7 @@ PACKAGES=(
   libstd-msgs-dev libstd-srvs-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
   libvisualization-msgs-dev libros-rosgraph-msgs-dev libdiagnostic-msgs-dev
   python3-rosbag python3-rosnode python3-rostopic python3-roslaunch python3-rosservice
-  python3-rostest librostest-dev
+  python3-rostest librostest-dev python3-rospy python3-yaml
   # live parameters of the simulator node (cfg/Flapsim.cfg)
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   # simulator node: Python message classes, so rostopic/rosservice/rosbag can show them

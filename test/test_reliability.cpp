@@ -28,11 +28,16 @@ using test::at;
 using test::loadUrdf;
 
 // The largest excursion of any limited joint beyond its limits, and the fastest link COM,
-// over a run.
+// over a run, and the watchdog's verdict: a creature that went non-finite or too fast is
+// frozen at the finite, in-limit state before that step, so the extremes alone would not
+// show it.
 struct RunExtremes {
   double limit_excess = 0.0;  // rad (or m)
   double max_speed = 0.0;     // m/s
   bool finite = true;
+  std::optional<Divergence> divergence;
+  // For messages: the watchdog's quantity, or "not frozen".
+  std::string verdict() const { return divergence ? divergence->quantity : "not frozen"; }
 };
 
 void record(const CreatureModel& m, const CreatureState& s, RunExtremes& out) {
@@ -62,6 +67,7 @@ RunExtremes run(const std::string& urdf, int steps, double rate, double amplitud
     w.step(1);
     record(*m, w.state("c"), out);
   }
+  out.divergence = w.divergence("c");
   return out;
 }
 
@@ -71,6 +77,7 @@ RunExtremes run(const std::string& urdf, int steps, double rate, double amplitud
 TEST(JointLimits, FoldedWingsOfFallingChainsRestOnTheirStops) {
   for (const char* urdf : {"afc_4.urdf", "afc_6.urdf", "afc_12.urdf"}) {
     const RunExtremes r = run(urdf, 600, 0.0, 0.0);
+    EXPECT_FALSE(r.divergence) << urdf << ": " << r.verdict();
     EXPECT_TRUE(r.finite) << urdf;
     EXPECT_LT(r.limit_excess, 1e-9) << urdf;
     // Falling from rest for 0.6 s under drag: slower than free fall's 5.9 m/s.
@@ -82,9 +89,11 @@ TEST(JointLimits, FoldedWingsOfFallingChainsRestOnTheirStops) {
 // (flap unit) and 0.20 rad (afc_4) past their stops.
 TEST(JointLimits, HoldAgainstFastStrokesThatTurnAtTheStops) {
   const RunExtremes unit = run("flap_unit.urdf", 1000, 200.0, 1.39);
+  EXPECT_FALSE(unit.divergence) << unit.verdict();
   EXPECT_TRUE(unit.finite);
   EXPECT_LT(unit.limit_excess, 1e-9);
   const RunExtremes chain = run("afc_4.urdf", 1000, 200.0, 1.39);
+  EXPECT_FALSE(chain.divergence) << chain.verdict();
   EXPECT_TRUE(chain.finite);
   EXPECT_LT(chain.limit_excess, 1e-9);
   // The wing tips move at about 200 rad/s x 0.35 m = 70 m/s at most; the COMs slower.
@@ -94,6 +103,7 @@ TEST(JointLimits, HoldAgainstFastStrokesThatTurnAtTheStops) {
 // A valid 250 rad/s stroke: the flap unit's wings went 0.05 rad past their stops.
 TEST(JointLimits, FlapUnitAt250RadPerSecondStaysBounded) {
   const RunExtremes r = run("flap_unit.urdf", 2000, 250.0, 1.0);
+  EXPECT_FALSE(r.divergence) << r.verdict();
   EXPECT_TRUE(r.finite);
   EXPECT_LT(r.limit_excess, 1e-9);
   EXPECT_LT(r.max_speed, 250.0 * 0.35);
@@ -103,6 +113,7 @@ TEST(JointLimits, FlapUnitAt250RadPerSecondStaysBounded) {
 // non-finite at step 156 and its passive joints thousands of radians past their stops.
 TEST(JointLimits, TwelveUnitChainAt1e4RadPerSecondStaysBounded) {
   const RunExtremes r = run("afc_12.urdf", 1600, 1e4, 1.0);
+  EXPECT_FALSE(r.divergence) << r.verdict();
   EXPECT_TRUE(r.finite);
   EXPECT_LT(r.limit_excess, 1e-9);
   EXPECT_LT(r.max_speed, 9.81 * 1.6);  // slower than a free fall for 1.6 s

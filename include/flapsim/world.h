@@ -1,5 +1,7 @@
-// World: a Bullet multibody world of creatures with the air model applied
-// once per fixed step. Owns sim time; never reads a clock.
+// World: a Bullet multibody world of creatures, stepped at a fixed step (a step in which a
+// wing reverses is taken in substeps, see turn_substep) with the air applied in every
+// (sub)step. The stages of a step: src/core/world/creature_step.h. Owns sim time; never
+// reads a clock.
 #pragma once
 
 #include <cstdint>
@@ -172,7 +174,8 @@ class World {
   void reset();
   /// Advances `steps` fixed steps. A creature whose state after a step would be non-finite
   /// or faster than `max_speed` anywhere keeps the state before that step and is not stepped
-  /// again until reset() (it is "frozen"); the others go on.
+  /// again until reset() (it is "frozen", its joint efforts zero: nothing drives it); the
+  /// others go on.
   void step(int steps = 1);
   /// The watchdog's verdict on a creature: none while it runs normally.
   std::optional<Divergence> divergence(const std::string& creature) const;
@@ -223,7 +226,8 @@ class World {
   Vec3 rootAcceleration(const std::string& creature) const;
   /// The mechanical power and work of the creature's motors (see CreaturePower).
   CreaturePower power(const std::string& creature) const;
-  /// Pose of the root link frame and the twist of its centre of mass.
+  /// Pose of the root link frame and the twist of the root link frame's origin (world frame;
+  /// CreatureState's convention), which is not its centre of mass's unless the two coincide.
   Pose rootPose(const std::string& creature) const;
   Twist rootTwist(const std::string& creature) const;
 

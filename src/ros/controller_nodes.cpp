@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "flapsim/Step.h"
+#include "flapsim/control_loop.h"
 
 namespace flapsim_ros {
 
@@ -167,12 +168,11 @@ bool AnnControllerNode::runLockstep() {
   spinner.start();
   const double period = 1.0 / params_.rate;
   const double step_size = simulatorStepSize();
-  const long steps = std::lround(period / step_size);
-  if (steps < 1 || std::abs(steps * step_size - period) > 1e-9) {
-    ROS_ERROR_STREAM("ann_controller: the control period " << period
-                                                           << " s is not a whole number of "
-                                                              "simulator steps of "
-                                                           << step_size << " s");
+  long steps = 0;
+  try {
+    steps = flapsim::ControlLoop(period, step_size).stepsPerPeriod();
+  } catch (const flapsim::InputError& e) {
+    ROS_ERROR_STREAM("ann_controller: " << e.what());
     return false;
   }
   const double timeout = params_.wait_timeout;

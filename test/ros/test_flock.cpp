@@ -8,6 +8,7 @@
 #include <ros/callback_queue.h>
 #include <ros/ros.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -37,6 +38,7 @@ TEST(Flock, KCreaturesAndKControllersEachFlyingItsOwn) {
 
   std::map<int, nav_msgs::Odometry> odom;
   std::map<int, std::vector<flapsim::Quat>> attitudes;  // every published one
+  std::map<int, double> latest;                         // the last odom stamp of each
   std::map<int, flapsim::WingCommand> command;
   std::vector<ros::Subscriber> subs;
   for (int i = 0; i < count; ++i) {
@@ -46,6 +48,7 @@ TEST(Flock, KCreaturesAndKControllersEachFlyingItsOwn) {
                                                       odom[i] = *m;
                                                       const auto& q = m->pose.pose.orientation;
                                                       attitudes[i].emplace_back(q.w, q.x, q.y, q.z);
+                                                      latest[i] = m->header.stamp.toSec();
                                                     }));
     subs.push_back(nh.subscribe<flapsim::WingCommand>(
         ns + "/wing_command", 100, [&, i](const flapsim::WingCommand::ConstPtr& m) {
@@ -85,6 +88,19 @@ TEST(Flock, KCreaturesAndKControllersEachFlyingItsOwn) {
     waitFor([&] { return static_cast<int>(command.size()) == count; }, 0.2);
   }
   ASSERT_EQ(static_cast<int>(command.size()), count) << "not every controller commanded";
+  // Every creature's odometry up to the last command's time has arrived (a command can come
+  // in before the odometry of the state it was computed from).
+  double last_command = 0.0;
+  for (const auto& [i, c] : command) last_command = std::max(last_command, c.header.stamp.toSec());
+  ASSERT_TRUE(waitFor(
+      [&] {
+        for (int i = 0; i < count; ++i) {
+          if (!latest.count(i) || latest[i] < last_command) return false;
+        }
+        return true;
+      },
+      30.0))
+      << "no odometry up to t = " << last_command;
   for (int i = 0; i < count; ++i) {
     const flapsim::WingCommand& c = command[i];
     ASSERT_EQ(c.joint_names.size(), 2u);

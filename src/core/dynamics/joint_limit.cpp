@@ -34,7 +34,7 @@ JointLimits::JointLimits(btMultiBody* body, std::vector<Limit> limits)
     : btMultiBodyConstraint(body, body, limits.at(0).link, body->getLink(limits[0].link).m_parent,
                             static_cast<int>(limits.size()), true, MULTIBODY_CONSTRAINT_LIMIT),
       limits_(std::move(limits)) {
-  m_maxAppliedImpulse = 1e6;  // as the multibody's own bound (body_builder.cpp)
+  m_maxAppliedImpulse = 1e6;  // as the multibody's own bound (bullet_body.cpp)
 }
 
 bool JointLimits::mayAct(btScalar dt) const {

@@ -35,16 +35,15 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   solve(links, fixed_root, demands, loads, ServoTree(), out);
 }
 
-void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
-                             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
-                             const ServoTree& tree, ServoSolution& out) {
+void JointServoSolver::checkArguments(const std::vector<ServoLink>& links,
+                                      const std::vector<ServoDemand>& demands,
+                                      const ServoLoads& loads, const ServoTree& tree) const {
   const size_t n = links.size();
   if (demands.size() != n) {
     throw std::invalid_argument("JointServoSolver: " + std::to_string(demands.size()) +
                                 " demands for " + std::to_string(n) + " links");
   }
-  const bool given = tree.inertia && tree.subspace;
-  if (given && (tree.inertia->size() != n || tree.subspace->size() != n)) {
+  if (tree.inertia && tree.subspace && (tree.inertia->size() != n || tree.subspace->size() != n)) {
     throw std::invalid_argument("JointServoSolver: inertias or subspaces not one per link");
   }
   for (size_t size : {loads.extra_inertia.size(), loads.impulse.size()}) {
@@ -59,15 +58,13 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
                                   std::to_string(n));
     }
   }
-  out.root_velocity_change.setZero();
-  if (n == 0) {
-    out.impulse.clear();
-    out.velocity_change.clear();
-    out.link_velocity_change.clear();
-    out.saturated.clear();
-    out.passes = 0;
-    return;
-  }
+}
+
+int JointServoSolver::prepare(const std::vector<ServoLink>& links,
+                              const std::vector<ServoDemand>& demands, const ServoLoads& loads,
+                              const ServoTree& tree, ServoSolution& out) {
+  const size_t n = links.size();
+  const bool given = tree.inertia && tree.subspace;
   status_.resize(n);
   tau_.assign(n, 0.0);
   side_.assign(n, 0);
@@ -119,6 +116,13 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
     for (int k : loads.links) body_inertia_[k] += loads.extra_inertia[k];
   }
 
+  return driven;
+}
+
+void JointServoSolver::settleActiveSet(const std::vector<ServoLink>& links, bool fixed_root,
+                                       const std::vector<ServoDemand>& demands,
+                                       const ServoLoads& loads, int driven, ServoSolution& out) {
+  const size_t n = links.size();
   // Active set: a driven joint whose impulse would exceed its bound pushes with the bound
   // instead; a pushing joint whose bound would carry it past its target is driven again.
   const int max_passes = std::min(2 * driven + 2, 32);
@@ -154,6 +158,24 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
     }
     pass(links, fixed_root, demands, loads, out);
   }
+}
+
+void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_root,
+                             const std::vector<ServoDemand>& demands, const ServoLoads& loads,
+                             const ServoTree& tree, ServoSolution& out) {
+  checkArguments(links, demands, loads, tree);
+  const size_t n = links.size();
+  out.root_velocity_change.setZero();
+  if (n == 0) {
+    out.impulse.clear();
+    out.velocity_change.clear();
+    out.link_velocity_change.clear();
+    out.saturated.clear();
+    out.passes = 0;
+    return;
+  }
+  const int driven = prepare(links, demands, loads, tree, out);
+  settleActiveSet(links, fixed_root, demands, loads, driven, out);
   warm_.resize(n);
   for (size_t k = 0; k < n; ++k) {
     warm_[k] = out.saturated[k] ? side_[k] : 0;

@@ -102,6 +102,17 @@ class JointServoSolver {
   // A prescribed joint whose impulse is beyond a bound pushes with that bound instead: made
   // free at it; whether it was.
   bool saturate(size_t k, const ServoDemand& d, double impulse);
+  // Throws std::invalid_argument unless every vector has one entry per link.
+  void checkArguments(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands,
+                      const ServoLoads& loads, const ServoTree& tree) const;
+  // Sizes the scratch, takes the links' inertias and subspaces, and starts every joint's
+  // status (warm from the last solve); returns how many joints are driven.
+  int prepare(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands,
+              const ServoLoads& loads, const ServoTree& tree, ServoSolution& out);
+  // Passes until no servo changes between driven and pushing with its bound.
+  void settleActiveSet(const std::vector<ServoLink>& links, bool fixed_root,
+                       const std::vector<ServoDemand>& demands, const ServoLoads& loads, int driven,
+                       ServoSolution& out);
   void pass(const std::vector<ServoLink>& links, bool fixed_root,
             const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
 

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "flapsim/control_loop.h"
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/make_creature.h"
 
@@ -63,6 +64,34 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p) {
   return starts;
 }
 
+namespace {
+
+// The unit bodies' attitudes as the controller senses them: each tilted by a small random
+// rotation (normal, `noise` rad per axis) when `noise` > 0.
+void senseAttitudes(const CreatureState& state, const std::vector<int>& bodies, double noise,
+                    Rng& rng, std::vector<Quat>& out) {
+  for (size_t u = 0; u < bodies.size(); ++u) {
+    out[u] = state.link_poses[bodies[u]].orientation;
+    if (noise > 0.0) {
+      const Vec3 tilt(noise * rng.normal(), noise * rng.normal(), 0.0);
+      out[u] = Quat(Eigen::AngleAxisd(
+                   tilt.norm(), tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitX())) *
+               out[u];
+    }
+  }
+}
+
+// One sample of the root's height z and up-component `up` into the result's extremes.
+void addSample(EpisodeResult& r, double z, double up) {
+  r.min_upright = std::min(r.min_upright, up);
+  r.min_height = std::min(r.min_height, z);
+  r.max_height = std::max(r.max_height, z);
+  r.final_height = z;
+  r.final_upright = up;
+}
+
+}  // namespace
+
 EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& controller,
                          double control_period, const EpisodeParams& p, const EpisodeStart& start,
                          bool record_trace) {
@@ -70,13 +99,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   if (!err.empty()) throw InputError("episode: " + err);
   WorldParams world_params = p.world;
   if (start.step_size > 0.0) world_params.step_size = start.step_size;
-  const double step = world_params.step_size;
-  const double steps_real = control_period / step;
-  const int steps = static_cast<int>(std::lround(steps_real));
-  if (!(control_period > 0.0) || steps < 1 || std::abs(steps_real - steps) > 1e-9 * steps_real) {
-    throw InputError("control period " + std::to_string(control_period) +
-                     " s is not a positive multiple of the step " + std::to_string(step) + " s");
-  }
+  const ControlLoop loop(control_period, world_params.step_size);
   const FlapUnitLayout layout = flapUnitLayout(*model);
   std::vector<int> bodies;
   for (const auto& name : layout.body_links) bodies.push_back(model->findLink(name));
@@ -90,35 +113,24 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   twist.angular = start.rate;
   world.spawn(name, model, pose, twist);
 
-  const int samples = static_cast<int>(std::lround(p.duration / control_period));
-  const int gust_sample = static_cast<int>(std::floor(start.gust_time / control_period));
+  const std::int64_t samples = loop.periodsIn(p.duration);
+  const double gust_sample = std::floor(start.gust_time / control_period);
   Rng noise(start.noise_seed);
   EpisodeResult result;
   result.max_height = -std::numeric_limits<double>::infinity();
   result.min_height = std::numeric_limits<double>::infinity();
   double sum = 0.0;
   std::vector<Quat> orientations(bodies.size());
-  for (int s = 0; s < samples; ++s) {
-    if (s == gust_sample && start.gust.squaredNorm() > 0.0) {
+  for (std::int64_t s = 0; s < samples; ++s) {
+    if (static_cast<double>(s) == gust_sample && start.gust.squaredNorm() > 0.0) {
       AirParams air = world.params().air;
       air.wind += start.gust;
       world.setAirParams(air);
     }
-    CreatureState state = world.state(name);
-    for (size_t u = 0; u < bodies.size(); ++u) {
-      orientations[u] = state.link_poses[bodies[u]].orientation;
-      if (p.input_noise > 0.0) {
-        // A noisy attitude sensor: the reading tilted by a small random rotation.
-        const Vec3 tilt(p.input_noise * noise.normal(), p.input_noise * noise.normal(), 0.0);
-        orientations[u] =
-            Quat(Eigen::AngleAxisd(tilt.norm(),
-                                   tilt.norm() > 0.0 ? Vec3(tilt.normalized()) : Vec3::UnitX())) *
-            orientations[u];
-      }
-    }
+    senseAttitudes(world.state(name), bodies, p.input_noise, noise, orientations);
     const std::vector<StrokeCommand> commands = controller.commands(orientations);
     world.setWingCommands(name, layout.wing_joints, commands);
-    world.step(steps);
+    world.step(loop.stepsPerPeriod());
 
     const Pose root = world.rootPose(name);
     const double z = root.position.z();
@@ -126,33 +138,25 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
     if (p.flip_penalty > 0.0 && up < 0.0) {
       // Upside down: the rest of the flight scores the height here less the penalty.
       result.flipped = true;
-      sum += (samples - s) * (z - p.flip_penalty);
-      result.min_upright = std::min(result.min_upright, up);
-      result.min_height = std::min(result.min_height, z);
-      result.max_height = std::max(result.max_height, z);
-      result.final_height = z;
-      result.final_upright = up;
+      sum += static_cast<double>(samples - s) * (z - p.flip_penalty);
+      addSample(result, z, up);
       break;
     }
     result.flipped = result.flipped || up < 0.0;
     if (up >= 0.5) result.upright_fraction += 1.0;
     sum += z;
-    result.min_height = std::min(result.min_height, z);
-    result.max_height = std::max(result.max_height, z);
-    result.min_upright = std::min(result.min_upright, up);
-    result.final_height = z;
-    result.final_upright = up;
+    addSample(result, z, up);
     if (record_trace) {
       EpisodeSample sample;
-      sample.time = (s + 1) * control_period;
+      sample.time = static_cast<double>(s + 1) * control_period;
       sample.height = z;
       sample.upright = up;
       for (const auto& c : commands) sample.downstroke.push_back(c.downstroke_rate);
       result.trace.push_back(std::move(sample));
     }
   }
-  result.fitness = samples > 0 ? sum / samples : 0.0;
-  if (samples > 0) result.upright_fraction /= samples;
+  result.fitness = samples > 0 ? sum / static_cast<double>(samples) : 0.0;
+  if (samples > 0) result.upright_fraction /= static_cast<double>(samples);
   const CreaturePower power = world.power(name);
   result.positive_power = power.meanPositivePower();
   result.net_power = power.time > 0.0 ? power.totalWork() / power.time : 0.0;

@@ -1,5 +1,7 @@
 // The air's motion seen from a body, and the per-cell sum the cell-by-cell laws share.
-// Private to flapsim_core.
+// Private to flapsim_core, for the laws' own files (fluid/pressure.cpp, fluid/quasi_steady.cpp):
+// internal to each of them (an unnamed namespace), so that each inlines them into its hot
+// loop as when they were one file's.
 #pragma once
 
 #include <vector>
@@ -7,6 +9,7 @@
 #include "flapsim/air_model.h"
 
 namespace flapsim {
+namespace {
 
 // The air's motion seen from a body: velocities in the body frame, where cell centres and
 // normals are constant.
@@ -58,4 +61,5 @@ Wrench sumCells(const BodyKinematics& body, const AeroSurface& surface, const Ai
   return Wrench{flow.rot * total, flow.rot * torque};
 }
 
+}  // namespace
 }  // namespace flapsim

@@ -27,4 +27,14 @@ struct FluidInput {
 /// each cell of the surface (world frame; a law acting on the whole body leaves them).
 using FluidLaw = Wrench (*)(const FluidInput& in, std::vector<Vec3>* cell_forces);
 
+/// A law as an air model (flapsim/air_model.h), for the world's and the links' choice.
+template <FluidLaw law>
+class LawAirModel : public AirModel {
+ public:
+  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
+                    std::vector<Vec3>* cell_forces) const override {
+    return law(FluidInput{body, surface, air}, cell_forces);
+  }
+};
+
 }  // namespace flapsim

@@ -97,9 +97,29 @@ void recordRow(const SurfaceFace& face, int i, double un_i, double n_j, double k
   }
 }
 
+// The pressure on a face whose cells are a plain list (some hidden), cell by cell, added to
+// `force` and `torque` (body frame).
+void addListFace(const BodyFlow& flow, const AeroSurface& surface, const SurfaceFace& face,
+                 double density, double cd, std::vector<Vec3>* cell_forces, Vec3& force,
+                 Vec3& torque) {
+  double sum = 0.0;
+  Vec3 moment = Vec3::Zero();
+  for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
+    const SurfaceCell& cell = surface.cells[i];
+    const double p = pressureMagnitude(flow.at(cell.centre), face.normal, cell.area, density, cd);
+    sum += p;
+    moment += p * cell.centre;
+    if (cell_forces) (*cell_forces)[i] = flow.rot * (-p * face.normal);
+  }
+  force -= sum * face.normal;
+  torque -= moment.cross(face.normal);
+}
+
 }  // namespace
 
-Wrench pressureLaw(const FluidInput& in, std::vector<Vec3>* cell_forces) {
+// Flattened: its small helpers and Eigen products inline into the loops, whatever the
+// inliner's budget (instructions, not results, depend on it).
+__attribute__((flatten)) Wrench pressureLaw(const FluidInput& in, std::vector<Vec3>* cell_forces) {
   const BodyKinematics& body = in.body;
   const AeroSurface& surface = in.surface;
   const AirParams& air = in.air;
@@ -168,19 +188,8 @@ Wrench pressureLaw(const FluidInput& in, std::vector<Vec3>* cell_forces) {
                 (k * g.along) * face.step_v_x_normal;
       continue;
     }
-    if (!flow.advances(face)) continue;
-    double sum = 0.0;
-    Vec3 moment = Vec3::Zero();
-    for (int i = face.first_cell; i < face.first_cell + face.cell_count; ++i) {
-      const SurfaceCell& cell = surface.cells[i];
-      const double p =
-          pressureMagnitude(flow.at(cell.centre), face.normal, cell.area, air.density, cd);
-      sum += p;
-      moment += p * cell.centre;
-      if (cell_forces) (*cell_forces)[i] = flow.rot * (-p * face.normal);
-    }
-    force -= sum * face.normal;
-    torque -= moment.cross(face.normal);
+    if (flow.advances(face))
+      addListFace(flow, surface, face, air.density, cd, cell_forces, force, torque);
   }
   return Wrench{flow.rot * force, flow.rot * torque};
 }

@@ -34,12 +34,6 @@ Wrench pressureLaw(const FluidInput& in, std::vector<Vec3>* cell_forces);
 Mat6 pressureDragDamping(const FluidInput& in);
 
 /// The paper's model (IEEE SMC 2010, eq. 3): pressure on advancing sub-surfaces.
-class PressureAirModel : public AirModel {
- public:
-  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
-                    std::vector<Vec3>* cell_forces) const override {
-    return pressureLaw(FluidInput{body, surface, air}, cell_forces);
-  }
-};
+using PressureAirModel = LawAirModel<pressureLaw>;
 
 }  // namespace flapsim

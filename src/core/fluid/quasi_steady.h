@@ -42,12 +42,6 @@ double rotationalLiftCoefficient(double x0);
 Wrench quasiSteadyLaw(const FluidInput& in, std::vector<Vec3>* cell_forces);
 
 /// The quasi-steady law as an air model.
-class QuasiSteadyAirModel : public AirModel {
- public:
-  Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface, const AirParams& air,
-                    std::vector<Vec3>* cell_forces) const override {
-    return quasiSteadyLaw(FluidInput{body, surface, air}, cell_forces);
-  }
-};
+using QuasiSteadyAirModel = LawAirModel<quasiSteadyLaw>;
 
 }  // namespace flapsim

@@ -1,7 +1,10 @@
-// Joint drives: how each movable joint is driven in a step (wing strokes, velocity targets,
-// feathering, passive damping and Coulomb friction), turned into servo demands and torques
-// on a creature's body. Private to flapsim_core.
+// The actuation stage of a step: how each movable joint is driven (wing strokes, velocity
+// targets, feathering, passive damping, springs and Coulomb friction), turned into this
+// step's servo demands (dynamics/servo_stage.h) and passive joint torques on the multibody.
+// Private to flapsim_core.
 #pragma once
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
 
 #include <vector>
 
@@ -10,7 +13,7 @@
 
 namespace flapsim {
 
-struct CreatureBody;
+class ServoStage;
 
 // Time constant of the feathering servo.
 constexpr double kFeatherTime = 0.005;
@@ -23,17 +26,8 @@ struct JointDrive {
   double velocity = 0.0;
 };
 
-// Joint damping is applied as an explicit torque -d qdot, stable while d dt stays well
-// under the joint's inertia. Beyond that it is capped at a quarter of the child link's own
-// inertia about the axis per step: the joint is then nearly rigid in velocity either way,
-// and a large URDF damping cannot make the step blow up.
-double dampingLimit(const CreatureModel& m, const JointModel& j, double dt);
-// A <spring> is an explicit torque -k (q - reference), stable while the child link's own
-// oscillation sqrt(k / I) dt stays below 2; beyond a quarter of I / dt^2 it is capped there.
-double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt);
-
-// A wing reversing in the next step of `b`: whether a stroke reaches its turning point
-// within the step or a stroke's servo was saturated in the last one (the stretch in which a
+// A wing reversing in the next step of the multibody `mb`: whether a stroke reaches its turning
+// point within the step or a stroke's servo was saturated in the last one (the stretch in which a
 // wing reverses under its effort limit), and when into the step the first stroke turns (the
 // step itself if none does).
 struct StrokeTurn {
@@ -41,11 +35,11 @@ struct StrokeTurn {
   double first_turn = 0.0;
 };
 StrokeTurn strokeTurn(const CreatureModel& m, const std::vector<JointDrive>& drives,
-                      const CreatureBody& b, double dt);
+                      const ServoStage& servos, const btMultiBody& mb, double dt);
 
-// Sets this step's servo demands and damping torques of every movable joint of `b` from
-// `drives` (one per model joint; strokes advance their phase), then the feathering servos.
-void applyDrives(const CreatureModel& m, std::vector<JointDrive>& drives, CreatureBody& b,
-                 double dt);
+// Sets this step's servo demands and passive torques of every movable joint from `drives`
+// (one per model joint; strokes advance their phase), then the feathering servos.
+void applyDrives(const CreatureModel& m, std::vector<JointDrive>& drives, ServoStage& servos,
+                 btMultiBody& mb, double dt);
 
 }  // namespace flapsim

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 
-#include "dynamics/creature_body.h"
-
 namespace flapsim {
 
 double CreaturePower::totalPower() const {
@@ -42,9 +40,9 @@ void PowerMeter::beginStep() {
   std::fill(step_work_.begin(), step_work_.end(), 0.0);
 }
 
-void PowerMeter::beginSubStep(const CreatureModel& m, const CreatureBody& b) {
+void PowerMeter::beginSubStep(const CreatureModel& m, const btMultiBody& mb) {
   for (size_t j = 0; j < m.joints.size(); ++j) {
-    if (m.joints[j].movable()) start_[j] = b.mb->getJointPos(m.joints[j].child_link - 1);
+    if (m.joints[j].movable()) start_[j] = mb.getJointPos(m.joints[j].child_link - 1);
   }
 }
 
@@ -66,14 +64,15 @@ bool motorAt(const CreatureModel& m, const std::vector<JointDrive>& drives, size
 }  // namespace
 
 void PowerMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
-                            const CreatureBody& b, double h) {
-  const std::vector<double>& impulse = b.solution.impulse;
+                            const btMultiBody& mb, const ServoSolution& servos, double h) {
+  const std::vector<double>& impulse = servos.impulse;
   for (size_t j = 0; j < m.joints.size(); ++j) {
     const JointModel& joint = m.joints[j];
     const size_t k = static_cast<size_t>(joint.child_link);
     if (!joint.movable() || k >= impulse.size() || impulse[k] == 0.0) continue;
     if (!motorAt(m, drives, j)) continue;
-    const double work = motorWork(impulse[k], h, b.mb->getJointPos(k - 1) - start_[j]);
+    const double work =
+        motorWork(impulse[k], h, mb.getJointPos(static_cast<int>(k) - 1) - start_[j]);
     energy_[j].add(work);
     step_work_[j] += work;
   }

@@ -3,8 +3,11 @@
 // to flapsim_core.
 #pragma once
 
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+
 #include <vector>
 
+#include "dynamics/joint_servo.h"
 #include "dynamics/motor.h"
 #include "flapsim/world.h"
 #include "world/joint_drives.h"
@@ -17,11 +20,11 @@ class PowerMeter {
   void reset(size_t joints);
   /// Before a step: its work starts at zero (and can be taken back).
   void beginStep();
-  /// Before a (sub)step of `b`: the joint positions it starts from.
-  void beginSubStep(const CreatureModel& m, const CreatureBody& b);
-  /// After it: each motor's work in it (`b`'s servo impulses over `h`).
+  /// Before a (sub)step of `mb`: the joint positions it starts from.
+  void beginSubStep(const CreatureModel& m, const btMultiBody& mb);
+  /// After it: each motor's work in it (the servo impulses of `servos` over `h`).
   void endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
-                  const CreatureBody& b, double h);
+                  const btMultiBody& mb, const ServoSolution& servos, double h);
   /// After the last substep of a step of `dt`: the step counts.
   void endStep(double dt);
   /// The step did not happen (the watchdog put the creature back): its work is taken back.

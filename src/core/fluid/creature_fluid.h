@@ -1,36 +1,33 @@
-// The air stage of a step: the aero bodies of a creature and the air wrenches applied to
-// them once per step. Private to flapsim_core.
+// The fluid of one creature: its aero bodies (the links that the air acts on), each with its
+// surface, its added mass and what the fluid stage (world/fluid_stage.h) found in the last
+// (sub)step: the explicit wrench and the implicit part (added mass, linearised drag) that the
+// servo stage solves inside Bullet's step. Private to flapsim_core.
 #pragma once
 
-#include <map>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "dynamics/spatial.h"
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/world.h"
-#include "fluid/added_mass.h"
 
 namespace flapsim {
-
-struct CreatureBody;
 
 // A link that the air acts on (aero enabled, with boxes); other links have none.
 struct AeroBody {
   int link = 0;       // model link index (0 = root = Bullet base)
   std::string model;  // the link's own air model, empty for the world's
   AeroSurface surface;
-  // The fluid's implicit part (flapsim/fluid_inertia.h), spatial, about the COM: the added
-  // mass of the link's plates at density 1 in body axes, and its factor; this step's added
-  // mass (factored) and step x linearised drag, in world axes.
+  // The fluid's implicit part (fluid/added_mass.h), spatial, about the COM: the added mass
+  // of the link's plates at density 1 in body axes, and its factor; this step's added mass
+  // (factored) and step x linearised drag, in world axes.
   Mat6 added_mass = Mat6::Zero();
   SpatialFactor added_factor;
   bool has_added_mass = false;  // added_mass is not zero
   SpatialFactor added;          // empty unless has_added_mass
-  // What `added` was turned with (CreatureBody::turnedAddedMass): the link's rotation and
-  // the density; not valid after a new surface.
+  // What `added` was turned with (CreatureFluid::addedMass): the link's rotation and the
+  // density; not valid after a new surface.
   Mat3 added_rotation = Mat3::Zero();
   double added_density = 0.0;
   bool added_valid = false;
@@ -57,31 +54,27 @@ bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirPa
 // The added mass of a link's plate-like boxes at density 1 (AeroBody::added_mass).
 Mat6 linkAddedMass(const LinkModel& l, const AirParams& air);
 
-// The aero bodies of a creature, in link order.
-std::vector<AeroBody> makeAeroBodies(const CreatureModel& m, const AirParams& air);
-
-// Rebuilds the surfaces of `aero` for new air parameters, keeping everything else.
-void resurface(std::vector<AeroBody>& aero, const CreatureModel& m, const AirParams& air);
-
-// The air models in use: the world's default and the built-in ones that links may name.
-class AirStage {
+// The aero bodies of one creature, in link order, with what the fluid stage found in the
+// last (sub)step; written by AirStage and by addedMass() only.
+class CreatureFluid {
  public:
-  explicit AirStage(const std::string& default_model);
+  CreatureFluid(const CreatureModel& m, const AirParams& air);
+  // Rebuilds the surfaces for new air parameters, keeping the rest.
+  void resurface(const CreatureModel& m, const AirParams& air);
 
-  void setDefaultModel(AirModelPtr model) { default_model_ = std::move(model); }
-  void setRecordCells(bool on) { record_cells_ = on; }
-
-  // Adds this step's air wrench (and buoyancy) to every aero body of `b`, and records it in
-  // the body's AeroBody::last. Needs the link frames of b.updateKinematics().
-  // `step`: the (sub)step the wrenches act over.
-  void apply(CreatureBody& b, const WorldParams& params, double step) const;
+  const std::vector<AeroBody>& bodies() const { return bodies_; }
+  // Whether this (sub)step's aero bodies carry implicit fluid matrices (added mass or drag).
+  bool active() const { return active_; }
+  // The added mass of aero body i at `density` in world axes (`rotation`: its link's, to
+  // world), about its COM, factored (empty without added mass); turned again only if the
+  // rotation or the density changed since it last was (the end of a step's momentum has the
+  // next step's rotations).
+  const SpatialFactor& addedMass(size_t i, const Mat3& rotation, double density);
 
  private:
-  const AirModel& modelOf(const AeroBody& a) const;
-
-  AirModelPtr default_model_;
-  std::map<std::string, AirModelPtr> named_models_;  // for links that name their own
-  bool record_cells_ = false;
+  friend class AirStage;
+  std::vector<AeroBody> bodies_;
+  bool active_ = false;
 };
 
 }  // namespace flapsim

@@ -1,0 +1,300 @@
+#include "dynamics/bullet_body.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+#include "dynamics/joint_limit.h"
+
+namespace flapsim {
+
+BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
+  BodyKinematics kin;
+  kin.orientation = fromBt(world_to_local[k].inverse());
+  // One rotation matrix for both velocities: cheaper than two quaternion rotations.
+  const Mat3 r = kin.orientation.toRotationMatrix();
+  kin.com = fromBt(local_origin[k]);
+  // Bullet's link velocities are in the link's (COM) frame.
+  kin.body_linear_velocity = fromBt(vel[k]);
+  kin.body_angular_velocity = fromBt(omega[k]);
+  kin.linear_velocity = r * kin.body_linear_velocity;
+  kin.angular_velocity = r * kin.body_angular_velocity;
+  kin.rotation = r;
+  kin.has_body_frame = true;
+  if (rotation) *rotation = r;
+  return kin;
+}
+
+void BodySnapshot::take(const btMultiBody& mb) {
+  position = mb.getBasePos();
+  orientation = mb.getWorldToBaseRot();
+  velocity = mb.getBaseVel();
+  omega = mb.getBaseOmega();
+  q.resize(static_cast<size_t>(mb.getNumLinks()));
+  qdot.resize(q.size());
+  for (int k = 0; k < mb.getNumLinks(); ++k) {
+    q[k] = mb.getJointPos(k);
+    qdot[k] = mb.getJointVel(k);
+  }
+}
+
+void BodySnapshot::restore(btMultiBody& mb) const {
+  mb.setBasePos(position);
+  mb.setWorldToBaseRot(orientation);
+  mb.setBaseVel(velocity);
+  mb.setBaseOmega(omega);
+  for (int k = 0; k < mb.getNumLinks(); ++k) {
+    mb.setJointPos(k, q[k]);
+    mb.setJointVel(k, qdot[k]);
+  }
+}
+
+namespace {
+
+// Link k (>= 1) of the multibody, on the joint to its parent.
+void setupLink(btMultiBody& mb, const CreatureModel& m, int k) {
+  const LinkModel& l = m.links[k];
+  const JointModel& j = m.joints[l.parent_joint];
+  const LinkModel& p = m.links[j.parent_link];
+  const btQuaternion rot = toBt(j.origin.orientation.conjugate());
+  const btVector3 parent_com_to_pivot = toBt(j.origin.position - p.com);
+  const btVector3 pivot_to_com = toBt(l.com);
+  const int parent = j.parent_link - 1;
+  switch (j.type) {
+    case JointType::kRevolute:
+    case JointType::kContinuous:
+      mb.setupRevolute(k - 1, l.mass, toBt(l.inertia), parent, rot, toBt(j.axis),
+                       parent_com_to_pivot, pivot_to_com, true);
+      break;
+    case JointType::kPrismatic:
+      mb.setupPrismatic(k - 1, l.mass, toBt(l.inertia), parent, rot, toBt(j.axis),
+                        parent_com_to_pivot, pivot_to_com, true);
+      break;
+    case JointType::kFixed:
+      mb.setupFixed(k - 1, l.mass, toBt(l.inertia), parent, rot, parent_com_to_pivot, pivot_to_com);
+      break;
+  }
+}
+
+// The multibody of `m`, its root's COM at `pose` * root COM, moving with `twist`.
+std::unique_ptr<btMultiBody> makeMultiBody(const CreatureModel& m, const Pose& pose,
+                                           const Twist& twist) {
+  const int n = static_cast<int>(m.links.size()) - 1;
+  const LinkModel& root = m.links[0];
+  auto mb = std::make_unique<btMultiBody>(n, root.mass, toBt(root.inertia), m.fixed_base, false);
+  for (int k = 1; k <= n; ++k) setupLink(*mb, m, k);
+  mb->finalizeMultiDof();
+  mb->setLinearDamping(0);
+  mb->setAngularDamping(0);
+  mb->setMaxCoordinateVelocity(1e6);
+  mb->setMaxAppliedImpulse(1e6);
+  mb->setHasSelfCollision(false);
+  mb->setUseGyroTerm(true);
+  mb->setCanSleep(false);
+  const Pose com_pose = pose * Pose{root.com, Quat::Identity()};
+  mb->setBaseWorldTransform(toBt(com_pose));
+  mb->setBaseVel(toBt(twist.linear));
+  mb->setBaseOmega(toBt(twist.angular));
+  return mb;
+}
+
+// Distance from the link's COM to the farthest corner of its boxes (0 if none).
+double linkReach(const LinkModel& l) {
+  const Pose com_inv{-l.com, Quat::Identity()};
+  double reach = 0.0;
+  for (const Box& b : l.boxes) {
+    const double corner = (com_inv * b.origin).position.norm() + 0.5 * b.size.norm();
+    reach = std::max(reach, corner);
+  }
+  return reach;
+}
+
+}  // namespace
+
+BulletBody::BulletBody(const CreatureModel& m, const Pose& pose, const Twist& twist,
+                       const WorldParams& params)
+    : model_(m), scene_(std::make_unique<Scene>(params)), mb_(makeMultiBody(m, pose, twist)) {
+  world().addMultiBody(mb_.get());
+  const int links = static_cast<int>(m.links.size());
+  frames_.world_to_local.resize(links);
+  frames_.local_origin.resize(links);
+  frames_.omega.resize(links);
+  frames_.vel.resize(links);
+  mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
+  addColliders(params.ground_friction);
+  addLimits();
+  world().setGroundCheck([this] { return mayTouch(); });
+  updateKinematics();  // frames and velocities for the first step
+}
+
+BulletBody::~BulletBody() {
+  if (!scene_) return;
+  btMultiBodyDynamicsWorld& w = world();
+  for (auto& l : limits_) w.removeMultiBodyConstraint(l.get());
+  for (auto& c : colliders_) w.removeCollisionObject(c.get());
+  if (mb_) w.removeMultiBody(mb_.get());
+}
+
+// The collision shape of a link with boxes (in the COM frame), owned by the body.
+btCollisionShape* BulletBody::linkShape(const LinkModel& l) {
+  const Pose com_inv{-l.com, Quat::Identity()};
+  const Pose first = com_inv * l.boxes[0].origin;
+  if (l.boxes.size() == 1 && first.position.isZero(1e-12) &&
+      first.orientation.isApprox(Quat::Identity(), 1e-12)) {
+    // One box centred on the COM: no compound needed (cheaper contact tests).
+    shapes_.push_back(std::make_unique<btBoxShape>(toBt(0.5 * l.boxes[0].size)));
+    return shapes_.back().get();
+  }
+  auto compound = std::make_unique<btCompoundShape>(false, static_cast<int>(l.boxes.size()));
+  for (const Box& b : l.boxes) {
+    auto box = std::make_unique<btBoxShape>(toBt(0.5 * b.size));
+    compound->addChildShape(toBt(com_inv * b.origin), box.get());
+    shapes_.push_back(std::move(box));
+  }
+  btCollisionShape* shape = compound.get();
+  shapes_.push_back(std::move(compound));
+  return shape;
+}
+
+// The collider of link k (which has boxes), added to the scene.
+void BulletBody::addCollider(const LinkModel& l, int k, double friction) {
+  auto col = std::make_unique<btMultiBodyLinkCollider>(mb_.get(), k - 1);
+  col->setCollisionShape(linkShape(l));
+  col->setFriction(friction);
+  col->setActivationState(DISABLE_DEACTIVATION);
+  col->setWorldTransform(btTransform(frames_.world_to_local[k].inverse(), frames_.local_origin[k]));
+  world().addCollisionObject(col.get(), btBroadphaseProxy::DefaultFilter,
+                             btBroadphaseProxy::AllFilter);
+  if (k == 0) {
+    mb_->setBaseCollider(col.get());
+  } else {
+    mb_->getLink(k - 1).m_collider = col.get();
+  }
+  colliders_.push_back(std::move(col));
+}
+
+// Colliders (boxes, in the COM frame) and reaches of every link.
+void BulletBody::addColliders(double friction) {
+  reach_.assign(model_.links.size(), 0.0);
+  for (size_t k = 0; k < model_.links.size(); ++k) {
+    const LinkModel& l = model_.links[k];
+    reach_[k] = linkReach(l);
+    if (!l.boxes.empty()) addCollider(l, static_cast<int>(k), friction);
+  }
+}
+
+// Joint limits: one Bullet constraint for all (see joint_limit.h).
+void BulletBody::addLimits() {
+  std::vector<JointLimits::Limit> limits;
+  for (const JointModel& j : model_.joints) {
+    if (j.movable() && j.limited && j.lower < j.upper) {
+      limits.push_back({j.child_link - 1, j.lower, j.upper});
+    }
+  }
+  if (limits.empty()) return;
+  auto constraint = std::make_unique<JointLimits>(mb_.get(), std::move(limits));
+  world().addMultiBodyConstraint(constraint.get());
+  limits_.push_back(std::move(constraint));
+}
+
+void BulletBody::updateKinematics() {
+  mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
+  mb_->compTreeLinkVelocities(frames_.omega.data(), frames_.vel.data());
+}
+
+LinkFrames BulletBody::currentFrames() const {
+  const btMultiBody& m = *mb_;
+  const int n = m.getNumLinks();
+  LinkFrames f;
+  multiBodyFrames(m, f.world_to_local, f.local_origin);
+  f.omega.resize(n + 1);
+  f.vel.resize(n + 1);
+  m.compTreeLinkVelocities(f.omega.data(), f.vel.data());
+  return f;
+}
+
+void BulletBody::framesAfterStep() {
+  // Bullet's step placed the links (and joints moved since have their caches from
+  // setJointPos); after a lean step, the same sums without writing the multibody.
+  if (world().leanStepped()) {
+    multiBodyFrames(*mb_, frames_.world_to_local, frames_.local_origin);
+  } else {
+    mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
+  }
+  mb_->compTreeLinkVelocities(frames_.omega.data(), frames_.vel.data());
+}
+
+void BulletBody::setFrame(int k, const btQuaternion& world_to_local, const btVector3& origin,
+                          const btVector3& omega, const btVector3& velocity) {
+  frames_.world_to_local[k] = world_to_local;
+  frames_.local_origin[k] = origin;
+  frames_.omega[k] = omega;
+  frames_.vel[k] = velocity;
+}
+
+void BulletBody::settle() {
+  updateKinematics();
+  ServoWorld& w = world();
+  w.placeColliders();
+  for (auto& col : colliders_) {
+    w.updateSingleAabb(col.get());
+    if (col->getBroadphaseHandle()) {
+      w.getBroadphase()->getOverlappingPairCache()->cleanProxyFromPairs(col->getBroadphaseHandle(),
+                                                                        w.getDispatcher());
+    }
+  }
+}
+
+bool BulletBody::mayTouch() const {
+  if (!scene_->hasGround()) return false;
+  if (scene_->hasContacts()) return true;
+  constexpr double kClearance = 0.1;  // m: well beyond Bullet's contact margins
+  const double dt = scene_->timeStep();
+  const LinkFrames& f = frames_;
+  for (size_t k = 0; k < reach_.size(); ++k) {
+    if (reach_[k] <= 0.0) continue;
+    // The travel below is at most 2 dt sqrt(2 (v^2 + (w reach)^2)): well clear of that (as
+    // high in the air), no square roots.
+    const double margin = f.local_origin[static_cast<int>(k)].z() - reach_[k] - kClearance;
+    const double w_reach = f.omega[k].length2() * reach_[k] * reach_[k];
+    if (margin > 0.0 && 8.0 * dt * dt * (f.vel[k].length2() + w_reach) < 0.99 * margin * margin) {
+      continue;
+    }
+    const double travel = 2.0 * dt * (f.vel[k].length() + f.omega[k].length() * reach_[k]);
+    if (f.local_origin[static_cast<int>(k)].z() - reach_[k] - travel < kClearance) return true;
+  }
+  return false;
+}
+
+std::string BulletBody::motionFault(double max_speed) const {
+  const LinkFrames& f = frames_;
+  const CreatureModel& m = model_;
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    const int i = static_cast<int>(k);
+    // Named only on a fault: this runs every step.
+    auto link = [&m, k] { return "link '" + m.links[k].name + "'"; };
+    const btQuaternion& q = f.world_to_local[i];
+    if (!std::isfinite(f.local_origin[i].x() + f.local_origin[i].y() + f.local_origin[i].z()) ||
+        !std::isfinite(q.x() + q.y() + q.z() + q.w())) {
+      return link() + " has a non-finite pose";
+    }
+    // The fastest point of the link: its COM's speed plus the spin times its reach, at most
+    // the square root of 2 (v^2 + (w reach)^2): well below the limit (as almost always), no
+    // square roots.
+    const double v2 = f.vel[k].length2(), w2r2 = f.omega[k].length2() * reach_[k] * reach_[k];
+    if (max_speed > 0.0 && 2.0 * (v2 + w2r2) < 0.99 * max_speed * max_speed) continue;
+    const double v = f.vel[k].length(), w = f.omega[k].length();
+    if (!std::isfinite(v) || !std::isfinite(w)) return link() + " has a non-finite velocity";
+    const double speed = v + w * reach_[k];
+    if (speed > max_speed) {
+      std::ostringstream msg;
+      msg.precision(4);
+      msg << link() << " moves at " << speed << " m/s (max_speed " << max_speed << " m/s)";
+      return msg.str();
+    }
+  }
+  return "";
+}
+
+}  // namespace flapsim

@@ -1,0 +1,121 @@
+#include "dynamics/momentum_balance.h"
+
+#include "dynamics/bullet_body.h"
+#include "fluid/creature_fluid.h"
+
+namespace flapsim {
+
+SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid) {
+  const btMultiBody& mb = body.multiBody();
+  TreeDynamics& tree = body.world().tree();
+  tree.updateFrames(mb);
+  const auto& velocity = tree.velocities(mb);
+  const auto& com = tree.coms();
+  const auto& inertia = tree.bodyInertias();
+  const Vec3 base = fromBt(mb.getBasePos());
+  // Sums about the base's COM (systemMomentum()'s, from the tree's spatial inertias): the
+  // mass and its first moment, the spatial momentum, and the rotational inertia.
+  const size_t n = com.size();
+  motions_.resize(n);
+  SystemMomentum s;
+  Vec3 first_moment = Vec3::Zero();
+  Vec6 momentum = Vec6::Zero();
+  Mat3 about_base = Mat3::Zero();
+  for (size_t k = 0; k < n; ++k) {
+    const double mass = model_.links[k].mass;
+    s.mass += mass;
+    first_moment += mass * com[k];
+    momentum.noalias() += inertia[k] * velocity[k];
+    about_base += inertia[k].topLeftCorner<3, 3>();
+    LinkMotion& b = motions_[k];
+    b.com = base + com[k];
+    b.angular_velocity = velocity[k].head<3>();
+    b.velocity = velocity[k].tail<3>() + b.angular_velocity.cross(com[k]);
+  }
+  if (s.mass <= 0.0) return s;
+  // About the common COM c: the same linear momentum, the moment less c x p, and the
+  // inertia less that of the whole mass at c (parallel axes).
+  const Vec3 c = first_moment / s.mass;
+  s.com = base + c;
+  s.linear = momentum.tail<3>();
+  s.body_linear = s.linear;
+  s.angular = momentum.head<3>() - c.cross(s.linear);
+  s.inertia = about_base - s.mass * (c.squaredNorm() * Mat3::Identity() - c * c.transpose());
+  if (density_ <= 0.0) return s;
+  const std::vector<AeroBody>& aero = fluid.bodies();
+  for (size_t i = 0; i < aero.size(); ++i) {
+    const AeroBody& a = aero[i];
+    if (!a.has_added_mass) continue;
+    const LinkMotion& b = motions_[a.link];
+    Vec6 v;
+    v << b.angular_velocity, b.velocity;
+    addFluidMomentum(s, fluid.addedMass(i, tree.rotations()[a.link], density_), b.com, v);
+  }
+  return s;
+}
+
+void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density) {
+  external_force_.setZero();
+  external_moment_.setZero();
+  drag_impulse_.setZero();
+  origin_ = fromBt(body.frames().local_origin[0]);
+  const bool carried = carried_valid_ && carried_density_ == added_mass_density;
+  carried_valid_ = false;
+  density_ = added_mass_density;
+  if (model_.fixed_base) return;
+  start_ = carried ? carried_ : measure(body, fluid);
+}
+
+void MomentumBalance::addExternal(const Vec3& com, const Wrench& wrench) {
+  external_force_ += wrench.force;
+  external_moment_ += (com - origin_).cross(wrench.force) + wrench.torque;
+}
+
+void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gravity, double dt) {
+  carried_valid_ = false;
+  if (model_.fixed_base || body.hasContacts() || start_.mass <= 0.0) {
+    body.framesAfterStep();
+    return;
+  }
+  // What the momentum must be: the start plus the external impulses (gravity has no moment
+  // about the centre of mass).
+  const Vec3 linear =
+      start_.linear + dt * (start_.mass * gravity + external_force_) + drag_impulse_.tail<3>();
+  Vec6 air;
+  air << external_moment_, external_force_;
+  const Vec3 angular = start_.angular + dt * momentAbout(air, origin_, start_.com) +
+                       momentAbout(drag_impulse_, origin_, start_.com);
+  const SystemMomentum now = measure(body, fluid);
+  const RigidCorrection c = momentumCorrection(now, linear, angular);
+  // The centre of mass moves with the bodies' new momentum.
+  const Vec3 body_velocity = now.body_linear / now.mass + c.velocity;
+  const Vec3 shift = start_.com + dt * body_velocity - now.com;
+  // The same rigid motion on the multibody's base and on the frames, which are those of the
+  // measure (its tree's rotations are the sums of forwardKinematics) plus the correction.
+  btMultiBody& mb = body.multiBody();
+  const Vec3 base = fromBt(mb.getBasePos());
+  mb.setBasePos(toBt(base + shift));
+  mb.setBaseOmega(mb.getBaseOmega() + toBt(c.angular_velocity));
+  mb.setBaseVel(mb.getBaseVel() + toBt(c.velocity + c.angular_velocity.cross(base - now.com)));
+  const TreeDynamics& tree = body.world().tree();
+  const int bodies = static_cast<int>(motions_.size());
+  for (int k = 0; k < bodies; ++k) {
+    const LinkMotion& b = motions_[k];
+    // Velocities into the link's frame, as Bullet keeps them.
+    const Mat3& to_world = tree.rotations()[k];
+    const Vec3 w = b.angular_velocity + c.angular_velocity;
+    const Vec3 v = b.velocity + c.velocity + c.angular_velocity.cross(b.com - now.com);
+    body.setFrame(k, tree.worldToLocal()[k], toBt(Vec3(b.com + shift)),
+                  toBt(Vec3(to_world.transpose() * w)), toBt(Vec3(to_world.transpose() * v)));
+  }
+  // The momentum is now the target, about the shifted centre of mass: the next step starts
+  // from it instead of measuring it again.
+  carried_.mass = now.mass;
+  carried_.com = now.com + shift;
+  carried_.linear = linear;
+  carried_.angular = angular - shift.cross(linear);
+  carried_valid_ = true;
+  carried_density_ = density_;
+}
+
+}  // namespace flapsim

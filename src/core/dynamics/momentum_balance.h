@@ -1,0 +1,66 @@
+// The momentum balance of a creature's step (see dynamics/momentum.h): begin() takes the
+// momentum at the start of the (sub)step, the fluid and external stages add their impulses,
+// the servo stage the implicit drag's, and end(), after Bullet's step, gives the base the
+// rigid correction that makes the momentum and the centre of mass those of the external
+// impulses (internal forces then move neither), unless the creature touches something
+// (contact impulses are not known here) or is anchored. Private to flapsim_core.
+#pragma once
+
+#include <vector>
+
+#include "dynamics/momentum.h"
+#include "dynamics/spatial.h"
+#include "flapsim/air_model.h"
+#include "flapsim/creature_model.h"
+
+namespace flapsim {
+
+class BulletBody;
+class CreatureFluid;
+
+class MomentumBalance {
+ public:
+  explicit MomentumBalance(const CreatureModel& m) : model_(m) {}
+
+  // The start of a (sub)step (frames of its start): the momentum of the tree and of the fluid
+  // its plates carry at `added_mass_density` (0: none), carried over from the last corrected
+  // step or measured; no impulse yet.
+  void begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density);
+  // A wrench about the COM `com` of a link (frames of the step's start) acting all step.
+  void addExternal(const Vec3& com, const Wrench& wrench);
+  // The implicit drag's impulse over the step [moment about the root COM of the step's start;
+  // force] (the servo stage's solve).
+  void setDragImpulse(const Vec6& impulse) { drag_impulse_ = impulse; }
+  // After Bullet's step: the correction, and the frames of the step's end in `body`.
+  void end(BulletBody& body, CreatureFluid& fluid, const Vec3& gravity, double dt);
+  // A corrected step ends with a known momentum, which the next begin() takes instead of
+  // measuring it; call this after changing the multibody's state between steps.
+  void forget() { carried_valid_ = false; }
+
+ private:
+  // The momentum of the tree and of the fluid it carries, at the multibody's state (the
+  // scene's TreeDynamics frames, which the next lean step's velocity update reuses).
+  SystemMomentum measure(BulletBody& body, CreatureFluid& fluid);
+
+  const CreatureModel& model_;
+  // This step's balance: the start, and the external impulses so far (moments about the root
+  // COM at the start of the step, `origin_`).
+  SystemMomentum start_;
+  SystemMomentum carried_;  // of the end of the last corrected step
+  bool carried_valid_ = false;
+  double carried_density_ = 0.0;
+  double density_ = 0.0;  // of the added mass in this step
+  Vec3 origin_ = Vec3::Zero();
+  Vec3 external_force_ = Vec3::Zero();
+  Vec3 external_moment_ = Vec3::Zero();
+  Vec6 drag_impulse_ = Vec6::Zero();
+  // Scratch, kept between steps: no allocation once warm.
+  struct LinkMotion {  // of a link's COM, world frame
+    Vec3 com = Vec3::Zero();
+    Vec3 velocity = Vec3::Zero();
+    Vec3 angular_velocity = Vec3::Zero();
+  };
+  std::vector<LinkMotion> motions_;
+};
+
+}  // namespace flapsim

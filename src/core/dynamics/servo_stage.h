@@ -1,0 +1,112 @@
+// The servo stage of a creature's step: its joint servos (wing motors, velocity targets,
+// feathering, Coulomb friction) and the fluid's implicit part (added mass, linearised drag),
+// solved together as one impulse problem (dynamics/joint_servo.h) inside Bullet's step,
+// between its unconstrained velocity update (gravity, air, damping) and its constraint solve
+// (limits, contacts), where Bullet's own joint motors act. Private to flapsim_core.
+#pragma once
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+
+#include <vector>
+
+#include "dynamics/joint_servo.h"
+#include "dynamics/motor.h"
+#include "dynamics/spatial.h"
+#include "dynamics/tree_dynamics.h"
+#include "flapsim/creature_model.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+
+struct LinkFrames;
+class CreatureFluid;
+
+class ServoStage {
+ public:
+  // The servos of creature `m` (kept by pointer: it must outlive the stage), with the effort
+  // bounds, damping and stiffness the world's step keeps stable.
+  ServoStage(const CreatureModel& m, const WorldParams& params);
+
+  // Per model joint: the servo's torque bound, and the passive damping and spring stiffness
+  // (capped for the step's stability, see dampingLimit()).
+  double maxEffort(size_t joint) const { return max_effort_[joint]; }
+  double damping(size_t joint) const { return damping_[joint]; }
+  double stiffness(size_t joint) const { return stiffness_[joint]; }
+
+  // The actuation stage's demands for this step, per link (the servo of the joint to its
+  // parent): none, or a target velocity at the end of the step under a torque bound.
+  void release(int link) { demands_[link].active = false; }
+  void demand(int link, double target, double effort, double dt);
+  // The same under a motor's bounds, which differ in the two directions (dynamics/motor.h).
+  void demand(int link, double target, const TorqueBounds& bounds, double dt);
+
+  // The start of a (sub)step: the velocities the fluid's implicit part and the saturated
+  // servos' correction are measured from.
+  void begin(const btMultiBody& mb);
+  // Inside Bullet's step, once the velocities hold gravity, air and damping: solves every
+  // servo and the fluid's implicit part together and adds the velocity change they cause
+  // (frames of the start of the step; `lean`: the lean step's tree, if this is one). Returns
+  // the implicit drag's impulse over the step [moment about the root COM; force] (the added
+  // mass is part of the momentum itself).
+  Vec6 solve(btMultiBody& mb, const LinkFrames& frames, const TreeDynamics* lean,
+             const CreatureFluid& fluid);
+  // After Bullet's step of `dt`: a saturated servo pushed with its bound all step, a constant
+  // torque, under which (with the air and gravity) its joint moves by the trapezoid of its
+  // velocities, where Bullet's semi-implicit step takes the end velocity. Not in contact
+  // (impulses there), nor near a joint's stop, where the limit's impulse may have acted.
+  void integrateSaturated(btMultiBody& mb, bool contacts, double dt);
+  // After a state set from outside a step: no servo history.
+  void forget();
+
+  // Of the last solve: impulses all zero if no servo acted.
+  const ServoSolution& solution() const { return solution_; }
+  bool saturated(size_t link) const {
+    return link < solution_.saturated.size() && solution_.saturated[link];
+  }
+  // The torque (force) the servo of the joint to `link` applied in the last (sub)step.
+  double effort(size_t link) const {
+    return link < solution_.impulse.size() ? solution_.impulse[link] / last_step_ : 0.0;
+  }
+
+ private:
+  // Inertias, COMs, axes and anchors of the links in the world frame, relative to the
+  // root's COM.
+  void updateLinks(const LinkFrames& frames);
+  // Per link, the change of its spatial velocity [angular; linear at the root COM of the
+  // step's start] since begin(), from the joints' (the motion subspaces of `tree`, else of
+  // links_) into change_of_link_.
+  void velocityChanges(const btMultiBody& mb, const ServoTree& tree);
+  // The servos with the fluid's loads; returns the implicit drag's impulse.
+  Vec6 solveWithFluid(const btMultiBody& mb, const LinkFrames& frames, const ServoTree& tree,
+                      const CreatureFluid& fluid);
+
+  const CreatureModel* model_;
+  std::vector<double> max_effort_, damping_, stiffness_;  // per model joint
+  std::vector<double> target_;                            // per link: velocity wanted
+  std::vector<ServoDemand> demands_;                      // per link
+  std::vector<ServoLink> links_;
+  JointServoSolver solver_;
+  ServoSolution solution_;
+  double last_step_ = 1.0;  // s: the last (sub)step taken, for efforts from impulses
+  std::vector<double> start_joint_velocity_;  // per Bullet link
+  Vec3 start_base_omega_ = Vec3::Zero();      // world frame
+  Vec3 start_base_velocity_ = Vec3::Zero();   // of the base's COM
+  // Scratch, kept between steps: no allocation once warm.
+  ServoLoads loads_;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_of_link_;
+  // Per aero body: its drag matrix about the root COM, and Bullet's change of its spatial
+  // velocity in this step.
+  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
+};
+
+// Joint damping is applied as an explicit torque -d qdot, stable while d dt stays well
+// under the joint's inertia. Beyond that it is capped at a quarter of the child link's own
+// inertia about the axis per step: the joint is then nearly rigid in velocity either way,
+// and a large URDF damping cannot make the step blow up.
+double dampingLimit(const CreatureModel& m, const JointModel& j, double dt);
+// A <spring> is an explicit torque -k (q - reference), stable while the child link's own
+// oscillation sqrt(k / I) dt stays below 2; beyond a quarter of I / dt^2 it is capped there.
+double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt);
+
+}  // namespace flapsim

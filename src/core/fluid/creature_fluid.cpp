@@ -1,0 +1,85 @@
+#include "fluid/creature_fluid.h"
+
+#include <utility>
+
+#include "flapsim/air_model.h"
+#include "fluid/added_mass.h"
+#include "fluid/surface.h"
+
+namespace flapsim {
+
+Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
+  if (!l.aero.added_mass.value_or(air.added_mass)) return Mat6::Zero();
+  const int nu = subdivisionsU(l, air), nv = subdivisionsV(l, air);
+  std::vector<NormalMass> masses;
+  for (const Box& b : comFrameBoxes(l)) appendPlateAddedMass(masses, b.size, b.origin, nu, nv);
+  return normalInertia(masses, 1.0);
+}
+
+bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
+                       double reach, double step) {
+  if (a.mass <= 0.0) return true;
+  // Far below the threshold (each speed under half of it, squared: no square root), as
+  // most links in air are.
+  const double limit =
+      kImplicitDragRatio * a.mass / (step * air.density * a.surface.drag_coefficient * a.area);
+  const double half = 0.45 * limit;
+  if ((kin.linear_velocity - air.wind).squaredNorm() < half * half &&
+      kin.angular_velocity.squaredNorm() * reach * reach < half * half) {
+    return false;
+  }
+  const double speed =
+      (kin.linear_velocity - air.wind).norm() + kin.angular_velocity.norm() * reach;
+  const double rate = air.density * a.surface.drag_coefficient * a.area * speed;
+  return step * rate > kImplicitDragRatio * a.mass;
+}
+
+namespace {
+
+void setSurface(AeroBody& a, const CreatureModel& m, const AirParams& air) {
+  a.surface = linkAeroSurface(m, a.link, air);
+  a.added_mass = linkAddedMass(m.links[a.link], air);
+  a.added_factor = factorSpatial(a.added_mass);
+  a.has_added_mass = !a.added_mass.isZero(0.0);
+  a.added = SpatialFactor();  // it may have had some before
+  a.added_valid = false;
+  a.mass = m.links[a.link].mass;
+  a.area = 0.0;
+  for (const SurfaceCell& c : a.surface.cells) a.area += c.area;
+}
+
+}  // namespace
+
+CreatureFluid::CreatureFluid(const CreatureModel& m, const AirParams& air) {
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    const LinkModel& l = m.links[k];
+    if (!l.aero.enabled || l.boxes.empty()) continue;
+    AeroBody a;
+    a.link = static_cast<int>(k);
+    a.model = l.aero.model;
+    setSurface(a, m, air);
+    a.last.link = a.link;
+    bodies_.push_back(std::move(a));
+  }
+}
+
+void CreatureFluid::resurface(const CreatureModel& m, const AirParams& air) {
+  for (AeroBody& a : bodies_) setSurface(a, m, air);
+}
+
+const SpatialFactor& CreatureFluid::addedMass(size_t i, const Mat3& rotation, double density) {
+  AeroBody& a = bodies_[i];
+  if (!a.added_valid || a.added_density != density || a.added_rotation != rotation) {
+    if (density <= 0.0 || !a.has_added_mass) {
+      a.added.any = false;
+    } else {
+      turnFactor(a.added_factor, rotation, density, a.added);
+    }
+    a.added_rotation = rotation;
+    a.added_density = density;
+    a.added_valid = true;
+  }
+  return a.added;
+}
+
+}  // namespace flapsim

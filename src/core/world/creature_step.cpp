@@ -1,0 +1,111 @@
+#include "world/creature_step.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace flapsim {
+
+CreatureSim::CreatureSim(const CreatureModel& m, const Pose& pose, const Twist& twist,
+                         const WorldParams& params)
+    : body(m, pose, twist, params), servos(m, params), fluid(m, params.air), momentum(m) {
+  power.reset(m.joints.size());
+  body.world().setServos([this] {
+    momentum.setDragImpulse(
+        servos.solve(body.multiBody(), body.frames(), body.world().leanTree(), fluid));
+  });
+}
+
+void CreatureSim::settle() {
+  body.settle();
+  servos.forget();
+  momentum.forget();
+}
+
+namespace {
+
+// The external stage: the user's wrenches on their links (frames of the step's start), and
+// in the momentum balance.
+void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s) {
+  btMultiBody& mb = s.body.multiBody();
+  for (const ActiveWrench& w : wrenches) {
+    const BodyKinematics kin = s.body.frames().kinematics(w.link);
+    const Vec3 arm = kin.orientation * w.offset;
+    const Wrench about_com{w.force, w.torque + arm.cross(w.force)};
+    s.momentum.addExternal(kin.com, about_com);
+    if (w.link == 0) {
+      mb.addBaseForce(toBt(about_com.force));
+      mb.addBaseTorque(toBt(about_com.torque));
+    } else {
+      mb.addLinkForce(w.link - 1, toBt(about_com.force));
+      mb.addLinkTorque(w.link - 1, toBt(about_com.torque));
+    }
+  }
+}
+
+// One (sub)step of `h`, stage by stage (see creature_step.h).
+void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) {
+  const WorldParams& p = c.params;
+  // position: the frames of the start are those the last (sub)step ended with
+  s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0);
+  s.servos.begin(s.body.multiBody());
+  s.power.beginSubStep(*r.model, s.body.multiBody());
+  applyDrives(*r.model, r.drives, s.servos, s.body.multiBody(), h);  // actuation
+  c.air.apply(s.body, s.fluid, s.momentum, p, h);                    // fluid
+  applyWrenches(r.wrenches, s);                                      // external
+  s.body.world().step(h);  // dynamics (the servo stage acts inside)
+  s.servos.integrateSaturated(s.body.multiBody(), s.body.hasContacts(), h);            // integrate
+  s.momentum.end(s.body, s.fluid, p.gravity, h);                                       // momentum
+  s.power.endSubStep(*r.model, r.drives, s.body.multiBody(), s.servos.solution(), h);  // power
+}
+
+// One step of every wrench taken; those whose time is up removed.
+void countDown(std::vector<ActiveWrench>& wrenches) {
+  for (ActiveWrench& w : wrenches) {
+    if (w.steps_left > 0) --w.steps_left;
+  }
+  wrenches.erase(std::remove_if(wrenches.begin(), wrenches.end(),
+                                [](const ActiveWrench& w) { return w.steps_left == 0; }),
+                 wrenches.end());
+}
+
+}  // namespace
+
+void stepCreature(CreatureRecord& r, CreatureSim& s, const StepContext& c, std::uint64_t number) {
+  if (r.divergence) return;  // check
+  s.before.take(s.body.multiBody());
+  s.power.beginStep();
+  const double dt = c.params.step_size, most = c.params.turn_substep;
+  const StrokeTurn turn =
+      most > 0.0 ? strokeTurn(*r.model, r.drives, s.servos, s.body.multiBody(), dt) : StrokeTurn();
+  if (!turn.reversing) {
+    subStep(r, s, c, dt);
+  } else {
+    // Pieces shorter than this are merged into the next: a turn at the very start or end.
+    const double shortest = 1e-6 * dt;
+    const double first =
+        turn.first_turn < shortest || turn.first_turn > dt - shortest ? 0.0 : turn.first_turn;
+    for (double length : {first, dt - first}) {
+      if (length <= 0.0) continue;
+      const int pieces = static_cast<int>(std::ceil(length / most * (1.0 - 1e-12)));
+      for (int k = 0; k < pieces; ++k) subStep(r, s, c, length / pieces);
+    }
+  }
+  countDown(r.wrenches);
+  // watchdog
+  std::string fault = s.body.motionFault(c.params.max_speed);
+  if (fault.empty()) {
+    r.root_acceleration = fromBt(s.body.multiBody().getBaseVel() - s.before.velocity) / dt;
+    s.power.endStep(dt);
+    return;
+  }
+  s.power.undoStep();
+  s.before.restore(s.body.multiBody());
+  s.body.updateKinematics();
+  s.servos.forget();  // a frozen creature is driven by nothing: no efforts of the refused step
+  s.momentum.forget();
+  r.root_acceleration.setZero();
+  r.divergence = Divergence{r.name, number, std::move(fault)};
+}
+
+}  // namespace flapsim

@@ -1,0 +1,63 @@
+#include "world/fluid_stage.h"
+
+#include "dynamics/bullet_body.h"
+#include "dynamics/momentum_balance.h"
+#include "fluid/buoyancy.h"
+#include "fluid/pressure.h"
+
+namespace flapsim {
+
+AirStage::AirStage(const std::string& default_model) : default_model_(makeAirModel(default_model)) {
+  for (const std::string& name : airModelNames()) named_models_[name] = makeAirModel(name);
+}
+
+const AirModel& AirStage::modelOf(const AeroBody& a) const {
+  return a.model.empty() ? *default_model_ : *named_models_.at(a.model);
+}
+
+void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& momentum,
+                     const WorldParams& params, double step) const {
+  fluid.active_ = false;
+  if (!params.air.enabled) return;
+  btMultiBody& mb = body.multiBody();
+  const AirParams& air = params.air;
+  for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
+    AeroBody& a = fluid.bodies_[i];
+    const int k = a.link;
+    Mat3 rotation;
+    const BodyKinematics kin = body.frames().kinematics(k, &rotation);
+    Wrench w =
+        modelOf(a).bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
+    if (air.buoyancy) w += buoyancyLaw(FluidInput{kin, a.surface, air, params.gravity}, nullptr);
+    a.last.com = kin.com;
+    a.last.wrench = w;
+    momentum.addExternal(kin.com, w);
+    if (a.has_added_mass) fluid.addedMass(i, rotation, air.density);
+    const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, body.reach(k), step);
+    // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
+    // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
+    if (implicit) {
+      a.drag = 0.5 * step * pressureDragDamping(FluidInput{kin, a.surface, air});
+      a.drag_zero = false;
+    } else if (!a.drag_zero) {
+      a.drag.setZero();
+      a.drag_zero = true;
+    }
+    fluid.active_ = fluid.active_ || implicit || (a.has_added_mass && air.density > 0.0);
+    if (record_cells_) {
+      a.last.cell_centres.resize(a.surface.cells.size());
+      for (size_t c = 0; c < a.surface.cells.size(); ++c) {
+        a.last.cell_centres[c] = kin.com + kin.orientation * a.surface.cells[c].centre;
+      }
+    }
+    if (k == 0) {
+      mb.addBaseForce(toBt(w.force));
+      mb.addBaseTorque(toBt(w.torque));
+    } else {
+      mb.addLinkForce(k - 1, toBt(w.force));
+      mb.addLinkTorque(k - 1, toBt(w.torque));
+    }
+  }
+}
+
+}  // namespace flapsim

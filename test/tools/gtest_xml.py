@@ -1,0 +1,16 @@
+"""A one-test gtest-style XML result, which catkin_test_results counts: a failure per problem."""
+import os
+from xml.sax.saxutils import escape
+
+
+def write_result(args, suite, case, problems):
+    """Writes the result to FILE if `args` holds --gtest_output=xml:FILE."""
+    out = [a.split('xml:', 1)[1] for a in args if a.startswith('--gtest_output=xml:')]
+    if not out:
+        return
+    body = ''.join(f'<failure message="{escape(p, {chr(34): "&quot;"})}"/>' for p in problems)
+    os.makedirs(os.path.dirname(out[0]), exist_ok=True)
+    with open(out[0], 'w') as f:
+        f.write(f'<?xml version="1.0"?>\n<testsuites><testsuite name="{suite}" tests="1" '
+                f'failures="{1 if problems else 0}"><testcase name="{case}" classname="{suite}">'
+                f'{body}</testcase></testsuite></testsuites>\n')
