@@ -1,5 +1,6 @@
 // mujoco_wing: the hover creature's wing membrane (a flat plate, chord x span x thickness of
-// flapsim::HoverParams) in MuJoCo 2.2.2's ellipsoid fluid model and in flapsim's two air
+// flapsim::HoverParams) in MuJoCo's ellipsoid fluid model (the MuJoCo the build found, opened
+// at run time: bench/mujoco_api.h) and in flapsim's two air
 // models, on the same plate in the same two situations:
 //   1. translating at U = 5 m/s through still air (density 1.204) at angles of attack from 0 to
 //      90 deg, pitched about its span: the lift and drag coefficients F / (1/2 rho U^2 S), S =
@@ -7,12 +8,10 @@
 //      after mj_forward; flapsim: the air wrench of one step, World::aeroForces);
 //   2. released at rest, level, in water (density 1000) without gravity's help other than its
 //      own weight: the start acceleration against momentum theory's (m - rho V) g / (m + m_a),
-//      m_a = C_A rho pi c^2 b / 4 (DNV-RP-H103 Table A-2).
+//      m_a = C_A rho pi c^2 b / 4 (DNV-RP-C205 table A-2).
 // Prints a table; never passes or fails. Used by doc/validation.md.
 //
 //   mujoco_wing
-#include <mujoco/mujoco.h>
-
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -20,7 +19,9 @@
 
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
-#include "mujoco_common.h"
+#include "mujoco_api.h"
+
+using flapsim_bench::mj;
 
 namespace {
 
@@ -44,22 +45,23 @@ std::string plateMjcf(const flapsim::HoverParams& p, double density, double grav
       << "<inertial pos=\"0 0 0\" mass=\"" << p.wing_mass << "\" diaginertia=\"1e-8 1e-8 1e-8\"/>"
       << "<geom type=\"box\" size=\"" << 0.5 * p.wing_chord << ' ' << 0.5 * p.wing_span << ' '
       << 0.5 * p.wing_thickness
-      << "\" contype=\"0\" conaffinity=\"0\" fluidshape=\"ellipsoid\"/></body></worldbody></mujoco>";
+      << "\" contype=\"0\" conaffinity=\"0\" "
+         "fluidshape=\"ellipsoid\"/></body></worldbody></mujoco>";
   return out.str();
 }
 
 // MuJoCo's fluid force (world frame) on the plate pitched `alpha` (nose up) moving at +x.
 flapsim::Vec3 mujocoForce(const flapsim::HoverParams& p, double alpha) {
   mjModel* m = flapsim_bench::compileMjcf(plateMjcf(p, 1.204, 0.0));
-  mjData* d = mj_makeData(m);
+  mjData* d = mj.makeData(m);
   // Nose up: the leading (+x) edge up, a rotation about -y.
   d->qpos[3] = std::cos(alpha / 2);
   d->qpos[5] = -std::sin(alpha / 2);
   d->qvel[0] = kSpeed;
-  mj_forward(m, d);
+  mj.forward(m, d);
   const flapsim::Vec3 f(d->qfrc_passive[0], d->qfrc_passive[1], d->qfrc_passive[2]);
-  mj_deleteData(d);
-  mj_deleteModel(m);
+  mj.deleteData(d);
+  mj.deleteModel(m);
   return f;
 }
 
@@ -84,7 +86,9 @@ flapsim::Vec3 flapsimForce(const flapsim::HoverParams& p, double alpha, const st
 }  // namespace
 
 int main() {
-  mju_user_warning = flapsim_bench::warningToStderr;
+  if (!flapsim_bench::openMujoco(FLAPSIM_MUJOCO_LIBRARY, "mujoco_wing")) return 1;
+  *mj.user_warning = flapsim_bench::warningToStderr;
+  std::printf("MuJoCo %s\n", mj.versionString());
   const flapsim::HoverParams p;
   const double area = p.wing_chord * p.wing_span, q = 0.5 * 1.204 * kSpeed * kSpeed * area;
   std::printf("plate %g x %g x %g m (the hover wing), %g m/s, coefficients F / (1/2 rho U^2 S)\n",
@@ -108,11 +112,11 @@ int main() {
   const double added = ca * rho * M_PI * p.wing_chord * p.wing_chord * p.wing_span / 4.0;
   const double expected = (m - rho * volume) * -g / (m + added);
   mjModel* mm = flapsim_bench::compileMjcf(plateMjcf(p, rho, g));
-  mjData* d = mj_makeData(mm);
-  mj_step(mm, d);
+  mjData* d = mj.makeData(mm);
+  mj.step(mm, d);
   const double mujoco = d->qvel[2] / mm->opt.timestep;
-  mj_deleteData(d);
-  mj_deleteModel(mm);
+  mj.deleteData(d);
+  mj.deleteModel(mm);
   flapsim::WorldParams w;
   w.ground = false;
   w.air.density = rho;
@@ -122,9 +126,10 @@ int main() {
               flapsim::Pose{flapsim::Vec3(0, 0, 0), flapsim::Quat::Identity()});
   world.step(1);
   const double ours = world.rootTwist("plate").linear.z() / w.step_size;
-  std::printf("released level in water: momentum theory with C_A = %.3f (m_a = %.4g kg, %.0f times "
-              "the plate): %.5f m/s^2; flapsim %.5f m/s^2 (%+.2f %%); MuJoCo %.5f m/s^2 (%+.0f %%)\n",
-              ca, added, added / m, expected, ours, 100.0 * (ours / expected - 1.0), mujoco,
-              100.0 * (mujoco / expected - 1.0));
+  std::printf(
+      "released level in water: momentum theory with C_A = %.3f (m_a = %.4g kg, %.0f times "
+      "the plate): %.5f m/s^2; flapsim %.5f m/s^2 (%+.2f %%); MuJoCo %.5f m/s^2 (%+.0f %%)\n",
+      ca, added, added / m, expected, ours, 100.0 * (ours / expected - 1.0), mujoco,
+      100.0 * (mujoco / expected - 1.0));
   return 0;
 }
