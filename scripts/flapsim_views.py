@@ -13,7 +13,10 @@ import subprocess
 import tempfile
 import time
 
+import rosgraph
+import rospy
 from PIL import Image
+from rosgraph_msgs.msg import Clock
 
 # Colours of rviz's background (48, 48, 48) and grid are grey; the creatures' materials
 # (wings and plates 0.95 0.8 0.3, bodies 0.25 0.3 0.45) are not, nor are the force arrows
@@ -96,13 +99,58 @@ def roslaunch(args, display, log_path):
     try:
         yield proc, env
     finally:
-        if proc.poll() is None:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                proc.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+        stop(proc)
+
+
+def stop(proc):
+    """Interrupts a process group started with start_new_session (SIGKILL after 30 s)."""
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
+@contextlib.contextmanager
+def rviz_attached(master_uri, display, log_path, rviz_args):
+    """rviz (scripts/rviz.py with `rviz_args`) on `display`, a node of the running master at
+    `master_uri` under a name of its own (not /rviz: a user's rviz keeps running); yields
+    (its process, its node name, the environment)."""
+    name = f"/flapsim_view_{os.getpid()}"
+    env = dict(os.environ, DISPLAY=display, ROS_MASTER_URI=master_uri)
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "rviz.py")
+    with open(log_path, "w") as log:
+        proc = subprocess.Popen(["/usr/bin/python3", script] + rviz_args.split() +
+                                [f"__name:={name[1:]}"], env=env, stdout=log,
+                                stderr=subprocess.STDOUT, start_new_session=True)
+    try:
+        yield proc, name, env
+    finally:
+        stop(proc)
+
+
+def master_uri(port):
+    """The master to attach to: localhost:`port`, or ROS_MASTER_URI without a port."""
+    if port:
+        return f"http://localhost:{port}"
+    uri = os.environ.get("ROS_MASTER_URI")
+    if not uri:
+        raise RuntimeError("--attach needs ROS_MASTER_URI (or --port)")
+    return uri
+
+
+def join(env, node, what="the ROS master"):
+    """Makes this process a node `node` (anonymous) of the master of `env` once it is up, and
+    follows its /clock; returns a one-element list that holds the latest sim time (-1 before
+    the first)."""
+    use_master(env)
+    wait_for(rosgraph.is_master_online, 30, what)
+    rospy.init_node(node, anonymous=True, disable_signals=True)
+    latest = [-1.0]
+    rospy.Subscriber("/clock", Clock, lambda m: latest.__setitem__(0, m.clock.to_sec()))
+    return latest
 
 
 def use_master(env):
@@ -116,10 +164,12 @@ def screenshot(display, path):
     return path
 
 
-def shoot_until_drawn(display, path, min_pixels, timeout):
+def shoot_until_drawn(display, path, min_pixels, timeout, settle=15.0):
     """Takes screenshots until one shows at least `min_pixels` creature pixels (rviz has drawn
-    the creatures); returns its (creature, arrow) pixel counts. On timeout the last shot is
-    kept at `path` and TimeoutError raised with its counts."""
+    the creatures), then, of a still scene, until two in a row are the same (a busy rviz has
+    caught up with what it was sent; at most `settle` s more); returns the last one's
+    (creature, arrow) pixel counts. On timeout the last shot is kept at `path` and
+    TimeoutError raised with its counts."""
     counts = [(0, 0)]
 
     def drawn():
@@ -131,12 +181,35 @@ def shoot_until_drawn(display, path, min_pixels, timeout):
     except TimeoutError as e:
         raise TimeoutError(f"{e}; last screenshot {path} has {counts[0][0]} creature and "
                            f"{counts[0][1]} arrow pixels") from None
-    return counts[0]
+    if settle <= 0:
+        return counts[0]
+    last = [_pixels(path)]
+
+    def settled():
+        screenshot(display, path)
+        now, last[0] = _pixels(path), last[0]
+        same, last[0] = now == last[0], now
+        return same
+
+    try:
+        wait_for(settled, settle, "rviz to settle", poll=0.3)
+    except TimeoutError:
+        pass  # a scene that moves (a replay still playing) never settles: the last shot
+    return pixel_counts(path)
 
 
-def rviz_args(width, height):
-    """rviz.py arguments for a bare, full-screen 3D view (no panels, menus or cursor)."""
-    return f"rviz_args:=--bare --size {width}x{height} --fullscreen"
+def _pixels(png):
+    with Image.open(png) as im:
+        return im.convert("RGB").tobytes()
+
+
+def rviz_args(width, height, bare_args=False, config=None):
+    """rviz.py arguments for a bare, full-screen 3D view (no panels, menus or cursor), of
+    `config` (default: the package's): as a launch argument, or (bare_args) as they are."""
+    args = f"--bare --size {width}x{height} --fullscreen"
+    if config:
+        args += f" --config {os.path.abspath(config)}"
+    return args if bare_args else f"rviz_args:={args}"
 
 
 def temp_dir(prefix):

@@ -26,6 +26,8 @@ PACKAGES=(
   libgtest-dev googletest gnuplot-nox
   # seeing it: rviz, rosrun, headless X for rviz, screenshots, movies and their checks
   rviz rosbash xvfb xauth imagemagick ffmpeg python3-pil
+  # the tf tree as users inspect it: view_frames.py and echo.py (which needs numpy)
+  tf2-tools python3-numpy
   # side-by-side benchmark against MuJoCo (bench/mujoco_bench.cpp)
   libmujoco-dev
 )

@@ -3,8 +3,11 @@
 
 rviz.py [--config FILE] [--distance D] [--yaw Y] [--pitch P] [--size WxH] [--bare] [rviz args]
 
---distance, --yaw and --pitch set the orbit camera around the frame flapsim/view (the
-smoothed centroid of the creatures); --size sets the window; --bare shows the 3D view only
+The camera is the frame flapsim/camera, which the simulator (or a replayed bag) moves: it
+looks at the creatures' smoothed centroid (frame flapsim/view) from farther as they spread.
+--distance, --yaw and --pitch take the config's saved orbit camera around flapsim/view
+instead, at that distance and those angles (a bag recorded before flapsim/camera existed
+needs it); --size sets the window; --bare shows the 3D view only
 (no panels; with rviz's --fullscreen, no menu or tool bar either), for screenshots and
 movies. Other arguments (roslaunch's __name:=..., --fullscreen) go to rviz. The adjusted
 config is written to a temporary file.
@@ -30,10 +33,13 @@ RETRIES = 3
 
 
 def adjusted(config, distance=None, yaw=None, pitch=None, size=None, bare=False):
-    view = config["Visualization Manager"]["Views"]["Current"]
-    for key, value in (("Distance", distance), ("Yaw", yaw), ("Pitch", pitch)):
-        if value is not None:
-            view[key] = value
+    views = config["Visualization Manager"]["Views"]
+    if any(v is not None for v in (distance, yaw, pitch)):
+        views["Current"] = dict(next(v for v in views["Saved"] if v["Class"] == "rviz/Orbit"),
+                                Name="Current View")
+        for key, value in (("Distance", distance), ("Yaw", yaw), ("Pitch", pitch)):
+            if value is not None:
+                views["Current"][key] = value
     window = config.setdefault("Window Geometry", {})
     if size:
         window["Width"], window["Height"] = size

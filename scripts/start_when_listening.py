@@ -2,12 +2,13 @@
 """Starts a paused source once a listener receives it: a bag from t = 0, a replay or a
 flight that rviz sees from its first frame.
 
-start_when_listening.py --listener NODE [--source /flapsim] [--topics REGEX] [--stay-paused]
-                        [--timeout S]
+start_when_listening.py --listener NODE [--topics REGEX] [--listener NODE2 --topics REGEX2 ...]
+                        [--source /flapsim] [--stay-paused] [--timeout S]
 
-Waits until NODE is subscribed, and connected, to every topic that the source node
-publishes and REGEX matches (matched as rosbag record -e does: the whole name), then
-starts the source and exits: flapsim through <source>/unpause (std_srvs/Empty), rosbag play
+Waits until each listener NODE is subscribed, and connected, to every topic that the source
+node publishes and its REGEX matches (matched as rosbag record -e does: the whole name; the
+n-th --topics goes with the n-th --listener, default /clock|/tf), then starts the source and
+exits: flapsim through <source>/unpause (std_srvs/Empty), rosbag play
 through <source>/pause_playback (std_srvs/SetBool false). With --stay-paused it only waits.
 Exits 1 if that takes longer than the timeout (wall seconds).
 """
@@ -57,30 +58,35 @@ def start(source, timeout):
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--listener", required=True, help="e.g. /record or /rviz")
+    parser.add_argument("--listener", required=True, action="append",
+                        help="e.g. /record or /rviz (repeat for several)")
     parser.add_argument("--source", default="/flapsim", help="/flapsim or a rosbag play node")
-    parser.add_argument("--topics", default="/clock|/tf")
+    parser.add_argument("--topics", action="append", default=[],
+                        help="what the listener before it must receive (default /clock|/tf)")
     parser.add_argument("--stay-paused", action="store_true")
     parser.add_argument("--timeout", type=float, default=120.0)
     args, _ = parser.parse_known_args(rospy.myargv(argv))
     rospy.init_node("start_when_listening", anonymous=True, disable_signals=True)
     master = rosgraph.Master(rospy.get_name())
-    pattern = re.compile(args.topics)
+    patterns = [re.compile(t) for t in args.topics]
+    patterns += [re.compile("/clock|/tf")] * (len(args.listener) - len(patterns))
+    listeners = " and ".join(args.listener)
     deadline = time.monotonic() + args.timeout
     while True:
-        missing = unconnected(master, args.source, args.listener, pattern)
+        missing = [f"{listener}: {topic}" for listener, pattern in zip(args.listener, patterns)
+                   for topic in unconnected(master, args.source, listener, pattern)]
         if not missing:
             break
         if time.monotonic() > deadline or rospy.is_shutdown():
-            rospy.logerr("%s does not receive %s after %.0f s: %s stays paused", args.listener,
-                         ", ".join(missing), args.timeout, args.source)
+            rospy.logerr("after %.0f s, not yet received: %s; %s stays paused", args.timeout,
+                         ", ".join(missing), args.source)
             return 1
         time.sleep(0.1)  # polling the master; nothing to wait on
     if args.stay_paused:
-        rospy.loginfo("%s receives %s, which stays paused", args.listener, args.source)
+        rospy.loginfo("%s receive %s, which stays paused", listeners, args.source)
         return 0
     start(args.source, args.timeout)
-    rospy.loginfo("%s receives %s: started", args.listener, args.source)
+    rospy.loginfo("%s receive %s: started", listeners, args.source)
     return 0
 
 

@@ -259,5 +259,46 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_THROW(loadControllerYaml("/nonexistent/weights.yaml"), std::runtime_error);
 }
 
+std::string yamlError(const std::string& keys) {
+  try {
+    controllerFromYaml(
+        "flap_unit_controller: {" + keys + "weights: [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]}",
+        "w.yaml");
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// Issue 27: a control period of 1e-12 s ran ann_controller at 1e12 Hz; `inputs` and
+// `outputs` were never read, nor was a misspelt key noticed.
+TEST(ControllerYaml, EveryKeyIsReadAndTheControlPeriodIsBounded) {
+  EXPECT_EQ(yamlError(""), "");
+  EXPECT_EQ(yamlError("control_period: 1e-12, "),
+            "controller YAML w.yaml: control_period must be in [0.001, 10] s");
+  EXPECT_EQ(yamlError("control_period: 1e9, "),
+            "controller YAML w.yaml: control_period must be in [0.001, 10] s");
+  EXPECT_EQ(yamlError("hidden: 1000000000, "),
+            "controller YAML w.yaml: hidden must be in [1, 256]");
+  EXPECT_EQ(yamlError("inputs: [world_up.body_left, world_up.body_forward], "),
+            "controller YAML w.yaml: 'inputs' must be [world_up.body_forward, world_up.body_left]");
+  EXPECT_EQ(yamlError("outputs: [left_downstroke_rate, right_downstroke_rate], "),
+            "controller YAML w.yaml: 'outputs' must be [right_downstroke_rate, "
+            "left_downstroke_rate]");
+  EXPECT_EQ(yamlError("output_activation: tanh, "),
+            "controller YAML w.yaml: 'output_activation' must be sigmoid");
+  EXPECT_EQ(yamlError("control_perod: 0.01, "),
+            "controller YAML w.yaml: unknown key 'control_perod'");
+  EXPECT_EQ(
+      yamlError("inputs: [world_up.body_forward, world_up.body_left], outputs: "
+                "[right_downstroke_rate, left_downstroke_rate], output_activation: sigmoid, "),
+      "");
+  // Every shipped weights file has only keys that are read.
+  for (int pairs : {1, 4, 6, 12}) {
+    EXPECT_NO_THROW(loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_" +
+                                       std::to_string(pairs) + "_weights.yaml"));
+  }
+}
+
 }  // namespace
 }  // namespace flapsim

@@ -2,12 +2,16 @@
 // evolve flags: whatever evaluates the tasks and wherever a run is resumed, the
 // evolution is the same bit for bit.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <numeric>
+#include <optional>
 
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
+#include "flapsim/evolve_tool.h"
 
 namespace flapsim {
 namespace {
@@ -175,6 +179,136 @@ TEST(EvolveArgs, SpecArgsRebuildTheSameSpecAndBadFlagsAreNamed) {
   EXPECT_EQ(chain.pairs, 4);
   EXPECT_EQ(chain.controller.pitch_gain, 1.5);
   EXPECT_THROW(evaluationSpecFromArgs({"--preset", "robust", "--pitch-gain", "-1"}), InputError);
+}
+
+// Issue 27, case 5: the sample count of a 1e9 s episode overflowed an int, and the run
+// "finished" with fitness 0.
+TEST(EpisodeLimits, ALongEpisodeIsRefusedNotScoredZero) {
+  const EvolveParams p = tinyRun();
+  EpisodeParams e = evaluationSpec(p).episode;
+  e.duration = 1e9;
+  EXPECT_EQ(validateEpisodeParams(e), "duration must be in (0, 10000] s");
+  const auto model = parseCreatureModel(makeCreatureUrdf(1, "afc", p.unit), "afc");
+  const AnnWingController ann(FlapUnitController(p.controller, std::vector<double>(12, 0.1)));
+  EXPECT_THROW(runEpisode(model, ann, 0.02, e, EpisodeStart()), InputError);
+  e.duration = 15.0;
+  e.step_sizes = {0.001, 1e-6};  // 1.5e7 steps at the second
+  EXPECT_EQ(validateEpisodeParams(e),
+            "duration / step size = 1.5e+07 steps, over the limit of 1e+07 per episode");
+  e.step_sizes = {1e-7};
+  EXPECT_EQ(validateEpisodeParams(e), "step_sizes: step_size must be in [1e-6, 0.1] s");
+  e.step_sizes = {};
+  e.episodes = kMaxEpisodes + 1;
+  EXPECT_EQ(validateEpisodeParams(e), "episodes must be in [1, 1000]");
+}
+
+std::string checkpointError(const std::string& text) {
+  try {
+    checkpointFromText(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The text of a 1-generation tinyRun checkpoint, with `from` replaced by `to` (once).
+std::string tampered(const std::string& from, const std::string& to) {
+  static const std::string text = [] {
+    EvolveParams p = tinyRun();
+    p.ga.generations = 1;
+    std::string last;
+    EvolveHooks hooks;
+    hooks.on_checkpoint = [&](EvolveCheckpoint c) {
+      c.args = {"--preset", "robust", "--seed", "7"};
+      last = checkpointToText(c);
+    };
+    evolveFlapController(p, hooks);
+    return last;
+  }();
+  std::string t = text;
+  if (!from.empty()) t.replace(t.find(from), from.size(), to);
+  return t;
+}
+
+// Issue 27, case 8 and smaller: a checkpoint's numbers are checked (NaN, inf, wrapped
+// generations refused), its population must be the GA's (sorted, genes in range).
+TEST(CheckpointLimits, TamperedNumbersAreRefusedByLine) {
+  const std::string good = tampered("", "");
+  EXPECT_EQ(checkpointError(good), "");
+  const std::string fitness = good.substr(good.find("\n", good.find("population")) + 1, 10);
+  EXPECT_EQ(checkpointError(tampered("generation 1", "generation 4294967298")),
+            "checkpoint line 2: '4294967298' is not an integer in [0, 100000] (generation)");
+  EXPECT_EQ(checkpointError(tampered("seed 7", "seed -1")),
+            "checkpoint line 3: seed: '-1' is not an integer in [0, 2^64)");
+  EXPECT_EQ(checkpointError(tampered(fitness, "nan")).find("checkpoint line 10: 'nan"), 0u);
+  EXPECT_NE(checkpointError(tampered(fitness, "inf")).find("is not a finite number (fitness)"),
+            std::string::npos);
+  EXPECT_EQ(
+      checkpointError(tampered("history 2\n0 ", "history 2\n0 nan ")).find("checkpoint line 15"),
+      0u);
+  EXPECT_NE(checkpointError(tampered("history 2", "history 3")).find("(generations)"),
+            std::string::npos);
+  EXPECT_NE(checkpointError(tampered("population 4", "population 4000000")).find("individuals"),
+            std::string::npos);
+  EXPECT_EQ(checkpointError(good + "junk\n"), "checkpoint line 17: unexpected 'junk' after 'end'");
+}
+
+TEST(CheckpointLimits, APopulationTheGaCouldNotHaveIsRefusedOnResume) {
+  EvolveParams p = tinyRun();
+  p.ga.generations = 1;
+  auto resumeError = [&](const std::string& text) {
+    const EvolveCheckpoint c = checkpointFromText(text);
+    EvolveHooks hooks;
+    hooks.resume = &c;
+    try {
+      evolveFlapController(p, hooks);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(resumeError(tampered("", "")), "");
+  EvolveCheckpoint c = checkpointFromText(tampered("", ""));
+  std::swap(c.population[0], c.population[3]);  // unsorted: changed the result silently
+  EXPECT_EQ(resumeError(checkpointToText(c)),
+            "GA restore: the population is not sorted best first (individual 1)");
+  c = checkpointFromText(tampered("", ""));
+  c.population[2].genes[0] = 1e6;
+  EXPECT_EQ(resumeError(checkpointToText(c)),
+            "GA restore: individual 2 has a gene outside [gene_min, gene_max]");
+  c = checkpointFromText(tampered("", ""));
+  c.history.back().best += 1.0;
+  EXPECT_EQ(resumeError(checkpointToText(c)),
+            "GA restore: the history's last best is not the best individual's fitness");
+}
+
+// Issue 27, case 8: `--weights /elsewhere/x.yaml` added to a checkpoint's args made
+// `evolve --resume DIR` write that file. Only the flags that define the run are read back.
+TEST(CheckpointLimits, ArgsThatAreNotTheRunsFlagsAreRefused) {
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("flapsim_ckpt_" + std::to_string(::getpid())))
+          .string();
+  std::filesystem::create_directories(dir);
+  for (const std::string arg : {"--weights", "--out", "--resume", "--farm-wait"}) {
+    writeTextFile(dir + "/checkpoint.txt",
+                  tampered("args 4\n", "args 6\n" + arg + "\n/elsewhere/x.yaml\n"));
+    std::optional<EvolveCheckpoint> resume;
+    try {
+      resolveEvolveOptions({"--resume", dir}, 1, resume);
+      ADD_FAILURE() << arg << " was read back";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), dir + "/checkpoint.txt: spec: '" + arg +
+                                           "' is not a flag of the evolution's definition");
+    }
+    EXPECT_FALSE(resume.has_value());
+  }
+  writeTextFile(dir + "/checkpoint.txt", tampered("", ""));
+  std::optional<EvolveCheckpoint> resume;
+  const EvolveOptions o = resolveEvolveOptions({"--resume", dir, "--weights", "w.yaml"}, 1, resume);
+  EXPECT_EQ(o.weights_path, "w.yaml");  // the command line's own flags still count
+  EXPECT_EQ(o.out_dir, dir);
+  ASSERT_TRUE(resume.has_value());
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

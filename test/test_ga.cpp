@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -192,6 +193,16 @@ TEST(GeneticAlgorithm, BadParametersAndFitnessAreRefused) {
   GeneticAlgorithm nan(GaParams(), 2,
                        [](const std::vector<double>&, std::uint64_t) { return std::nan(""); });
   EXPECT_THROW(nan.initialize(), std::runtime_error);
+  GeneticAlgorithm inf(GaParams(), 2, [](const std::vector<double>&, std::uint64_t) {
+    return std::numeric_limits<double>::infinity();
+  });
+  EXPECT_THROW(inf.initialize(), std::runtime_error);
+  p = GaParams();
+  p.population = kMaxPopulation + 1;
+  EXPECT_THROW(GeneticAlgorithm(p, 3, toyFitness()), std::invalid_argument);
+  p = GaParams();
+  p.generations = kMaxGenerations + 1;
+  EXPECT_THROW(GeneticAlgorithm(p, 3, toyFitness()), std::invalid_argument);
 }
 
 TEST(ParallelMap, ResultsInIndexOrderAndErrorsRethrown) {

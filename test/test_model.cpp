@@ -232,6 +232,30 @@ TEST(ModelErrors, ValidReferenceParses) {
   EXPECT_EQ(m->wing_joints.size(), 1u);
 }
 
+// Only boxes collide and feel the air: every other shape where boxes are looked for (a
+// link's collisions; its visuals if it has no collision box) is listed by link and kind.
+TEST(Geometry, ShapesOtherThanBoxesAreListedByLinkAndKind) {
+  const auto m = flapsim::parseCreatureModel(R"(<robot name="s">
+    <link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+      <visual><geometry><sphere radius="0.1"/></geometry></visual>
+      <collision><geometry><cylinder radius="0.1" length="0.2"/></geometry></collision></link>
+    <link name="b"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+      <visual><geometry><sphere radius="0.1"/></geometry></visual>
+      <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+    <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>)");
+  EXPECT_EQ(m->links[0].ignored_shapes,
+            (std::vector<std::string>{"collision cylinder", "visual sphere"}));
+  EXPECT_TRUE(m->links[1].ignored_shapes.empty());  // its sphere is drawn, its box simulated
+  EXPECT_EQ(flapsim::ignoredGeometry(*m),
+            (std::vector<std::string>{
+                "link 'a': collision cylinder ignored (no contact, no air): only boxes are "
+                "simulated",
+                "link 'a': visual sphere ignored (no contact, no air): only boxes are simulated"}));
+  EXPECT_TRUE(flapsim::ignoredGeometry(
+                  *flapsim::loadCreatureModel(std::string(FLAPSIM_SOURCE_DIR) + "/urdf/afc_4.urdf"))
+                  .empty());
+}
+
 TEST(ModelErrors, NameTheCulprit) {
   expectError("<robot name=\"r\"><link name=\"a\">", {"malformed XML"});
   expectError("<notarobot/>", {"<robot>"});

@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "flapsim/air_model.h"
+#include "flapsim/controller_file.h"
+#include "flapsim/evolve.h"
 #include "flapsim/world.h"
 #include "fluid/pressure.h"
 #include "test_util.h"
@@ -290,6 +292,56 @@ TEST(UrdfFiles, OnlyRegularFilesUpTo16MiBAreRead) {
   EXPECT_EQ(loadError(dir + "/missing.urdf"), dir + "/missing.urdf: cannot open file");
   ::unlink(fifo.c_str());
   ::unlink(big.c_str());
+  ::rmdir(dir.c_str());
+}
+
+std::string readError(const std::string& path, std::size_t limit) {
+  try {
+    readTextFile(path, limit);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(read)";
+}
+
+// Issue 27: `evolve --resume` with checkpoint.txt linked to /dev/zero grew to 4.2 GB;
+// ann_controller _weights:=<FIFO> hung for ever (and ignored SIGINT). Every reader of the
+// package (weights, checkpoints, URDF) goes through readTextFile.
+TEST(TextFiles, OnlyRegularFilesWithinTheLimitAreReadAndAFifoIsNotWaitedOn) {
+  std::string dir_template =
+      (std::filesystem::temp_directory_path() / "flapsim_text_XXXXXX").string();
+  const std::string dir = ::mkdtemp(&dir_template[0]);
+  const std::string fifo = dir + "/weights.yaml", zero = dir + "/checkpoint.txt";
+  const std::string small = dir + "/small.txt";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  ASSERT_EQ(::symlink("/dev/zero", zero.c_str()), 0);
+  std::ofstream(small) << "0123456789";
+  EXPECT_EQ(readError(fifo, 1 << 20), fifo + ": not a regular file");
+  EXPECT_EQ(readError(zero, 1 << 20), zero + ": not a regular file");
+  EXPECT_EQ(readError(dir, 1 << 20), dir + ": not a regular file");
+  EXPECT_EQ(readError(small, 9), small + ": 10 bytes, over the limit of 9 bytes");
+  EXPECT_EQ(readTextFile(small, 10), "0123456789");
+  try {
+    loadControllerYaml(fifo);
+    FAIL() << "a FIFO was read as weights";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "controller YAML " + fifo + ": not a regular file");
+  }
+  try {
+    readCheckpointFile(zero);
+    FAIL() << "/dev/zero was read as a checkpoint";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), zero + ": not a regular file");
+  }
+  try {
+    readCheckpointFile(dir);
+    FAIL() << "a directory was read as a checkpoint";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), dir + ": not a regular file");  // was "missing header"
+  }
+  ::unlink(fifo.c_str());
+  ::unlink(zero.c_str());
+  ::unlink(small.c_str());
   ::rmdir(dir.c_str());
 }
 

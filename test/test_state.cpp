@@ -347,6 +347,30 @@ TEST(Wrench, BadWrenchesAreNamedAndChangeNothing) {
   expectRefused("u", x, "duration");
   EXPECT_THROW(w.clearWrenches("nobody"), InputError);
   EXPECT_THROW(w.clearWrenches("u", "tail"), InputError);
+  x = good;
+  x.duration = 2e9;  // beyond kMaxWrenchDuration
+  expectRefused("u", x, "at most 1e9 s");
+}
+
+// Issue 27: the wrench table had no limit (90 bytes each, the step slower with each).
+TEST(Wrench, AtMostKMaxWrenchesActOnACreature) {
+  World w(vacuum());
+  w.spawn("u", loadUrdf("flap_unit.urdf"), at(0, 0, 5));
+  ExternalWrench until_cleared;
+  until_cleared.force = Vec3(0, 0, 1e-3);
+  until_cleared.duration = -1.0;
+  for (int i = 0; i < kMaxWrenches; ++i) w.applyWrench("u", until_cleared);
+  try {
+    w.applyWrench("u", until_cleared);
+    ADD_FAILURE() << "wrench " << kMaxWrenches + 1 << " was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "creature 'u' has 1000 wrenches acting, the limit: clear some first");
+  }
+  EXPECT_EQ(w.wrenchCount("u"), kMaxWrenches);
+  EXPECT_EQ(w.clearWrenches("u"), kMaxWrenches);
+  w.applyWrench("u", until_cleared);  // room again
+  EXPECT_EQ(w.wrenchCount("u"), 1);
 }
 
 // What an accelerometer needs: the root accelerates at g in free fall and not at all at rest

@@ -90,6 +90,12 @@ double chainPitchScale(const FlapControllerParams& params, int unit, int units, 
 /// fixed upstroke_rate, or with phase_lock the one that keeps the stroke period.
 double upstrokeRate(const FlapControllerParams& params, double downstroke);
 
+/// Limits of the network's settings (doc/reliability.md).
+constexpr int kMaxHidden = 256;             // hidden neurons
+constexpr double kMinControlPeriod = 1e-3;  // s: at most 1 kHz of network updates
+constexpr double kMaxControlPeriod = 10.0;  // s
+constexpr double kMaxPitchGain = 1e3;
+
 /// Empty if valid, else a message naming the bad field.
 std::string validateFlapControllerParams(const FlapControllerParams& params);
 

@@ -3,11 +3,13 @@
 // that a controller needs only this and flapsim/ann.h. ROS-free.
 #pragma once
 
+#include <cstddef>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "flapsim/ann.h"
+#include "flapsim/text_file.h"
 
 namespace flapsim {
 
@@ -24,10 +26,9 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
 /// Parses controllerToYaml() output; checks the weight count. Throws
 /// std::runtime_error naming `source` and the bad key.
 ControllerSpec controllerFromYaml(const std::string& text, const std::string& source = "<string>");
+/// Largest weights file read (bytes): 1 MiB (a network of kMaxHidden neurons is 30 kB).
+constexpr std::size_t kMaxControllerFileBytes = 1u << 20;
+/// Reads (readTextFile, at most kMaxControllerFileBytes) and parses a weights file.
 ControllerSpec loadControllerYaml(const std::string& path);
-/// Throws std::runtime_error if the file cannot be written.
-void writeTextFile(const std::string& path, const std::string& text);
-/// Throws InputError if the file cannot be read.
-std::string readTextFile(const std::string& path);
 
 }  // namespace flapsim

@@ -36,6 +36,9 @@ struct LinkModel {
   Vec3 com = Vec3::Zero();      // centre of mass in the link frame
   Vec3 inertia = Vec3::Zero();  // principal moments about the COM, link axes
   std::vector<Box> boxes;       // collision boxes (visual boxes if there are none)
+  /// The link's other shapes where boxes are looked for, e.g. "collision cylinder", "visual
+  /// mesh": not simulated (see ignoredGeometry).
+  std::vector<std::string> ignored_shapes;
   AeroSettings aero;
   int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
 };
@@ -103,6 +106,10 @@ using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
                                     const std::string& source = "<string>");
 
+/// One line per shape the model ignores (LinkModel::ignored_shapes), naming the link and the
+/// shape; empty if every shape is simulated. (The simulator node warns these at a spawn.)
+std::vector<std::string> ignoredGeometry(const CreatureModel& model);
+
 /// Largest URDF file read (bytes): 16 MiB, far beyond any creature's description.
 constexpr std::size_t kMaxUrdfFileBytes = 16u << 20;
 
@@ -115,6 +122,10 @@ constexpr double kMaxUrdfInertia = 1e6;
 /// The text of a URDF file: a regular file (not a directory, FIFO or device) of at most
 /// kMaxUrdfFileBytes. Throws ModelError naming the file and what is wrong.
 std::string readUrdfFile(const std::string& path);
+
+/// The lowest z of the corners of the model's boxes with its links at `link_poses` (link
+/// frames in the world); +infinity for a model without boxes.
+double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses);
 
 /// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.
 CreatureModelPtr loadCreatureModel(const std::string& path);

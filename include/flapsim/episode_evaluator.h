@@ -4,7 +4,11 @@
 // no clock.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <list>
+#include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -36,6 +40,22 @@ class TaskError : public InputError {
   using InputError::InputError;
 };
 
+/// Limits of one farm call (doc/reliability.md): a worker refuses a call beyond them, and the
+/// farm splits its batches to fit. The work of a call is its tasks times episodeWork: world
+/// steps times wing pairs, about 8 us each on one core of the reference machine, so a call
+/// holds a worker's thread for at most about 16 s there.
+constexpr int kMaxTasksPerCall = 1024;
+constexpr double kMaxCallWork = 2e6;
+
+/// The work of one episode of `spec`: pairs times the steps of the episode at its smallest
+/// step size.
+double episodeWork(const EvaluationSpec& spec);
+
+/// The largest |fitness| an episode of `spec` can score: the start height, plus the
+/// distance at the watchdog's speed limit over the episode, plus the flip penalty. A value
+/// beyond it (or not finite) is not an episode's.
+double fitnessBound(const EvaluationSpec& spec);
+
 /// Evaluates tasks of one spec: the creature model and episode starts are
 /// built once. evaluate() is const and thread-safe; its result depends on the
 /// spec and the task alone (bit for bit, whatever the thread or process).
@@ -50,12 +70,41 @@ class EpisodeRunner {
   int weightCount() const { return weight_count_; }
   int episodeCount() const { return static_cast<int>(starts_.size()); }
   const EvaluationSpec& spec() const { return spec_; }
+  /// An estimate of the memory it holds (bytes): model, starts, spec.
+  std::size_t bytes() const { return bytes_; }
 
  private:
   EvaluationSpec spec_;
   CreatureModelPtr model_;
   std::vector<EpisodeStart> starts_;
   int weight_count_ = 0;
+  std::size_t bytes_ = 0;
+};
+
+/// Largest memory a RunnerCache holds (bytes, by EpisodeRunner::bytes() and the specs' text).
+constexpr std::size_t kMaxRunnerCacheBytes = 16u << 20;
+
+/// The runners of the specs a worker saw recently: at most `max_bytes` of them, the least
+/// recently used given up first. Thread-safe.
+class RunnerCache {
+ public:
+  explicit RunnerCache(std::size_t max_bytes = kMaxRunnerCacheBytes) : max_bytes_(max_bytes) {}
+  /// The runner of evaluationSpecFromArgs(spec_args) (flapsim/evolve_args.h). Throws
+  /// InputError for a bad spec.
+  std::shared_ptr<const EpisodeRunner> get(const std::vector<std::string>& spec_args);
+  std::size_t bytes() const;
+  std::size_t size() const;
+
+ private:
+  struct Entry {
+    std::vector<std::string> spec;
+    std::shared_ptr<const EpisodeRunner> runner;
+    std::size_t bytes = 0;
+  };
+  std::size_t max_bytes_;
+  mutable std::mutex mutex_;
+  std::list<Entry> entries_;  // most recently used first
+  std::size_t bytes_ = 0;
 };
 
 /// Evaluates a batch of tasks and returns one fitness per task, in task

@@ -3,6 +3,7 @@
 // evolution writes (weights YAML, CSVs, a gnuplot script). ROS-free; no clock.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -64,6 +65,17 @@ struct EpisodeParams {
   WorldParams world;       // ground off (see above)
 };
 
+/// Limits of an episode (doc/reliability.md): they bound the work and memory that an
+/// evolution, a farm call or a checkpoint can ask for.
+constexpr int kMaxEpisodes = 1000;           // episodes per evaluation
+constexpr double kMaxEpisodeDuration = 1e4;  // s
+constexpr double kMaxEpisodeSteps = 1e7;     // world steps of one episode (duration / step)
+constexpr int kMaxStepSizes = 16;            // step sizes to draw from
+constexpr double kMaxStartRate = 1e3;        // rad/s, max_start_rate
+constexpr double kMaxGust = 1e3;             // m/s, max_gust (the wind's limit)
+constexpr double kMaxInputNoise = 10.0;      // rad
+constexpr double kMaxFlipPenalty = 1e6;      // m
+
 /// Empty if valid, else a message naming the bad field.
 std::string validateEpisodeParams(const EpisodeParams& params);
 
@@ -116,6 +128,9 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
 double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& controller,
                    const std::vector<double>& weights, const EpisodeParams& params);
 
+/// Largest creature an evolution flies: units (wing pairs) of makeCreatureUrdf.
+constexpr int kMaxEvolvePairs = 64;
+
 /// Everything an evolution needs.
 struct EvolveParams {
   int pairs = 1;  // the creature: makeCreatureUrdf(pairs, "afc", unit)
@@ -156,10 +171,23 @@ struct EvolveCheckpoint {
   std::vector<std::string> args;  // the evolve flags of the run (for --resume)
 };
 
+/// Limits of a checkpoint: genes of an individual (the weights of a network of kMaxHidden
+/// neurons) and the file's size.
+constexpr int kMaxGenes = 5 * kMaxHidden + 2;
+constexpr std::size_t kMaxCheckpointBytes = 64u << 20;
+
 /// Text form (every double as a C99 hex float, so it reads back bit for bit).
 std::string checkpointToText(const EvolveCheckpoint& checkpoint);
-/// Throws InputError naming the line at fault.
+/// Throws InputError naming the line at fault: a missing or unexpected word, a count or
+/// generation out of its range (kMaxPopulation, kMaxGenes, kMaxSpecArgs, kMaxGenerations;
+/// the history one entry per generation, numbered), a number that is not finite.
 EvolveCheckpoint checkpointFromText(const std::string& text);
+/// Reads a checkpoint file (a regular file of at most kMaxCheckpointBytes) and checks that
+/// its `args` are only flags that define an evolution (checkSpecArgs: no output path, no
+/// farm or resume setting). Throws InputError naming the file.
+EvolveCheckpoint readCheckpointFile(const std::string& path);
+/// Writes `path` through a temporary file renamed over it (a crash leaves the old one).
+void writeCheckpointFile(const std::string& path, const EvolveCheckpoint& checkpoint);
 
 struct EvolveHooks {
   std::function<void(const GenerationStats&)> on_generation;

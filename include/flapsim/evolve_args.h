@@ -3,6 +3,7 @@
 // ROS-free; no clock.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -30,15 +31,27 @@ struct EvolveOptions {
   int farm_batch = 1;          // tasks per call
 };
 
+/// Limits of the flags that define an evolution (a checkpoint's `args`, a farm call's spec).
+constexpr std::size_t kMaxSpecArgs = 64;
+constexpr std::size_t kMaxSpecBytes = 16384;
+
 /// Parses evolve's flags (argv without the program name; roslaunch's
-/// `name:=value` arguments are skipped). `threads` is the default of
-/// --threads. Throws InputError naming the bad flag or value.
+/// `name:=value` arguments are skipped) from one table (flapsim/cli_args.h): every value
+/// has a range. `threads` is the default of --threads. Throws InputError naming the bad
+/// flag or value.
 EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads = 1);
 
-/// The usage text (--help).
-std::string evolveUsage();
+/// The usage text (--help), generated from the table: the defaults shown are those of the
+/// preset and flags in `args` (robust for none), so of what runs.
+std::string evolveUsage(const std::vector<std::string>& args = {}, int threads = 1);
 
-/// The EvaluationSpec of a farm request: the spec of parseEvolveArgs(spec_args).
+/// Throws InputError unless `spec_args` holds only flags that define an evolution (the
+/// preset and the run's settings: no output paths, threads, farm or resume settings), with
+/// valid values, within kMaxSpecArgs and kMaxSpecBytes.
+void checkSpecArgs(const std::vector<std::string>& spec_args);
+
+/// The EvaluationSpec of a farm request: the spec of parseEvolveArgs(spec_args), after
+/// checkSpecArgs.
 EvaluationSpec evaluationSpecFromArgs(const std::vector<std::string>& spec_args);
 
 }  // namespace flapsim

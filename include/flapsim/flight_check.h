@@ -8,8 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "flapsim/cli_args.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
+#include "flapsim/hover_flight.h"
 
 namespace flapsim {
 
@@ -45,5 +47,38 @@ struct FlightCheckRun {
 std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
                                         const FlightCheckParams& params);
+
+/// The flight_check tool's settings.
+struct FlightCheckOptions {
+  FlightCheckParams params;
+  std::string weights;    // controller weights YAML (required)
+  std::string urdf;       // a creature of flap units from a URDF file; empty: make_creature
+  int pairs = 1;          // make_creature --pairs
+  bool hover = false;     // --hover: the hover creature under HoverController instead
+  double altitude = 3.0;  // m, --hover's
+  double wind = 0.0;      // m/s along y, --hover's
+};
+
+/// flight_check's flags (flapsim/cli_args.h), over `options`.
+CliParser flightCheckCli(FlightCheckOptions& options);
+
+/// The table flight_check prints: a line per start (with its motors' mean positive power, in W
+/// and W/kg, and net power) and a summary; `failed` gets the number of starts that did not pass.
+std::string flightCheckReport(const FlightCheckOptions& options,
+                              const std::vector<FlightCheckRun>& runs, int wing_pairs, int& failed);
+
+/// The motors' power over the starts (means) and the figure of merit: the ideal actuator-disk
+/// power to hover the creature's weight on `disk_area` (m^2, in air of 1.204 kg/m^3) over the
+/// mean positive power.
+std::string flightPowerSummary(const std::vector<FlightCheckRun>& runs, double disk_area);
+
+/// flight_check --hover: flies `model` (the hover creature) under HoverController from
+/// `options.altitude` in a side wind of `options.wind`, started `params.max_roll` and
+/// `params.max_pitch` tilted, for `params.duration` at `params.step_size`; returns the report
+/// (height band, attitude, oscillation per stroke, power, figure of merit after 10 s) and sets
+/// `ok` to whether it held the altitude within 0.3 m, upright (up >= 0.9), under 5 cm per
+/// stroke, at most 100 W/kg.
+std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& options,
+                             bool& ok);
 
 }  // namespace flapsim

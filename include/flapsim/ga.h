@@ -53,6 +53,10 @@ struct GaParams {
   bool reuse_fitness_of_copies = true;
 };
 
+/// Limits of a GA run (doc/reliability.md).
+constexpr int kMaxPopulation = 1000;
+constexpr int kMaxGenerations = 100000;
+
 /// Empty if valid, else a message naming the bad field.
 std::string validateGaParams(const GaParams& params);
 

@@ -1,8 +1,12 @@
 // Generator of flapping creatures: N flap units chained by passive joints.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include "flapsim/cli_args.h"
 
 namespace flapsim {
 
@@ -113,5 +117,23 @@ struct HoverParams {
 /// mass or torque that is not positive (a drop, speed, power or spring that is negative).
 std::string makeHoverUrdf(const std::string& name = "hover",
                           const HoverParams& params = HoverParams());
+/// The make_creature tool's settings.
+struct MakeCreatureOptions {
+  int pairs = 1;
+  FlapUnitParams params;
+  std::string layout = "chain";  // "chain" (makeCreatureUrdf) or "hover" (makeHoverUrdf)
+  HoverParams hover;
+  std::string name;    // empty: "afc" (chain) or "hover"
+  std::string output;  // empty: stdout
+};
+
+/// The URDF `options` ask for (the chain or the hover layout).
+std::string makeCreatureOutput(const MakeCreatureOptions& options);
+
+/// The setter of a --link-axis flag (roll or pitch; InputError naming the flag otherwise).
+std::function<void(const std::vector<std::string>&)> linkAxisSetter(LinkAxis* field);
+
+/// make_creature's flags (flapsim/cli_args.h) over `options`.
+CliParser makeCreatureCli(MakeCreatureOptions& options);
 
 }  // namespace flapsim

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "flapsim/air_model.h"
+#include "flapsim/cli_args.h"
 
 namespace flapsim {
 
@@ -38,5 +39,16 @@ std::vector<SweepRow> pressureSweep(const SweepParams& params);
 
 /// The rows as CSV, with a header line.
 std::string sweepCsv(const std::vector<SweepRow>& rows);
+
+/// The rows as the table the sweep tool prints.
+std::string sweepTable(const SweepParams& params, const std::vector<SweepRow>& rows);
+
+/// gnuplot commands drawing `png` from the CSV `csv` of `rows`: one curve per (model, Cd,
+/// grid).
+std::string sweepGnuplotScript(const SweepParams& params, const std::vector<SweepRow>& rows,
+                               const std::string& csv, const std::string& png);
+
+/// The sweep tool's flags (flapsim/cli_args.h) over `params` and `out_dir`.
+CliParser sweepCli(SweepParams& params, std::string& out_dir);
 
 }  // namespace flapsim

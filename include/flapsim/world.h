@@ -120,9 +120,12 @@ struct ExternalWrench {
   double duration = 0.0;       // s of sim time (whole steps); < 0: until cleared
 };
 
-/// Largest magnitudes of an external wrench.
-constexpr double kMaxForce = 1e6;   // N
-constexpr double kMaxTorque = 1e6;  // N m
+/// Largest magnitudes of an external wrench, its longest duration, and the most wrenches
+/// acting on one creature at a time.
+constexpr double kMaxForce = 1e6;           // N
+constexpr double kMaxTorque = 1e6;          // N m
+constexpr double kMaxWrenchDuration = 1e9;  // s
+constexpr int kMaxWrenches = 1000;
 
 /// Last air wrench on each link (about its COM), and optionally per cell.
 struct LinkAero {
@@ -212,9 +215,10 @@ class World {
   /// position outside its limits, a moving fixed base) and changes nothing.
   void setState(const std::string& creature, const StateRequest& request);
   /// Applies `wrench` to a link of a creature from the next step on, for
-  /// round(duration / step_size) steps (at least one; duration < 0: until cleared). The
-  /// point moves with the link. Counted in the momentum balance like the air. Throws
-  /// InputError naming the culprit and changes nothing.
+  /// round(duration / step_size) steps (at least one, duration at most kMaxWrenchDuration;
+  /// < 0: until cleared). The point moves with the link. Counted in the momentum balance
+  /// like the air. At most kMaxWrenches act on a creature at a time. Throws InputError naming
+  /// the culprit and changes nothing.
   void applyWrench(const std::string& creature, const ExternalWrench& wrench);
   /// Removes the external wrenches of a creature (empty: of every creature), and of one of
   /// its links only if `link` is given. Returns how many were removed.

@@ -39,6 +39,8 @@ flapsim::Twist fromMsg(const geometry_msgs::Twist& twist);
 
 /// Sim time of `steps` fixed steps of `step_ns` nanoseconds: exact, no rounding drift.
 ros::Time simTime(std::uint64_t steps, std::uint64_t step_ns);
+/// A time in seconds with 9 decimals, e.g. "1.150000000".
+std::string formatTime(const ros::Time& t);
 /// A step size in whole nanoseconds (rounded); >= 1.
 std::uint64_t stepNanoseconds(double step_size);
 
@@ -86,8 +88,24 @@ flapsim::StateRequest stateRequest(const flapsim::CreatureModel& model,
                                    const flapsim::CreatureState& current,
                                    const flapsim::SetState::Request& req);
 
-/// A flapsim/apply_wrench request in core terms (World::applyWrench checks the values).
+/// A flapsim/apply_wrench request in core terms (World::applyWrench checks the values), as
+/// given: in the request's reference frame.
 flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req);
+
+/// A frame's pose and the twist of its origin.
+struct FrameMotion {
+  flapsim::Pose pose;
+  flapsim::Twist twist;
+};
+/// `body` (in the world) seen from the reference frame `frame` (in the world), as
+/// gazebo_msgs/GetModelState and GetLinkState give it: the pose in the frame, and the
+/// difference of the two origins' linear and the two angular velocities, in the frame's axes.
+FrameMotion toFrame(const FrameMotion& frame, const FrameMotion& body);
+/// The inverse of toFrame: `relative` (in `frame`) in the world.
+FrameMotion fromFrame(const FrameMotion& frame, const FrameMotion& relative);
+/// A wrench given in the reference frame `frame` (force, torque and point in its axes and
+/// about its origin, as gazebo_msgs/ApplyBodyWrench), in the world frame.
+flapsim::ExternalWrench toWorld(const flapsim::ExternalWrench& wrench, const flapsim::Pose& frame);
 
 /// The IMU of the root link, frame "<creature>/<root link>": orientation in the world, and in
 /// the link's axes its angular velocity and what an accelerometer at its centre of mass
@@ -103,13 +121,6 @@ sensor_msgs::Imu imuMsg(const std::string& creature, const flapsim::CreatureMode
                         const flapsim::Vec3& gravity, const ros::Time& stamp,
                         const ImuNoise& noise = ImuNoise(),
                         const std::function<double()>& draw = nullptr);
-
-/// One transform world -> "<creature>/<link>" for every link.
-std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,
-                                                            const flapsim::CreatureModel& model,
-                                                            const flapsim::CreatureState& state,
-                                                            const ros::Time& stamp,
-                                                            const std::string& world_frame);
 
 /// Force arrows: one per aero link from its centre of mass (namespace
 /// "<creature>"), and one per cell from its centre (namespace

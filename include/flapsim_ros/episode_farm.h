@@ -9,9 +9,7 @@
 
 #include <cstdint>
 #include <map>
-#include <memory>
 #include <mutex>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -19,6 +17,7 @@
 #include "flapsim/FarmProgress.h"
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
+#include "flapsim/farm_scheduler.h"
 
 namespace flapsim_ros {
 
@@ -26,36 +25,24 @@ namespace flapsim_ros {
 extern const char* const kFarmNamespace;        // "/flapsim_farm"
 extern const char* const kEvaluateServiceName;  // "evaluate_episodes"
 
-/// The farm cannot finish a batch: no worker for farm_wait seconds, or a
-/// worker refused a task (bad spec, malformed task), which another worker
-/// would refuse too.
-class FarmError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+using flapsim::FarmError;
 
 // ---- Worker --------------------------------------------------------------------------------
 
-/// Runners of the specs seen recently (a worker serves one evolution at a
-/// time, usually; a few are kept).
-class RunnerCache {
- public:
-  /// Throws flapsim::InputError for a bad spec.
-  std::shared_ptr<const flapsim::EpisodeRunner> get(const std::vector<std::string>& spec);
+/// Empty if a batch of `tasks` tasks of `weight_count` weights, `weights` in all, is within
+/// kMaxTasksPerCall and well formed, else why not.
+std::string batchFault(std::size_t tasks, std::size_t weights, std::uint32_t weight_count);
 
- private:
-  std::mutex mutex_;
-  std::map<std::vector<std::string>, std::shared_ptr<const flapsim::EpisodeRunner>> runners_;
-};
-
-/// Answers one request: success and one fitness per task, or success=false
-/// and a message naming the fault (bad spec, malformed batch, wrong weight
-/// count, episode index) without evaluating anything.
-flapsim::EvaluateEpisodes::Response evaluateEpisodes(RunnerCache& cache,
+/// Answers one request: success and one fitness per task, or success=false and a message
+/// naming the fault without evaluating anything: too many tasks (kMaxTasksPerCall), a bad
+/// spec (flapsim::checkSpecArgs), a malformed batch, a wrong weight count, too much work
+/// (kMaxCallWork), an episode index out of range or a non-finite weight.
+flapsim::EvaluateEpisodes::Response evaluateEpisodes(flapsim::RunnerCache& cache,
                                                      const flapsim::EvaluateEpisodes::Request& req);
 
 /// flapsim_worker: ~evaluate_episodes on `~threads` threads (one request per
-/// thread at a time; default: the hardware's).
+/// thread at a time; default: the hardware's). A request over the limits of a batch is
+/// refused from its serialized bytes, before its arrays are copied.
 class EpisodeWorkerNode {
  public:
   EpisodeWorkerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
@@ -64,12 +51,13 @@ class EpisodeWorkerNode {
   const std::string& serviceName() const { return service_name_; }
 
  private:
-  bool onEvaluate(flapsim::EvaluateEpisodes::Request& req,
-                  flapsim::EvaluateEpisodes::Response& res);
+  /// Answers `req` (null: refused from its bytes, `res` holds why) and logs a refusal.
+  void answer(const flapsim::EvaluateEpisodes::Request* req,
+              flapsim::EvaluateEpisodes::Response& res);
 
   ros::NodeHandle nh_, pnh_;
   int threads_ = 1;
-  RunnerCache cache_;
+  flapsim::RunnerCache cache_;
   ros::ServiceServer server_;
   std::string service_name_;
   std::uint64_t tasks_done_ = 0;
@@ -78,50 +66,56 @@ class EpisodeWorkerNode {
 
 // ---- evolve --farm -------------------------------------------------------------------------
 
-struct FarmParams {
+struct FarmParams : flapsim::FarmParams {
   std::string ns = "/flapsim_farm";
-  double timeout = 60.0;    // s: a call unanswered by then goes to another worker
-  double wait = 120.0;      // s without any worker before FarmError
-  int inflight = 4;         // calls in flight per worker
-  int batch = 1;            // tasks per call
-  double rediscover = 1.0;  // s between looks at the master's service list
 };
 
 /// Worker services under `ns` in the master's service list (sorted), with
 /// their providers' URIs.
 std::map<std::string, std::string> findWorkers(const std::string& ns);
 
-/// Sends the tasks of an evolution to the workers under params.ns, several
-/// calls in flight per worker; a call that fails twice in a row (worker died)
-/// or times out is sent to another worker, and workers that appear are used from the next
-/// look at the master on. Results are put in task order, so the evolution is
-/// the same bit for bit as in process.
+/// evolve --farm: a flapsim::FarmScheduler over the flapsim_worker services under params.ns.
+/// A call that fails is made once more, 50 ms later, before it counts as failed (a dead
+/// worker fails again; a transient failure of the transport does not bury a live one).
+/// Before it is destroyed, ros::shutdown() ends the calls still waiting for an answer.
 class FarmEvaluator : public flapsim::EpisodeEvaluator {
  public:
+  /// Throws flapsim::InputError for a bad spec, FarmError for an episode over a worker's
+  /// limit per call.
   FarmEvaluator(const ros::NodeHandle& nh, const std::vector<std::string>& spec, int weight_count,
                 const FarmParams& params);
-  std::vector<double> evaluate(const std::vector<flapsim::EpisodeTask>& tasks) override;
-  int workersUp() const override;
-  /// Calls that failed or timed out and were sent again (over the run).
-  int resent() const { return resent_; }
-  /// Tasks answered per worker service (over the run).
-  const std::map<std::string, int>& answered() const { return answered_; }
+  std::vector<double> evaluate(const std::vector<flapsim::EpisodeTask>& tasks) override {
+    return scheduler_.evaluate(tasks);
+  }
+  int workersUp() const override { return scheduler_.workersUp(); }
+  int resent() const { return scheduler_.resent(); }
+  const std::map<std::string, int>& answered() const { return scheduler_.answered(); }
+  const std::map<std::string, std::string>& dropped() const { return scheduler_.dropped(); }
+  int tasksPerCall() const { return scheduler_.tasksPerCall(); }
 
  private:
-  struct Worker {
-    std::string uri;
-    bool dead = false;
-    int inflight = 0;
-  };
-  void refreshWorkers();
+  class Link : public flapsim::FarmLink {
+   public:
+    Link(const ros::NodeHandle& nh, const std::vector<std::string>& spec, int weight_count,
+         const std::string& ns)
+        : nh_(nh), spec_(spec), weight_count_(weight_count), ns_(ns) {}
+    std::map<std::string, std::string> discover() override { return findWorkers(ns_); }
+    flapsim::WorkerReply call(const std::string& worker,
+                              const std::vector<flapsim::EpisodeTask>& tasks) override;
+    double now() override { return ros::WallTime::now().toSec(); }
+    bool ok() override { return ros::ok(); }
+    void info(const std::string& text) override { ROS_INFO_STREAM(text); }
+    void warn(const std::string& text) override { ROS_WARN_STREAM(text); }
+    std::string where() const override { return "under " + ns_; }
 
-  ros::NodeHandle nh_;
-  std::vector<std::string> spec_;
-  int weight_count_;
-  FarmParams params_;
-  std::map<std::string, Worker> workers_;
-  int resent_ = 0;
-  std::map<std::string, int> answered_;
+   private:
+    ros::NodeHandle nh_;
+    std::vector<std::string> spec_;
+    int weight_count_;
+    std::string ns_;
+  };
+  Link link_;  // before scheduler_: it outlives the scheduler's call threads
+  flapsim::FarmScheduler scheduler_;
 };
 
 /// Publishes FarmProgress on <ns>/progress (latched: the last line).

@@ -47,6 +47,21 @@ struct ImuParams {
   int seed = 0;
 };
 
+/// What a creature's wings do once `wing_command_timeout` passes without a command.
+enum class CommandTimeoutAction {
+  kHold,    // "hold": the wing motors hold the wings where they are (velocity target 0)
+  kRelease  // "release": the wing motors let go (the wing joints are passive)
+};
+
+/// The frame flapsim/camera (the view of config/flapsim.rviz): it looks at flapsim/view, the
+/// creatures' smoothed centroid, from `yaw` and `pitch` (rad, rviz's orbit angles) at
+/// `distance`, or farther when the creatures spread: far enough to keep them all in view.
+struct ViewParams {
+  double distance = 2.5;  // m, the least distance
+  double yaw = 0.8;       // rad, about world z from +x
+  double pitch = 0.35;    // rad, above the horizontal
+};
+
 struct NodeParams {
   flapsim::WorldParams world;
   double publish_rate = 100.0;    // Hz of sim time (rounded to whole steps), in [0.01, 1e6]
@@ -54,10 +69,16 @@ struct NodeParams {
   /// flapsim/step requests for more steps are refused (the node serves nothing while it
   /// steps a request).
   int max_steps_per_call = 100000;
-  /// Directories flapsim/spawn may read `urdf_file` from (and below). Not set: the
-  /// directories on ROS_PACKAGE_PATH and the node's working directory (the loader's
-  /// defaults; the parser leaves it empty).
+  /// Directories flapsim/spawn may read `urdf_file` from (and below): a list, or a string of
+  /// ':'-separated directories (a launch argument). Not set or "": the directories on
+  /// ROS_PACKAGE_PATH and the node's working directory (the loader's defaults; the parser
+  /// leaves it empty).
   std::vector<std::string> urdf_roots;
+  /// s of sim time after a creature's last wing command (topic, flapsim/step or its
+  /// `wing_command` parameter) at which its wings stop beating; 0: never.
+  double wing_command_timeout = 0.0;
+  CommandTimeoutAction wing_command_timeout_action = CommandTimeoutAction::kHold;
+  ViewParams view;
   bool paused = false;  // start paused
   std::string world_frame = "world";
   MarkerParams markers;

@@ -13,8 +13,10 @@ namespace flapsim_ros {
 /// exist on the host.
 std::string readSpawnUrdf(const std::string& path, const std::vector<std::string>& roots);
 
-/// The one text of a refused `urdf_file`.
-std::string refusedUrdfFileMessage(const std::string& path);
+/// The one text of a refused `urdf_file`: it names the roots, and for a relative path the
+/// working directory it starts at.
+std::string refusedUrdfFileMessage(const std::string& path, const std::vector<std::string>& roots,
+                                   const std::string& working_directory);
 
 /// The default roots: the directories on `ros_package_path` (':'-separated; may be null)
 /// and `working_directory`.

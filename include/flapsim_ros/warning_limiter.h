@@ -17,7 +17,8 @@ class WarningLimiter {
 
   /// Whether a warning of cause `kind` about `creature` may be logged at time `now` (s); if
   /// so, the cause is remembered as warned at `now`. When the table is full, causes older
-  /// than a period are forgotten, then (if still full) all of them.
+  /// than a period are forgotten; if it is still full, the new cause is not logged: at most
+  /// `max_causes` warnings per period, whatever the stream of distinct causes.
   bool allow(const std::string& kind, const std::string& creature, double now);
   std::size_t causes() const { return last_.size(); }
 

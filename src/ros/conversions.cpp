@@ -1,6 +1,7 @@
 #include "flapsim_ros/conversions.h"
 
 #include <cmath>
+#include <sstream>
 
 namespace flapsim_ros {
 
@@ -90,6 +91,13 @@ flapsim::Pose fromMsg(const geometry_msgs::Pose& pose) {
 
 flapsim::Twist fromMsg(const geometry_msgs::Twist& twist) {
   return flapsim::Twist{fromVector(twist.linear), fromVector(twist.angular)};
+}
+
+std::string formatTime(const ros::Time& t) {
+  std::ostringstream os;
+  os.precision(9);
+  os << std::fixed << t.toSec();
+  return os.str();
 }
 
 std::uint64_t stepNanoseconds(double step_size) {
@@ -277,6 +285,30 @@ flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req) {
   return w;
 }
 
+FrameMotion toFrame(const FrameMotion& frame, const FrameMotion& body) {
+  const flapsim::Quat to_frame = frame.pose.orientation.conjugate();
+  return FrameMotion{frame.pose.inverse() * body.pose,
+                     flapsim::Twist{to_frame * (body.twist.linear - frame.twist.linear),
+                                    to_frame * (body.twist.angular - frame.twist.angular)}};
+}
+
+FrameMotion fromFrame(const FrameMotion& frame, const FrameMotion& relative) {
+  const flapsim::Quat& to_world = frame.pose.orientation;
+  // Not normalised: a bad quaternion stays bad for the world's check.
+  const flapsim::Pose pose{frame.pose.apply(relative.pose.position),
+                           to_world * relative.pose.orientation};
+  return FrameMotion{pose, flapsim::Twist{to_world * relative.twist.linear + frame.twist.linear,
+                                          to_world * relative.twist.angular + frame.twist.angular}};
+}
+
+flapsim::ExternalWrench toWorld(const flapsim::ExternalWrench& wrench, const flapsim::Pose& frame) {
+  flapsim::ExternalWrench w = wrench;
+  w.force = frame.orientation * wrench.force;
+  w.torque = frame.orientation * wrench.torque;
+  w.point = frame.apply(wrench.point);
+  return w;
+}
+
 sensor_msgs::Imu imuMsg(const std::string& creature, const flapsim::CreatureModel& model,
                         const flapsim::CreatureState& state, const flapsim::Vec3& acceleration,
                         const flapsim::Vec3& gravity, const ros::Time& stamp, const ImuNoise& noise,
@@ -306,21 +338,6 @@ sensor_msgs::Imu imuMsg(const std::string& creature, const flapsim::CreatureMode
     m.linear_acceleration_covariance[4 * i] = noise.linear_acceleration * noise.linear_acceleration;
   }
   return m;
-}
-
-std::vector<geometry_msgs::TransformStamped> linkTransforms(const std::string& creature,
-                                                            const flapsim::CreatureModel& model,
-                                                            const flapsim::CreatureState& state,
-                                                            const ros::Time& stamp,
-                                                            const std::string& world_frame) {
-  std::vector<geometry_msgs::TransformStamped> out(model.links.size());
-  for (size_t k = 0; k < model.links.size(); ++k) {
-    out[k].header.stamp = stamp;
-    out[k].header.frame_id = world_frame;
-    out[k].child_frame_id = linkFrame(creature, model.links[k].name);
-    out[k].transform = toTransformMsg(state.link_poses.at(k));
-  }
-  return out;
 }
 
 std::vector<visualization_msgs::Marker> aeroMarkers(const std::string& creature,

@@ -1,11 +1,14 @@
 #include "flapsim_ros/episode_farm.h"
 
+#include <malloc.h>
 #include <ros/master.h>
+#include <ros/service_callback_helper.h>
 
 #include <algorithm>
 #include <chrono>
-#include <condition_variable>
-#include <deque>
+#include <cstring>
+#include <functional>
+#include <sstream>
 #include <thread>
 
 namespace flapsim_ros {
@@ -15,25 +18,56 @@ const char* const kEvaluateServiceName = "evaluate_episodes";
 
 // ---- Worker --------------------------------------------------------------------------------
 
-std::shared_ptr<const flapsim::EpisodeRunner> RunnerCache::get(
-    const std::vector<std::string>& spec) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    auto it = runners_.find(spec);
-    if (it != runners_.end()) return it->second;
+namespace {
+
+// The tasks of a request, or a message naming why it is refused (before any evaluation).
+std::string requestTasks(const flapsim::EpisodeRunner& runner,
+                         const flapsim::EvaluateEpisodes::Request& req,
+                         std::vector<flapsim::EpisodeTask>& tasks) {
+  const size_t n = req.episodes.size();
+  if (static_cast<int>(req.weight_count) != runner.weightCount()) {
+    return "wrong weight count: tasks have " + std::to_string(req.weight_count) +
+           " weights, the controller has " + std::to_string(runner.weightCount());
   }
-  // Built outside the lock (parses a URDF); two threads may build the same one.
-  auto runner =
-      std::make_shared<const flapsim::EpisodeRunner>(flapsim::evaluationSpecFromArgs(spec));
-  std::lock_guard<std::mutex> lock(mutex_);
-  if (runners_.size() >= 4) runners_.clear();
-  return runners_.emplace(spec, runner).first->second;
+  const double work = static_cast<double>(n) * flapsim::episodeWork(runner.spec());
+  if (work > flapsim::kMaxCallWork) {
+    std::ostringstream msg;
+    msg << "too much work: " << n << " tasks of " << flapsim::episodeWork(runner.spec())
+        << " steps x wing pairs, over the limit of " << flapsim::kMaxCallWork << " per call";
+    return msg.str();
+  }
+  tasks.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    tasks[i].weights.assign(req.weights.begin() + i * req.weight_count,
+                            req.weights.begin() + (i + 1) * req.weight_count);
+    tasks[i].episode = req.episodes[i];
+    const std::string err = runner.check(tasks[i]);
+    if (!err.empty()) return "malformed task " + std::to_string(i) + ": " + err;
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string batchFault(std::size_t tasks, std::size_t weights, std::uint32_t weight_count) {
+  if (tasks > static_cast<size_t>(flapsim::kMaxTasksPerCall)) {
+    return "too many tasks: " + std::to_string(tasks) + ", over the limit of " +
+           std::to_string(flapsim::kMaxTasksPerCall) + " per call";
+  }
+  if (weights != static_cast<size_t>(weight_count) * tasks) {
+    return "malformed batch: " + std::to_string(weights) + " weights for " + std::to_string(tasks) +
+           " tasks of " + std::to_string(weight_count);
+  }
+  return "";
 }
 
 flapsim::EvaluateEpisodes::Response evaluateEpisodes(
-    RunnerCache& cache, const flapsim::EvaluateEpisodes::Request& req) {
+    flapsim::RunnerCache& cache, const flapsim::EvaluateEpisodes::Request& req) {
   flapsim::EvaluateEpisodes::Response res;
   res.success = false;
+  // What sizes the work and memory comes first: nothing is built for a call refused here.
+  res.message = batchFault(req.episodes.size(), req.weights.size(), req.weight_count);
+  if (!res.message.empty()) return res;
   std::shared_ptr<const flapsim::EpisodeRunner> runner;
   try {
     runner = cache.get(req.spec);
@@ -41,28 +75,9 @@ flapsim::EvaluateEpisodes::Response evaluateEpisodes(
     res.message = std::string("bad spec: ") + e.what();
     return res;
   }
-  const size_t n = req.episodes.size();
-  if (req.weights.size() != static_cast<size_t>(req.weight_count) * n) {
-    res.message = "malformed batch: " + std::to_string(req.weights.size()) + " weights for " +
-                  std::to_string(n) + " tasks of " + std::to_string(req.weight_count);
-    return res;
-  }
-  if (static_cast<int>(req.weight_count) != runner->weightCount()) {
-    res.message = "wrong weight count: tasks have " + std::to_string(req.weight_count) +
-                  " weights, the controller has " + std::to_string(runner->weightCount());
-    return res;
-  }
-  std::vector<flapsim::EpisodeTask> tasks(n);
-  for (size_t i = 0; i < n; ++i) {
-    tasks[i].weights.assign(req.weights.begin() + i * req.weight_count,
-                            req.weights.begin() + (i + 1) * req.weight_count);
-    tasks[i].episode = req.episodes[i];
-    const std::string err = runner->check(tasks[i]);
-    if (!err.empty()) {
-      res.message = "malformed task " + std::to_string(i) + ": " + err;
-      return res;
-    }
-  }
+  std::vector<flapsim::EpisodeTask> tasks;
+  res.message = requestTasks(*runner, req, tasks);
+  if (!res.message.empty()) return res;
   try {
     for (const auto& t : tasks) res.fitness.push_back(runner->evaluate(t));
   } catch (const std::exception& e) {
@@ -74,12 +89,84 @@ flapsim::EvaluateEpisodes::Response evaluateEpisodes(
   return res;
 }
 
+namespace {
+
+struct RequestCounts {
+  std::uint32_t weight_count = 0, weights = 0, episodes = 0;
+};
+
+// The counts of a serialized EvaluateEpisodes request, read in place (its arrays are not
+// copied); false if the bytes end before them.
+bool peekCounts(const std::uint8_t* data, std::size_t size, RequestCounts& n) {
+  std::size_t at = 0;
+  auto u32 = [&](std::uint32_t& v) {
+    if (size - at < 4) return false;
+    std::memcpy(&v, data + at, 4);
+    at += 4;
+    return true;
+  };
+  std::uint32_t strings = 0, length = 0;
+  if (!u32(strings)) return false;
+  for (std::uint32_t i = 0; i < strings; ++i) {
+    if (!u32(length) || size - at < length) return false;
+    at += length;
+  }
+  if (!u32(n.weight_count) || !u32(n.weights) || (size - at) / 8 < n.weights) return false;
+  at += static_cast<std::size_t>(n.weights) * 8;
+  return u32(n.episodes);
+}
+
+// ~evaluate_episodes: a request whose counts are beyond the limits is refused from its bytes,
+// before they are copied into a request (roscpp's own helper held an 80 MB batch twice); the
+// others are deserialized and given to `answer`.
+class EvaluateHelper : public ros::ServiceCallbackHelper {
+ public:
+  using Answer = std::function<void(const flapsim::EvaluateEpisodes::Request*,
+                                    flapsim::EvaluateEpisodes::Response&)>;
+  explicit EvaluateHelper(Answer answer) : answer_(std::move(answer)) {}
+  bool call(ros::ServiceCallbackHelperCallParams& params) override {
+    const ros::SerializedMessage& m = params.request;
+    const std::size_t size = m.num_bytes - (m.message_start - m.buf.get());
+    flapsim::EvaluateEpisodes::Response res;
+    res.success = false;
+    RequestCounts n;
+    res.message = peekCounts(m.message_start, size, n)
+                      ? batchFault(n.episodes, n.weights, n.weight_count)
+                      : "malformed request: it ends before its arrays";
+    if (res.message.empty()) {
+      flapsim::EvaluateEpisodes::Request req;
+      ros::serialization::deserializeMessage(m, req);
+      answer_(&req, res);
+    } else {
+      answer_(nullptr, res);
+    }
+    params.response = ros::serialization::serializeServiceResponse(true, res);
+    return true;
+  }
+
+ private:
+  Answer answer_;
+};
+
+}  // namespace
+
 EpisodeWorkerNode::EpisodeWorkerNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
     : nh_(nh), pnh_(pnh) {
   threads_ = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   pnh_.param("threads", threads_, threads_);
-  if (threads_ < 1) throw std::invalid_argument("~threads must be >= 1");
-  server_ = pnh_.advertiseService(kEvaluateServiceName, &EpisodeWorkerNode::onEvaluate, this);
+  if (threads_ < 1 || threads_ > 256) throw std::invalid_argument("~threads must be in [1, 256]");
+  // Blocks of 1 MiB and more (a large request, its strings) are mapped and handed back when
+  // freed: glibc's threshold would otherwise rise to the size of the last one freed (up to
+  // 32 MiB), and the next ones would stay in the heap (+32 MB after the campaign's calls).
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+  ros::AdvertiseServiceOptions options;
+  options.init<flapsim::EvaluateEpisodes>(
+      kEvaluateServiceName, [](flapsim::EvaluateEpisodes::Request&,
+                               flapsim::EvaluateEpisodes::Response&) { return false; });
+  options.helper = boost::make_shared<EvaluateHelper>(
+      [this](const flapsim::EvaluateEpisodes::Request* req,
+             flapsim::EvaluateEpisodes::Response& res) { answer(req, res); });
+  server_ = pnh_.advertiseService(options);
   service_name_ = server_.getService();
   if (service_name_.rfind(std::string(kFarmNamespace) + "/", 0) != 0) {
     ROS_WARN_STREAM("flapsim_worker: " << service_name_ << " is not under " << kFarmNamespace
@@ -90,16 +177,15 @@ EpisodeWorkerNode::EpisodeWorkerNode(const ros::NodeHandle& nh, const ros::NodeH
                                              << " thread(s)");
 }
 
-bool EpisodeWorkerNode::onEvaluate(flapsim::EvaluateEpisodes::Request& req,
-                                   flapsim::EvaluateEpisodes::Response& res) {
-  res = evaluateEpisodes(cache_, req);
+void EpisodeWorkerNode::answer(const flapsim::EvaluateEpisodes::Request* req,
+                               flapsim::EvaluateEpisodes::Response& res) {
+  if (req != nullptr) res = evaluateEpisodes(cache_, *req);
   if (!res.success) {
     ROS_WARN_STREAM_THROTTLE(5.0, "flapsim_worker: refused a batch: " << res.message);
   } else {
     std::lock_guard<std::mutex> lock(stats_mutex_);
     tasks_done_ += res.fitness.size();
   }
-  return true;
 }
 
 void EpisodeWorkerNode::run() {
@@ -139,206 +225,33 @@ std::map<std::string, std::string> findWorkers(const std::string& ns) {
 
 FarmEvaluator::FarmEvaluator(const ros::NodeHandle& nh, const std::vector<std::string>& spec,
                              int weight_count, const FarmParams& params)
-    : nh_(nh), spec_(spec), weight_count_(weight_count), params_(params) {
-  if (params_.inflight < 1 || params_.batch < 1 || !(params_.timeout > 0.0)) {
-    throw std::invalid_argument("farm: need inflight >= 1, batch >= 1, timeout > 0");
+    : link_(nh, spec, weight_count, params.ns),
+      scheduler_(link_, flapsim::evaluationSpecFromArgs(spec), weight_count, params) {}
+
+flapsim::WorkerReply FarmEvaluator::Link::call(const std::string& worker,
+                                               const std::vector<flapsim::EpisodeTask>& tasks) {
+  flapsim::EvaluateEpisodes srv;
+  srv.request.spec = spec_;
+  srv.request.weight_count = static_cast<std::uint32_t>(weight_count_);
+  for (const auto& t : tasks) {
+    srv.request.weights.insert(srv.request.weights.end(), t.weights.begin(), t.weights.end());
+    srv.request.episodes.push_back(t.episode);
   }
-}
-
-int FarmEvaluator::workersUp() const {
-  return static_cast<int>(std::count_if(workers_.begin(), workers_.end(),
-                                        [](const auto& w) { return !w.second.dead; }));
-}
-
-void FarmEvaluator::refreshWorkers() {
-  for (const auto& [name, uri] : findWorkers(params_.ns)) {
-    auto it = workers_.find(name);
-    if (it == workers_.end()) {
-      workers_[name].uri = uri;
-      ROS_INFO_STREAM("evolve: worker " << name << " joined");
-    } else if (it->second.dead && uri != it->second.uri) {
-      // Restarted under the same name: a new provider.
-      it->second = Worker{uri, false, it->second.inflight};
-      ROS_INFO_STREAM("evolve: worker " << name << " is back");
-    }
+  ros::ServiceClient client = nh_.serviceClient<flapsim::EvaluateEpisodes>(worker);
+  // A call that fails is made once more before it counts: a dead worker fails again, while a
+  // transient failure of the transport (the master's lookup of the service, the connection)
+  // under a burst of calls does not bury a live worker. Tasks are pure, so a batch computed
+  // twice gives the same values.
+  flapsim::WorkerReply reply;
+  reply.delivered = client.call(srv);
+  if (!reply.delivered && ros::ok()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    reply.delivered = client.call(srv);
   }
-}
-
-namespace {
-
-struct Answer {
-  int call = 0;
-  bool ok = false;  // the call went through (else: transport failure)
-  flapsim::EvaluateEpisodes::Response response;
-};
-
-struct Mailbox {
-  std::mutex mutex;
-  std::condition_variable cv;
-  std::deque<Answer> answers;
-};
-
-}  // namespace
-
-std::vector<double> FarmEvaluator::evaluate(const std::vector<flapsim::EpisodeTask>& tasks) {
-  const size_t n_chunks = (tasks.size() + params_.batch - 1) / params_.batch;
-  std::vector<double> out(tasks.size(), 0.0);
-  std::vector<char> chunk_done(n_chunks, 0);
-  std::deque<size_t> pending;
-  for (size_t c = 0; c < n_chunks; ++c) pending.push_back(c);
-  size_t n_done = 0;
-
-  struct Call {
-    size_t chunk;
-    std::string worker;
-    ros::WallTime started;
-  };
-  std::map<int, Call> calls;
-  int next_call = 0;
-  auto mailbox = std::make_shared<Mailbox>();
-
-  auto requeue = [&](int id) {
-    auto it = calls.find(id);
-    if (it == calls.end()) return;
-    if (!chunk_done[it->second.chunk]) pending.push_front(it->second.chunk);
-    auto w = workers_.find(it->second.worker);
-    if (w != workers_.end()) w->second.inflight = std::max(0, w->second.inflight - 1);
-    calls.erase(it);
-    ++resent_;
-  };
-  auto bury = [&](const std::string& name, const std::string& why) {
-    Worker& w = workers_[name];
-    if (!w.dead)
-      ROS_WARN_STREAM("evolve: worker " << name << " " << why << "; its tasks go elsewhere");
-    w.dead = true;
-    std::vector<int> ids;
-    for (const auto& [id, call] : calls) {
-      if (call.worker == name) ids.push_back(id);
-    }
-    for (int id : ids) requeue(id);
-  };
-
-  ros::WallTime last_look;  // zero: look now
-  ros::WallTime idle_since = ros::WallTime::now();
-  while (n_done < n_chunks) {
-    if (!ros::ok()) throw FarmError("farm: ROS shut down");
-    const ros::WallTime now = ros::WallTime::now();
-    if ((now - last_look).toSec() >= params_.rediscover) {
-      refreshWorkers();
-      last_look = now;
-    }
-    // Hand out chunks to the live workers, least loaded first.
-    bool started = true;
-    while (!pending.empty() && started) {
-      started = false;
-      Worker* best = nullptr;
-      std::string best_name;
-      for (auto& [name, w] : workers_) {
-        if (!w.dead && w.inflight < params_.inflight && (!best || w.inflight < best->inflight)) {
-          best = &w;
-          best_name = name;
-        }
-      }
-      if (best == nullptr) break;
-      const size_t chunk = pending.front();
-      pending.pop_front();
-      flapsim::EvaluateEpisodes srv;
-      srv.request.spec = spec_;
-      srv.request.weight_count = static_cast<std::uint32_t>(weight_count_);
-      const size_t begin = chunk * params_.batch;
-      const size_t end = std::min(tasks.size(), begin + params_.batch);
-      for (size_t t = begin; t < end; ++t) {
-        if (static_cast<int>(tasks[t].weights.size()) != weight_count_) {
-          throw FarmError("farm: task " + std::to_string(t) + " has " +
-                          std::to_string(tasks[t].weights.size()) + " weights, not " +
-                          std::to_string(weight_count_));
-        }
-        srv.request.weights.insert(srv.request.weights.end(), tasks[t].weights.begin(),
-                                   tasks[t].weights.end());
-        srv.request.episodes.push_back(tasks[t].episode);
-      }
-      const int id = next_call++;
-      calls[id] = Call{chunk, best_name, now};
-      ++best->inflight;
-      ros::NodeHandle nh = nh_;
-      std::thread([mailbox, id, nh, name = best_name, srv]() mutable {
-        ros::ServiceClient client = nh.serviceClient<flapsim::EvaluateEpisodes>(name);
-        Answer a;
-        a.call = id;
-        // A call that fails is made once more before it counts: a dead worker fails again,
-        // while a transient failure of the transport (the master's lookup of the service, the
-        // connection) under a burst of calls does not bury a live worker. Tasks are pure, so
-        // a batch computed twice gives the same values.
-        a.ok = client.call(srv);
-        if (!a.ok) {
-          std::this_thread::sleep_for(std::chrono::milliseconds(50));
-          a.ok = client.call(srv);
-        }
-        a.response = std::move(srv.response);
-        {
-          std::lock_guard<std::mutex> lock(mailbox->mutex);
-          mailbox->answers.push_back(std::move(a));
-        }
-        mailbox->cv.notify_all();
-      }).detach();
-      started = true;
-    }
-    if (calls.empty() && workersUp() > 0) idle_since = now;
-    if (calls.empty() && workersUp() == 0) {
-      if ((now - idle_since).toSec() > params_.wait) {
-        throw FarmError("farm: no flapsim_worker under " + params_.ns + " for " +
-                        std::to_string(params_.wait) + " s");
-      }
-      ROS_WARN_STREAM_THROTTLE(10.0, "evolve: waiting for workers under " << params_.ns);
-    } else {
-      idle_since = now;
-    }
-
-    std::deque<Answer> answers;
-    {
-      std::unique_lock<std::mutex> lock(mailbox->mutex);
-      mailbox->cv.wait_for(lock, std::chrono::milliseconds(100),
-                           [&] { return !mailbox->answers.empty(); });
-      answers.swap(mailbox->answers);
-    }
-    for (Answer& a : answers) {
-      auto it = calls.find(a.call);
-      if (it == calls.end()) continue;  // abandoned after a timeout: already sent elsewhere
-      const Call call = it->second;
-      if (!a.ok) {
-        bury(call.worker, "failed a call");
-        continue;
-      }
-      if (!a.response.success) {
-        throw FarmError("farm: worker " + call.worker + " refused a batch: " + a.response.message);
-      }
-      const size_t begin = call.chunk * params_.batch;
-      const size_t end = std::min(tasks.size(), begin + params_.batch);
-      if (a.response.fitness.size() != end - begin) {
-        bury(call.worker, "answered " + std::to_string(a.response.fitness.size()) + " values for " +
-                              std::to_string(end - begin) + " tasks");
-        continue;
-      }
-      calls.erase(it);
-      workers_[call.worker].inflight = std::max(0, workers_[call.worker].inflight - 1);
-      if (!chunk_done[call.chunk]) {
-        std::copy(a.response.fitness.begin(), a.response.fitness.end(), out.begin() + begin);
-        chunk_done[call.chunk] = 1;
-        ++n_done;
-        answered_[call.worker] += static_cast<int>(end - begin);
-      }
-    }
-    // Stalled workers.
-    const ros::WallTime later = ros::WallTime::now();
-    std::vector<std::string> stalled;
-    for (const auto& [id, call] : calls) {
-      if ((later - call.started).toSec() > params_.timeout) stalled.push_back(call.worker);
-    }
-    for (const auto& name : stalled) {
-      bury(name, "did not answer within " + std::to_string(params_.timeout) + " s");
-    }
-  }
-  return out;
+  reply.success = srv.response.success;
+  reply.message = srv.response.message;
+  reply.fitness = std::move(srv.response.fitness);
+  return reply;
 }
 
 ProgressPublisher::ProgressPublisher(ros::NodeHandle& nh, const std::string& ns) {

@@ -83,6 +83,32 @@ ImuParams parseImu(const Dict& d, ImuParams m) {
   return m;
 }
 
+// A list of directories, or one string of ':'-separated directories ("": the defaults).
+std::vector<std::string> parseUrdfRoots(const Dict& d) {
+  if (d.at("urdf_roots").getType() != XmlRpcValue::TypeString) {
+    std::vector<std::string> roots = d.strings("urdf_roots");
+    if (roots.empty()) fail("urdf_roots", "must list at least one directory");
+    return roots;
+  }
+  std::vector<std::string> roots;
+  std::istringstream in(d.string("urdf_roots", ""));
+  for (std::string dir; std::getline(in, dir, ':');) {
+    if (!dir.empty()) roots.push_back(dir);
+  }
+  return roots;
+}
+
+ViewParams parseView(const Dict& d, ViewParams v) {
+  v.distance = d.number("distance", v.distance);
+  v.yaw = d.number("yaw", v.yaw);
+  v.pitch = d.number("pitch", v.pitch);
+  if (!(v.distance > 0.0 && v.distance <= 1e4)) fail(d.key("distance"), "must be in (0, 1e4] m");
+  if (std::abs(v.pitch) >= M_PI / 2) fail(d.key("pitch"), "must be within +-pi/2 (exclusive)");
+  if (std::abs(v.yaw) > 1e3) fail(d.key("yaw"), "must be within +-1000 rad");
+  d.rejectUnknown();
+  return v;
+}
+
 // A wing command entry: scalars (one stroke for all wings) or equal-length lists.
 std::vector<flapsim::StrokeCommand> parseWingCommand(const Dict& d) {
   const char* keys[3] = {"downstroke_rate", "upstroke_rate", "amplitude"};
@@ -219,10 +245,18 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   }
   p.max_steps_per_call = d.integer("max_steps_per_call", p.max_steps_per_call);
   if (p.max_steps_per_call < 1) fail("max_steps_per_call", "must be >= 1");
-  if (d.has("urdf_roots")) {
-    p.urdf_roots = d.strings("urdf_roots");
-    if (p.urdf_roots.empty()) fail("urdf_roots", "must list at least one directory");
+  if (d.has("urdf_roots")) p.urdf_roots = parseUrdfRoots(d);
+  p.wing_command_timeout = d.number("wing_command_timeout", p.wing_command_timeout);
+  if (!(p.wing_command_timeout >= 0.0 && p.wing_command_timeout <= 1e6)) {
+    fail("wing_command_timeout", "must be in [0, 1e6] s of sim time (0: no timeout)");
   }
+  const std::string action = d.string("wing_command_timeout_action", "hold");
+  if (action != "hold" && action != "release") {
+    fail("wing_command_timeout_action", "must be 'hold' or 'release', got '" + action + "'");
+  }
+  p.wing_command_timeout_action =
+      action == "hold" ? CommandTimeoutAction::kHold : CommandTimeoutAction::kRelease;
+  if (d.has("view")) p.view = parseView(Dict(d.at("view"), "view"), p.view);
   p.paused = d.boolean("paused", p.paused);
   p.world_frame = d.string("world_frame", p.world_frame);
   if (p.world_frame.empty()) fail("world_frame", "must not be empty");

@@ -2,6 +2,7 @@
 
 #include <limits.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include <sstream>
 
@@ -28,10 +29,18 @@ bool under(const std::string& file, const std::string& root) {
 
 }  // namespace
 
-std::string refusedUrdfFileMessage(const std::string& path) {
-  return "urdf_file '" + path +
-         "' refused: it must be a readable regular file of at most 16 MiB under an allowed "
-         "root (parameter ~urdf_roots)";
+std::string refusedUrdfFileMessage(const std::string& path, const std::vector<std::string>& roots,
+                                   const std::string& working_directory) {
+  std::string text = "urdf_file '" + path +
+                     "' refused: it must be a readable regular file of at most 16 MiB under an "
+                     "allowed root (parameter ~urdf_roots:";
+  for (size_t i = 0; i < roots.size(); ++i) text += (i ? ", " : " ") + roots[i];
+  text += ")";
+  if (!path.empty() && path[0] != '/') {
+    text += "; a relative path starts at the node's working directory, " + working_directory +
+            " (spawn_creature -file reads a file where it runs)";
+  }
+  return text;
 }
 
 std::string readSpawnUrdf(const std::string& path, const std::vector<std::string>& roots) {
@@ -44,7 +53,9 @@ std::string readSpawnUrdf(const std::string& path, const std::vector<std::string
     } catch (const flapsim::ModelError&) {
     }
   }
-  throw flapsim::InputError(refusedUrdfFileMessage(path));
+  char cwd[PATH_MAX];
+  throw flapsim::InputError(
+      refusedUrdfFileMessage(path, roots, ::getcwd(cwd, sizeof cwd) ? cwd : "(unknown)"));
 }
 
 std::vector<std::string> defaultUrdfRoots(const char* ros_package_path,

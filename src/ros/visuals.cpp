@@ -3,6 +3,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "flapsim_ros/conversions.h"
 
@@ -117,6 +118,52 @@ geometry_msgs::TransformStamped viewTransform(const flapsim::Vec3& position, con
   t.child_frame_id = kViewFrame;
   t.transform = toTransformMsg(flapsim::Pose{position, flapsim::Quat::Identity()});
   return t;
+}
+
+double cameraDistance(const std::vector<flapsim::Vec3>& points, const flapsim::Vec3& target,
+                      const ViewParams& view, double least) {
+  const Eigen::Matrix3d axes = cameraPose(target, 1.0, view).orientation.toRotationMatrix();
+  const double up = std::tan(0.5 * kCameraFieldOfView), across = kCameraAspect * up;
+  double distance = least;
+  for (const flapsim::Vec3& p : points) {
+    // in the camera's axes: x ahead (towards the target), y left, z up
+    const flapsim::Vec3 r = axes.transpose() * (p - target);
+    distance = std::max({distance, (std::abs(r.z()) + kCameraMargin) / up - r.x(),
+                         (std::abs(r.y()) + kCameraMargin) / across - r.x()});
+  }
+  return distance;
+}
+
+flapsim::Pose cameraPose(const flapsim::Vec3& target, double distance, const ViewParams& view) {
+  const flapsim::Vec3 from(std::cos(view.pitch) * std::cos(view.yaw),
+                           std::cos(view.pitch) * std::sin(view.yaw), std::sin(view.pitch));
+  const flapsim::Vec3 x = -from;
+  const flapsim::Vec3 z = (flapsim::Vec3::UnitZ() - x.z() * x).normalized();
+  Eigen::Matrix3d axes;
+  axes.col(0) = x;
+  axes.col(1) = z.cross(x);
+  axes.col(2) = z;
+  return flapsim::Pose{target + distance * from, flapsim::Quat(axes).normalized()};
+}
+
+visualization_msgs::Marker viewReadout(const ros::Time& stamp, const flapsim::Vec3& target) {
+  visualization_msgs::Marker m;
+  m.header.frame_id = kCameraFrame;
+  m.ns = "readout";
+  m.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  m.action = visualization_msgs::Marker::ADD;
+  m.frame_locked = true;
+  // 1 m ahead, near the top of a 45 degree view (its half height there is 0.41 m)
+  m.pose.position.x = 1.0;
+  m.pose.position.z = 0.34;
+  m.pose.orientation.w = 1.0;
+  m.scale.z = 0.035;  // m: the height of a capital letter, about 1/23 of the view
+  m.color.r = m.color.g = m.color.b = 0.9f;
+  m.color.a = 1.0f;
+  char text[64];
+  std::snprintf(text, sizeof text, "t = %.2f s   z = %.1f m", stamp.toSec(), target.z());
+  m.text = text;
+  return m;
 }
 
 const flapsim::Vec3& ViewFollower::update(const flapsim::Vec3& centroid, double t) {

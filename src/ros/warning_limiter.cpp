@@ -17,7 +17,9 @@ bool WarningLimiter::allow(const std::string& kind, const std::string& creature,
     for (auto old = last_.begin(); old != last_.end();) {
       old = now - old->second >= period_ ? last_.erase(old) : std::next(old);
     }
-    if (last_.size() >= max_causes_) last_.clear();
+    // Still full: a new cause waits until old ones age out (clearing the table would let a
+    // stream of distinct causes through, one line each).
+    if (last_.size() >= max_causes_) return false;
   }
   last_.emplace(key, now);
   return true;

@@ -10,6 +10,7 @@
 #include "flapsim/creature_model.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/params.h"
+#include "flapsim_ros/tf_publisher.h"
 
 namespace {
 
@@ -244,6 +245,13 @@ TEST(Params, StartUpRangesAreNamed) {
        "bad world parameters: air wind must be finite, each component within +-1000 m/s"},
       {"urdf_roots: []", "parameter 'urdf_roots': must list at least one directory"},
       {"urdf_roots: [1]", "parameter 'urdf_roots[0]': must be a string, got an integer"},
+      {"wing_command_timeout: -1",
+       "parameter 'wing_command_timeout': must be in [0, 1e6] s of sim time (0: no timeout)"},
+      {"wing_command_timeout_action: stop",
+       "parameter 'wing_command_timeout_action': must be 'hold' or 'release', got 'stop'"},
+      {"view: {distance: 0}", "parameter 'view/distance': must be in (0, 1e4] m"},
+      {"view: {pitch: 1.6}", "parameter 'view/pitch': must be within +-pi/2 (exclusive)"},
+      {"view: {zoom: 1}", "parameter 'view/zoom': unknown parameter (misspelt?)"},
   };
   for (const Case& k : cases) {
     EXPECT_EQ(paramError(k.yaml), k.expect) << k.yaml;
@@ -255,6 +263,15 @@ TEST(Params, StartUpRangesAreNamed) {
   EXPECT_EQ(p.max_steps_per_call, 7);
   EXPECT_EQ(p.urdf_roots, (std::vector<std::string>{"/a", "/b"}));
   EXPECT_TRUE(flapsim_ros::parseNodeParams(XmlRpcValue()).urdf_roots.empty());
+  // a launch argument: one string, ':'-separated; "" keeps the defaults
+  EXPECT_EQ(flapsim_ros::parseNodeParams(yaml("{urdf_roots: '/a::/b/c'}")).urdf_roots,
+            (std::vector<std::string>{"/a", "/b/c"}));
+  EXPECT_TRUE(flapsim_ros::parseNodeParams(yaml("{urdf_roots: ''}")).urdf_roots.empty());
+  const flapsim_ros::NodeParams t = flapsim_ros::parseNodeParams(
+      yaml("{wing_command_timeout: 0.5, wing_command_timeout_action: release}"));
+  EXPECT_EQ(t.wing_command_timeout, 0.5);
+  EXPECT_EQ(t.wing_command_timeout_action, flapsim_ros::CommandTimeoutAction::kRelease);
+  EXPECT_EQ(flapsim_ros::parseNodeParams(XmlRpcValue()).wing_command_timeout, 0.0);
 }
 
 TEST(Params, CreatureNames) {
@@ -425,19 +442,88 @@ TEST(Conversions, OdometryTwistIsInTheChildFrame) {
   EXPECT_NEAR(o.twist.twist.angular.y, -3.0, 1e-15);
 }
 
-TEST(Conversions, TransformsCoverEveryLink) {
+// The tree robot_state_publisher builds from a URDF and joint_states: world -> root from the
+// state, parent -> child from the joint position (a revolute joint turns about its axis after
+// its origin), fixed joints apart.
+TEST(TfTree, MovingTransformsFollowTheJointsFromTheRoot) {
   auto unit = flapsim::loadCreatureModel(sourcePath("urdf/flap_unit.urdf"));
   flapsim::CreatureState s = stateOf(*unit);
-  auto tf = flapsim_ros::linkTransforms("fu", *unit, s, ros::Time(1, 0), "world");
-  ASSERT_EQ(tf.size(), unit->links.size());
-  for (size_t k = 0; k < tf.size(); ++k) {
-    EXPECT_EQ(tf[k].header.frame_id, "world");
-    EXPECT_EQ(tf[k].child_frame_id, "fu/" + unit->links[k].name);
-    EXPECT_EQ(tf[k].transform.translation.x, 0.1 * k);
-    EXPECT_EQ(tf[k].transform.translation.z, 1.0 + k);
-    EXPECT_EQ(tf[k].transform.rotation.w, 1.0);
-  }
+  auto tf = flapsim_ros::movingTransforms("fu", *unit, s, ros::Time(1, 0), "world");
+  ASSERT_EQ(tf.size(), 3u);  // the root and two wing joints
+  EXPECT_EQ(tf[0].header.frame_id, "world");
   EXPECT_EQ(tf[0].child_frame_id, "fu/unit0_body");
+  EXPECT_EQ(tf[0].transform.translation.z, s.link_poses[0].position.z());
+  EXPECT_EQ(tf[0].header.stamp, ros::Time(1, 0));
+  const int j = unit->findJoint("unit0_wing_left_joint");
+  const flapsim::JointModel& joint = unit->joints[j];
+  EXPECT_EQ(tf[1].header.frame_id, "fu/unit0_body");
+  EXPECT_EQ(tf[1].child_frame_id, "fu/" + unit->links[joint.child_link].name);
+  // origin, then the turn by q about the axis: the axis is left unchanged by the turn, and
+  // the rotation angle from the origin's orientation is q
+  const auto& r = tf[1].transform.rotation;
+  const flapsim::Quat q(r.w, r.x, r.y, r.z);
+  const double position = s.joint_positions[j];
+  EXPECT_NEAR(joint.origin.orientation.angularDistance(q), position, 1e-12);
+  EXPECT_NEAR(((joint.origin.orientation.conjugate() * q) * joint.axis - joint.axis).norm(), 0.0,
+              1e-12);
+  EXPECT_EQ(tf[1].transform.translation.y, joint.origin.position.y());
+}
+
+TEST(TfTree, FixedJointsAreTheirOrigins) {
+  auto copter = flapsim::loadCreatureModel(sourcePath("urdf/bamboo_copter.urdf"));
+  auto fixed = flapsim_ros::fixedTransforms("c", *copter, ros::Time(2, 0));
+  ASSERT_EQ(fixed.size(), 2u);
+  EXPECT_EQ(fixed[0].header.frame_id, "c/pole");
+  EXPECT_EQ(fixed[0].child_frame_id, "c/blade_left");
+  EXPECT_EQ(fixed[0].transform.translation.y, 0.08);
+  EXPECT_EQ(fixed[0].transform.translation.z, 0.1);
+  // rpy 0 0.5236 0 about y: sin(0.2618)
+  EXPECT_NEAR(fixed[0].transform.rotation.y, std::sin(0.5235987756 / 2), 1e-12);
+  flapsim::CreatureState s = stateOf(*copter);
+  auto moving = flapsim_ros::movingTransforms("c", *copter, s, ros::Time(2, 0), "world");
+  ASSERT_EQ(moving.size(), 1u);  // the root only
+  EXPECT_EQ(moving[0].child_frame_id, "c/pole");
+}
+
+// gazebo_msgs semantics: the pose in the frame; the velocities' difference in its axes.
+TEST(ReferenceFrame, ToFrameAndBackAreInverse) {
+  const flapsim_ros::FrameMotion frame{
+      flapsim::Pose{Vec3(1, 2, 3), flapsim::Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()))},
+      flapsim::Twist{Vec3(1, 0, 0), Vec3(0, 0, 2)}};
+  const flapsim_ros::FrameMotion body{flapsim::Pose{Vec3(1, 3, 3), flapsim::Quat::Identity()},
+                                      flapsim::Twist{Vec3(1, 5, 0), Vec3(0, 0, 3)}};
+  const flapsim_ros::FrameMotion rel = flapsim_ros::toFrame(frame, body);
+  // 1 m along world y is 1 m along the frame's x (turned 90 degrees about z)
+  EXPECT_NEAR((rel.pose.position - Vec3(1, 0, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(rel.pose.orientation.angularDistance(
+                  flapsim::Quat(Eigen::AngleAxisd(-M_PI / 2, Vec3::UnitZ()))),
+              0.0, 1e-15);
+  // velocity difference (0, 5, 0) in world axes is (5, 0, 0) in the frame's
+  EXPECT_NEAR((rel.twist.linear - Vec3(5, 0, 0)).norm(), 0.0, 1e-14);
+  EXPECT_NEAR((rel.twist.angular - Vec3(0, 0, 1)).norm(), 0.0, 1e-15);
+  const flapsim_ros::FrameMotion back = flapsim_ros::fromFrame(frame, rel);
+  EXPECT_NEAR((back.pose.position - body.pose.position).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(back.pose.orientation.angularDistance(body.pose.orientation), 0.0, 1e-15);
+  EXPECT_NEAR((back.twist.linear - body.twist.linear).norm(), 0.0, 1e-14);
+  EXPECT_NEAR((back.twist.angular - body.twist.angular).norm(), 0.0, 1e-15);
+}
+
+// A wrench given in a link's frame: its force and torque turn with the frame, its point is
+// taken from the frame's origin (a {} point is the link's origin, not the world's).
+TEST(ReferenceFrame, AWrenchInALinkFrameActsAtThatLinksOrigin) {
+  const flapsim::Pose frame{Vec3(0, 0, 3),
+                            flapsim::Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()))};
+  flapsim::ExternalWrench w;
+  w.link = "body";
+  w.force = Vec3(1, 0, 0);
+  w.torque = Vec3(0, 2, 0);
+  w.duration = 0.5;
+  const flapsim::ExternalWrench world = flapsim_ros::toWorld(w, frame);
+  EXPECT_NEAR((world.force - Vec3(0, 1, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((world.torque - Vec3(-2, 0, 0)).norm(), 0.0, 1e-15);
+  EXPECT_EQ(world.point, Vec3(0, 0, 3));
+  EXPECT_EQ(world.link, "body");
+  EXPECT_EQ(world.duration, 0.5);
 }
 
 TEST(Conversions, AeroMarkersAreScaledArrows) {

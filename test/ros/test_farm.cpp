@@ -109,7 +109,18 @@ TEST(Farm, AMalformedBatchIsRefusedByName) {
   EXPECT_NE(srv.response.message.find("wrong weight count"), std::string::npos)
       << srv.response.message;
   EXPECT_TRUE(srv.response.fitness.empty());
-  // Through the farm: a refusal is an error of the run, not a dead worker.
+  // Refused from the request's bytes, before its arrays are copied (issue 27: 1e7 weights).
+  srv.request.weight_count = 12;
+  srv.request.weights.assign(12 * 1025, 0.0);
+  srv.request.episodes.assign(1025, 0);
+  ASSERT_TRUE(client.call(srv));
+  EXPECT_FALSE(srv.response.success);
+  EXPECT_EQ(srv.response.message, "too many tasks: 1025, over the limit of 1024 per call");
+  srv.request.weights.pop_back();
+  srv.request.episodes.assign(2, 0);
+  ASSERT_TRUE(client.call(srv));
+  EXPECT_EQ(srv.response.message, "malformed batch: 12299 weights for 2 tasks of 12");
+  // Through the farm: a batch that every worker refuses ends the run.
   flapsim_ros::FarmEvaluator farm(nh, kSpec, 3, flapsim_ros::FarmParams());
   EXPECT_THROW(farm.evaluate({flapsim::EpisodeTask{{1.0, 2.0, 3.0}, 0}}), flapsim_ros::FarmError);
 }

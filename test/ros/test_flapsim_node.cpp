@@ -28,6 +28,7 @@
 #include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
+#include "node_calls.h"
 #include "recorder.h"
 
 namespace {
@@ -238,13 +239,17 @@ TEST_F(Node, TopicsCarryFramesJointNamesAndSimStamps) {
   ASSERT_TRUE(plate);
   EXPECT_EQ(plate->child_frame_id, "plate/plate");
 
-  for (const char* frame : {"flap_unit/unit0_body", "flap_unit/unit0_wing_left",
-                            "flap_unit/unit0_wing_right", "plate/plate"}) {
+  // the tree of the URDF: the roots in the world, the wings on the body
+  for (const auto& [parent, frame] : std::vector<std::pair<std::string, std::string>>{
+           {"world", "flap_unit/unit0_body"},
+           {"flap_unit/unit0_body", "flap_unit/unit0_wing_left"},
+           {"flap_unit/unit0_body", "flap_unit/unit0_wing_right"},
+           {"world", "plate/plate"}}) {
     const geometry_msgs::TransformStamped* tr = nullptr;
     EXPECT_TRUE(waitUntil([&] { return (tr = findTf(tf_, frame, t)) != nullptr; }))
         << "no tf for " << frame << " at " << t;
     if (tr) {
-      EXPECT_EQ(tr->header.frame_id, "world");
+      EXPECT_EQ(tr->header.frame_id, parent);
     }
   }
 
@@ -457,17 +462,7 @@ TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
 
 /// The first message on `topic` as a new subscriber in a process of its own sees it (this
 /// process's subscription already exists, and a node connects to a topic once).
-std::string firstMessageOf(const std::string& topic) {
-  const std::string cmd = "timeout 20 /usr/bin/python3 /usr/bin/rostopic echo -n 1 " + topic;
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    pclose(p);
-  }
-  return out;
-}
+using flapsim_test::firstMessageOf;
 
 TEST_F(Node, ALateSubscriberOfAPausedNodeGetsTheCurrentStepAtOnce) {
   reset();
@@ -595,6 +590,46 @@ TEST_F(Node, SpawnNamesTheJointValuesItLowers) {
   d.request.name = "damped";
   ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
   EXPECT_TRUE(d.response.success) << d.response.status_message;
+}
+
+// Shapes the world does not simulate (only boxes collide and feel the air): spawned, with
+// each named by link and kind in the reply and in a warning, not silently dropped.
+TEST_F(Node, SpawnNamesTheShapesItIgnores) {
+  flapsim::SpawnCreature s;
+  s.request.name = "shapes";
+  s.request.urdf_xml = R"(<robot name="s">
+    <link name="body"><inertial><mass value="0.01"/>
+      <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
+      <visual><geometry><box size="0.1 0.1 0.01"/></geometry></visual>
+      <collision><geometry><cylinder radius="0.05" length="0.2"/></geometry></collision></link>
+    <link name="ball"><inertial><mass value="0.01"/>
+      <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
+      <visual><geometry><sphere radius="0.03"/></geometry></visual></link>
+    <link name="shell"><inertial><mass value="0.01"/>
+      <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
+      <collision><geometry><mesh filename="package://x/shell.stl"/></geometry></collision>
+      <collision><geometry><box size="0.02 0.02 0.02"/></geometry></collision></link>
+    <joint name="j1" type="fixed"><parent link="body"/><child link="ball"/></joint>
+    <joint name="j2" type="fixed"><parent link="body"/><child link="shell"/></joint></robot>)";
+  s.request.initial_pose.position.z = 40.0;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(s.response.success) << s.response.status_message;
+  for (const std::string line :
+       {"creature 'shapes', link 'body': collision cylinder ignored (no contact, no air): only "
+        "boxes are simulated",
+        "creature 'shapes', link 'ball': visual sphere ignored (no contact, no air): only boxes "
+        "are simulated",
+        "creature 'shapes', link 'shell': collision mesh ignored (no contact, no air): only boxes "
+        "are simulated"}) {
+    EXPECT_NE(s.response.status_message.find(line), std::string::npos)
+        << line << " not in: " << s.response.status_message;
+    EXPECT_TRUE(warned(line)) << line;
+  }
+  // the body's visual box stands in for its cylinder: nothing said about it
+  EXPECT_EQ(s.response.status_message.find("visual box"), std::string::npos);
+  flapsim::DeleteCreature d;
+  d.request.name = "shapes";
+  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
 }
 
 TEST_F(Node, BadWingCommandsWarnAndKeepTheLastValidCommand) {

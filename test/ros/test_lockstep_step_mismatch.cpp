@@ -2,6 +2,7 @@
 // simulator steps 0.5 ms. Its first control period (20 steps) advances sim time by 0.01 s,
 // not the 0.02 s period; it logs an error naming both step sizes and steps no further.
 #include <gtest/gtest.h>
+#include <ros/master.h>
 #include <ros/ros.h>
 #include <rosgraph_msgs/Log.h>
 #include <std_srvs/Empty.h>

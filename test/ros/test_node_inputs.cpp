@@ -49,6 +49,16 @@ TEST(WarningLimiter, DistinctBadNamesAreOneCauseAndTheTableIsBounded) {
   EXPECT_LE(w.causes(), 256u);
 }
 
+// Issue 27, case 7: a full table was cleared, so a stream of distinct causes logged a line
+// each. At most max_causes per period get through.
+TEST(WarningLimiter, AStreamOfDistinctCausesIsBoundedPerPeriod) {
+  WarningLimiter w(10.0, 256);
+  int allowed = 0;
+  for (int i = 0; i < 3000; ++i) allowed += w.allow("get_state/" + std::to_string(i), "", 1e-4 * i);
+  EXPECT_EQ(allowed, 256);
+  EXPECT_TRUE(w.allow("get_state/new", "", 10.0));  // the old ones have aged out
+}
+
 class SpawnFiles : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -101,15 +111,21 @@ TEST_F(SpawnFiles, EveryRefusedPathGetsTheSameText) {
       "",
   };
   for (const std::string& path : refused) {
-    EXPECT_EQ(refusal(path), flapsim_ros::refusedUrdfFileMessage(path)) << path;
+    EXPECT_EQ(refusal(path), flapsim_ros::refusedUrdfFileMessage(path, {allowed}, "")) << path;
   }
   if (::geteuid() != 0) {  // root reads a file whatever its mode
     EXPECT_EQ(refusal(allowed + "/secret.urdf"),
-              flapsim_ros::refusedUrdfFileMessage(allowed + "/secret.urdf"));
+              flapsim_ros::refusedUrdfFileMessage(allowed + "/secret.urdf", {allowed}, ""));
   }
-  EXPECT_EQ(flapsim_ros::refusedUrdfFileMessage("/x"),
+  // It names the roots, and where a relative path starts.
+  EXPECT_EQ(flapsim_ros::refusedUrdfFileMessage("/x", {"/a", "/b"}, "/w"),
             "urdf_file '/x' refused: it must be a readable regular file of at most 16 MiB under "
-            "an allowed root (parameter ~urdf_roots)");
+            "an allowed root (parameter ~urdf_roots: /a, /b)");
+  EXPECT_EQ(flapsim_ros::refusedUrdfFileMessage("my.urdf", {"/a"}, "/home/u/.ros"),
+            "urdf_file 'my.urdf' refused: it must be a readable regular file of at most 16 MiB "
+            "under an allowed root (parameter ~urdf_roots: /a); a relative path starts at the "
+            "node's working directory, /home/u/.ros (spawn_creature -file reads a file where it "
+            "runs)");
 }
 
 TEST(SpawnRoots, DefaultsAreThePackagePathAndTheWorkingDirectory) {

@@ -106,4 +106,61 @@ TEST(ViewFollower, GoingBackInTimeStartsAfresh) {
   EXPECT_EQ(v.update(Vec3(7, 0, 1), 0.0), Vec3(7, 0, 1));  // a reset to t = 0
 }
 
+// The camera frame stands `distance` from the target in the direction of yaw and pitch (as
+// rviz's orbit camera), its x axis pointing at the target, its y axis level, its z axis up.
+TEST(Camera, LooksAtTheTargetFromYawAndPitchWithZUp) {
+  flapsim_ros::ViewParams view;
+  view.yaw = 0.8;
+  view.pitch = 0.35;
+  const Vec3 target(1, 2, 3);
+  const flapsim::Pose c = flapsim_ros::cameraPose(target, 5.0, view);
+  const Vec3 from(std::cos(0.35) * std::cos(0.8), std::cos(0.35) * std::sin(0.8), std::sin(0.35));
+  EXPECT_NEAR((c.position - (target + 5.0 * from)).norm(), 0.0, 1e-14);
+  const Eigen::Matrix3d axes = c.orientation.toRotationMatrix();
+  EXPECT_NEAR((axes.col(0) - (target - c.position) / 5.0).norm(), 0.0, 1e-14);
+  EXPECT_NEAR(axes.col(1).z(), 0.0, 1e-15);
+  EXPECT_GT(axes.col(2).z(), 0.0);
+  EXPECT_NEAR(axes.col(2).dot(axes.col(0)), 0.0, 1e-15);
+}
+
+// Looking along -x (yaw 0, pitch 0) at the origin: a point 5 m up needs the view's half
+// height tan(22.5 deg) to reach 5 m + the margin; 3 m to the side, its half width (4:3); a
+// point 2 m nearer the camera needs 2 m more. Far below all that: the least distance.
+TEST(Camera, DistanceKeepsEveryPointInsideTheView) {
+  flapsim_ros::ViewParams view;
+  view.yaw = 0.0;
+  view.pitch = 0.0;
+  const double up = std::tan(0.5 * flapsim_ros::kCameraFieldOfView), m = flapsim_ros::kCameraMargin;
+  const Vec3 o = Vec3::Zero();
+  EXPECT_EQ(flapsim_ros::cameraDistance({Vec3(0, 0, 0.1)}, o, view, 2.5), 2.5);
+  EXPECT_NEAR(flapsim_ros::cameraDistance({Vec3(0, 0, 5)}, o, view, 2.5), (5 + m) / up, 1e-12);
+  EXPECT_NEAR(flapsim_ros::cameraDistance({Vec3(0, 3, 0)}, o, view, 2.5),
+              (3 + m) / (4.0 / 3.0 * up), 1e-12);
+  EXPECT_NEAR(flapsim_ros::cameraDistance({Vec3(2, 0, 5)}, o, view, 2.5), (5 + m) / up + 2, 1e-12);
+  // any points: each lies inside the view of a camera at that distance
+  view.yaw = 0.8;
+  view.pitch = 0.35;
+  const std::vector<Vec3> points = {Vec3(3, -4, 20), Vec3(-6, 2, 18), Vec3(1, 7, 25),
+                                    Vec3(0, 0, 21)};
+  const Vec3 target(0, 1, 21);
+  const double d = flapsim_ros::cameraDistance(points, target, view, 2.5);
+  const flapsim::Pose c = flapsim_ros::cameraPose(target, d, view);
+  for (const Vec3& p : points) {
+    const Vec3 r = c.orientation.conjugate() * (p - c.position);
+    EXPECT_GT(r.x(), 0.0);
+    EXPECT_LE(std::abs(r.z()) + m, up * r.x() + 1e-9);
+    EXPECT_LE(std::abs(r.y()) + m, 4.0 / 3.0 * up * r.x() + 1e-9);
+  }
+}
+
+TEST(Camera, ReadoutShowsSimTimeAndHeightInTheCameraFrame) {
+  const visualization_msgs::Marker m =
+      flapsim_ros::viewReadout(ros::Time(12, 300000000), Vec3(1, 2, 30.44));
+  EXPECT_EQ(m.text, "t = 12.30 s   z = 30.4 m");
+  EXPECT_EQ(m.header.frame_id, "flapsim/camera");
+  EXPECT_TRUE(m.frame_locked);
+  EXPECT_EQ(m.type, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  EXPECT_GT(m.pose.position.x, 0.0);  // ahead of the camera
+}
+
 }  // namespace

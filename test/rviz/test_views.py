@@ -13,13 +13,17 @@ import sys
 import unittest
 
 import rosbag
+import rosgraph
 import rospkg
+import rospy
 import yaml
+from rosgraph_msgs.msg import Clock
 
 PKG = rospkg.RosPack().get_path("flapsim")
 SCRIPTS = os.path.join(PKG, "scripts")
 sys.path.insert(0, SCRIPTS)
 import flapsim_views as views  # noqa: E402
+import start_when_listening as starter  # noqa: E402
 
 OUT = os.path.join(os.environ.get("ROS_HOME", os.path.expanduser("~/.ros")), "flapsim_views")
 MIN_CREATURE = 300  # pixels of 800 x 600: a flap unit at 2.5 m covers a few thousand
@@ -60,7 +64,8 @@ class Views(unittest.TestCase):
         # screenshot.py's flight, with the recorder: the shot ends the run at t = 6.5 (the
         # open-loop unit tips over after about 7 s)
         run("screenshot.py", "--out", os.path.join(OUT, "recording.png"), "--at", "6.5",
-            "--size", "320x240", "flap_unit.launch", "record:=true", f"bag:={bag}", "rtf:=2")
+            "--size", "320x240", "flap_unit.launch", "record:=true", f"bag:={bag}", "rtf:=2",
+            "record_topics:=/rosout")
         cls.bag = bag
         return bag
 
@@ -71,13 +76,15 @@ class Views(unittest.TestCase):
         creature, arrows = views.pixel_counts(png)
         self.assertGreaterEqual(creature, MIN_CREATURE, f"{png}: the creature is not in view")
 
-    def test_recorded_bag_starts_at_t0_with_what_a_replay_needs(self):
+    def test_recorded_bag_starts_at_t0_with_what_a_replay_needs_and_the_flights_data(self):
         with rosbag.Bag(self.flight_bag()) as bag:
             first_clock = next(m for _, m, _ in bag.read_messages(topics=["/clock"])).clock
             topics = bag.get_type_and_topic_info().topics
         self.assertEqual(first_clock.to_nsec(), 0)
-        for topic in ("/tf", "/flapsim/creature_markers", "/flapsim/aero_markers",
-                      "/flap_unit/robot_description"):
+        for topic in ("/tf", "/tf_static", "/flapsim/creature_markers", "/flapsim/aero_markers",
+                      "/flapsim/view_markers", "/flap_unit/robot_description",
+                      "/flap_unit/imu", "/flapsim/creature_states", "/diagnostics",
+                      "/rosout"):  # the last one asked for with record_topics
             self.assertIn(topic, topics)
         self.assertEqual(topics["/flap_unit/robot_description"].message_count, 1)
 
@@ -121,7 +128,7 @@ class Views(unittest.TestCase):
         displays = config["Visualization Manager"]["Displays"]
         # no display names a creature, so none can show an error for a missing one
         self.assertEqual(sorted(d["Class"] for d in displays),
-                         ["rviz/Grid", "rviz/MarkerArray", "rviz/MarkerArray"])
+                         ["rviz/Grid"] + ["rviz/MarkerArray"] * 3)
         png = os.path.join(OUT, "flock_4.png")
         summary = os.path.join(OUT, "flock_4.yaml")
         run("screenshot.py", "--out", png, "--summary", summary, "--at", "1", "flock.launch",
@@ -131,8 +138,79 @@ class Views(unittest.TestCase):
         self.assertEqual(sorted(markers["namespaces"]), ["afc0", "afc1", "afc2", "afc3"])
         self.assertEqual(markers["frames_without_tf"], [])
         self.assertEqual(markers["per_namespace"], {f"afc{i}": 3 for i in range(4)})
+        self.assertEqual(markers["roots_out_of_view"], [])
         creature, _ = views.pixel_counts(png)
         self.assertGreaterEqual(creature, 4 * 100, f"{png}: fewer creature pixels than 4 units")
+
+    def test_a_flock_of_8_is_all_in_view_after_30_s(self):
+        """By 30 s the flock has spread over several metres and climbed about 20 m: the camera
+        (frame flapsim/camera) has drawn back to keep every member in view."""
+        png = os.path.join(OUT, "flock_8_30s.png")
+        summary = os.path.join(OUT, "flock_8_30s.yaml")
+        out = run("screenshot.py", "--out", png, "--summary", summary, "--at", "30",
+                  "flock.launch", "count:=8")
+        self.assertGreaterEqual(shot_time(out), 30.0)
+        with open(summary) as f:
+            markers = yaml.safe_load(f)
+        self.assertEqual(len(markers["namespaces"]), 8)
+        self.assertEqual(markers["roots_out_of_view"], [])
+        # drawn (how large depends on the spread: on a loaded machine a member whose
+        # controller fell behind lies on the ground, and the camera draws back to it)
+        creature, _ = views.pixel_counts(png)
+        self.assertGreaterEqual(creature, 100, f"{png}: the flock is not drawn")
+
+    def test_robot_model_display_with_tf_prefix_draws_a_chain(self):
+        """rviz's RobotModel display (config/robot_model_afc.rviz: afc/robot_description, TF
+        prefix afc; no creature markers) draws the 4-unit chain from the tf tree."""
+        png = os.path.join(OUT, "robot_model_afc_4.png")
+        out = run("screenshot.py", "--out", png, "--at", "1", "--rviz-config",
+                  os.path.join(PKG, "config", "robot_model_afc.rviz"), "afc.launch", "pairs:=4")
+        self.assertGreaterEqual(shot_time(out), 1.0)
+        creature, _ = views.pixel_counts(png)
+        self.assertGreaterEqual(creature, 4 * MIN_CREATURE, f"{png}: the chain is not drawn")
+
+    def test_attach_films_a_simulation_already_running(self):
+        """screenshot.py and render_movie.py --port: a flight started on its own (a master of
+        its own, no rviz) is filmed by an rviz they start on it, which they leave running."""
+        png = os.path.join(OUT, "attached.png")
+        movie = os.path.join(OUT, "attached.mp4")
+        with views.roslaunch(["flap_unit.launch"], "", os.path.join(OUT, "attached_sim.log")) \
+                as (proc, env):
+            port = env["ROS_MASTER_URI"].rsplit(":", 1)[1]
+            out = run("screenshot.py", "--out", png, "--port", port, "--at", "1",
+                      "--size", "320x240")
+            self.assertGreaterEqual(shot_time(out), 1.0)
+            creature, _ = views.pixel_counts(png)
+            self.assertGreaterEqual(creature, MIN_CREATURE * 320 * 240 // (800 * 600), png)
+            out = run("render_movie.py", "--port", port, "--duration", "1", "--out", movie,
+                      "--size", "320x240", "--fps", "10")
+            self.assertIsNone(proc.poll(), "the simulation did not survive the filming")
+        frames = int(re.search(r": (\d+) frames", out).group(1))
+        # 1 s of sim time at speed 1 and 10 fps, less what was cut before rviz drew
+        self.assertGreaterEqual(frames, 5, out)
+        self.assertLessEqual(frames, 11, out)
+
+    def test_a_scenario_with_rviz_starts_once_rviz_receives_it(self):
+        """glide.launch rviz:=true (about 1 s of flight): flapsim waits, paused at t = 0, until
+        rviz receives its topics; when sim time first passes 0, rviz already does."""
+        pattern = re.compile(r"/clock|/tf|/flapsim/(aero|creature|view)_markers")
+        with views.xvfb(320, 240) as display:
+            with views.roslaunch(["glide.launch", "rviz:=true", views.rviz_args(320, 240)],
+                                 display, os.path.join(OUT, "glide_waits.log")) as (proc, env):
+                views.use_master(env)
+                views.wait_for(rosgraph.is_master_online, 30, "the ROS master")
+                rospy.init_node("test_rviz_waits", anonymous=True, disable_signals=True)
+                master = rosgraph.Master(rospy.get_name())
+                started = []  # rviz's missing topics when sim time first passed 0
+
+                def on_clock(msg):
+                    if msg.clock.to_sec() > 0 and not started:
+                        started.append(starter.unconnected(master, "/flapsim", "/rviz", pattern))
+
+                rospy.Subscriber("/clock", Clock, on_clock)
+                views.wait_for(lambda: started, TIMEOUT, "sim time to pass 0")
+                rospy.signal_shutdown("done")
+        self.assertEqual(started[0], [], "flapsim ran before rviz received these")
 
 
 def main():

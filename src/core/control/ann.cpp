@@ -100,7 +100,13 @@ std::vector<double> FeedForwardNet::evaluate(const std::vector<double>& input) c
 // ---- The per-wing-pair controller ------------------------------------------------------------
 
 std::string validateFlapControllerParams(const FlapControllerParams& p) {
-  if (p.hidden < 1) return "hidden must be >= 1";
+  if (p.hidden < 1 || p.hidden > kMaxHidden) {
+    return "hidden must be in [1, " + std::to_string(kMaxHidden) + "]";
+  }
+  if (!(p.max_downstroke_rate <= kMaxStrokeRate && p.upstroke_rate <= kMaxStrokeRate &&
+        p.pitch_max_downstroke_rate <= kMaxStrokeRate && p.amplitude <= kMaxStrokeAmplitude)) {
+    return "rates must be at most 1e5 rad/s, the amplitude at most 1000 rad";
+  }
   if (!std::isfinite(p.min_downstroke_rate) || p.min_downstroke_rate < 0.0) {
     return "min_downstroke_rate must be finite and >= 0";
   }
@@ -111,8 +117,8 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
     return "upstroke_rate must be finite and >= 0";
   }
   if (!std::isfinite(p.amplitude) || p.amplitude <= 0.0) return "amplitude must be > 0";
-  if (!std::isfinite(p.control_period) || p.control_period <= 0.0) {
-    return "control_period must be > 0";
+  if (!(p.control_period >= kMinControlPeriod && p.control_period <= kMaxControlPeriod)) {
+    return "control_period must be in [0.001, 10] s";
   }
   if (p.phase_lock &&
       !(p.min_downstroke_rate > 0.0 && p.upstroke_rate > 0.0 &&
@@ -121,8 +127,8 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
     return "phase_lock needs min_downstroke_rate > 0, upstroke_rate > 0 and a downstroke at "
            "min_downstroke_rate shorter than the locked period";
   }
-  if (!std::isfinite(p.pitch_gain) || p.pitch_gain < 0.0) {
-    return "pitch_gain must be finite and >= 0";
+  if (!(p.pitch_gain >= 0.0 && p.pitch_gain <= kMaxPitchGain)) {
+    return "pitch_gain must be in [0, 1000]";
   }
   if (!std::isfinite(p.pitch_limit) || p.pitch_limit < 0.0 || p.pitch_limit >= 1.0) {
     return "pitch_limit must be in [0, 1)";

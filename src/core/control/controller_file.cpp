@@ -2,10 +2,13 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
+
+#include "flapsim/cli_args.h"
 
 namespace flapsim {
 
@@ -48,18 +51,37 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   return out.str();
 }
 
-ControllerSpec controllerFromYaml(const std::string& text, const std::string& source) {
-  auto fail = [&](const std::string& what) {
-    return std::runtime_error("controller YAML " + source + ": " + what);
-  };
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw fail(e.what());
+namespace {
+
+const std::vector<std::string> kInputs = {"world_up.body_forward", "world_up.body_left"};
+const std::vector<std::string> kOutputs = {"right_downstroke_rate", "left_downstroke_rate"};
+
+// The keys of `flap_unit_controller`: each is read, so a misspelt one is an error, not a
+// default silently kept.
+const std::vector<std::string> kKeys = {"inputs",
+                                        "outputs",
+                                        "hidden",
+                                        "hidden_activation",
+                                        "output_activation",
+                                        "min_downstroke_rate",
+                                        "max_downstroke_rate",
+                                        "upstroke_rate",
+                                        "amplitude",
+                                        "control_period",
+                                        "phase_lock",
+                                        "pitch_gain",
+                                        "pitch_limit",
+                                        "pitch_max_downstroke_rate",
+                                        "weights"};
+
+ControllerSpec readController(const YAML::Node& c,
+                              const std::function<std::runtime_error(const std::string&)>& fail) {
+  for (const auto& kv : c) {
+    const std::string key = kv.first.as<std::string>();
+    if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end()) {
+      throw fail("unknown key " + quoteValue(key));
+    }
   }
-  const YAML::Node c = root["flap_unit_controller"];
-  if (!c || !c.IsMap()) throw fail("no map 'flap_unit_controller'");
   ControllerSpec spec;
   FlapControllerParams& p = spec.params;
   auto get = [&](const char* key, auto& value) {
@@ -71,9 +93,18 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
       throw fail(std::string("bad value of '") + key + "'");
     }
   };
+  std::vector<std::string> inputs = kInputs, outputs = kOutputs;
+  get("inputs", inputs);
+  get("outputs", outputs);
+  if (inputs != kInputs) throw fail("'inputs' must be [world_up.body_forward, world_up.body_left]");
+  if (outputs != kOutputs) {
+    throw fail("'outputs' must be [right_downstroke_rate, left_downstroke_rate]");
+  }
+  std::string act = toString(p.hidden_activation), output_act = "sigmoid";
   get("hidden", p.hidden);
-  std::string act = toString(p.hidden_activation);
   get("hidden_activation", act);
+  get("output_activation", output_act);
+  if (output_act != "sigmoid") throw fail("'output_activation' must be sigmoid");
   try {
     p.hidden_activation = activationFromString(act);
   } catch (const std::invalid_argument& e) {
@@ -90,6 +121,25 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
   get("pitch_max_downstroke_rate", p.pitch_max_downstroke_rate);
   if (!c["weights"]) throw fail("no 'weights'");
   get("weights", spec.weights);
+  return spec;
+}
+
+}  // namespace
+
+ControllerSpec controllerFromYaml(const std::string& text, const std::string& source) {
+  auto fail = [&](const std::string& what) {
+    return std::runtime_error("controller YAML " + source + ": " + what);
+  };
+  ControllerSpec spec;
+  try {
+    const YAML::Node root = YAML::Load(text);
+    const YAML::Node c = root.IsMap() ? root["flap_unit_controller"] : YAML::Node();
+    if (!c || !c.IsMap()) throw fail("no map 'flap_unit_controller'");
+    spec = readController(c, fail);
+  } catch (const YAML::Exception& e) {
+    throw fail(e.what());
+  }
+  const FlapControllerParams& p = spec.params;
   const std::string err = validateFlapControllerParams(p);
   if (!err.empty()) throw fail(err);
   const int n = FlapUnitController::weightCount(p);
@@ -104,26 +154,13 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
 }
 
 ControllerSpec loadControllerYaml(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read controller YAML '" + path + "'");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return controllerFromYaml(buf.str(), path);
-}
-
-void writeTextFile(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  out.close();
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-}
-
-std::string readTextFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot read '" + path + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  std::string text;
+  try {
+    text = readTextFile(path, kMaxControllerFileBytes);
+  } catch (const InputError& e) {
+    throw std::runtime_error(std::string("controller YAML ") + e.what());
+  }
+  return controllerFromYaml(text, path);
 }
 
 }  // namespace flapsim

@@ -1,19 +1,40 @@
 #include "flapsim/episode_evaluator.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "flapsim/evolve_args.h"
 #include "flapsim/ga.h"
 
 namespace flapsim {
 
+double episodeWork(const EvaluationSpec& spec) {
+  double smallest = spec.episode.world.step_size;
+  for (size_t k = 0; k < spec.episode.step_sizes.size(); ++k) {
+    smallest = k == 0 ? spec.episode.step_sizes[k] : std::min(smallest, spec.episode.step_sizes[k]);
+  }
+  return spec.pairs * std::ceil(spec.episode.duration / smallest);
+}
+
+double fitnessBound(const EvaluationSpec& spec) {
+  const EpisodeParams& e = spec.episode;
+  return std::abs(e.start_height) + e.world.max_speed * e.duration + e.flip_penalty;
+}
+
 EpisodeRunner::EpisodeRunner(const EvaluationSpec& spec) : spec_(spec) {
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);
-  if (err.empty() && spec.pairs < 1) err = "pairs must be >= 1";
+  if (err.empty() && (spec.pairs < 1 || spec.pairs > kMaxEvolvePairs)) {
+    err = "pairs must be in [1, " + std::to_string(kMaxEvolvePairs) + "]";
+  }
   if (!err.empty()) throw InputError("evaluation spec: " + err);
   model_ = parseCreatureModel(makeCreatureUrdf(spec.pairs, "afc", spec.unit), "make_creature");
   starts_ = episodeStarts(spec.episode);
   weight_count_ = FlapUnitController::weightCount(spec.controller);
+  // An estimate, for caches: the model's records with their names and boxes, the starts.
+  bytes_ = sizeof(*this) + model_->links.size() * (sizeof(LinkModel) + 512) +
+           model_->joints.size() * (sizeof(JointModel) + 256) +
+           starts_.size() * sizeof(EpisodeStart) + spec.episode.step_sizes.size() * sizeof(double);
 }
 
 std::string EpisodeRunner::check(const EpisodeTask& task) const {
@@ -38,6 +59,39 @@ double EpisodeRunner::evaluate(const EpisodeTask& task) const {
   return runEpisode(model_, ann, spec_.controller.control_period, spec_.episode,
                     starts_[task.episode])
       .fitness;
+}
+
+std::shared_ptr<const EpisodeRunner> RunnerCache::get(const std::vector<std::string>& spec_args) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto it = entries_.begin(); it != entries_.end(); ++it) {
+      if (it->spec != spec_args) continue;
+      entries_.splice(entries_.begin(), entries_, it);
+      return it->runner;
+    }
+  }
+  // Built outside the lock (parses a URDF); two threads may build the same one.
+  auto runner = std::make_shared<const EpisodeRunner>(evaluationSpecFromArgs(spec_args));
+  std::size_t bytes = runner->bytes();
+  for (const auto& a : spec_args) bytes += a.size() + sizeof(std::string);
+  std::lock_guard<std::mutex> lock(mutex_);
+  entries_.push_front(Entry{spec_args, runner, bytes});
+  bytes_ += bytes;
+  while (bytes_ > max_bytes_ && !entries_.empty()) {
+    bytes_ -= entries_.back().bytes;
+    entries_.pop_back();  // the runner lives on in the calls that hold it
+  }
+  return runner;
+}
+
+std::size_t RunnerCache::bytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return bytes_;
+}
+
+std::size_t RunnerCache::size() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return entries_.size();
 }
 
 InProcessEvaluator::InProcessEvaluator(const EvaluationSpec& spec, int threads)

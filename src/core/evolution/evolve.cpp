@@ -18,28 +18,58 @@ namespace flapsim {
 
 // ---- Episodes ------------------------------------------------------------------------------
 
+namespace {
+
+// "<name> must be in [lo, hi]" unless lo <= x <= hi (NaN is outside).
+std::string range(const char* name, double x, double lo, double hi, const char* unit = "") {
+  if (x >= lo && x <= hi) return "";
+  std::ostringstream msg;
+  msg << name << " must be in [" << lo << ", " << hi << "]" << unit;
+  return msg.str();
+}
+
+}  // namespace
+
 std::string validateEpisodeParams(const EpisodeParams& p) {
-  if (!std::isfinite(p.duration) || p.duration <= 0.0) return "duration must be > 0";
-  if (!std::isfinite(p.start_height)) return "start_height must be finite";
-  if (!std::isfinite(p.min_roll) || !std::isfinite(p.max_roll) || p.min_roll < 0.0 ||
-      p.max_roll < p.min_roll) {
-    return "need 0 <= min_roll <= max_roll";
-  }
-  if (!std::isfinite(p.max_pitch) || p.max_pitch < 0.0) return "max_pitch must be >= 0";
-  if (!std::isfinite(p.max_start_rate) || p.max_start_rate < 0.0) {
-    return "max_start_rate must be >= 0";
-  }
-  if (!std::isfinite(p.max_gust) || p.max_gust < 0.0) return "max_gust must be >= 0";
-  if (!std::isfinite(p.input_noise) || p.input_noise < 0.0) return "input_noise must be >= 0";
-  if (!std::isfinite(p.flip_penalty) || p.flip_penalty < 0.0) return "flip_penalty must be >= 0";
-  for (double dt : p.step_sizes) {
-    WorldParams w = p.world;
-    w.step_size = dt;
-    if (!validateWorldParams(w).empty()) return "step_sizes: " + validateWorldParams(w);
-  }
-  if (p.episodes < 1) return "episodes must be >= 1";
   const std::string w = validateWorldParams(p.world);
-  return w.empty() ? "" : "world: " + w;
+  if (!w.empty()) return "world: " + w;
+  if (!(p.duration > 0.0 && p.duration <= kMaxEpisodeDuration)) {
+    return "duration must be in (0, " + std::to_string(static_cast<int>(kMaxEpisodeDuration)) +
+           "] s";
+  }
+  if (p.episodes < 1 || p.episodes > kMaxEpisodes) {
+    return "episodes must be in [1, " + std::to_string(kMaxEpisodes) + "]";
+  }
+  if (!(p.min_roll >= 0.0 && p.max_roll >= p.min_roll && p.max_roll <= M_PI)) {
+    return "need 0 <= min_roll <= max_roll <= pi";
+  }
+  for (const std::string& err :
+       {range("start_height", p.start_height, -kMaxPosition, kMaxPosition, " m"),
+        range("max_pitch", p.max_pitch, 0.0, M_PI, " rad"),
+        range("max_start_rate", p.max_start_rate, 0.0, kMaxStartRate, " rad/s"),
+        range("max_gust", p.max_gust, 0.0, kMaxGust, " m/s"),
+        range("input_noise", p.input_noise, 0.0, kMaxInputNoise, " rad"),
+        range("flip_penalty", p.flip_penalty, 0.0, kMaxFlipPenalty, " m")}) {
+    if (!err.empty()) return err;
+  }
+  if (p.step_sizes.size() > static_cast<size_t>(kMaxStepSizes)) {
+    return "step_sizes: more than " + std::to_string(kMaxStepSizes);
+  }
+  std::vector<double> steps = p.step_sizes;
+  if (steps.empty()) steps.push_back(p.world.step_size);
+  for (double dt : steps) {
+    WorldParams step_only;
+    step_only.step_size = dt;
+    const std::string err = validateWorldParams(step_only);
+    if (!err.empty()) return "step_sizes: " + err;
+    if (p.duration / dt > kMaxEpisodeSteps) {
+      std::ostringstream msg;
+      msg << "duration / step size = " << p.duration / dt << " steps, over the limit of "
+          << kMaxEpisodeSteps << " per episode";
+      return msg.str();
+    }
+  }
+  return "";
 }
 
 std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p) {
@@ -279,140 +309,6 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
   result.best_weights = ga.best().genes;
   result.best_fitness = ga.best().fitness;
   return result;
-}
-
-// ---- Checkpoints ---------------------------------------------------------------------------
-
-namespace {
-
-std::string hex(double x) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%a", x);
-  return buf;
-}
-
-class CheckpointReader {
- public:
-  explicit CheckpointReader(const std::string& text) : in_(text) {}
-  std::istringstream line(const std::string& what) {
-    std::string l;
-    if (!std::getline(in_, l)) fail("missing " + what);
-    ++number_;
-    return std::istringstream(l);
-  }
-  std::string rawLine(const std::string& what) {
-    std::string l;
-    if (!std::getline(in_, l)) fail("missing " + what);
-    ++number_;
-    return l;
-  }
-  void expect(std::istringstream& l, const std::string& word) {
-    std::string w;
-    if (!(l >> w) || w != word) fail("expected '" + word + "'");
-  }
-  long long integer(std::istringstream& l, const std::string& what) {
-    long long v;
-    if (!(l >> v)) fail("expected an integer (" + what + ")");
-    return v;
-  }
-  double real(std::istringstream& l, const std::string& what) {
-    std::string w;
-    if (!(l >> w)) fail("expected a number (" + what + ")");
-    char* end = nullptr;
-    const double v = std::strtod(w.c_str(), &end);
-    if (end == w.c_str() || *end != '\0') fail("'" + w + "' is not a number (" + what + ")");
-    return v;
-  }
-  [[noreturn]] void fail(const std::string& msg) const {
-    throw InputError("checkpoint line " + std::to_string(number_ + 1) + ": " + msg);
-  }
-
- private:
-  std::istringstream in_;
-  int number_ = 0;
-};
-
-}  // namespace
-
-std::string checkpointToText(const EvolveCheckpoint& c) {
-  std::ostringstream out;
-  const size_t genes = c.population.empty() ? 0 : c.population.front().genes.size();
-  out << "flapsim_checkpoint 1\n"
-      << "generation " << c.generation << "\n"
-      << "seed " << c.seed << "\n"
-      << "args " << c.args.size() << "\n";
-  for (const auto& a : c.args) out << a << "\n";
-  out << "population " << c.population.size() << " " << genes << "\n";
-  for (const auto& ind : c.population) {
-    out << hex(ind.fitness);
-    for (double g : ind.genes) out << " " << hex(g);
-    out << "\n";
-  }
-  out << "history " << c.history.size() << "\n";
-  for (const auto& h : c.history) {
-    out << h.generation << " " << hex(h.best) << " " << hex(h.mean) << " " << hex(h.worst) << " "
-        << h.evaluations << " " << h.best_genes.size();
-    for (double g : h.best_genes) out << " " << hex(g);
-    out << "\n";
-  }
-  out << "end\n";
-  return out.str();
-}
-
-EvolveCheckpoint checkpointFromText(const std::string& text) {
-  CheckpointReader r(text);
-  EvolveCheckpoint c;
-  auto l = r.line("header");
-  r.expect(l, "flapsim_checkpoint");
-  if (r.integer(l, "version") != 1) r.fail("unknown version");
-  l = r.line("generation");
-  r.expect(l, "generation");
-  c.generation = static_cast<int>(r.integer(l, "generation"));
-  l = r.line("seed");
-  r.expect(l, "seed");
-  std::string seed;
-  if (!(l >> seed)) r.fail("expected the seed");
-  try {
-    c.seed = std::stoull(seed);
-  } catch (const std::exception&) {
-    r.fail("bad seed '" + seed + "'");
-  }
-  l = r.line("args");
-  r.expect(l, "args");
-  const long long n_args = r.integer(l, "args");
-  if (n_args < 0) r.fail("negative count");
-  for (long long i = 0; i < n_args; ++i) c.args.push_back(r.rawLine("an argument"));
-  l = r.line("population");
-  r.expect(l, "population");
-  const long long n = r.integer(l, "individuals"), genes = r.integer(l, "genes");
-  if (n < 0 || genes < 0) r.fail("negative count");
-  for (long long i = 0; i < n; ++i) {
-    auto row = r.line("an individual");
-    Individual ind;
-    ind.fitness = r.real(row, "fitness");
-    for (long long g = 0; g < genes; ++g) ind.genes.push_back(r.real(row, "gene"));
-    c.population.push_back(std::move(ind));
-  }
-  l = r.line("history");
-  r.expect(l, "history");
-  const long long h = r.integer(l, "generations");
-  if (h < 0) r.fail("negative count");
-  for (long long i = 0; i < h; ++i) {
-    auto row = r.line("a generation");
-    GenerationStats s;
-    s.generation = static_cast<int>(r.integer(row, "generation"));
-    s.best = r.real(row, "best");
-    s.mean = r.real(row, "mean");
-    s.worst = r.real(row, "worst");
-    s.evaluations = static_cast<int>(r.integer(row, "evaluations"));
-    const long long bg = r.integer(row, "best genes");
-    if (bg < 0) r.fail("negative count");
-    for (long long g = 0; g < bg; ++g) s.best_genes.push_back(r.real(row, "gene"));
-    c.history.push_back(std::move(s));
-  }
-  l = r.line("end");
-  r.expect(l, "end");
-  return c;
 }
 
 // ---- Files ---------------------------------------------------------------------------------

@@ -1,221 +1,227 @@
 #include "flapsim/evolve_args.h"
 
-#include <sstream>
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
+#include "flapsim/air_model.h"
+#include "flapsim/cli_args.h"
 #include "flapsim/episode_evaluator.h"
 
 namespace flapsim {
 
 namespace {
 
-const char* kUsage =
-    "usage: evolve [options]\n"
-    "  --preset NAME      robust (default) or paper; the options below change it\n"
-    "                     (defaults shown are the paper preset's)\n"
-    "  --pairs N          wing pairs of the creature (1)\n"
-    "  --generations G    generations after the initial one (200)\n"
-    "  --population P     individuals (10)\n"
-    "  --seed S           GA and start-attitude seed (1)\n"
-    "  --threads T        parallel episodes (hardware threads); results do not depend on it\n"
-    "  --duration D       episode length, s (30)\n"
-    "  --episodes E       episodes per evaluation, start roll alternating +/- (8)\n"
-    "  --min-rate R       lowest downstroke rate, rad/s (20)\n"
-    "  --max-rate R       highest downstroke rate, rad/s (60)\n"
-    "  --upstroke-rate R  upstroke rate, rad/s (10)\n"
-    "  --amplitude A      stroke amplitude, rad (1.2)\n"
-    "  --control-period P network update period, s (0.02)\n"
-    "  --roll LO HI       start roll range, rad (0.035 0.087; robust 0 0.35)\n"
-    "  --pitch P          start pitch range +-P, rad (0.035; robust 0.35)\n"
-    "  --link-axis A      axis of the joints between units: roll or pitch (roll)\n"
-    "  --link-stiffness K spring on the joints between units, N m/rad (2)\n"
-    "  --start-rate W     start angular velocity, up to W rad/s per axis (0; robust 1)\n"
-    "  --gust G           a horizontal wind step of up to G m/s (0; robust 1)\n"
-    "  --input-noise N    attitude-sensor noise, rad (0; robust 0.02)\n"
-    "  --step-sizes LIST  step sizes drawn per episode, e.g. 0.001,0.0005 (robust)\n"
-    "  --flip-penalty P   a flip ends the episode, less P m (0: off; robust 20)\n"
-    "  --phase-lock B     on/off: upstroke follows downstroke, fixed period (robust on)\n"
-    "  --pitch-gain K     chain pitch term on top of the network, for --pairs > 1 (0: off)\n"
-    "  --gene-range G     initial range and bound of every weight, +-G (10)\n"
-    "  --air-model M      air model of the episodes: pressure or quasi_steady (pressure)\n"
-    "  --out DIR          output directory (evolve_out); a checkpoint is written there\n"
-    "                     after every generation (DIR/checkpoint.txt)\n"
-    "  --weights FILE     weights YAML (DIR/weights.yaml)\n"
-    "  --no-plot          do not run gnuplot\n"
-    "  --resume DIR       continue the run of DIR/checkpoint.txt (its flags; output to DIR)\n"
-    "  --farm             evaluate on the flapsim_worker nodes under /flapsim_farm (ROS)\n"
-    "  --farm-timeout S   a call unanswered after S s is sent to another worker (60)\n"
-    "  --farm-wait S      give up after S s without any worker (120)\n"
-    "  --farm-inflight N  calls in flight per worker (4)\n"
-    "  --farm-batch N     tasks per call (1)\n";
+const char* const kSpec = "spec";  // the tag of the flags that define the evolution
 
-int toInt(const std::string& flag, const std::string& v) {
-  size_t used = 0;
-  int x = 0;
-  try {
-    x = std::stoi(v, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != v.size()) throw InputError(flag + ": '" + v + "' is not an integer");
-  return x;
+const char* const kNotes =
+    "Defaults in parentheses are those of the preset given (robust unless --preset paper)\n"
+    "and the flags before --help. A checkpoint is written to DIR/checkpoint.txt after every\n"
+    "generation; --resume DIR continues it with its own flags, then the ones given.\n";
+
+void specFlags(CliParser& t, EvolveOptions& o) {
+  EvolveParams& p = o.params;
+  EpisodeParams& e = p.episode;
+  FlapControllerParams& c = p.controller;
+  t.custom(
+       "--preset", {"NAME"}, [](const std::vector<std::string>&) {},  // applied first
+       [&o] { return o.preset; }, "robust or paper; the flags below change it")
+      .integer("--pairs", "N", &p.pairs, {1, kMaxEvolvePairs}, "wing pairs of the creature")
+      .tag(kSpec)
+      .integer("--generations", "G", &p.ga.generations, {0, kMaxGenerations},
+               "generations after the initial one")
+      .tag(kSpec)
+      .integer("--population", "P", &p.ga.population, {2, kMaxPopulation}, "individuals")
+      .tag(kSpec)
+      .seed("--seed", "S", &p.ga.seed, "GA and start-attitude seed")
+      .tag(kSpec)
+      .real("--duration", "D", &e.duration, {0, kMaxEpisodeDuration, true}, "episode length, s")
+      .tag(kSpec)
+      .integer("--episodes", "E", &e.episodes, {1, kMaxEpisodes},
+               "episodes per evaluation, start roll alternating +/-")
+      .tag(kSpec)
+      .real("--min-rate", "R", &c.min_downstroke_rate, {0, kMaxStrokeRate},
+            "lowest downstroke rate, rad/s")
+      .tag(kSpec)
+      .real("--max-rate", "R", &c.max_downstroke_rate, {0, kMaxStrokeRate},
+            "highest downstroke rate, rad/s")
+      .tag(kSpec)
+      .real("--upstroke-rate", "R", &c.upstroke_rate, {0, kMaxStrokeRate}, "upstroke rate, rad/s")
+      .tag(kSpec)
+      .real("--amplitude", "A", &c.amplitude, {0, kMaxStrokeAmplitude, true},
+            "stroke amplitude, rad")
+      .tag(kSpec)
+      .real("--control-period", "P", &c.control_period, {kMinControlPeriod, kMaxControlPeriod},
+            "network update period, s")
+      .tag(kSpec);
 }
 
-double toDouble(const std::string& flag, const std::string& v) {
-  size_t used = 0;
-  double x = 0.0;
-  try {
-    x = std::stod(v, &used);
-  } catch (const std::exception&) {
-    used = 0;
+void robustFlags(CliParser& t, EvolveOptions& o) {
+  EvolveParams& p = o.params;
+  EpisodeParams& e = p.episode;
+  t.custom(
+       "--roll", {"LO", "HI"},
+       [&e](const std::vector<std::string>& v) {
+         e.min_roll = parseCliReal("--roll", v[0], {0, M_PI});
+         e.max_roll = parseCliReal("--roll", v[1], {e.min_roll, M_PI});
+       },
+       [&e] { return formatCliNumber(e.min_roll) + " " + formatCliNumber(e.max_roll); },
+       "start roll range, rad")
+      .tag(kSpec)
+      .real("--pitch", "P", &e.max_pitch, {0, M_PI}, "start pitch range +-P, rad")
+      .tag(kSpec)
+      .custom(
+          "--link-axis", {"A"}, linkAxisSetter(&p.unit.link_axis),
+          [&p] { return toString(p.unit.link_axis); }, "axis of the joints between units")
+      .tag(kSpec)
+      .real("--link-stiffness", "K", &p.unit.link_stiffness, {0, 1e6},
+            "spring on the joints between units, N m/rad")
+      .tag(kSpec)
+      .real("--start-rate", "W", &e.max_start_rate, {0, kMaxStartRate},
+            "start angular velocity, up to W rad/s per axis")
+      .tag(kSpec)
+      .real("--gust", "G", &e.max_gust, {0, kMaxGust}, "a horizontal wind step of up to G m/s")
+      .tag(kSpec)
+      .real("--input-noise", "N", &e.input_noise, {0, kMaxInputNoise}, "attitude-sensor noise, rad")
+      .tag(kSpec)
+      .reals("--step-sizes", "LIST", &e.step_sizes, {1e-6, 0.1}, kMaxStepSizes,
+             "step sizes drawn per episode, s, e.g. 0.001,0.0005")
+      .tag(kSpec)
+      .shows([&e] {  // an empty list flies at the world's step size: show that one
+        std::string s = formatCliNumber(e.world.step_size);
+        for (size_t k = 0; k < e.step_sizes.size(); ++k) {
+          s = (k ? s + "," : "") + formatCliNumber(e.step_sizes[k]);
+        }
+        return s;
+      })
+      .real("--flip-penalty", "P", &e.flip_penalty, {0, kMaxFlipPenalty},
+            "a flip ends the episode, less P m (0: off)")
+      .tag(kSpec);
+}
+
+void controllerFlags(CliParser& t, EvolveOptions& o) {
+  EvolveParams& p = o.params;
+  t.custom(
+       "--phase-lock", {"B"},
+       [&p](const std::vector<std::string>& v) {
+         if (v[0] != "on" && v[0] != "off") throw InputError("--phase-lock takes on or off");
+         p.controller.phase_lock = v[0] == "on";
+       },
+       [&p] { return p.controller.phase_lock ? "on" : "off"; },
+       "on/off: upstroke follows downstroke, fixed period")
+      .tag(kSpec)
+      .real("--pitch-gain", "K", &p.controller.pitch_gain, {0, kMaxPitchGain},
+            "chain pitch term on top of the network, for --pairs > 1 (0: off)")
+      .tag(kSpec)
+      .custom(
+          "--gene-range", {"G"},
+          [&p](const std::vector<std::string>& v) {
+            p.ga.gene_max = parseCliReal("--gene-range", v[0], {0, 1e6, true});
+            p.ga.gene_min = -p.ga.gene_max;
+          },
+          [&p] { return formatCliNumber(p.ga.gene_max); },
+          "initial range and bound of every weight, +-G")
+      .tag(kSpec)
+      .text("--air-model", "M", &p.episode.world.air.model, "air model of the episodes",
+            airModelNames())
+      .tag(kSpec);
+}
+
+void runFlags(CliParser& t, EvolveOptions& o) {
+  t.integer("--threads", "T", &o.params.ga.threads, {1, 256},
+            "parallel episodes; results do not depend on it")
+      .text("--out", "DIR", &o.out_dir, "output directory")
+      .text("--weights", "FILE", &o.weights_path, "weights YAML (empty: DIR/weights.yaml)")
+      .flag("--no-plot", &o.plot, false, "do not run gnuplot")
+      .text("--resume", "DIR", &o.resume_dir, "continue the run of DIR/checkpoint.txt")
+      .flag("--farm", &o.farm, true, "evaluate on the flapsim_worker nodes under /flapsim_farm")
+      .real("--farm-timeout", "S", &o.farm_timeout, {0, 1e6, true},
+            "a call unanswered after S s is sent to another worker")
+      .real("--farm-wait", "S", &o.farm_wait, {0, 1e7}, "give up after S s without any worker")
+      .integer("--farm-inflight", "N", &o.farm_inflight, {1, 64}, "calls in flight per worker")
+      .integer("--farm-batch", "N", &o.farm_batch, {1, kMaxTasksPerCall},
+               "tasks per call (fewer if the worker's limit per call needs it)");
+}
+
+// The table over `o` (which must outlive it).
+CliParser evolveTable(EvolveOptions& o) {
+  CliParser t("usage: evolve [options]", kNotes);
+  specFlags(t, o);
+  robustFlags(t, o);
+  controllerFlags(t, o);
+  runFlags(t, o);
+  return t;
+}
+
+// The preset named in `args` (the last --preset), robust if none; its value is checked.
+std::string presetOf(const std::vector<std::string>& args) {
+  std::string preset = "robust";
+  for (size_t i = 0; i + 1 < args.size(); ++i) {
+    if (args[i] == "--preset") preset = args[i + 1];
   }
-  if (used == 0 || used != v.size()) throw InputError(flag + ": '" + v + "' is not a number");
-  return x;
+  if (preset != "robust" && preset != "paper") {
+    throw InputError("--preset: " + quoteValue(preset) + " is not one of robust, paper");
+  }
+  return preset;
 }
 
 }  // namespace
 
-std::string evolveUsage() { return kUsage; }
-
 EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads) {
   EvolveOptions o;
-  for (size_t i = 0; i + 1 < args.size(); ++i) {
-    if (args[i] == "--preset") o.preset = args[i + 1];
-  }
-  if (o.preset == "paper") {
-    o.params = paperPreset();
-  } else if (o.preset == "robust") {
-    o.params = robustPreset();
-  } else {
-    throw InputError("unknown preset '" + o.preset + "' (robust or paper)");
-  }
+  o.preset = presetOf(args);
+  o.params = o.preset == "paper" ? paperPreset() : robustPreset();
   o.params.ga.threads = threads;
   o.spec_args = {"--preset", o.preset};
-  EvolveParams& p = o.params;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a.find(":=") != std::string::npos) continue;  // roslaunch's __name:=, __log:=
-    if (a == "--help" || a == "-h") {
-      o.help = true;
-      continue;
-    }
-    if (a == "--no-plot") {
-      o.plot = false;
-      continue;
-    }
-    if (a == "--farm") {
-      o.farm = true;
-      continue;
-    }
-    if (i + 1 >= args.size()) throw InputError("missing value after " + a);
-    const std::string v = args[++i];
-    bool spec = true;  // the flag defines the evolution
-    if (a == "--preset") {
-      spec = false;  // applied first
-    } else if (a == "--pairs") {
-      p.pairs = toInt(a, v);
-    } else if (a == "--generations") {
-      p.ga.generations = toInt(a, v);
-    } else if (a == "--population") {
-      p.ga.population = toInt(a, v);
-    } else if (a == "--seed") {
-      try {
-        p.ga.seed = std::stoull(v);
-      } catch (const std::exception&) {
-        throw InputError(a + ": '" + v + "' is not a seed");
-      }
-    } else if (a == "--duration") {
-      p.episode.duration = toDouble(a, v);
-    } else if (a == "--episodes") {
-      p.episode.episodes = toInt(a, v);
-    } else if (a == "--min-rate") {
-      p.controller.min_downstroke_rate = toDouble(a, v);
-    } else if (a == "--max-rate") {
-      p.controller.max_downstroke_rate = toDouble(a, v);
-    } else if (a == "--upstroke-rate") {
-      p.controller.upstroke_rate = toDouble(a, v);
-    } else if (a == "--amplitude") {
-      p.controller.amplitude = toDouble(a, v);
-    } else if (a == "--roll") {
-      if (i + 1 >= args.size()) throw InputError("--roll takes two values");
-      p.episode.min_roll = toDouble(a, v);
-      p.episode.max_roll = toDouble(a, args[++i]);
-      o.spec_args.insert(o.spec_args.end(), {a, v, args[i]});
-      continue;
-    } else if (a == "--link-axis") {
-      try {
-        p.unit.link_axis = linkAxisFromString(v);
-      } catch (const std::invalid_argument& e) {
-        throw InputError(std::string("--") + e.what());
-      }
-    } else if (a == "--link-stiffness") {
-      p.unit.link_stiffness = toDouble(a, v);
-    } else if (a == "--pitch") {
-      p.episode.max_pitch = toDouble(a, v);
-    } else if (a == "--start-rate") {
-      p.episode.max_start_rate = toDouble(a, v);
-    } else if (a == "--gust") {
-      p.episode.max_gust = toDouble(a, v);
-    } else if (a == "--input-noise") {
-      p.episode.input_noise = toDouble(a, v);
-    } else if (a == "--flip-penalty") {
-      p.episode.flip_penalty = toDouble(a, v);
-    } else if (a == "--phase-lock") {
-      if (v != "on" && v != "off") throw InputError("--phase-lock takes on or off");
-      p.controller.phase_lock = v == "on";
-    } else if (a == "--pitch-gain") {
-      p.controller.pitch_gain = toDouble(a, v);
-    } else if (a == "--step-sizes") {
-      p.episode.step_sizes.clear();
-      std::istringstream list(v);
-      for (std::string item; std::getline(list, item, ',');) {
-        p.episode.step_sizes.push_back(toDouble(a, item));
-      }
-    } else if (a == "--control-period") {
-      p.controller.control_period = toDouble(a, v);
-    } else if (a == "--gene-range") {
-      p.ga.gene_max = toDouble(a, v);
-      p.ga.gene_min = -p.ga.gene_max;
-    } else if (a == "--air-model") {
-      p.episode.world.air.model = v;
-    } else {
-      spec = false;
-      if (a == "--threads") {
-        p.ga.threads = toInt(a, v);
-      } else if (a == "--out") {
-        o.out_dir = v;
-      } else if (a == "--weights") {
-        o.weights_path = v;
-      } else if (a == "--resume") {
-        o.resume_dir = v;
-      } else if (a == "--farm-timeout") {
-        o.farm_timeout = toDouble(a, v);
-      } else if (a == "--farm-wait") {
-        o.farm_wait = toDouble(a, v);
-      } else if (a == "--farm-inflight") {
-        o.farm_inflight = toInt(a, v);
-      } else if (a == "--farm-batch") {
-        o.farm_batch = toInt(a, v);
-      } else {
-        throw InputError("unknown option " + a);
-      }
-    }
-    if (spec) o.spec_args.insert(o.spec_args.end(), {a, v});
+  CliParser table = evolveTable(o);
+  for (const CliSeen& s : table.parse(args, /*skip_remaps=*/true)) {
+    if (s.flag->tag != kSpec) continue;
+    o.spec_args.push_back(s.flag->names.front());
+    o.spec_args.insert(o.spec_args.end(), s.values.begin(), s.values.end());
   }
-  if (!(o.farm_timeout > 0.0)) throw InputError("--farm-timeout must be > 0");
-  if (!(o.farm_wait >= 0.0)) throw InputError("--farm-wait must be >= 0");
-  if (o.farm_inflight < 1) throw InputError("--farm-inflight must be >= 1");
-  if (o.farm_batch < 1) throw InputError("--farm-batch must be >= 1");
+  o.help = table.help();
   if (o.weights_path.empty()) o.weights_path = o.out_dir + "/weights.yaml";
   return o;
 }
 
-EvaluationSpec evaluationSpecFromArgs(const std::vector<std::string>& spec_args) {
-  for (const auto& a : spec_args) {
-    if (a == "--farm" || a == "--resume" || a == "--out" || a == "--weights" || a == "--threads") {
-      throw InputError("spec: '" + a + "' is not a flag of the evolution's definition");
+std::string evolveUsage(const std::vector<std::string>& args, int threads) {
+  EvolveOptions o;
+  try {
+    o = parseEvolveArgs(args, threads);
+  } catch (const InputError&) {
+    o = parseEvolveArgs({}, threads);  // the defaults of a plain `evolve`
+  }
+  o.weights_path.clear();  // shown as "DIR/weights.yaml" by its help
+  return evolveTable(o).usage();
+}
+
+void checkSpecArgs(const std::vector<std::string>& spec_args) {
+  size_t bytes = 0;
+  for (const std::string& a : spec_args) bytes += a.size();
+  if (spec_args.size() > kMaxSpecArgs || bytes > kMaxSpecBytes) {
+    throw InputError("spec: " + std::to_string(spec_args.size()) + " arguments of " +
+                     std::to_string(bytes) + " bytes, over the limit of " +
+                     std::to_string(kMaxSpecArgs) + " arguments or " +
+                     std::to_string(kMaxSpecBytes) + " bytes");
+  }
+  EvolveOptions o;
+  o.preset = presetOf(spec_args);
+  o.params = o.preset == "paper" ? paperPreset() : robustPreset();
+  CliParser table = evolveTable(o);
+  // The flags first, before any value is read: values never start with "--".
+  for (const std::string& a : spec_args) {
+    for (const CliFlag& f : table.flags()) {
+      if (f.tag == kSpec || f.names.front() == "--preset") continue;
+      if (std::find(f.names.begin(), f.names.end(), a) != f.names.end() || a == "--help") {
+        throw InputError("spec: '" + a + "' is not a flag of the evolution's definition");
+      }
     }
   }
+  table.parse(spec_args);
+}
+
+EvaluationSpec evaluationSpecFromArgs(const std::vector<std::string>& spec_args) {
+  checkSpecArgs(spec_args);
   try {
     return evaluationSpec(parseEvolveArgs(spec_args).params);
   } catch (const InputError&) {

@@ -81,8 +81,12 @@ std::vector<double> parallelMap(int count, int threads, const std::function<doub
 // ---- GeneticAlgorithm ----------------------------------------------------------------------
 
 std::string validateGaParams(const GaParams& p) {
-  if (p.population < 2) return "population must be >= 2";
-  if (p.generations < 0) return "generations must be >= 0";
+  if (p.population < 2 || p.population > kMaxPopulation) {
+    return "population must be in [2, " + std::to_string(kMaxPopulation) + "]";
+  }
+  if (p.generations < 0 || p.generations > kMaxGenerations) {
+    return "generations must be in [0, " + std::to_string(kMaxGenerations) + "]";
+  }
   if (p.elite_count < 0 || p.elite_count >= p.population) {
     return "elite_count must be in [0, population)";
   }
@@ -137,9 +141,10 @@ void GeneticAlgorithm::evaluate(std::vector<Individual>& pop, const std::vector<
                              " values for " + std::to_string(which.size()) + " genomes");
   }
   for (size_t k = 0; k < which.size(); ++k) {
-    if (std::isnan(f[k])) {
+    if (!std::isfinite(f[k])) {
       throw std::runtime_error("GA: fitness of individual " + std::to_string(which[k]) +
-                               " in generation " + std::to_string(generation_) + " is NaN");
+                               " in generation " + std::to_string(generation_) + " is " +
+                               (std::isnan(f[k]) ? "NaN" : "infinite"));
     }
     pop[which[k]].fitness = f[k];
   }
@@ -233,28 +238,61 @@ void GeneticAlgorithm::step() {
   sortAndRecord(static_cast<int>(fresh.size()));
 }
 
-void GeneticAlgorithm::restore(int generation, std::vector<Individual> population,
-                               std::vector<GenerationStats> history) {
-  if (generation < 0 || generation > params_.generations) {
-    throw std::invalid_argument("GA restore: generation " + std::to_string(generation) +
-                                " is not in [0, " + std::to_string(params_.generations) + "]");
+namespace {
+
+// Empty if `population` (best first) and `history` can be the state of a run of `p` with
+// `genes` genes after `generation`, else what is wrong.
+std::string checkState(const GaParams& p, int genes, int generation,
+                       const std::vector<Individual>& population,
+                       const std::vector<GenerationStats>& history) {
+  if (generation < 0 || generation > p.generations) {
+    return "generation " + std::to_string(generation) + " is not in [0, " +
+           std::to_string(p.generations) + "]";
   }
-  if (static_cast<int>(population.size()) != params_.population) {
-    throw std::invalid_argument("GA restore: " + std::to_string(population.size()) +
-                                " individuals, the population is " +
-                                std::to_string(params_.population));
+  if (static_cast<int>(population.size()) != p.population) {
+    return std::to_string(population.size()) + " individuals, the population is " +
+           std::to_string(p.population);
   }
-  for (const auto& ind : population) {
-    if (static_cast<int>(ind.genes.size()) != gene_count_) {
-      throw std::invalid_argument("GA restore: an individual has " +
-                                  std::to_string(ind.genes.size()) + " genes, expected " +
-                                  std::to_string(gene_count_));
+  for (size_t i = 0; i < population.size(); ++i) {
+    const Individual& ind = population[i];
+    if (static_cast<int>(ind.genes.size()) != genes) {
+      return "an individual has " + std::to_string(ind.genes.size()) + " genes, expected " +
+             std::to_string(genes);
+    }
+    if (!std::isfinite(ind.fitness)) return "individual " + std::to_string(i) + ": fitness";
+    if (i > 0 && ind.fitness > population[i - 1].fitness) {
+      return "the population is not sorted best first (individual " + std::to_string(i) + ")";
+    }
+    for (double g : ind.genes) {
+      if (!(g >= p.gene_min && g <= p.gene_max)) {
+        return "individual " + std::to_string(i) + " has a gene outside [gene_min, gene_max]";
+      }
     }
   }
   if (static_cast<int>(history.size()) != generation + 1) {
-    throw std::invalid_argument("GA restore: the history has " + std::to_string(history.size()) +
-                                " generations, expected " + std::to_string(generation + 1));
+    return "the history has " + std::to_string(history.size()) + " generations, expected " +
+           std::to_string(generation + 1);
   }
+  for (size_t g = 0; g < history.size(); ++g) {
+    const GenerationStats& h = history[g];
+    if (h.generation != static_cast<int>(g) || !std::isfinite(h.best) || !std::isfinite(h.mean) ||
+        !std::isfinite(h.worst)) {
+      return "history entry " + std::to_string(g) + " is not generation " + std::to_string(g) +
+             " with finite values";
+    }
+  }
+  if (history.back().best != population.front().fitness) {
+    return "the history's last best is not the best individual's fitness";
+  }
+  return "";
+}
+
+}  // namespace
+
+void GeneticAlgorithm::restore(int generation, std::vector<Individual> population,
+                               std::vector<GenerationStats> history) {
+  const std::string err = checkState(params_, gene_count_, generation, population, history);
+  if (!err.empty()) throw std::invalid_argument("GA restore: " + err);
   generation_ = generation;
   population_ = std::move(population);
   history_ = std::move(history);

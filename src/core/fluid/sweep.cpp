@@ -1,6 +1,7 @@
 #include "flapsim/sweep.h"
 
 #include <cmath>
+#include <cstdio>
 #include <iomanip>
 #include <sstream>
 
@@ -62,6 +63,64 @@ std::string sweepCsv(const std::vector<SweepRow>& rows) {
         << r.normal_force << ',' << r.pressure << ',' << r.lift << ',' << r.drag << '\n';
   }
   return out.str();
+}
+
+std::string sweepTable(const SweepParams& p, const std::vector<SweepRow>& rows) {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "plate %.2f x %.2f m in a %.1f m/s flow (rho %.3f): average pressure on the "
+                "plate\n%-13s %5s %4s %7s %12s %10s %10s\n",
+                p.chord, p.span, p.speed, p.density, "model", "Cd", "grid", "incl", "pressure/Pa",
+                "lift/N", "drag/N");
+  std::string out = line;
+  for (const auto& r : rows) {
+    std::snprintf(line, sizeof line, "%-13s %5.2f %4d %7.1f %12.3f %10.4f %10.4f\n",
+                  r.model.c_str(), r.drag_coefficient, r.grid, r.inclination_deg, r.pressure,
+                  r.lift, r.drag);
+    out += line;
+  }
+  return out;
+}
+
+std::string sweepGnuplotScript(const SweepParams& p, const std::vector<SweepRow>& rows,
+                               const std::string& csv, const std::string& png) {
+  std::ostringstream gp;
+  gp << "set datafile separator ','\nset terminal pngcairo size 900,600 noenhanced\n"
+     << "set output '" << png << "'\nset title 'Average pressure on a " << p.chord << " x "
+     << p.span << " m plate in a " << p.speed << " m/s flow (paper Fig. 15)'\n"
+     << "set xlabel 'inclination (deg; 0 = edge-on, 90 = face-on)'\n"
+     << "set ylabel 'average pressure (Pa)'\nset xrange [0:180]\nset xtics 15\nset grid\n"
+     << "set key top left\nplot ";
+  // One curve per (model, Cd, grid): their rows are contiguous in the CSV.
+  for (size_t first = 0; first < rows.size();) {
+    size_t last = first;
+    while (last + 1 < rows.size() && rows[last + 1].inclination_deg > rows[last].inclination_deg) {
+      ++last;
+    }
+    std::ostringstream title;
+    title << rows[first].model;
+    if (rows[first].model == "pressure") {
+      title << " Cd " << std::to_string(rows[first].drag_coefficient).substr(0, 4);
+    }
+    title << ", grid " << rows[first].grid;
+    gp << (first ? ", " : "") << "'" << csv << "' skip 1 every ::" << first << "::" << last
+       << " using 4:6 with linespoints title '" << title.str() << "'";
+    first = last + 1;
+  }
+  gp << "\n";
+  return gp.str();
+}
+
+CliParser sweepCli(SweepParams& p, std::string& out_dir) {
+  CliParser t("usage: sweep [options]");
+  t.real("--speed", "M_S", &p.speed, {0, 1e3}, "flow speed, m/s")
+      .reals("--cd", "LIST", &p.drag_coefficients, {0, 1e3, true}, 16,
+             "drag coefficients of the pressure model")
+      .integers("--grid", "LIST", &p.grids, {1, 64}, 16, "cells per face edge")
+      .texts("--models", "LIST", &p.models, airModelNames(), 4, "air models")
+      .real("--step", "DEG", &p.step_deg, {0.1, 180}, "inclination step, degrees")
+      .text("--out", "DIR", &out_dir, "output directory (sweep.csv, sweep.png)");
+  return t;
 }
 
 }  // namespace flapsim

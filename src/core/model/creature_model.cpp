@@ -1,16 +1,17 @@
 #include "flapsim/creature_model.h"
 
 #include <console_bridge/console.h>
-#include <sys/stat.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <cmath>
 #include <cstdint>
-#include <fstream>
+#include <algorithm>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <queue>
 
+#include "flapsim/text_file.h"
 #include "model/annotations.h"
 #include "model/model_error.h"
 
@@ -68,15 +69,33 @@ bool finite(const Vec3& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
 
+const char* geometryKind(const urdf::Geometry& g) {
+  switch (g.type) {
+    case urdf::Geometry::BOX:
+      return "box";
+    case urdf::Geometry::CYLINDER:
+      return "cylinder";
+    case urdf::Geometry::SPHERE:
+      return "sphere";
+    case urdf::Geometry::MESH:
+      return "mesh";
+  }
+  return "geometry";
+}
+
 void addBoxes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
-  auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin) {
-    if (!g || g->type != urdf::Geometry::BOX) return;
+  auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* role) {
+    if (!g) return;
+    if (g->type != urdf::Geometry::BOX) {
+      out.ignored_shapes.push_back(std::string(role) + " " + geometryKind(*g));
+      return;
+    }
     auto box = std::static_pointer_cast<urdf::Box>(g);
     out.boxes.push_back(Box{Vec3(box->dim.x, box->dim.y, box->dim.z), toPose(origin)});
   };
-  for (const auto& c : link->collision_array) add(c->geometry, c->origin);
+  for (const auto& c : link->collision_array) add(c->geometry, c->origin, "collision");
   if (out.boxes.empty()) {
-    for (const auto& v : link->visual_array) add(v->geometry, v->origin);
+    for (const auto& v : link->visual_array) add(v->geometry, v->origin, "visual");
   }
 }
 
@@ -263,26 +282,36 @@ std::optional<Vec3> spanAxis(const CreatureModel& model, int link) {
 }
 
 std::string readUrdfFile(const std::string& path) {
-  struct stat info {};
-  if (::stat(path.c_str(), &info) != 0) throw ModelError(path + ": cannot open file");
-  if (!S_ISREG(info.st_mode)) throw ModelError(path + ": not a regular file");
-  if (static_cast<std::uintmax_t>(info.st_size) > kMaxUrdfFileBytes) {
-    throw ModelError(path + ": " + std::to_string(info.st_size) + " bytes, over the limit of " +
-                     std::to_string(kMaxUrdfFileBytes) + " bytes");
+  try {
+    return readTextFile(path, kMaxUrdfFileBytes);
+  } catch (const InputError& e) {
+    throw ModelError(e.what());
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError(path + ": cannot open file");
-  // In chunks, stopping past the limit: the file may have grown since stat().
-  std::string text;
-  text.reserve(static_cast<size_t>(info.st_size));
-  char chunk[65536];
-  while (text.size() <= kMaxUrdfFileBytes && in.read(chunk, sizeof chunk).gcount() > 0) {
-    text.append(chunk, static_cast<size_t>(in.gcount()));
+}
+
+double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (size_t l = 0; l < model.links.size() && l < link_poses.size(); ++l) {
+    for (const Box& box : model.links[l].boxes) {
+      const Pose frame = link_poses[l] * box.origin;
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 half(corner & 1 ? 0.5 : -0.5, corner & 2 ? 0.5 : -0.5, corner & 4 ? 0.5 : -0.5);
+        lowest = std::min(lowest, frame.apply(half.cwiseProduct(box.size)).z());
+      }
+    }
   }
-  if (text.size() > kMaxUrdfFileBytes) {
-    throw ModelError(path + ": over the limit of " + std::to_string(kMaxUrdfFileBytes) + " bytes");
+  return lowest;
+}
+
+std::vector<std::string> ignoredGeometry(const CreatureModel& model) {
+  std::vector<std::string> lines;
+  for (const LinkModel& link : model.links) {
+    for (const std::string& shape : link.ignored_shapes) {
+      lines.push_back("link '" + link.name + "': " + shape +
+                      " ignored (no contact, no air): only boxes are simulated");
+    }
   }
-  return text;
+  return lines;
 }
 
 CreatureModelPtr loadCreatureModel(const std::string& path) {

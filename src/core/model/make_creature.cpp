@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "flapsim/types.h"
+
 namespace flapsim {
 
 namespace {
@@ -181,6 +183,72 @@ std::string makeHoverUrdf(const std::string& name, const HoverParams& p) {
   }
   out << "</robot>\n";
   return out.str();
+}
+
+namespace {
+
+const char* const kMakeCreatureNotes =
+    "Writes the URDF of N flapping units (body + two wings) chained nose to tail by\n"
+    "passive joints about --link-axis, with a <spring> of --link-stiffness (0: none); to\n"
+    "stdout unless --output is given. --feathering hangs each wing from a pitch joint (its\n"
+    "feather_joint). --com-drop puts each body's centre of mass that far below the wing\n"
+    "hinges (0: at the hinges). --wing-effort is the hinge motors' torque limit (default 8 N m\n"
+    "for one pair, 2 N m per unit in a chain).\n"
+    "--layout hover writes the hover creature instead (makeHoverUrdf): a body under two wings\n"
+    "that sweep a horizontal stroke plane and pitch about their spans, flown with the\n"
+    "quasi-steady air model; each stroke hinge has a DC motor (--stall-torque,\n"
+    "--no-load-speed, --max-power; 0: none) and a parallel spring (--hinge-stiffness; 0: none).\n"
+    "The chain's flags do not apply to it. --name defaults to afc (chain) or hover.\n";
+
+}  // namespace
+
+std::function<void(const std::vector<std::string>&)> linkAxisSetter(LinkAxis* field) {
+  return [field](const std::vector<std::string>& v) {
+    if (v[0] != "roll" && v[0] != "pitch") {
+      throw InputError("--link-axis: " + quoteValue(v[0]) + " is not one of roll, pitch");
+    }
+    *field = linkAxisFromString(v[0]);
+  };
+}
+
+CliParser makeCreatureCli(MakeCreatureOptions& o) {
+  FlapUnitParams& p = o.params;
+  CliParser t("usage: make_creature [options]", kMakeCreatureNotes);
+  t.integer("--pairs,-n", "N", &o.pairs, {1, 1000}, "flap units")
+      .text("--layout", "chain|hover", &o.layout, "a chain of flap units or the hover creature",
+            {"chain", "hover"})
+      .text("--name", "NAME", &o.name, "robot name")
+      .shows([&o] { return o.name.empty() ? (o.layout == "hover" ? "hover" : "afc") : o.name; })
+      .flag("--feathering", &p.feathering, true, "wings on pitch joints")
+      .real("--body-mass", "KG", &p.body_mass, {0, 1e6, true}, "unit body mass")
+      .real("--wing-mass", "KG", &p.wing_mass, {0, 1e6, true}, "wing mass")
+      .custom(
+          "--wing-effort", {"NM"},
+          [&p](const std::vector<std::string>& v) {
+            p.wing_effort = parseCliReal("--wing-effort", v[0], {0, 1e6, true});
+          },
+          [&o] { return formatCliNumber(wingEffort(o.params, o.pairs)); },
+          "hinge motors' torque limit")
+      .real("--com-drop", "M", &p.body_com_drop, {0, 1}, "centre of mass below the hinges")
+      .custom(
+          "--link-axis", {"roll|pitch"}, linkAxisSetter(&p.link_axis),
+          [&p] { return toString(p.link_axis); }, "axis of the joints between units")
+      .real("--link-stiffness", "NM_PER_RAD", &p.link_stiffness, {0, 1e6},
+            "spring on the joints between units")
+      .real("--stall-torque", "NM", &o.hover.stall_torque, {0, 1e6, true},
+            "hover: the stroke motors' stall torque")
+      .real("--no-load-speed", "RAD_PER_S", &o.hover.no_load_speed, {0, 1e6},
+            "hover: their no-load speed (0: no speed line)")
+      .real("--max-power", "W", &o.hover.max_power, {0, 1e6}, "hover: their power limit (0: none)")
+      .real("--hinge-stiffness", "NM_PER_RAD", &o.hover.hinge_stiffness, {0, 1e6},
+            "hover: the parallel spring at each stroke hinge (0: none)")
+      .text("--output,-o", "FILE", &o.output, "output file (empty: stdout)");
+  return t;
+}
+
+std::string makeCreatureOutput(const MakeCreatureOptions& o) {
+  if (o.layout == "hover") return makeHoverUrdf(o.name.empty() ? "hover" : o.name, o.hover);
+  return makeCreatureUrdf(o.pairs, o.name.empty() ? "afc" : o.name, o.params);
 }
 
 }  // namespace flapsim

@@ -229,6 +229,10 @@ class World::Impl {
       throw InputError("creature '" + creature + "': wrench duration " +
                        std::to_string(w.duration) + " s is shorter than half a step");
     }
+    if (r.wrenches.size() >= static_cast<size_t>(kMaxWrenches)) {
+      throw InputError("creature '" + creature + "' has " + std::to_string(kMaxWrenches) +
+                       " wrenches acting, the limit: clear some first");
+    }
     const BodyKinematics kin = sims_[c]->body.frames().kinematics(k);
     ActiveWrench a;
     a.link = k;

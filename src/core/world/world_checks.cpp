@@ -86,7 +86,7 @@ const Rule<ExternalWrench> kWrenchRules[] = {
      "torque must be finite and at most 1e6 N m"},
     {[](const ExternalWrench& w) { return finiteWithin(w.point, kMaxPosition); },
      "point must be finite, each coordinate within +-1e6 m"},
-    {[](const ExternalWrench& w) { return std::isfinite(w.duration) && w.duration <= 1e9; },
+    {[](const ExternalWrench& w) { return std::isfinite(w.duration) && w.duration <= kMaxWrenchDuration; },
      "duration must be finite and at most 1e9 s (< 0: until cleared)"},
 };
 

@@ -1,0 +1,107 @@
+#include "flapsim/evolve_tool.h"
+
+#include <cstdio>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "flapsim/controller_file.h"
+#include "flapsim/make_creature.h"
+
+namespace flapsim {
+
+namespace {
+
+std::string formatDuration(double s) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%dm%02ds", static_cast<int>(s) / 60, static_cast<int>(s) % 60);
+  return buf;
+}
+
+}  // namespace
+
+EvolveOptions resolveEvolveOptions(const std::vector<std::string>& args, int threads,
+                                   std::optional<EvolveCheckpoint>& resume) {
+  EvolveOptions o = parseEvolveArgs(args, threads);
+  if (o.resume_dir.empty() || o.help) return o;
+  // The run's own flags, then the directory, then this command line's.
+  EvolveCheckpoint c = readCheckpointFile(o.resume_dir + "/checkpoint.txt");
+  std::vector<std::string> all = c.args;
+  all.insert(all.end(), {"--out", o.resume_dir});
+  all.insert(all.end(), args.begin(), args.end());
+  o = parseEvolveArgs(all, threads);
+  resume = std::move(c);
+  return o;
+}
+
+std::string evolveCommand(const EvolveOptions& o) {
+  std::string command = "evolve";
+  for (const auto& a : o.spec_args) command += " " + a;
+  return command;
+}
+
+double episodesPerSecond(const EvolveOptions& o, const GenerationStats& g, double dt) {
+  return dt > 0.0 ? g.evaluations * o.params.episode.episodes / dt : 0.0;
+}
+
+double secondsLeft(const EvolveOptions& o, const GenerationStats& g, int first, double elapsed) {
+  return elapsed / (g.generation + 1 - first) * (o.params.ga.generations - g.generation);
+}
+
+std::string evolveProgressLine(const EvolveOptions& o, const GenerationStats& g, int first,
+                               double elapsed, double dt, int workers) {
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "generation %3d/%d  best %8.4f  mean %8.4f  %6.1f episodes/s  %d %s  elapsed %s  "
+                "left ~%s\n",
+                g.generation, o.params.ga.generations, g.best, g.mean, episodesPerSecond(o, g, dt),
+                workers, o.farm ? "workers" : "threads", formatDuration(elapsed).c_str(),
+                formatDuration(secondsLeft(o, g, first, elapsed)).c_str());
+  return line;
+}
+
+std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& result, double wall_s,
+                               const std::string& evaluated_on) {
+  const EvolveParams& params = o.params;
+  const ControllerSpec spec{params.controller, result.best_weights};
+  std::ostringstream header;
+  header << "Evolved flap-unit balance controller (flapsim, paper sec. IV.A).\n"
+         << "Reproduce: " << evolveCommand(o) << " --out <dir>\n"
+         << "Fitness = mean root-body height (m) over " << params.episode.episodes
+         << " episodes of " << params.episode.duration << " s: " << result.best_fitness
+         << "\nWeights: per neuron its input weights then its bias; hidden (tanh) neurons first,"
+         << " then output 0 (right), output 1 (left).";
+  const std::map<std::string, std::string> meta = {
+      {"command", evolveCommand(o)},
+      {"best_fitness", std::to_string(result.best_fitness)},
+      {"first_best_fitness", std::to_string(result.history.front().best)},
+      {"wall_time_s", std::to_string(wall_s)},
+      {"threads", std::to_string(params.ga.threads)},
+      {"evaluated_on", evaluated_on}};
+  writeTextFile(o.weights_path, controllerToYaml(spec, header.str(), meta));
+  writeTextFile(o.out_dir + "/fitness.csv", fitnessCsv(result.history));
+
+  // The best individual on the first evolution episode, for the rates plot (Fig. 7).
+  EpisodeParams episode = params.episode;
+  episode.seed = evolutionEpisodeSeed(params.ga.seed);
+  const auto model = parseCreatureModel(makeCreatureUrdf(params.pairs, "afc", params.unit));
+  const AnnWingController ann(FlapUnitController(spec.params, spec.weights));
+  const EpisodeResult ep = runEpisode(model, ann, spec.params.control_period, episode,
+                                      episodeStarts(episode).front(), true);
+  writeTextFile(o.out_dir + "/rates.csv", ratesCsv(ep.trace));
+  std::ostringstream line;
+  line << std::fixed << std::setprecision(4) << "best fitness " << result.best_fitness
+       << " (generation 0: " << result.history.front().best << "), wall time "
+       << std::setprecision(1) << wall_s << " s; wrote " << o.weights_path << ", " << o.out_dir
+       << "/fitness.csv, " << o.out_dir << "/rates.csv\n";
+  return line.str();
+}
+
+bool plotEvolveOutputs(const std::string& out_dir) {
+  FILE* gp = popen("gnuplot", "w");
+  if (gp == nullptr) return false;
+  const bool written = std::fputs(gnuplotScript(out_dir).c_str(), gp) >= 0;
+  return pclose(gp) == 0 && written;
+}
+
+}  // namespace flapsim

@@ -1,0 +1,426 @@
+// The simulator node's services and topic callbacks (SimulatorNode, continued): they run on
+// the node's queue between steps.
+#include <cmath>
+#include <sstream>
+
+#include "flapsim_ros/reconfigure_bounds.h"
+#include "flapsim_ros/simulator_node.h"
+#include "flapsim_ros/urdf_source.h"
+
+namespace flapsim_ros {
+namespace {
+
+constexpr double kGroundTolerance = 1e-3;  // m below the ground before set_state says so
+
+}  // namespace
+
+template <class Response>
+void SimulatorNode::refuse(Response& res, const std::string& refusal, const std::string& creature,
+                           const flapsim::InputError& e) {
+  res.success = false;
+  res.status_message = refusal + e.what();
+  warnThrottled(refusal.substr(0, refusal.find(' ')) + "/" + WarningLimiter::kindOf(e.what()),
+                creature, res.status_message);
+}
+
+template <class Response, class Body>
+bool SimulatorNode::serve(Response& res, const std::string& refusal, const std::string& creature,
+                          Body body) {
+  try {
+    body();
+    res.success = true;
+  } catch (const flapsim::InputError& e) {
+    refuse(res, refusal, creature, e);
+  }
+  return true;
+}
+
+void SimulatorNode::advertiseServices() {
+  services_.push_back(pnh_.advertiseService("reset", &SimulatorNode::onReset, this));
+  services_.push_back(pnh_.advertiseService("pause", &SimulatorNode::onPause, this));
+  services_.push_back(pnh_.advertiseService("unpause", &SimulatorNode::onUnpause, this));
+  services_.push_back(pnh_.advertiseService("step", &SimulatorNode::onStep, this));
+  services_.push_back(pnh_.advertiseService("spawn", &SimulatorNode::onSpawn, this));
+  services_.push_back(pnh_.advertiseService("delete", &SimulatorNode::onDelete, this));
+  services_.push_back(pnh_.advertiseService("get_state", &SimulatorNode::onGetState, this));
+  services_.push_back(pnh_.advertiseService("set_state", &SimulatorNode::onSetState, this));
+  services_.push_back(pnh_.advertiseService("apply_wrench", &SimulatorNode::onApplyWrench, this));
+  services_.push_back(
+      pnh_.advertiseService("clear_wrenches", &SimulatorNode::onClearWrenches, this));
+  services_.push_back(pnh_.advertiseService("get_physics", &SimulatorNode::onGetPhysics, this));
+  services_.push_back(pnh_.advertiseService("set_physics", &SimulatorNode::onSetPhysics, this));
+}
+
+void SimulatorNode::onWingCommand(const std::string& creature,
+                                  const flapsim::WingCommand::ConstPtr& msg) {
+  try {
+    WingCommandRequest r = fromMsg(*msg);
+    world_.setWingCommands(creature, r.joints, r.strokes);
+    if (Creature* c = find(creature)) commanded(*c, std::move(r));
+  } catch (const flapsim::InputError& e) {
+    warnThrottled("wing_command/" + WarningLimiter::kindOf(e.what()), creature,
+                  "rejected wing command for '" + creature + "': " + e.what() +
+                      " (keeping the previous command)");
+  }
+}
+
+bool SimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  world_.reset();
+  tf_->clear();  // time starts again: listeners that see it jump back clear their buffers
+  for (const auto& c : creatures_) {
+    c->command_step = 0;
+    c->command_lapsed = false;
+    if (!c->command) continue;
+    try {
+      world_.setWingCommands(c->name, c->command->joints, c->command->strokes);
+    } catch (const flapsim::InputError& e) {
+      warnThrottled("reset", c->name, "after reset: " + std::string(e.what()));
+    }
+  }
+  restartPacing();
+  ROS_INFO("flapsim: reset, sim time 0");
+  publishAll();
+  publishDiagnostics();
+  return true;
+}
+
+bool SimulatorNode::onPause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = true;
+  // Every subscriber sees the step it stays at (paused between publications, it would not).
+  if (published_step_ != world_.stepCount()) publishAll();
+  return true;
+}
+
+bool SimulatorNode::onUnpause(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  paused_ = false;
+  restartPacing();
+  return true;
+}
+
+void SimulatorNode::applyWingCommands(const std::vector<std::string>& creatures,
+                                      const std::vector<flapsim::WingCommand>& commands) {
+  // All checked first, so that no creature is commanded unless all can be.
+  const std::vector<WingCommandRequest> requests =
+      checkStepCommands(creatures, commands, [this](const std::string& name) {
+        const Creature* c = find(name);
+        return c ? c->model : nullptr;
+      });
+  for (size_t i = 0; i < creatures.size(); ++i) {
+    world_.setWingCommands(creatures[i], requests[i].joints, requests[i].strokes);
+  }
+  for (size_t i = 0; i < creatures.size(); ++i) commanded(*find(creatures[i]), requests[i]);
+}
+
+bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response& res) {
+  res.sim_time = now();
+  if (!paused_) {
+    res.success = false;
+    res.status_message = "flapsim is running: call flapsim/pause before flapsim/step";
+    warnThrottled("step/running", "", "step refused: " + res.status_message);
+    return true;
+  }
+  if (req.steps > static_cast<std::uint32_t>(params_.max_steps_per_call)) {
+    res.success = false;
+    res.status_message = "steps " + std::to_string(req.steps) + " is over max_steps_per_call " +
+                         std::to_string(params_.max_steps_per_call) +
+                         " (parameter ~max_steps_per_call): no step taken";
+    warnThrottled("step/max_steps_per_call", "", "step refused: " + res.status_message);
+    return true;
+  }
+  try {
+    applyWingCommands(req.creatures, req.wing_commands);
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = std::string("wing commands refused, no step taken: ") + e.what();
+    warnThrottled("step/" + WarningLimiter::kindOf(e.what()), "",
+                  "step refused: " + res.status_message);
+    return true;
+  }
+  published_step_ = UINT64_MAX;
+  const std::uint64_t taken = advance(req.steps);
+  if (published_step_ != world_.stepCount()) publishAll();
+  res.sim_time = now();
+  res.success = taken == req.steps;
+  res.status_message = (res.success ? "stepped " : "shutting down: stopped after ") +
+                       std::to_string(taken) + " steps at t = " + formatTime(res.sim_time) + " s";
+  return true;
+}
+
+bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
+                            flapsim::SpawnCreature::Response& res) {
+  try {
+    if (req.urdf_xml.empty() == req.urdf_file.empty()) {
+      throw flapsim::InputError("spawn '" + req.name +
+                                "': give exactly one of urdf_xml and urdf_file");
+    }
+    const bool from_file = !req.urdf_file.empty();
+    const std::vector<std::string> capped =
+        spawn(req.name, from_file ? readSpawnUrdf(req.urdf_file, params_.urdf_roots) : req.urdf_xml,
+              from_file ? req.urdf_file : "spawn request '" + req.name + "'",
+              fromMsg(req.initial_pose), fromMsg(req.initial_twist));
+    Creature* c = find(req.name);
+    if (tf_->wanted()) tf_->publish(tfMsg(now()));  // the new creature's frames
+    res.success = true;
+    res.status_message = "spawned '" + req.name + "': " + std::to_string(c->model->links.size()) +
+                         " links, " + std::to_string(c->model->wing_joints.size()) + " wing joints";
+    ROS_INFO_STREAM("flapsim: " << res.status_message);  // the lines below were warned
+    for (const std::string& line : capped) res.status_message += "; " + line;
+    publishDiagnostics();
+  } catch (const std::bad_alloc&) {
+    res.success = false;
+    res.status_message = "spawn '" + req.name + "': out of memory while reading or building it";
+    warnThrottled("spawn/out_of_memory", "", "spawn refused: " + res.status_message);
+  } catch (const std::exception& e) {  // InputError, ModelError
+    res.success = false;
+    res.status_message = e.what();
+    warnThrottled("spawn/" + WarningLimiter::kindOf(e.what()), "",
+                  "spawn refused: " + res.status_message);
+  }
+  return true;
+}
+
+bool SimulatorNode::onDelete(flapsim::DeleteCreature::Request& req,
+                             flapsim::DeleteCreature::Response& res) {
+  try {
+    remove(req.name);
+    res.success = true;
+    res.status_message = "deleted '" + req.name + "'";
+    ROS_INFO_STREAM("flapsim: " << res.status_message);
+    publishDiagnostics();
+  } catch (const flapsim::InputError& e) {
+    res.success = false;
+    res.status_message = e.what();
+    warnThrottled("delete", "", "delete refused: " + res.status_message);
+  }
+  return true;
+}
+
+SimulatorNode::ReferenceFrame SimulatorNode::referenceFrame(const std::string& name,
+                                                            const std::string& creature) {
+  if (name.empty() || name == params_.world_frame) return ReferenceFrame();
+  std::string owner = name, link;  // a creature name has no '/' and no ':'
+  size_t at = name.find("::"), length = 2;
+  if (at == std::string::npos) at = name.find('/'), length = 1;
+  const Creature* asked = find(creature);
+  if (at != std::string::npos) {
+    owner = name.substr(0, at);
+    link = name.substr(at + length);
+  } else if (asked && asked->model->findLink(name) >= 0) {
+    owner = creature;  // a link of the creature asked about
+    link = name;
+  }
+  const Creature* c = find(owner);
+  const int k = !c ? -1 : link.empty() ? 0 : c->model->findLink(link);
+  if (k < 0) {
+    throw flapsim::InputError("unknown reference_frame '" + name + "' (give '' or '" +
+                              params_.world_frame + "', a creature, '<creature>/<link>' or a " +
+                              "link of '" + creature + "')");
+  }
+  const flapsim::CreatureState s = world_.state(owner);
+  return ReferenceFrame{linkFrame(owner, c->model->links[k].name), owner,
+                        FrameMotion{s.link_poses.at(k), s.link_twists.at(k)}};
+}
+
+bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetState::Response& res) {
+  res.header.stamp = now();
+  res.header.frame_id = params_.world_frame;
+  return serve(res, "get_state refused: ", req.name, [&] {
+    const Creature* c = find(req.name);
+    if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
+    const int link = req.link.empty() ? 0 : c->model->findLink(req.link);
+    if (link < 0) {
+      throw flapsim::InputError("creature '" + req.name + "' has no link '" + req.link + "'");
+    }
+    const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
+    const flapsim::CreatureState s = world_.state(req.name);
+    FrameMotion m{s.link_poses.at(link), s.link_twists.at(link)};
+    if (!frame.name.empty()) {
+      m = toFrame(frame.motion, m);
+      res.header.frame_id = frame.name;
+    }
+    res.pose = toMsg(m.pose);
+    res.twist = toMsg(m.twist);
+    const sensor_msgs::JointState joints = jointStateMsg(*c->model, s, res.header.stamp);
+    res.joint_names = joints.name;
+    res.joint_positions = joints.position;
+    res.joint_velocities = joints.velocity;
+    res.status_message = "state of '" + req.name + "' link '" + c->model->links[link].name + "'" +
+                         (frame.name.empty() ? "" : " in " + frame.name);
+  });
+}
+
+bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetState::Response& res) {
+  return serve(res, "set_state refused, nothing changed: ", req.name, [&] {
+    const Creature* c = find(req.name);
+    if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
+    const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
+    if (frame.creature == req.name) {
+      throw flapsim::InputError("reference_frame '" + req.reference_frame + "' is a link of '" +
+                                req.name + "' itself: give the world or another creature's link");
+    }
+    flapsim::StateRequest r;
+    try {
+      r = stateRequest(*c->model, world_.state(req.name), req);
+    } catch (const flapsim::InputError& e) {
+      throw flapsim::InputError("creature '" + req.name + "': " + e.what());
+    }
+    if (!frame.name.empty()) {
+      const FrameMotion m = fromFrame(frame.motion, FrameMotion{r.pose, r.twist});
+      r.pose = m.pose;
+      r.twist = m.twist;
+    }
+    world_.setState(req.name, r);
+    res.status_message = "set the state of '" + req.name + "' at t = " + formatTime(now()) + " s";
+    const double lowest = flapsim::lowestBoxPoint(*c->model, world_.state(req.name).link_poses);
+    if (params_.world.ground && lowest < -kGroundTolerance) {
+      std::ostringstream below;
+      below << "; its boxes reach " << -lowest << " m below the ground (z = 0): the contact "
+            << "will push it out";
+      res.status_message += below.str();
+      warnThrottled("set_state/below_ground", req.name, "set_state: " + res.status_message);
+    }
+    published_step_ = UINT64_MAX;
+    publishAll();
+  });
+}
+
+bool SimulatorNode::onApplyWrench(flapsim::ApplyWrench::Request& req,
+                                  flapsim::ApplyWrench::Response& res) {
+  return serve(res, "apply_wrench refused: ", req.name, [&] {
+    const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
+    flapsim::ExternalWrench w = fromMsg(req);
+    if (!frame.name.empty()) w = toWorld(w, frame.motion.pose);
+    world_.applyWrench(req.name, w);
+    res.status_message = "wrench on '" + req.name + "'" +
+                         (req.link.empty() ? "" : " link '" + req.link + "'") +
+                         (frame.name.empty() ? "" : " given in " + frame.name) +
+                         " from t = " + formatTime(now()) + " s";
+  });
+}
+
+bool SimulatorNode::onClearWrenches(flapsim::ClearWrenches::Request& req,
+                                    flapsim::ClearWrenches::Response& res) {
+  return serve(res, "clear_wrenches refused: ", req.name, [&] {
+    const int n = world_.clearWrenches(req.name, req.link);
+    res.status_message = "cleared " + std::to_string(n) + " wrench(es)";
+  });
+}
+
+flapsim::FlapsimConfig SimulatorNode::runningConfig() const {
+  flapsim::FlapsimConfig c;
+  c.real_time_factor = params_.real_time_factor;
+  c.publish_rate = params_.publish_rate;
+  const flapsim::AirParams& air = world_.params().air;
+  c.wind_x = air.wind.x();
+  c.wind_y = air.wind.y();
+  c.wind_z = air.wind.z();
+  c.density = air.density;
+  c.drag_coefficient = air.drag_coefficient;
+  const flapsim::Vec3& g = world_.params().gravity;
+  c.gravity_x = g.x();
+  c.gravity_y = g.y();
+  c.gravity_z = g.z();
+  c.show_markers = params_.markers.enabled;
+  return c;
+}
+
+void SimulatorNode::applyConfig(const flapsim::FlapsimConfig& config) {
+  if (!std::isfinite(config.real_time_factor) ||
+      (config.real_time_factor != 0.0 &&
+       (config.real_time_factor < 1e-3 || config.real_time_factor > 1e6))) {
+    throw flapsim::InputError(
+        "real_time_factor must be 0 (as fast as possible) or in [0.001, 1e6]");
+  }
+  if (!(config.publish_rate >= 0.01 && config.publish_rate <= 1e6)) {
+    throw flapsim::InputError("publish_rate must be in [0.01, 1e6] Hz");
+  }
+  flapsim::AirParams air = world_.params().air;
+  air.wind = flapsim::Vec3(config.wind_x, config.wind_y, config.wind_z);
+  air.density = config.density;
+  air.drag_coefficient = config.drag_coefficient;
+  const flapsim::Vec3 gravity(config.gravity_x, config.gravity_y, config.gravity_z);
+  if (!gravity.allFinite() || gravity.norm() > flapsim::kMaxGravity) {
+    throw flapsim::InputError("gravity must be finite and at most 1e4 m/s^2");
+  }
+  world_.setAirParams(air);  // checked first: InputError names the culprit
+  world_.setGravity(gravity);
+  params_.world.air = air;
+  params_.world.gravity = gravity;
+  params_.real_time_factor = config.real_time_factor;
+  params_.publish_rate = config.publish_rate;
+  publish_every_ = std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(
+             std::llround(1.0 / (params_.publish_rate * params_.world.step_size))));
+  params_.markers.enabled = config.show_markers;
+  restartPacing();
+  ROS_INFO_STREAM("flapsim: physics at t = "
+                  << formatTime(now()) << " s: real-time factor " << params_.real_time_factor
+                  << ", publishing every " << publish_every_ << " steps, wind ["
+                  << air.wind.transpose() << "] m/s, density " << air.density
+                  << ", drag coefficient " << air.drag_coefficient << ", gravity ["
+                  << gravity.transpose() << "], markers " << (config.show_markers ? "on" : "off"));
+}
+
+void SimulatorNode::onReconfigure(flapsim::FlapsimConfig& config, std::uint32_t) {
+  const flapsim::FlapsimConfig before = runningConfig();
+  try {
+    applyConfig(config);
+    for (const std::string& bound : valuesAtBounds(config, before)) {
+      ROS_WARN_STREAM("flapsim: reconfigure: " << bound << " (dynamic_reconfigure clamps a "
+                                               << "value outside the range to the bound)");
+    }
+  } catch (const flapsim::InputError& e) {
+    warnThrottled("reconfigure/" + WarningLimiter::kindOf(e.what()), "",
+                  std::string("reconfigure refused, nothing changed: ") + e.what());
+    config = runningConfig();
+  }
+}
+
+bool SimulatorNode::onGetPhysics(flapsim::GetPhysics::Request&,
+                                 flapsim::GetPhysics::Response& res) {
+  const flapsim::FlapsimConfig c = runningConfig();
+  res.step_size = params_.world.step_size;
+  res.paused = paused_;
+  res.real_time_factor = c.real_time_factor;
+  res.publish_rate = c.publish_rate;
+  res.gravity.x = c.gravity_x;
+  res.gravity.y = c.gravity_y;
+  res.gravity.z = c.gravity_z;
+  res.air_density = c.density;
+  res.drag_coefficient = c.drag_coefficient;
+  res.wind.x = c.wind_x;
+  res.wind.y = c.wind_y;
+  res.wind.z = c.wind_z;
+  res.success = true;
+  res.status_message = "physics at t = " + formatTime(now()) + " s";
+  return true;
+}
+
+bool SimulatorNode::onSetPhysics(flapsim::SetPhysics::Request& req,
+                                 flapsim::SetPhysics::Response& res) {
+  return serve(res, "set_physics refused, nothing changed: ", "", [&] {
+    if (req.step_size != params_.world.step_size) {
+      std::ostringstream what;
+      what << "step_size " << req.step_size << " s: the step size cannot change while the node "
+           << "runs (it is ~step_size, " << params_.world.step_size << " s); set_physics "
+           << "takes every field: start from flapsim/get_physics";
+      throw flapsim::InputError(what.str());
+    }
+    flapsim::FlapsimConfig c = runningConfig();
+    c.real_time_factor = req.real_time_factor;
+    c.publish_rate = req.publish_rate;
+    c.gravity_x = req.gravity.x;
+    c.gravity_y = req.gravity.y;
+    c.gravity_z = req.gravity.z;
+    c.density = req.air_density;
+    c.drag_coefficient = req.drag_coefficient;
+    c.wind_x = req.wind.x;
+    c.wind_y = req.wind.y;
+    c.wind_z = req.wind.z;
+    applyConfig(c);
+    reconfigure_->updateConfig(runningConfig());  // dynparam get shows what runs
+    res.status_message = "physics set at t = " + formatTime(now()) + " s";
+  });
+}
+
+}  // namespace flapsim_ros

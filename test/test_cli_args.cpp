@@ -1,0 +1,202 @@
+// The tools' argument parser (flapsim/cli_args.h) and the tables of evolve, flight_check,
+// sweep and make_creature: a bad number, an unknown flag, a missing value and a value out of
+// range are refused naming the flag; --help shows the defaults of what runs.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "flapsim/cli_args.h"
+#include "flapsim/evolve_args.h"
+#include "flapsim/flight_check.h"
+#include "flapsim/make_creature.h"
+#include "flapsim/sweep.h"
+
+namespace flapsim {
+namespace {
+
+// The message of the InputError that parsing `args` with `table` throws ("" if none).
+std::string refusal(CliParser table, const std::vector<std::string>& args) {
+  try {
+    table.parse(args);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+struct Fields {
+  int n = 3;
+  double x = 0.5;
+  std::uint64_t seed = 7;
+  std::string name = "afc";
+  bool on = false;
+  std::vector<double> list{1.0, 2.0};
+};
+
+CliParser table(Fields& f) {
+  CliParser t("usage: tool [options]", "notes\n");
+  t.integer("--n,-n", "N", &f.n, {1, 10}, "a count")
+      .real("--x", "X", &f.x, {0, 1, true}, "a fraction")
+      .seed("--seed", "S", &f.seed, "a seed")
+      .text("--name", "NAME", &f.name, "a name", {"afc", "plate"})
+      .flag("--on", &f.on, true, "a switch")
+      .reals("--list", "LIST", &f.list, {0, 5}, 3, "numbers");
+  return t;
+}
+
+TEST(CliParser, ValuesGoToTheirFieldsInOrderAndAliasesWork) {
+  Fields f;
+  CliParser t = table(f);
+  const auto seen = t.parse({"-n", "4", "--x", "1", "--seed", "18446744073709551615", "--name",
+                             "plate", "--on", "--list", "0,2.5,5"});
+  EXPECT_EQ(f.n, 4);
+  EXPECT_EQ(f.x, 1.0);
+  EXPECT_EQ(f.seed, 18446744073709551615ull);
+  EXPECT_EQ(f.name, "plate");
+  EXPECT_TRUE(f.on);
+  EXPECT_EQ(f.list, (std::vector<double>{0.0, 2.5, 5.0}));
+  ASSERT_EQ(seen.size(), 6u);
+  EXPECT_EQ(seen[0].flag->names.front(), "--n");
+  EXPECT_EQ(seen[0].values, std::vector<std::string>{"4"});
+  EXPECT_FALSE(t.help());
+  t.parse({"--help"});
+  EXPECT_TRUE(t.help());
+}
+
+TEST(CliParser, BadValuesAreRefusedNamingTheFlag) {
+  Fields f;
+  EXPECT_EQ(refusal(table(f), {"--n", "3x"}), "--n: '3x' is not an integer");
+  EXPECT_EQ(refusal(table(f), {"--n", ""}), "--n: '' is not an integer");
+  EXPECT_EQ(refusal(table(f), {"--n", "99999999999999999999"}),
+            "--n: '99999999999999999999' is not an integer");
+  EXPECT_EQ(refusal(table(f), {"--n", "0"}), "--n: 0 is not in [1, 10]");
+  EXPECT_EQ(refusal(table(f), {"--x", "0"}), "--x: 0 is not in (0, 1]");
+  EXPECT_EQ(refusal(table(f), {"--x", "0.5m"}), "--x: '0.5m' is not a number");
+  EXPECT_EQ(refusal(table(f), {"--x", "nan"}), "--x: 'nan' is not finite");
+  EXPECT_EQ(refusal(table(f), {"--x", " 0.5"}), "--x: ' 0.5' is not a number");
+  EXPECT_EQ(refusal(table(f), {"--seed", "-1"}), "--seed: '-1' is not an integer in [0, 2^64)");
+  EXPECT_EQ(refusal(table(f), {"--seed", "18446744073709551616"}),
+            "--seed: '18446744073709551616' is not an integer in [0, 2^64)");
+  EXPECT_EQ(refusal(table(f), {"--name", "bird"}), "--name: 'bird' is not one of afc, plate");
+  EXPECT_EQ(refusal(table(f), {"--list", "1,,2"}), "--list: '' is not a number");
+  EXPECT_EQ(refusal(table(f), {"--list", "1,2,3,4"}), "--list: more than 3 items");
+  EXPECT_EQ(refusal(table(f), {"--list", "6"}), "--list: 6 is not in [0, 5]");
+  EXPECT_EQ(refusal(table(f), {"--bogus", "1"}), "unknown option '--bogus' (see --help)");
+  EXPECT_EQ(refusal(table(f), {"--n"}), "--n needs a value (N)");
+  EXPECT_EQ(refusal(table(f), {"--n", "--on"}), "--n needs a value (N)");
+  EXPECT_EQ(f.n, 3);  // nothing stored from a refused value
+}
+
+TEST(CliParser, AHugeValueIsQuotedShort) {
+  Fields f;
+  const std::string huge(16 << 20, '7');
+  const std::string msg = refusal(table(f), {"--x", huge + "x"});
+  EXPECT_LT(msg.size(), 100u) << msg.substr(0, 200);
+  EXPECT_EQ(msg, "--x: '" + huge.substr(0, kMaxQuotedValue) +
+                     "...' (16777217 characters) is not "
+                     "a number");
+  EXPECT_EQ(refusal(table(f), {"--name", std::string(kMaxTextValue + 1, 'a')}),
+            "--name: 4097 characters, over the limit of 4096");
+}
+
+TEST(CliParser, UsageShowsTheFieldsAsTheyAre) {
+  Fields f;
+  CliParser t = table(f);
+  EXPECT_EQ(t.usage(),
+            "usage: tool [options]\n"
+            "  --n, -n N             a count (3)\n"
+            "  --x X                 a fraction (0.5)\n"
+            "  --seed S              a seed (7)\n"
+            "  --name NAME           a name (afc)\n"
+            "  --on                  a switch\n"
+            "  --list LIST           numbers (1,2)\n"
+            "notes\n");
+  t.parse({"--n", "9"});
+  EXPECT_NE(t.usage().find("a count (9)"), std::string::npos);
+}
+
+// flight_check used std::stoi, which took "3x" for 3.
+TEST(ToolTables, FlightCheckRefusesANumberWithTrailingText) {
+  FlightCheckOptions o;
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--pairs", "3x"}), "--pairs: '3x' is not an integer");
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--starts", "0"}), "--starts: 0 is not in [1, 1000]");
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--duration", "1e9"}),
+            "--duration: 1e9 is not in (0, 10000]");
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--weights"}), "--weights needs a value (FILE)");
+  flightCheckCli(o).parse({"--weights", "w.yaml", "--pairs", "4", "--step-size", "0.0005"});
+  EXPECT_EQ(o.weights, "w.yaml");
+  EXPECT_EQ(o.pairs, 4);
+  EXPECT_EQ(o.params.step_size, 0.0005);
+}
+
+TEST(ToolTables, SweepAndMakeCreatureRefuseBadValuesByFlag) {
+  SweepParams p;
+  std::string out;
+  EXPECT_EQ(refusal(sweepCli(p, out), {"--grid", "4,x"}), "--grid: 'x' is not an integer");
+  EXPECT_EQ(refusal(sweepCli(p, out), {"--models", "pressure,magic"}),
+            "--models: 'magic' is not one of pressure, quasi_steady");
+  EXPECT_EQ(refusal(sweepCli(p, out), {"--step", "0"}), "--step: 0 is not in [0.1, 180]");
+  MakeCreatureOptions o;
+  EXPECT_EQ(refusal(makeCreatureCli(o), {"-n", "0"}), "--pairs: 0 is not in [1, 1000]");
+  EXPECT_EQ(refusal(makeCreatureCli(o), {"--body-mass", "-1"}),
+            "--body-mass: -1 is not in (0, 1e+06]");
+  EXPECT_EQ(refusal(makeCreatureCli(o), {"--link-axis", "yaw"}),
+            "--link-axis: 'yaw' is not one of roll, pitch");
+  makeCreatureCli(o).parse({"-n", "4", "--wing-effort", "3", "-o", "x.urdf", "--feathering"});
+  EXPECT_EQ(o.pairs, 4);
+  EXPECT_EQ(o.params.wing_effort, 3.0);
+  EXPECT_EQ(o.output, "x.urdf");
+  EXPECT_TRUE(o.params.feathering);
+}
+
+// Issue 26 item 6: evolve --help showed the paper preset's 10, 200 and 30 s while running
+// the robust one.
+TEST(ToolTables, EvolveHelpShowsTheDefaultsOfThePresetThatRuns) {
+  const std::string robust = evolveUsage();
+  EXPECT_NE(robust.find("individuals (16)"), std::string::npos) << robust;
+  EXPECT_NE(robust.find("generations after the initial one (40)"), std::string::npos);
+  EXPECT_NE(robust.find("episode length, s (15)"), std::string::npos);
+  EXPECT_NE(robust.find("(0.001,0.0005)"), std::string::npos);
+  const std::string paper = evolveUsage({"--preset", "paper", "--population", "12"});
+  EXPECT_NE(paper.find("individuals (12)"), std::string::npos) << paper;
+  EXPECT_NE(paper.find("generations after the initial one (200)"), std::string::npos);
+  EXPECT_NE(paper.find("episode length, s (30)"), std::string::npos);
+  EXPECT_NE(paper.find("step sizes drawn per episode, s, e.g. 0.001,0.0005 (0.001)"),
+            std::string::npos);
+  EXPECT_NE(evolveUsage({}, 6).find("results do not depend on it (6)"), std::string::npos);
+}
+
+TEST(ToolTables, EvolveFlagsKeepTheirMeaningAndRefuseByFlag) {
+  const EvolveOptions o =
+      parseEvolveArgs({"--roll", "0.1", "0.2", "--step-sizes", "0.001", "--gene-range", "4",
+                       "--phase-lock", "off", "__name:=evolve", "--no-plot", "--farm-batch", "3"});
+  EXPECT_EQ(o.params.episode.min_roll, 0.1);
+  EXPECT_EQ(o.params.episode.max_roll, 0.2);
+  EXPECT_EQ(o.params.episode.step_sizes, std::vector<double>{0.001});
+  EXPECT_EQ(o.params.ga.gene_min, -4.0);
+  EXPECT_FALSE(o.params.controller.phase_lock);
+  EXPECT_FALSE(o.plot);
+  EXPECT_EQ(o.farm_batch, 3);
+  EXPECT_EQ(o.spec_args,
+            (std::vector<std::string>{"--preset", "robust", "--roll", "0.1", "0.2", "--step-sizes",
+                                      "0.001", "--gene-range", "4", "--phase-lock", "off"}));
+  auto refused = [](const std::vector<std::string>& args) {
+    try {
+      parseEvolveArgs(args);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(refused({"--roll", "0.2", "0.1"}), "--roll: 0.1 is not in [0.2, 3.14159]");
+  EXPECT_EQ(refused({"--roll", "0.2"}), "--roll needs a value (HI)");
+  EXPECT_EQ(refused({"--phase-lock", "maybe"}), "--phase-lock takes on or off");
+  EXPECT_EQ(refused({"--preset", "fast"}), "--preset: 'fast' is not one of robust, paper");
+  EXPECT_EQ(refused({"--farm-timeout", "0"}), "--farm-timeout: 0 is not in (0, 1e+06]");
+  EXPECT_EQ(refused({"--air-model", "vacuum"}),
+            "--air-model: 'vacuum' is not one of pressure, quasi_steady");
+}
+
+}  // namespace
+}  // namespace flapsim
