@@ -4,11 +4,9 @@
 // side wind.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "flapsim/hover_flight.h"
 #include "flapsim/make_creature.h"
+#include "flapsim/text_file.h"
 #include "test_util.h"
 
 namespace flapsim {
@@ -16,15 +14,8 @@ namespace {
 
 using test::sourcePath;
 
-std::string readFile(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 TEST(HoverCreature, CommittedUrdfIsTheGeneratorsOutput) {
-  EXPECT_EQ(readFile(sourcePath("urdf/hover_1.urdf")), makeHoverUrdf("hover"))
+  EXPECT_EQ(readTextFile(sourcePath("urdf/hover_1.urdf"), 1 << 20), makeHoverUrdf("hover"))
       << "regenerate with make_creature --layout hover --output urdf/hover_1.urdf";
 }
 
