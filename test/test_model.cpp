@@ -284,9 +284,10 @@ TEST(ModelErrors, NameTheCulprit) {
       {"tilted", "off-diagonal"});
 }
 
-// <spring joint stiffness reference>: on a passive joint; refused by name on an unknown, a
-// fixed or a wing joint, twice on one joint, without a stiffness or with a negative one.
-TEST(Spring, SetsAPassiveJointsStiffnessAndIsRefusedByName) {
+// <spring joint stiffness reference>: on a passive or a wing joint (in parallel with its
+// motor); refused by name on an unknown or a fixed joint, twice on one joint, without a
+// stiffness or with a negative one.
+TEST(Spring, SetsAJointsStiffnessAndIsRefusedByName) {
   auto m = parseCreatureModel(robot(std::string(kLink) + hinge() +
                                     R"(<spring joint="hinge" stiffness="0.5" reference="0.1"/>)"));
   const JointModel& j = m->joints[m->findJoint("hinge")];
@@ -297,9 +298,11 @@ TEST(Spring, SetsAPassiveJointsStiffnessAndIsRefusedByName) {
   expectError(robot(std::string(kLink) + hinge("hinge", "fixed") +
                     R"(<spring joint="hinge" stiffness="1"/>)"),
               {"hinge", "fixed"});
-  expectError(robot(std::string(kLink) + hinge() +
-                    R"(<wing joint="hinge"/><spring joint="hinge" stiffness="1"/>)"),
-              {"hinge", "wing"});
+  auto wing =
+      parseCreatureModel(robot(std::string(kLink) + hinge() +
+                               R"(<wing joint="hinge"/><spring joint="hinge" stiffness="1"/>)"));
+  EXPECT_EQ(wing->joints[0].stiffness, 1.0);
+  EXPECT_TRUE(wing->joints[0].wing);
   expectError(
       robot(std::string(kLink) + hinge() +
             R"(<spring joint="hinge" stiffness="1"/><spring joint="hinge" stiffness="2"/>)"),
@@ -308,6 +311,38 @@ TEST(Spring, SetsAPassiveJointsStiffnessAndIsRefusedByName) {
               {"hinge", "stiffness"});
   expectError(robot(std::string(kLink) + hinge() + R"(<spring joint="hinge" stiffness="-1"/>)"),
               {"hinge", "stiffness"});
+}
+
+// <motor joint stall_torque no_load_speed max_power>: the stall torque and no-load speed
+// default to the joint's <limit effort velocity>; without the element, no motor (the flat
+// effort limit). Refused by name: an unknown or fixed joint, two on a joint, a negative value,
+// no stall torque at all.
+TEST(Motor, ReadsItsLineFromTheLimitUnlessGiven) {
+  auto plain = parseCreatureModel(robot(std::string(kLink) + hinge()));
+  EXPECT_FALSE(plain->joints[0].motor.has_value());
+  auto from_limit =
+      parseCreatureModel(robot(std::string(kLink) + hinge() + R"(<motor joint="hinge"/>)"));
+  ASSERT_TRUE(from_limit->joints[0].motor.has_value());
+  EXPECT_EQ(from_limit->joints[0].motor->stall_torque, 1.0);
+  EXPECT_EQ(from_limit->joints[0].motor->no_load_speed, 10.0);
+  EXPECT_EQ(from_limit->joints[0].motor->max_power, 0.0);
+  auto given = parseCreatureModel(
+      robot(std::string(kLink) + hinge() +
+            R"(<motor joint="hinge" stall_torque="0.2" no_load_speed="300" max_power="4"/>)"));
+  EXPECT_EQ(given->joints[0].motor->stall_torque, 0.2);
+  EXPECT_EQ(given->joints[0].motor->no_load_speed, 300.0);
+  EXPECT_EQ(given->joints[0].motor->max_power, 4.0);
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor joint="elbow"/>)"), {"elbow"});
+  expectError(robot(std::string(kLink) + hinge("hinge", "fixed") + R"(<motor joint="hinge"/>)"),
+              {"hinge", "fixed"});
+  expectError(
+      robot(std::string(kLink) + hinge() + R"(<motor joint="hinge"/><motor joint="hinge"/>)"),
+      {"hinge", "two"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor joint="hinge" max_power="-1"/>)"),
+              {"hinge", "max_power"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor joint="hinge" stall_torque="0"/>)"),
+              {"hinge", "stall_torque"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor/>)"), {"<motor>", "joint"});
 }
 
 TEST(ModelErrors, MissingFileIsNamed) {

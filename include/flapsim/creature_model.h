@@ -45,6 +45,17 @@ struct LinkModel {
 
 enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
 
+/// A joint's motor, from `<motor joint="..." stall_torque="..." no_load_speed="..."
+/// max_power="..."/>`: a DC motor behind a current-limited driver (src/core/dynamics/motor.h).
+/// Driving, its torque is at most stall_torque (1 - |v| / no_load_speed) and at most
+/// max_power / |v| at joint velocity v; braking, at most stall_torque. A joint without one
+/// has the flat limit |torque| <= <limit effort> at any speed.
+struct MotorSpec {
+  double stall_torque = 0.0;   // N m (N if prismatic), > 0; default: <limit effort>
+  double no_load_speed = 0.0;  // rad/s (m/s); default: <limit velocity>; 0: no speed line
+  double max_power = 0.0;      // W; 0: no power limit
+};
+
 struct JointModel {
   std::string name;
   JointType type = JointType::kFixed;
@@ -58,12 +69,16 @@ struct JointModel {
   double velocity = 0.0;  // speed limit (0: none)
   double damping = 0.0;
   double friction = 0.0;
-  /// <spring joint="..." stiffness="..." reference="..."/>: a passive joint's torsion spring
-  /// (N m/rad, or N/m if prismatic), pulling it towards `reference`.
+  /// <spring joint="..." stiffness="..." reference="..."/>: a torsion spring (N m/rad, or N/m
+  /// if prismatic) pulling the joint towards `reference`. On a driven joint (a wing's stroke
+  /// hinge) it acts in parallel with the motor, as the thorax of an insect and the hinge
+  /// springs of motor-driven flapping robots do: it stores the wing's kinetic energy at each
+  /// stroke reversal and gives it back.
   double stiffness = 0.0;
   double reference = 0.0;
-  bool wing = false;       // marked by <wing joint="..."/>
-  int feather_joint = -1;  // <wing joint="..." feather_joint="..."/>: pitches this wing
+  std::optional<MotorSpec> motor;  // <motor joint="..."/>; none: the flat effort limit
+  bool wing = false;               // marked by <wing joint="..."/>
+  int feather_joint = -1;          // <wing joint="..." feather_joint="..."/>: pitches this wing
 
   bool movable() const { return type != JointType::kFixed; }
 };

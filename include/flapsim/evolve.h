@@ -107,7 +107,12 @@ struct EpisodeResult {
   double max_height = 0.0;
   double min_upright = 1.0;  // over all samples
   double final_upright = 1.0;
-  double upright_fraction = 0.0;     // of the samples with the up axis within 60 deg of vertical
+  double upright_fraction = 0.0;  // of the samples with the up axis within 60 deg of vertical
+  /// The motors' mechanical power over the episode (World::power): the mean of the steps'
+  /// positive work and the mean net work per second (W), and the creature's mass (kg).
+  double positive_power = 0.0;
+  double net_power = 0.0;
+  double mass = 0.0;
   std::vector<EpisodeSample> trace;  // one per sample if asked for
 };
 

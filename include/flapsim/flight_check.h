@@ -11,6 +11,7 @@
 #include "flapsim/cli_args.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
+#include "flapsim/hover_flight.h"
 
 namespace flapsim {
 
@@ -32,6 +33,9 @@ struct FlightCheckRun {
   double final_height = 0.0;  // m
   double min_height = 0.0;    // m
   double upright_fraction = 0.0;
+  double positive_power = 0.0;  // W: the motors' mean positive mechanical power
+  double net_power = 0.0;       // W: their mean net mechanical power
+  double mass = 0.0;            // kg
   /// No flip, up-component never below 0.5, final height above the start.
   bool passed(double start_height) const {
     return !flipped && min_upright >= 0.5 && final_height > start_height;
@@ -47,17 +51,34 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
 /// The flight_check tool's settings.
 struct FlightCheckOptions {
   FlightCheckParams params;
-  std::string weights;  // controller weights YAML (required)
-  std::string urdf;     // a creature of flap units from a URDF file; empty: make_creature
-  int pairs = 1;        // make_creature --pairs
+  std::string weights;    // controller weights YAML (required)
+  std::string urdf;       // a creature of flap units from a URDF file; empty: make_creature
+  int pairs = 1;          // make_creature --pairs
+  bool hover = false;     // --hover: the hover creature under HoverController instead
+  double altitude = 3.0;  // m, --hover's
+  double wind = 0.0;      // m/s along y, --hover's
 };
 
 /// flight_check's flags (flapsim/cli_args.h), over `options`.
 CliParser flightCheckCli(FlightCheckOptions& options);
 
-/// The table flight_check prints: a line per start and a summary; `failed` gets the number of
-/// starts that did not pass.
+/// The table flight_check prints: a line per start (with its motors' mean positive power, in W
+/// and W/kg, and net power) and a summary; `failed` gets the number of starts that did not pass.
 std::string flightCheckReport(const FlightCheckOptions& options,
                               const std::vector<FlightCheckRun>& runs, int wing_pairs, int& failed);
+
+/// The motors' power over the starts (means) and the figure of merit: the ideal actuator-disk
+/// power to hover the creature's weight on `disk_area` (m^2, in air of 1.204 kg/m^3) over the
+/// mean positive power.
+std::string flightPowerSummary(const std::vector<FlightCheckRun>& runs, double disk_area);
+
+/// flight_check --hover: flies `model` (the hover creature) under HoverController from
+/// `options.altitude` in a side wind of `options.wind`, started `params.max_roll` and
+/// `params.max_pitch` tilted, for `params.duration` at `params.step_size`; returns the report
+/// (height band, attitude, oscillation per stroke, power, figure of merit after 10 s) and sets
+/// `ok` to whether it held the altitude within 0.3 m, upright (up >= 0.9), under 5 cm per
+/// stroke, at most 100 W/kg.
+std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& options,
+                             bool& ok);
 
 }  // namespace flapsim

@@ -60,7 +60,7 @@ void StrokeControllerNode::reread() {
     for (size_t i = 0; !changed && i < p.strokes.size(); ++i) {
       const auto &a = p.strokes[i], &b = params_.strokes[i];
       changed = a.downstroke_rate != b.downstroke_rate || a.upstroke_rate != b.upstroke_rate ||
-                a.amplitude != b.amplitude;
+                a.amplitude != b.amplitude || a.shape != b.shape;
     }
     params_.strokes = p.strokes;
     params_.pairs = p.pairs;

@@ -187,6 +187,10 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   }
   result.fitness = samples > 0 ? sum / static_cast<double>(samples) : 0.0;
   if (samples > 0) result.upright_fraction /= static_cast<double>(samples);
+  const CreaturePower power = world.power(name);
+  result.positive_power = power.meanPositivePower();
+  result.net_power = power.time > 0.0 ? power.totalWork() / power.time : 0.0;
+  result.mass = power.mass;
   return result;
 }
 

@@ -47,6 +47,9 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
     run.final_height = r.final_height;
     run.min_height = r.min_height;
     run.upright_fraction = r.upright_fraction;
+    run.positive_power = r.positive_power;
+    run.net_power = r.net_power;
+    run.mass = r.mass;
     return 0.0;
   });
   return runs;
@@ -65,7 +68,12 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .real("--duration", "T", &p.duration, {0, kMaxEpisodeDuration, true}, "s")
       .real("--step-size", "DT", &p.step_size, {1e-6, 0.1}, "s")
       .integer("--threads", "N", &p.threads, {1, 256},
-               "parallel flights; results do not depend on it");
+               "parallel flights; results do not depend on it")
+      .flag("--hover", &o.hover, true,
+            "fly the hover creature (make_creature --layout hover, or --urdf) under its "
+            "controller instead, started --roll, --pitch tilted (0 unless given)")
+      .real("--altitude", "Z", &o.altitude, {0, 1e4}, "--hover: the height to hold, m")
+      .real("--wind", "V", &o.wind, {-100, 100}, "--hover: side wind along y, m/s");
   return t;
 }
 
@@ -73,18 +81,21 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
                               int wing_pairs, int& failed) {
   const FlightCheckParams& p = o.params;
   char line[256];
-  std::snprintf(line, sizeof line, "%-5s %8s %8s %8s %7s %9s %9s %9s %8s\n", "start", "roll",
-                "pitch", "flipped", "min_up", "final_z", "min_z", "upright", "result");
+  std::snprintf(line, sizeof line, "%-5s %8s %8s %8s %7s %9s %9s %9s %8s %8s %8s %8s\n", "start",
+                "roll", "pitch", "flipped", "min_up", "final_z", "min_z", "upright", "P+", "P+/m",
+                "P_net", "result");
   std::string out = line;
   failed = 0;
   for (size_t i = 0; i < runs.size(); ++i) {
     const FlightCheckRun& r = runs[i];
     const bool ok = r.passed(p.start_height);
     failed += ok ? 0 : 1;
-    std::snprintf(line, sizeof line, "%-5zu %7.1f° %7.1f° %8s %7.3f %8.2fm %8.2fm %8.1f%% %8s\n", i,
-                  r.start.roll * 180.0 / M_PI, r.start.pitch * 180.0 / M_PI,
-                  r.flipped ? "yes" : "no", r.min_upright, r.final_height, r.min_height,
-                  100.0 * r.upright_fraction, ok ? "pass" : "FAIL");
+    std::snprintf(
+        line, sizeof line,
+        "%-5zu %7.1f° %7.1f° %8s %7.3f %8.2fm %8.2fm %8.1f%% %7.2fW %5.0fW/kg %7.2fW %8s\n", i,
+        r.start.roll * 180.0 / M_PI, r.start.pitch * 180.0 / M_PI, r.flipped ? "yes" : "no",
+        r.min_upright, r.final_height, r.min_height, 100.0 * r.upright_fraction, r.positive_power,
+        r.mass > 0.0 ? r.positive_power / r.mass : 0.0, r.net_power, ok ? "pass" : "FAIL");
     out += line;
   }
   std::snprintf(line, sizeof line, "%d of %zu starts passed (",
@@ -93,6 +104,53 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
   std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s))\n", p.duration,
                 1000.0 * p.step_size, wing_pairs);
   return out + line;
+}
+
+std::string flightPowerSummary(const std::vector<FlightCheckRun>& runs, double disk_area) {
+  double positive = 0.0, net = 0.0, mass = 0.0;
+  for (const FlightCheckRun& r : runs) {
+    positive += r.positive_power / static_cast<double>(runs.size());
+    net += r.net_power / static_cast<double>(runs.size());
+    mass = r.mass;
+  }
+  const double ideal = idealHoverPower(9.81 * mass, 1.204, disk_area);
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "mechanical power of the motors, mean over the starts: %.2f W positive (%.0f W/kg "
+                "of its %.1f g), %.2f W net; figure of merit %.3f (ideal %.3f W on a disk of %.3f "
+                "m^2)\n",
+                positive, mass > 0.0 ? positive / mass : 0.0, 1000.0 * mass, net,
+                positive > 0.0 ? ideal / positive : 0.0, ideal, disk_area);
+  return line;
+}
+
+std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& o, bool& ok) {
+  HoverControllerParams controller;
+  controller.altitude = o.altitude;
+  HoverFlightParams p;
+  p.duration = o.params.duration;
+  p.world.step_size = o.params.step_size;
+  p.world.air.wind = Vec3(0.0, o.wind, 0.0);
+  p.start_roll = o.params.max_roll;
+  p.start_pitch = o.params.max_pitch;
+  const HoverFlightResult r = flyHover(model, controller, p);
+  const double disk = strokeDiskArea(*model, controller.amplitude);
+  const double ideal = idealHoverPower(r.mass * 9.81, p.world.air.density, disk);
+  ok = r.min_height >= o.altitude - 0.3 && r.max_height <= o.altitude + 0.3 &&
+       r.min_upright >= 0.9 && r.max_stroke_oscillation < 0.05 && r.specificPower() <= 100.0;
+  char line[1024];
+  std::snprintf(line, sizeof line,
+                "hover at %g m, wind %g m/s, %g s at %g ms (figures after %g s):\n"
+                "  height %.3f to %.3f m, lowest up-component %.4f, largest height range in a "
+                "stroke %.1f mm, drift %.2f m, %.2f Hz\n"
+                "  mechanical power of the motors: %.3f W positive (%.1f W/kg of its %.1f g), "
+                "%.3f W net\n"
+                "  figure of merit: ideal %.3f W (actuator disk of %.4f m^2) / %.3f W = %.2f\n%s\n",
+                o.altitude, o.wind, p.duration, 1000.0 * p.world.step_size, p.settle, r.min_height,
+                r.max_height, r.min_upright, 1000.0 * r.max_stroke_oscillation, r.drift.norm(),
+                r.mean_frequency, r.positive_power, r.specificPower(), 1000.0 * r.mass, r.net_power,
+                ideal, disk, r.positive_power, ideal / r.positive_power, ok ? "pass" : "FAIL");
+  return line;
 }
 
 }  // namespace flapsim
