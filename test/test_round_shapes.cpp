@@ -119,8 +119,8 @@ TEST(RoundWorld, SphereAndLyingCylinderRestOnTheGroundAtTheirRadius) {
                              : roundCreature(R"(<sphere radius="0.05"/>)", 0.5);
     w.spawn("c", model, at(0, 0, 0.5));
     w.step(4000);
-    printf("lying %d z %.6f v %.2e\n", lying, w.rootPose("c").position.z(),
-           w.rootTwist("c").linear.norm());
+    EXPECT_NEAR(w.rootPose("c").position.z(), 0.05, 1e-3) << (lying ? "cylinder" : "sphere");
+    EXPECT_LT(w.rootTwist("c").linear.norm(), 1e-3) << (lying ? "cylinder" : "sphere");
   }
 }
 
@@ -135,8 +135,8 @@ TEST(RoundWorld, FallingSphereReachesTheTerminalSpeedOfTheLaw) {
   w.step(4000);
   const double cd = 2.0 / 3.0 * p.air.drag_coefficient;
   const double vt = std::sqrt(2 * m * kG / (p.air.density * cd * M_PI * r * r));
-  printf("vt %.5f vs %.5f: %.5f\n", -w.rootTwist("ball").linear.z(), vt,
-         -w.rootTwist("ball").linear.z() / vt - 1);
+  // The facets' drag straight down is 1.34 % high (above): the speed 0.67 % low.
+  EXPECT_NEAR(-w.rootTwist("ball").linear.z(), vt, 0.007 * vt);
 }
 
 // In water, at rest, a sphere's first step accelerates at g (rho V / m - 1): buoyancy rho V g.
