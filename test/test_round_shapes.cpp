@@ -109,18 +109,24 @@ CreatureModelPtr roundCreature(const std::string& geometry, double m,
       rpy + R"("/><geometry>)" + geometry + "</geometry></collision></link></robot>");
 }
 
-// Dropped from 0.5 m, a sphere of radius 0.05 and a cylinder lying on its side come to rest
-// with their centres at z = 0.05 (their lowest points on the ground).
-TEST(RoundWorld, SphereAndLyingCylinderRestOnTheGroundAtTheirRadius) {
-  for (const bool lying : {false, true}) {
+// Dropped from 0.5 m, a sphere of radius 0.05 and a cylinder (r = 0.05, L = 0.3) lying on
+// its side come to rest with their centres at z = 0.05, the cylinder standing on its cap (its
+// axis is z, as URDF says) at z = L / 2 = 0.15.
+TEST(RoundWorld, SphereAndCylindersRestOnTheGroundOnTheirLowestPoints) {
+  const std::string can = R"(<cylinder radius="0.05" length="0.3"/>)";
+  const struct {
+    const char* what;
+    CreatureModelPtr model;
+    double z;
+  } cases[] = {{"sphere", roundCreature(R"(<sphere radius="0.05"/>)", 0.5), 0.05},
+               {"lying cylinder", roundCreature(can, 0.5, "1.5707963267948966 0 0"), 0.05},
+               {"standing cylinder", roundCreature(can, 0.5), 0.15}};
+  for (const auto& c : cases) {
     World w;  // ground on by default
-    const auto model = lying ? roundCreature(R"(<cylinder radius="0.05" length="0.3"/>)", 0.5,
-                                             "1.5707963267948966 0 0")
-                             : roundCreature(R"(<sphere radius="0.05"/>)", 0.5);
-    w.spawn("c", model, at(0, 0, 0.5));
+    w.spawn("c", c.model, at(0, 0, 0.5));
     w.step(4000);
-    EXPECT_NEAR(w.rootPose("c").position.z(), 0.05, 1e-3) << (lying ? "cylinder" : "sphere");
-    EXPECT_LT(w.rootTwist("c").linear.norm(), 1e-3) << (lying ? "cylinder" : "sphere");
+    EXPECT_NEAR(w.rootPose("c").position.z(), c.z, 1e-3) << c.what;
+    EXPECT_LT(w.rootTwist("c").linear.norm(), 1e-3) << c.what;
   }
 }
 
