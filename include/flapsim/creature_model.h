@@ -30,17 +30,29 @@ struct Box {
   Pose origin;
 };
 
+/// A cylinder (URDF: its axis is z of `origin`, centred there) or a sphere of the link's
+/// geometry, in the link frame: a collider and a faceted air surface (roundSurfaceCells).
+struct RoundShape {
+  enum class Kind { kCylinder, kSphere };
+  Kind kind = Kind::kSphere;
+  double radius = 0.0;
+  double length = 0.0;  // cylinder only
+  Pose origin;
+};
+
 struct LinkModel {
   std::string name;
   double mass = 0.0;
-  Vec3 com = Vec3::Zero();      // centre of mass in the link frame
-  Vec3 inertia = Vec3::Zero();  // principal moments about the COM, link axes
-  std::vector<Box> boxes;       // collision boxes (visual boxes if there are none)
-  /// The link's other shapes where boxes are looked for, e.g. "collision cylinder", "visual
-  /// mesh": not simulated (see ignoredGeometry).
+  Vec3 com = Vec3::Zero();         // centre of mass in the link frame
+  Vec3 inertia = Vec3::Zero();     // principal moments about the COM, link axes
+  std::vector<Box> boxes;          // collision boxes (visual ones if it has no collision)
+  std::vector<RoundShape> rounds;  // collision cylinders and spheres (likewise)
+  /// The link's shapes that are not simulated, e.g. "collision mesh" (see ignoredGeometry).
   std::vector<std::string> ignored_shapes;
   AeroSettings aero;
   int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
+
+  bool hasShapes() const { return !boxes.empty() || !rounds.empty(); }
 };
 
 enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
@@ -123,8 +135,8 @@ constexpr double kMaxUrdfInertia = 1e6;
 /// kMaxUrdfFileBytes. Throws ModelError naming the file and what is wrong.
 std::string readUrdfFile(const std::string& path);
 
-/// The lowest z of the corners of the model's boxes with its links at `link_poses` (link
-/// frames in the world); +infinity for a model without boxes.
+/// The lowest z of the model's boxes (their corners), cylinders and spheres with its links at
+/// `link_poses` (link frames in the world); +infinity for a model without shapes.
 double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses);
 
 /// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.

@@ -53,7 +53,7 @@ void setSurface(AeroBody& a, const CreatureModel& m, const AirParams& air) {
 CreatureFluid::CreatureFluid(const CreatureModel& m, const AirParams& air) {
   for (size_t k = 0; k < m.links.size(); ++k) {
     const LinkModel& l = m.links[k];
-    if (!l.aero.enabled || l.boxes.empty()) continue;
+    if (!l.aero.enabled || !l.hasShapes()) continue;
     AeroBody a;
     a.link = static_cast<int>(k);
     a.model = l.aero.model;
