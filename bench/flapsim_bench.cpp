@@ -123,16 +123,19 @@ double residentMb() {
   return kb / 1024.0;
 }
 
-// Steps per second of one run of `steps` steps, after `skip` untimed ones.
-double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldParams(),
-               int skip = 0) {
+// Steps per second of one run of `steps` steps, after `skip` untimed ones; with `power`, the
+// creature's motor power over the whole run.
+double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldParams(), int skip = 0,
+               flapsim::CreaturePower* power = nullptr) {
   p.air.enabled = air;
   World w(p);
   s.setup(w);
   w.step(skip);
   const double t0 = benchSeconds();
   w.step(steps);
-  return steps / (benchSeconds() - t0);
+  const double sps = steps / (benchSeconds() - t0);
+  if (power) *power = w.power("c");
+  return sps;
 }
 
 }  // namespace
@@ -185,9 +188,14 @@ int main(int argc, char** argv) {
     WorldParams p;
     p.ground = ground;
     std::vector<double> sps;
+    flapsim::CreaturePower power;
     for (int r = 0; r < runs; ++r) {
-      sps.push_back(timeRun(s, true, steps, p, static_cast<int>(std::lround(skip / dt))));
+      sps.push_back(timeRun(s, true, steps, p, static_cast<int>(std::lround(skip / dt)), &power));
     }
+    // The rate's line last, its real-time factor the last word (bench/node_rtf.py reads it).
+    std::printf("%s: motors %.3f W positive (%.0f W/kg), %.3f W net over its %g s\n",
+                s.name.c_str(), power.meanPositivePower(), power.meanPositivePower() / power.mass,
+                power.totalWork() / power.time, power.time);
     std::printf(
         "%s: %d bodies, %d air cells, %g s simulated after %g s: %.0f steps/s, real-time factor "
         "%.1f\n",
@@ -197,8 +205,8 @@ int main(int argc, char** argv) {
   if (!json) {
     std::printf("flapsim_bench: %d runs of %g s simulated (%d steps of %g ms), medians\n", runs,
                 seconds, steps, dt * 1e3);
-    std::printf("%-14s %7s %14s %10s %10s %12s\n", "creature", "bodies", "steps/s", "RTF",
-                "air share", "us/body/step");
+    std::printf("%-14s %7s %14s %10s %10s %12s %9s %8s\n", "creature", "bodies", "steps/s", "RTF",
+                "air share", "us/body/step", "P+ (W)", "W/kg");
   } else {
     std::printf("{\n  \"step_size\": %g,\n  \"runs\": %d,\n  \"steps\": %d,\n  \"creatures\": [\n",
                 dt, runs, steps);
@@ -207,21 +215,25 @@ int main(int argc, char** argv) {
   for (const Scenario& s : scenarios()) {
     if (!only.empty() && s.name != only) continue;
     std::vector<double> with_air, without_air;
+    flapsim::CreaturePower power;  // of the motors, in air (the same in every run)
     for (int r = 0; r < runs; ++r) {
-      with_air.push_back(timeRun(s, true, steps));
+      with_air.push_back(timeRun(s, true, steps, WorldParams(), 0, &power));
       without_air.push_back(timeRun(s, false, steps));
     }
+    const double positive = power.meanPositivePower();
     const double sps = median(with_air);
     const double share = std::max(0.0, 1.0 - sps / median(without_air));
     const double per_body = 1e6 / (sps * s.bodies);  // flat when the cost is linear
     if (json) {
       std::printf(
           "%s    {\"creature\": \"%s\", \"bodies\": %d, \"steps_per_second\": %.0f, "
-          "\"real_time_factor\": %.2f, \"air_share\": %.3f, \"us_per_body_step\": %.3f}",
-          first ? "" : ",\n", s.name.c_str(), s.bodies, sps, sps * dt, share, per_body);
+          "\"real_time_factor\": %.2f, \"air_share\": %.3f, \"us_per_body_step\": %.3f, "
+          "\"positive_power_w\": %.4f, \"positive_power_w_per_kg\": %.1f}",
+          first ? "" : ",\n", s.name.c_str(), s.bodies, sps, sps * dt, share, per_body, positive,
+          positive / power.mass);
     } else {
-      std::printf("%-14s %7d %14.0f %10.1f %9.1f%% %12.3f\n", s.name.c_str(), s.bodies, sps,
-                  sps * dt, 100.0 * share, per_body);
+      std::printf("%-14s %7d %14.0f %10.1f %9.1f%% %12.3f %9.3f %8.0f\n", s.name.c_str(), s.bodies,
+                  sps, sps * dt, 100.0 * share, per_body, positive, positive / power.mass);
     }
     first = false;
   }

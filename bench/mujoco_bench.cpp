@@ -48,6 +48,9 @@
 #include "flapsim/creature_model.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/stroke.h"
+#include "mujoco_api.h"
+
+using flapsim_bench::mj;
 
 namespace {
 
@@ -65,48 +68,6 @@ constexpr double kStartHeight = 50.0;
 constexpr double kWingKv = 0.1;
 const flapsim::StrokeCommand kStroke{30.0, 10.0, 0.8};
 
-// MuJoCo's functions, from the library FLAPSIM_MUJOCO_LIBRARY names (set by the build),
-// opened with RTLD_LOCAL | RTLD_DEEPBIND rather than linked: MuJoCo 3 exports the tinyxml2
-// it carries (a newer one than Debian's), which linked into one process with urdfdom (flapsim's
-// URDF parser, on Debian's tinyxml2) would serve urdfdom's calls with the wrong ABI and crash.
-// Opened locally and bound deep, each library keeps its own.
-struct MujocoApi {
-  decltype(&mj_loadXML) loadXML = nullptr;
-  decltype(&mj_deleteModel) deleteModel = nullptr;
-  decltype(&mj_makeData) makeData = nullptr;
-  decltype(&mj_deleteData) deleteData = nullptr;
-  decltype(&mj_step) step = nullptr;
-  decltype(&mj_versionString) versionString = nullptr;
-  decltype(&mju_user_warning) user_warning = nullptr;  // the address of the handler pointer
-};
-MujocoApi mj;
-
-// Opens the library and finds the functions; false (after a message naming what is missing)
-// if it cannot.
-bool openMujoco(const char* library) {
-  void* lib = dlopen(library, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
-  if (!lib) {
-    std::fprintf(stderr, "mujoco_bench: cannot open %s: %s\n", library, dlerror());
-    return false;
-  }
-  bool ok = true;
-  auto find = [&](auto& out, const char* name) {
-    out = reinterpret_cast<std::remove_reference_t<decltype(out)>>(dlsym(lib, name));
-    if (!out) {
-      std::fprintf(stderr, "mujoco_bench: %s has no %s\n", library, name);
-      ok = false;
-    }
-  };
-  find(mj.loadXML, "mj_loadXML");
-  find(mj.deleteModel, "mj_deleteModel");
-  find(mj.makeData, "mj_makeData");
-  find(mj.deleteData, "mj_deleteData");
-  find(mj.step, "mj_step");
-  find(mj.versionString, "mj_versionString");
-  find(mj.user_warning, "mju_user_warning");
-  return ok;
-}
-
 // How MuJoCo steps: integrator and Jacobian as MJCF spells them, the step in s.
 struct Setting {
   std::string integrator = "implicit";
@@ -123,10 +84,6 @@ struct Setting {
 // RK4 --step 0.0000625 --reference-step 0.00003125).
 constexpr double kReferenceStep = 0.0000625;
 Setting referenceSetting(const Setting& s, double step) { return Setting{"RK4", step, s.jacobian}; }
-
-// Suppresses MuJoCo's default warning handler (it writes MUJOCO_LOG.TXT in the working
-// directory); warnings go to stderr instead.
-void warningToStderr(const char* msg) { std::fprintf(stderr, "mujoco warning: %s\n", msg); }
 
 void appendVec(std::ostringstream& out, const char* attr, const flapsim::Vec3& v) {
   out << ' ' << attr << "=\"" << v.x() << ' ' << v.y() << ' ' << v.z() << '"';
@@ -217,26 +174,6 @@ std::string toMjcf(const flapsim::CreatureModel& model, const Setting& s) {
   return out.str();
 }
 
-// Compiles MJCF text through a temporary file (the in-memory file system's interface differs
-// between MuJoCo 2 and 3; a file reads the same in both). Throws std::runtime_error with
-// MuJoCo's message.
-mjModel* compile(const std::string& xml) {
-  std::string name = (std::filesystem::temp_directory_path() / "mujoco_bench_XXXXXX.xml").string();
-  std::vector<char> path(name.begin(), name.end());
-  path.push_back('\0');
-  const int fd = mkstemps(path.data(), 4);
-  if (fd < 0) throw std::runtime_error("cannot create a temporary file for the model");
-  FILE* f = fdopen(fd, "w");
-  const bool written = f && std::fwrite(xml.data(), 1, xml.size(), f) == xml.size();
-  if (f) std::fclose(f);
-  char error[1000] = "";
-  mjModel* m = written ? mj.loadXML(path.data(), nullptr, error, sizeof(error)) : nullptr;
-  std::remove(path.data());
-  if (!written) throw std::runtime_error("cannot write the model to a temporary file");
-  if (!m) throw std::runtime_error(std::string("mj_loadXML: ") + error);
-  return m;
-}
-
 // A compiled creature: its MJCF, the model and the joint of each wing actuator.
 struct Creature {
   std::string xml;
@@ -258,7 +195,7 @@ std::unique_ptr<Creature> build(const flapsim_bench::BenchCreature& b, const Set
   auto c = std::make_unique<Creature>();
   c->xml = toMjcf(*cm, s);
   c->bodies = static_cast<int>(cm->links.size());
-  c->model = compile(c->xml);
+  c->model = flapsim_bench::compileMjcf(c->xml);
   for (int u = 0; u < c->model->nu; ++u) {
     c->wing_qpos.push_back(c->model->jnt_qposadr[c->model->actuator_trnid[2 * u]]);
   }
@@ -474,8 +411,8 @@ int main(int argc, char** argv) {
     }
     return 0;
   }
-  if (!openMujoco(FLAPSIM_MUJOCO_LIBRARY)) return 1;
-  *mj.user_warning = warningToStderr;
+  if (!flapsim_bench::openMujoco(FLAPSIM_MUJOCO_LIBRARY, "mujoco_bench")) return 1;
+  *mj.user_warning = flapsim_bench::warningToStderr;
   if (m.check_seconds > 0.0) {
     std::printf("mujoco_bench: MuJoCo %s, stability of %s against %s\n", mj.versionString(),
                 describe(setting).c_str(),

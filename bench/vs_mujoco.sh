@@ -61,7 +61,8 @@ else
   [ -e "$core/libflapsim_core.so" ] || { echo "vs_mujoco.sh: no $core/libflapsim_core.so (build first)" >&2; exit 2; }
   out="$root/build/mujoco_bench/$(echo "$mj_include $mj_lib" | md5sum | cut -c1-12)"
   mujoco="$out/mujoco_bench"
-  sources=("$root/bench/mujoco_bench.cpp" "$root/bench/bench_common.h" "$core/libflapsim_core.so"
+  sources=("$root/bench/mujoco_bench.cpp" "$root/bench/bench_common.h" "$root/bench/mujoco_api.h"
+           "$core/libflapsim_core.so"
            "$(readlink -f "$mj_lib/libmujoco.so")" "$mj_include/mujoco/mujoco.h")
   stale=no
   [ -x "$mujoco" ] || stale=yes

@@ -154,9 +154,9 @@ TEST(ToolTables, SweepAndMakeCreatureRefuseBadValuesByFlag) {
 // the robust one.
 TEST(ToolTables, EvolveHelpShowsTheDefaultsOfThePresetThatRuns) {
   const std::string robust = evolveUsage();
-  EXPECT_NE(robust.find("individuals (16)"), std::string::npos) << robust;
-  EXPECT_NE(robust.find("generations after the initial one (40)"), std::string::npos);
-  EXPECT_NE(robust.find("episode length, s (15)"), std::string::npos);
+  EXPECT_NE(robust.find("individuals (32)"), std::string::npos) << robust;
+  EXPECT_NE(robust.find("generations after the initial one (100)"), std::string::npos);
+  EXPECT_NE(robust.find("episode length, s (20)"), std::string::npos);
   EXPECT_NE(robust.find("(0.001,0.0005)"), std::string::npos);
   const std::string paper = evolveUsage({"--preset", "paper", "--population", "12"});
   EXPECT_NE(paper.find("individuals (12)"), std::string::npos) << paper;

@@ -286,6 +286,39 @@ TEST(JointServo, SaturatedJointPushesWithItsBound) {
   }
 }
 
+// Asymmetric bounds (a motor's driving and braking limits differ): a joint that needs an
+// impulse beyond the bound on its side pushes with that side's bound, and the other side's
+// bound does not limit it; a zero bound on the side it needs leaves it free (impulse 0).
+TEST(JointServo, AsymmetricBoundsLimitEachSideWithItsOwn) {
+  const std::vector<ServoLink> links = randomTree(7);
+  std::vector<ServoDemand> demands = treeDemands();
+  JointServoSolver solver;
+  ServoSolution free_run, s;
+  solver.solve(links, true, demands, free_run);
+  const double needed = free_run.impulse[6];
+  ASSERT_GT(std::abs(needed), 1e-3);
+  const bool positive = needed > 0.0;
+  // The bound on the needed side at 40 %, the other side's far above.
+  demands[6].max_impulse = positive ? 0.4 * needed : 10.0 * std::abs(needed);
+  demands[6].max_negative_impulse = positive ? 10.0 * needed : 0.4 * std::abs(needed);
+  solver.solve(links, true, demands, s);
+  EXPECT_TRUE(s.saturated[6]);
+  EXPECT_DOUBLE_EQ(s.impulse[6], 0.4 * needed);
+  // The other side's bound at 40 % does not limit it.
+  std::swap(demands[6].max_impulse, demands[6].max_negative_impulse);
+  solver.solve(links, true, demands, s);
+  EXPECT_FALSE(s.saturated[6]);
+  EXPECT_NEAR(s.impulse[6], needed, 1e-12 * std::abs(needed));
+  // No bound on the needed side: it is carried along, pushing with nothing.
+  (positive ? demands[6].max_impulse : demands[6].max_negative_impulse) = 0.0;
+  solver.solve(links, true, demands, s);
+  EXPECT_TRUE(s.saturated[6]);
+  EXPECT_EQ(s.impulse[6], 0.0);
+  std::vector<ServoDemand> passive = demands;
+  passive[6].active = false;
+  expectMatchesDense(links, true, s, denseSolve(links, true, passive), 1e-9);
+}
+
 // Every driven joint bounded below or near its need: the result must satisfy the box
 // complementarity conditions and solve the dense equations of its own active set.
 TEST(JointServo, TightBoundsSatisfyComplementarity) {

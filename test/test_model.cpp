@@ -232,28 +232,52 @@ TEST(ModelErrors, ValidReferenceParses) {
   EXPECT_EQ(m->wing_joints.size(), 1u);
 }
 
-// Only boxes collide and feel the air: every other shape where boxes are looked for (a
-// link's collisions; its visuals if it has no collision box) is listed by link and kind.
-TEST(Geometry, ShapesOtherThanBoxesAreListedByLinkAndKind) {
+// Boxes, cylinders and spheres collide and feel the air, from a link's collisions (its
+// visuals if no collision is simulated); a mesh is listed by link and kind.
+TEST(Geometry, CylindersAndSpheresAreShapesMeshesAreListedByLinkAndKind) {
   const auto m = flapsim::parseCreatureModel(R"(<robot name="s">
     <link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
       <visual><geometry><sphere radius="0.1"/></geometry></visual>
-      <collision><geometry><cylinder radius="0.1" length="0.2"/></geometry></collision></link>
+      <collision><origin xyz="0 0 0.5"/><geometry><cylinder radius="0.1" length="0.2"/></geometry></collision>
+      <collision><geometry><mesh filename="package://x/shell.stl"/></geometry></collision></link>
     <link name="b"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
-      <visual><geometry><sphere radius="0.1"/></geometry></visual>
-      <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision></link>
+      <visual><geometry><sphere radius="0.3"/></geometry></visual></link>
     <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>)");
-  EXPECT_EQ(m->links[0].ignored_shapes,
-            (std::vector<std::string>{"collision cylinder", "visual sphere"}));
-  EXPECT_TRUE(m->links[1].ignored_shapes.empty());  // its sphere is drawn, its box simulated
+  ASSERT_EQ(m->links[0].rounds.size(), 1u);  // its visual sphere is drawn, not simulated
+  const flapsim::RoundShape& c = m->links[0].rounds[0];
+  EXPECT_EQ(c.kind, flapsim::RoundShape::Kind::kCylinder);
+  EXPECT_EQ(c.radius, 0.1);
+  EXPECT_EQ(c.length, 0.2);
+  EXPECT_EQ(c.origin.position.z(), 0.5);
+  ASSERT_EQ(m->links[1].rounds.size(), 1u);  // no collision: its visual sphere
+  EXPECT_EQ(m->links[1].rounds[0].kind, flapsim::RoundShape::Kind::kSphere);
+  EXPECT_EQ(m->links[1].rounds[0].radius, 0.3);
   EXPECT_EQ(flapsim::ignoredGeometry(*m),
-            (std::vector<std::string>{
-                "link 'a': collision cylinder ignored (no contact, no air): only boxes are "
-                "simulated",
-                "link 'a': visual sphere ignored (no contact, no air): only boxes are simulated"}));
+            (std::vector<std::string>{"link 'a': collision mesh ignored (no contact, no air): "
+                                      "only boxes, cylinders and spheres are simulated"}));
+  // The lowest point: the sphere's bottom with b 1 m up, the cylinder's cap with a turned
+  // 90 degrees about x (the cylinder then lies along y, its side 0.1 below its axis).
+  const flapsim::Pose up{flapsim::Vec3(0, 0, 1), flapsim::Quat::Identity()};
+  EXPECT_NEAR(flapsim::lowestBoxPoint(*m, {up, up}), 0.7, 1e-12);
+  const flapsim::Pose turned{flapsim::Vec3::Zero(),
+                             flapsim::Quat(Eigen::AngleAxisd(M_PI / 2, flapsim::Vec3::UnitX()))};
+  EXPECT_NEAR(flapsim::lowestBoxPoint(*m, {turned, up}), -0.1, 1e-12);
   EXPECT_TRUE(flapsim::ignoredGeometry(
                   *flapsim::loadCreatureModel(std::string(FLAPSIM_SOURCE_DIR) + "/urdf/afc_4.urdf"))
                   .empty());
+}
+
+// A cylinder or sphere with a zero or negative radius or a NaN length is refused, naming the
+// link and the value.
+TEST(ModelErrors, BadRoundShapesNameTheLink) {
+  const std::string head = R"(<robot name="r"><link name="ball"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial><collision><geometry>)";
+  const std::string tail = "</geometry></collision></link></robot>";
+  expectError(head + R"(<sphere radius="0"/>)" + tail, {"link 'ball'", "radius"});
+  expectError(head + R"(<sphere radius="-0.1"/>)" + tail, {"link 'ball'", "radius"});
+  expectError(head + R"(<cylinder radius="0.1" length="nan"/>)" + tail, {"link 'ball'", "length"});
+  expectError(head + R"(<cylinder radius="-1" length="0.1"/>)" + tail, {"link 'ball'", "radius"});
+  expectError(head + R"(<cylinder radius="0.1" length="2000"/>)" + tail, {"link 'ball'", "length"});
 }
 
 TEST(ModelErrors, NameTheCulprit) {
@@ -284,9 +308,10 @@ TEST(ModelErrors, NameTheCulprit) {
       {"tilted", "off-diagonal"});
 }
 
-// <spring joint stiffness reference>: on a passive joint; refused by name on an unknown, a
-// fixed or a wing joint, twice on one joint, without a stiffness or with a negative one.
-TEST(Spring, SetsAPassiveJointsStiffnessAndIsRefusedByName) {
+// <spring joint stiffness reference>: on a passive or a wing joint (in parallel with its
+// motor); refused by name on an unknown or a fixed joint, twice on one joint, without a
+// stiffness or with a negative one.
+TEST(Spring, SetsAJointsStiffnessAndIsRefusedByName) {
   auto m = parseCreatureModel(robot(std::string(kLink) + hinge() +
                                     R"(<spring joint="hinge" stiffness="0.5" reference="0.1"/>)"));
   const JointModel& j = m->joints[m->findJoint("hinge")];
@@ -297,9 +322,11 @@ TEST(Spring, SetsAPassiveJointsStiffnessAndIsRefusedByName) {
   expectError(robot(std::string(kLink) + hinge("hinge", "fixed") +
                     R"(<spring joint="hinge" stiffness="1"/>)"),
               {"hinge", "fixed"});
-  expectError(robot(std::string(kLink) + hinge() +
-                    R"(<wing joint="hinge"/><spring joint="hinge" stiffness="1"/>)"),
-              {"hinge", "wing"});
+  auto wing =
+      parseCreatureModel(robot(std::string(kLink) + hinge() +
+                               R"(<wing joint="hinge"/><spring joint="hinge" stiffness="1"/>)"));
+  EXPECT_EQ(wing->joints[0].stiffness, 1.0);
+  EXPECT_TRUE(wing->joints[0].wing);
   expectError(
       robot(std::string(kLink) + hinge() +
             R"(<spring joint="hinge" stiffness="1"/><spring joint="hinge" stiffness="2"/>)"),
@@ -308,6 +335,38 @@ TEST(Spring, SetsAPassiveJointsStiffnessAndIsRefusedByName) {
               {"hinge", "stiffness"});
   expectError(robot(std::string(kLink) + hinge() + R"(<spring joint="hinge" stiffness="-1"/>)"),
               {"hinge", "stiffness"});
+}
+
+// <motor joint stall_torque no_load_speed max_power>: the stall torque and no-load speed
+// default to the joint's <limit effort velocity>; without the element, no motor (the flat
+// effort limit). Refused by name: an unknown or fixed joint, two on a joint, a negative value,
+// no stall torque at all.
+TEST(Motor, ReadsItsLineFromTheLimitUnlessGiven) {
+  auto plain = parseCreatureModel(robot(std::string(kLink) + hinge()));
+  EXPECT_FALSE(plain->joints[0].motor.has_value());
+  auto from_limit =
+      parseCreatureModel(robot(std::string(kLink) + hinge() + R"(<motor joint="hinge"/>)"));
+  ASSERT_TRUE(from_limit->joints[0].motor.has_value());
+  EXPECT_EQ(from_limit->joints[0].motor->stall_torque, 1.0);
+  EXPECT_EQ(from_limit->joints[0].motor->no_load_speed, 10.0);
+  EXPECT_EQ(from_limit->joints[0].motor->max_power, 0.0);
+  auto given = parseCreatureModel(
+      robot(std::string(kLink) + hinge() +
+            R"(<motor joint="hinge" stall_torque="0.2" no_load_speed="300" max_power="4"/>)"));
+  EXPECT_EQ(given->joints[0].motor->stall_torque, 0.2);
+  EXPECT_EQ(given->joints[0].motor->no_load_speed, 300.0);
+  EXPECT_EQ(given->joints[0].motor->max_power, 4.0);
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor joint="elbow"/>)"), {"elbow"});
+  expectError(robot(std::string(kLink) + hinge("hinge", "fixed") + R"(<motor joint="hinge"/>)"),
+              {"hinge", "fixed"});
+  expectError(
+      robot(std::string(kLink) + hinge() + R"(<motor joint="hinge"/><motor joint="hinge"/>)"),
+      {"hinge", "two"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor joint="hinge" max_power="-1"/>)"),
+              {"hinge", "max_power"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor joint="hinge" stall_torque="0"/>)"),
+              {"hinge", "stall_torque"});
+  expectError(robot(std::string(kLink) + hinge() + R"(<motor/>)"), {"<motor>", "joint"});
 }
 
 TEST(ModelErrors, MissingFileIsNamed) {

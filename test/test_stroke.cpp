@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "flapsim/stroke.h"
 
@@ -93,6 +94,130 @@ TEST(Stroke, ValidationNamesTheField) {
   EXPECT_NE(validateStroke(StrokeCommand{nan, 1, 0.5}).find("downstroke"), std::string::npos);
   EXPECT_NE(validateStroke(StrokeCommand{1, -1, 0.5}).find("upstroke"), std::string::npos);
   EXPECT_NE(validateStroke(StrokeCommand{1, 1, INFINITY}).find("amplitude"), std::string::npos);
+  StrokeCommand c{1, 1, 0.5};
+  c.downstroke_feather = 2.0;
+  EXPECT_NE(validateStroke(c).find("downstroke feather"), std::string::npos);
+  c.downstroke_feather = 0.0;
+  c.offset = nan;
+  EXPECT_NE(validateStroke(c).find("offset"), std::string::npos);
+}
+
+TEST(Stroke, ShapeNames) {
+  EXPECT_EQ(strokeShapeFromString("sine"), StrokeShape::kSine);
+  EXPECT_EQ(strokeShapeFromString("triangle"), StrokeShape::kTriangle);
+  EXPECT_EQ(toString(StrokeShape::kSine), "sine");
+  try {
+    strokeShapeFromString("square");
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'square'"), std::string::npos) << e.what();
+  }
+}
+
+// The offset moves the triangle's turning points to offset -+ amplitude.
+TEST(Stroke, OffsetMovesTheTurningPoints) {
+  StrokeGenerator g;
+  StrokeCommand c{30.0, 10.0, 0.5};
+  c.offset = 0.2;
+  g.setCommand(c);
+  EXPECT_EQ(g.target(0.0), -30.0);
+  EXPECT_EQ(g.target(-0.29), -30.0);
+  EXPECT_EQ(g.target(-0.3), 10.0);  // offset - amplitude: turn up
+  EXPECT_EQ(g.target(0.69), 10.0);
+  EXPECT_EQ(g.target(0.71), -30.0);  // past offset + amplitude: turn down
+  EXPECT_DOUBLE_EQ(g.timeToTurn(0.4), 0.7 / 30.0);
+}
+
+// A sine stroke, its velocity targets integrated as a servo that reaches them (q += v dt),
+// lies on half cosines: from the start angle 0 down to -a in 2 a / w1, then up to +a in
+// 2 a / w2 (a split cycle), and so on, to rounding, at any step.
+TEST(Stroke, SineFollowsHalfCosinesBetweenTheTurningPoints) {
+  const double w1 = 40.0, w2 = 20.0, a = 0.8, t1 = 2 * a / w1, t2 = 2 * a / w2;
+  auto ideal = [&](double t) {
+    if (t <= t1) return -a * (0.5 - 0.5 * std::cos(M_PI * t / t1));
+    const double s = std::fmod(t - t1, t1 + t2);  // since the last bottom
+    if (s <= t2) return -a + 2 * a * (0.5 - 0.5 * std::cos(M_PI * s / t2));
+    return a - 2 * a * (0.5 - 0.5 * std::cos(M_PI * (s - t2) / t1));
+  };
+  for (double dt : {0.002, 0.001, 0.0007}) {
+    SCOPED_TRACE(dt);
+    StrokeGenerator g;
+    StrokeCommand c{w1, w2, a};
+    c.shape = StrokeShape::kSine;
+    g.setCommand(c);
+    double q = 0.0, worst = 0.0;
+    const int steps = static_cast<int>(std::lround(3 * (t1 + t2) / dt));
+    for (int i = 1; i <= steps; ++i) {
+      q += g.target(q, dt) * dt;
+      worst = std::max(worst, std::abs(q - ideal(i * dt)));
+    }
+    EXPECT_LT(worst, 1e-12);
+  }
+  // Mid-way up, the velocity peaks at pi / 2 times the rate.
+  StrokeGenerator g;
+  StrokeCommand c{w1, w2, a};
+  c.shape = StrokeShape::kSine;
+  g.setCommand(c);
+  g.target(0.0, t1 + t2 / 2);
+  EXPECT_NEAR(g.target(0.0), M_PI / 2 * w2, 1e-9);
+  EXPECT_NEAR(g.timeToTurn(0.0), t2 / 2, 1e-12);
+}
+
+// A new amplitude or offset takes effect at the next turn, without a jump: the half-stroke
+// under way still ends where it was going, the next one goes to the new turning point.
+TEST(Stroke, SineTakesANewAmplitudeAndOffsetAtTheNextTurn) {
+  StrokeGenerator g;
+  StrokeCommand c{40.0, 40.0, 0.8};
+  c.shape = StrokeShape::kSine;
+  g.setCommand(c);
+  const double dt = 0.001;
+  double q = 0.0, biggest_move = 0.0, lowest = 0.0, highest = 0.0;
+  for (int i = 0; i < 400; ++i) {
+    if (i == 30) {  // mid-way down to -0.8
+      c.amplitude = 0.5;
+      c.offset = 0.1;
+      c.downstroke_rate = c.upstroke_rate = 25.0;  // the same 40 ms half-strokes
+      g.setCommand(c);
+    }
+    const double v = g.target(q, dt);
+    biggest_move = std::max(biggest_move, std::abs(v * dt));
+    q += v * dt;
+    lowest = std::min(lowest, q);
+    if (i > 100) highest = std::max(highest, q);
+  }
+  EXPECT_NEAR(lowest, -0.8, 1e-12);  // the half-stroke under way ended at -0.8
+  EXPECT_NEAR(highest, 0.6, 1e-12);  // then offset + amplitude
+  // The fastest half-stroke, -0.8 to 0.6 in 40 ms, peaks at pi / 2 1.4 / 0.04 = 55 rad/s:
+  // 0.055 rad a step. Jumping to the new stroke at once would move 0.3 rad.
+  EXPECT_LT(biggest_move, 0.056);
+}
+
+// The feather angle of a sine stroke: the half-stroke's own mid-stroke, half-way between the
+// two at the turn, along a quarter sine within kSineFlipFraction of a half-stroke of it.
+TEST(Stroke, SineFeatherTurnsSmoothlyAcrossTheTurn) {
+  StrokeGenerator g;
+  StrokeCommand c{10.0, 10.0, 0.5};  // 0.1 s half-strokes
+  c.shape = StrokeShape::kSine;
+  c.downstroke_feather = 0.6;
+  c.feather = -0.6;
+  g.setCommand(c);
+  g.target(0.5, 0.05);  // starting at the top: half-way down
+  EXPECT_DOUBLE_EQ(g.featherTarget(), 0.6);
+  g.target(0.0, 0.05 - 0.25 * 0.1 * 0.5);  // half of the flip window before the turn
+  EXPECT_NEAR(g.featherTarget(), 0.6 * std::sin(0.25 * M_PI), 1e-12);
+  g.target(0.0, 0.25 * 0.1 * 0.5);  // at the turn
+  EXPECT_NEAR(g.featherTarget(), 0.0, 1e-9);
+  g.target(0.0, 0.03);  // the flip done
+  EXPECT_DOUBLE_EQ(g.featherTarget(), -0.6);
+  EXPECT_EQ(g.phase(), StrokeGenerator::Phase::kUp);
+  // A triangle stroke pitches per half-stroke.
+  StrokeGenerator t;
+  c.shape = StrokeShape::kTriangle;
+  t.setCommand(c);
+  t.target(0.0);
+  EXPECT_EQ(t.featherTarget(), 0.6);
+  t.target(-0.5);
+  EXPECT_EQ(t.featherTarget(), -0.6);
 }
 
 }  // namespace

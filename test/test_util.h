@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "flapsim/creature_model.h"
 #include "dynamics/momentum.h"
+#include "flapsim/creature_model.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -25,6 +25,31 @@ inline WorldParams openSky() {
   p.ground = false;
   return p;
 }
+
+/// openSky() without air.
+inline WorldParams vacuum() {
+  WorldParams p = openSky();
+  p.air.enabled = false;
+  return p;
+}
+
+/// A flap (10 g, COM 0.1 m from the hinge) on a fixed hinge of `type` about `axis`;
+/// `joint_extra` goes inside the <joint>, `robot_extra` after it.
+inline CreatureModelPtr flapOnHinge(const std::string& type, const std::string& axis,
+                                    const std::string& joint_extra,
+                                    const std::string& robot_extra = "") {
+  return parseCreatureModel(R"(<robot name="h"><link name="world"/>
+    <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
+      <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
+      <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
+    <joint name="hinge" type=")" +
+                            type + R"("><parent link="world"/><child link="flap"/>
+      <axis xyz=")" + axis + R"("/>)" +
+                            joint_extra + "</joint>" + robot_extra + "</robot>");
+}
+
+/// Inertia of flapOnHinge's flap about its hinge (x or z axis): own + m d^2.
+constexpr double kFlapHingeInertia = 3.4e-5 + 0.01 * 0.1 * 0.1;
 
 inline Pose at(double x, double y, double z, const Quat& q = Quat::Identity()) {
   return Pose{Vec3(x, y, z), q};

@@ -13,8 +13,11 @@ namespace {
 
 using test::at;
 using test::bitIdentical;
+using test::flapOnHinge;
+using test::kFlapHingeInertia;
 using test::loadUrdf;
 using test::openSky;
+using test::vacuum;
 
 constexpr double kG = 9.81;
 
@@ -130,20 +133,6 @@ TEST(World, FastFallIsCaughtByTheGround) {
   EXPECT_LT(w.rootTwist("plate").linear.norm(), 0.05);
 }
 
-// A flap (10 g, COM 0.1 m from the hinge) on a fixed hinge of `type` about `axis`;
-// `joint_extra` goes inside the <joint>, `robot_extra` after it.
-CreatureModelPtr flapOnHinge(const std::string& type, const std::string& axis,
-                             const std::string& joint_extra, const std::string& robot_extra = "") {
-  return parseCreatureModel(R"(<robot name="h"><link name="world"/>
-    <link name="flap"><inertial><origin xyz="0 0.1 0"/><mass value="0.01"/>
-      <inertia ixx="3.4e-5" ixy="0" ixz="0" iyy="1e-6" iyz="0" izz="3.4e-5"/></inertial>
-      <collision><origin xyz="0 0.1 0"/><geometry><box size="0.05 0.2 0.002"/></geometry></collision></link>
-    <joint name="hinge" type=")" +
-                            type + R"("><parent link="world"/><child link="flap"/>
-      <axis xyz=")" + axis + R"("/>)" +
-                            joint_extra + "</joint>" + robot_extra + "</robot>");
-}
-
 // The flap on a revolute hinge with `limit` and `dynamics` elements.
 CreatureModelPtr hingedFlap(const std::string& axis, const std::string& limit,
                             const std::string& dynamics) {
@@ -187,15 +176,6 @@ TEST(World, CappedJointValuesAreNamed) {
                                 0.001)
                   .empty());
 }
-
-WorldParams vacuum() {
-  WorldParams p = openSky();
-  p.air.enabled = false;
-  return p;
-}
-
-// Inertia of the hinged flap about its hinge (x or z axis): own + m d^2.
-constexpr double kFlapHingeInertia = 3.4e-5 + 0.01 * 0.1 * 0.1;
 
 // A <spring> of 0.01 N m/rad on the flap's hinge, released 0.1 rad from its reference in
 // vacuum: it swings with the period 2 pi sqrt(I / k) = 0.7274 s of a torsion pendulum

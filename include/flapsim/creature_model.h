@@ -30,20 +30,43 @@ struct Box {
   Pose origin;
 };
 
+/// A cylinder (URDF: its axis is z of `origin`, centred there) or a sphere of the link's
+/// geometry, in the link frame: a collider and a faceted air surface (roundSurfaceCells).
+struct RoundShape {
+  enum class Kind { kCylinder, kSphere };
+  Kind kind = Kind::kSphere;
+  double radius = 0.0;
+  double length = 0.0;  // cylinder only
+  Pose origin;
+};
+
 struct LinkModel {
   std::string name;
   double mass = 0.0;
-  Vec3 com = Vec3::Zero();      // centre of mass in the link frame
-  Vec3 inertia = Vec3::Zero();  // principal moments about the COM, link axes
-  std::vector<Box> boxes;       // collision boxes (visual boxes if there are none)
-  /// The link's other shapes where boxes are looked for, e.g. "collision cylinder", "visual
-  /// mesh": not simulated (see ignoredGeometry).
+  Vec3 com = Vec3::Zero();         // centre of mass in the link frame
+  Vec3 inertia = Vec3::Zero();     // principal moments about the COM, link axes
+  std::vector<Box> boxes;          // collision boxes (visual ones if it has no collision)
+  std::vector<RoundShape> rounds;  // collision cylinders and spheres (likewise)
+  /// The link's shapes that are not simulated, e.g. "collision mesh" (see ignoredGeometry).
   std::vector<std::string> ignored_shapes;
   AeroSettings aero;
   int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
+
+  bool hasShapes() const { return !boxes.empty() || !rounds.empty(); }
 };
 
 enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
+
+/// A joint's motor, from `<motor joint="..." stall_torque="..." no_load_speed="..."
+/// max_power="..."/>`: a DC motor behind a current-limited driver (src/core/dynamics/motor.h).
+/// Driving, its torque is at most stall_torque (1 - |v| / no_load_speed) and at most
+/// max_power / |v| at joint velocity v; braking, at most stall_torque. A joint without one
+/// has the flat limit |torque| <= <limit effort> at any speed.
+struct MotorSpec {
+  double stall_torque = 0.0;   // N m (N if prismatic), > 0; default: <limit effort>
+  double no_load_speed = 0.0;  // rad/s (m/s); default: <limit velocity>; 0: no speed line
+  double max_power = 0.0;      // W; 0: no power limit
+};
 
 struct JointModel {
   std::string name;
@@ -58,12 +81,16 @@ struct JointModel {
   double velocity = 0.0;  // speed limit (0: none)
   double damping = 0.0;
   double friction = 0.0;
-  /// <spring joint="..." stiffness="..." reference="..."/>: a passive joint's torsion spring
-  /// (N m/rad, or N/m if prismatic), pulling it towards `reference`.
+  /// <spring joint="..." stiffness="..." reference="..."/>: a torsion spring (N m/rad, or N/m
+  /// if prismatic) pulling the joint towards `reference`. On a driven joint (a wing's stroke
+  /// hinge) it acts in parallel with the motor, as the thorax of an insect and the hinge
+  /// springs of motor-driven flapping robots do: it stores the wing's kinetic energy at each
+  /// stroke reversal and gives it back.
   double stiffness = 0.0;
   double reference = 0.0;
-  bool wing = false;       // marked by <wing joint="..."/>
-  int feather_joint = -1;  // <wing joint="..." feather_joint="..."/>: pitches this wing
+  std::optional<MotorSpec> motor;  // <motor joint="..."/>; none: the flat effort limit
+  bool wing = false;               // marked by <wing joint="..."/>
+  int feather_joint = -1;          // <wing joint="..." feather_joint="..."/>: pitches this wing
 
   bool movable() const { return type != JointType::kFixed; }
 };
@@ -108,8 +135,8 @@ constexpr double kMaxUrdfInertia = 1e6;
 /// kMaxUrdfFileBytes. Throws ModelError naming the file and what is wrong.
 std::string readUrdfFile(const std::string& path);
 
-/// The lowest z of the corners of the model's boxes with its links at `link_poses` (link
-/// frames in the world); +infinity for a model without boxes.
+/// The lowest z of the model's boxes (their corners), cylinders and spheres with its links at
+/// `link_poses` (link frames in the world); +infinity for a model without shapes.
 double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses);
 
 /// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.

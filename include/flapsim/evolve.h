@@ -160,6 +160,11 @@ struct EpisodeResult {
   /// rad: the mean over the samples of the root's bank, asin(world_up . body_left) (> 0:
   /// right wing low).
   double mean_bank = 0.0;
+  /// The motors' mechanical power over the episode (World::power): the mean of the steps'
+  /// positive work and the mean net work per second (W), and the creature's mass (kg).
+  double positive_power = 0.0;
+  double net_power = 0.0;
+  double mass = 0.0;
   std::vector<EpisodeSample> trace;  // one per sample if asked for
 };
 

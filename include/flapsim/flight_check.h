@@ -16,6 +16,7 @@
 #include "flapsim/cli_args.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
+#include "flapsim/hover_flight.h"
 
 namespace flapsim {
 
@@ -50,6 +51,9 @@ struct FlightCheckRun {
   double altitude_rms = std::numeric_limits<double>::quiet_NaN();  // m, after 10 s
   double lateral_drift = 0.0;  // m: horizontal distance from the start at the end
   double mean_bank = 0.0;      // rad (> 0: right wing low)
+  double positive_power = 0.0;  // W: the motors' mean positive mechanical power
+  double net_power = 0.0;       // W: their mean net mechanical power
+  double mass = 0.0;            // kg
   /// No flip, up-component never below 0.5, final height above the start.
   bool passed(double start_height) const {
     return !flipped && min_upright >= 0.5 && final_height > start_height;
@@ -65,9 +69,11 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
 /// The flight_check tool's settings.
 struct FlightCheckOptions {
   FlightCheckParams params;
-  std::string weights;  // controller weights YAML (required)
-  std::string urdf;     // a creature of flap units from a URDF file; empty: make_creature
-  int pairs = 1;        // make_creature --pairs
+  std::string weights;    // controller weights YAML (required)
+  std::string urdf;       // a creature of flap units from a URDF file; empty: make_creature
+  int pairs = 1;          // make_creature --pairs
+  bool hover = false;  // --hover: the hover creature under HoverController instead, holding
+                       // params.altitude (3 m if unset) in a wind of params.wind along +y
 };
 
 /// flight_check's flags (flapsim/cli_args.h), over `options`.
@@ -75,9 +81,23 @@ CliParser flightCheckCli(FlightCheckOptions& options);
 
 /// The table flight_check prints: a line per start (start attitude and wind, flipped, lowest
 /// up-component, final and lowest height, time upright, altitude error rms after 10 s, lateral
-/// drift, mean bank, pass or FAIL) and a summary; `failed` gets the number of starts that did
-/// not pass.
+/// drift, mean bank, the motors' mean positive power in W and W/kg and net power, pass or FAIL)
+/// and a summary; `failed` gets the number of starts that did not pass.
 std::string flightCheckReport(const FlightCheckOptions& options,
                               const std::vector<FlightCheckRun>& runs, int wing_pairs, int& failed);
+
+/// The motors' power over the starts (means) and the figure of merit: the ideal actuator-disk
+/// power to hover the creature's weight on `disk_area` (m^2, in air of 1.204 kg/m^3) over the
+/// mean positive power.
+std::string flightPowerSummary(const std::vector<FlightCheckRun>& runs, double disk_area);
+
+/// flight_check --hover: flies `model` (the hover creature) under HoverController from
+/// `options.altitude` in a side wind of `options.wind`, started `params.max_roll` and
+/// `params.max_pitch` tilted, for `params.duration` at `params.step_size`; returns the report
+/// (height band, attitude, oscillation per stroke, power, figure of merit after 10 s) and sets
+/// `ok` to whether it held the altitude within 0.3 m, upright (up >= 0.9), under 5 cm per
+/// stroke, at most 100 W/kg.
+std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& options,
+                             bool& ok);
 
 }  // namespace flapsim

@@ -84,13 +84,51 @@ double wingEffort(const FlapUnitParams& params, int pairs);
 std::string makeCreatureUrdf(int pairs, const std::string& name = "afc",
                              const FlapUnitParams& params = FlapUnitParams());
 
+/// A hovering flier (make_creature --layout hover): a body hanging under two wings whose
+/// stroke hinges turn about the body's vertical axis (a horizontal stroke plane, as
+/// hummingbirds and flapping-wing robots hover) and whose membranes pitch about their spans
+/// at mid-chord (feathering). Each wing: a spar `wing_<side>_spar` on the stroke hinge
+/// `wing_<side>_joint` (marked <wing>, with a <motor>: the torque-speed line of stall_torque and
+/// no_load_speed, at most max_power, and a parallel <spring> of hinge_stiffness if > 0), and
+/// the membrane `wing_<side>` on the pitch joint `wing_<side>_pitch` (its feather_joint),
+/// flown with the quasi-steady air model (<aero model="quasi_steady">); the spar feels no air.
+struct HoverParams {
+  double body_mass = 0.016;        // kg
+  double body_length = 0.03;       // m, along x (forward)
+  double body_width = 0.03;        // m, along y: the hinges sit on its sides
+  double body_height = 0.07;       // m, along z
+  double hinge_below_top = 0.02;   // m: the hinges lie this far below the body's top
+  double com_drop = 0.0;           // m: the body's COM this far below the box centre
+  double wing_span = 0.12;         // m, from the hinge to the tip
+  double wing_chord = 0.045;       // m
+  double wing_thickness = 0.0005;  // m
+  double wing_mass = 0.0006;       // kg, the membrane
+  double spar_mass = 0.0004;       // kg
+  double spar_size = 0.003;        // m, its square section
+  double stroke_limit = 1.5;       // rad, stroke hinge range +-limit
+  double stall_torque = 0.06;      // N m, the stroke motor's
+  double no_load_speed = 300.0;    // rad/s, the stroke motor's (0: a flat limit)
+  double max_power = 3.0;          // W per stroke motor (0: none)
+  double hinge_stiffness = 0.035;  // N m/rad, the parallel spring at each stroke hinge (0: none)
+  double pitch_effort = 0.02;      // N m, the pitch motor's flat limit
+};
+
+/// URDF text of the hover creature named `name`. Throws std::invalid_argument for a size,
+/// mass or torque that is not positive (a drop, speed, power or spring that is negative).
+std::string makeHoverUrdf(const std::string& name = "hover",
+                          const HoverParams& params = HoverParams());
 /// The make_creature tool's settings.
 struct MakeCreatureOptions {
   int pairs = 1;
   FlapUnitParams params;
-  std::string name = "afc";
+  std::string layout = "chain";  // "chain" (makeCreatureUrdf) or "hover" (makeHoverUrdf)
+  HoverParams hover;
+  std::string name;    // empty: "afc" (chain) or "hover"
   std::string output;  // empty: stdout
 };
+
+/// The URDF `options` ask for (the chain or the hover layout).
+std::string makeCreatureOutput(const MakeCreatureOptions& options);
 
 /// The setter of a --link-axis flag (roll or pitch; InputError naming the flag otherwise).
 std::function<void(const std::vector<std::string>&)> linkAxisSetter(LinkAxis* field);

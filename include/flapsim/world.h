@@ -78,6 +78,26 @@ struct CreatureState {
   std::vector<double> joint_efforts;
 };
 
+/// The mechanical power of a creature's motors (World::power): each motor's torque times its
+/// joint's displacement, step by step (substeps included), summed since the creature was
+/// spawned or the world reset. A motor is a joint driven by a stroke, a velocity target or a
+/// stroking wing's feathering; passive joints (damping, friction, springs) are not motors.
+/// Vectors follow the model's joints (0 for joints without a motor).
+struct CreaturePower {
+  double time = 0.0;  // s of steps counted
+  double mass = 0.0;  // kg, the creature's
+  /// W: each motor's mean power over the last step (> 0: driving its joint, < 0: braking it).
+  std::vector<double> power;
+  std::vector<double> work;           // J: net work
+  std::vector<double> positive_work;  // J: the sum of the steps' positive work
+  double totalPower() const;
+  double totalWork() const;
+  double totalPositiveWork() const;
+  /// W: total positive work over the time (0 before the first step): what motors that cannot
+  /// recover braking energy deliver, on average.
+  double meanPositivePower() const;
+};
+
 /// A state to put a creature in (World::setState), world frame. The pose and twist are those
 /// of one link's frame (CreatureState's convention: the twist is the velocity of the link
 /// frame's origin); the rest of the creature follows through its joints.
@@ -208,6 +228,8 @@ class World {
   /// Acceleration of the root link's centre of mass over the last step, world frame (zero
   /// before the first step after a spawn, reset or setState, and while frozen).
   Vec3 rootAcceleration(const std::string& creature) const;
+  /// The mechanical power and work of the creature's motors (see CreaturePower).
+  CreaturePower power(const std::string& creature) const;
   /// Pose of the root link frame and the twist of the root link frame's origin (world frame;
   /// CreatureState's convention), which is not its centre of mass's unless the two coincide.
   Pose rootPose(const std::string& creature) const;

@@ -32,7 +32,8 @@ struct StrokeControllerParams {
 ///   creature (default `default_creature`), pairs (1), rate (10),
 ///   reread_period (0.5), downstroke_rate (40), upstroke_rate (10),
 ///   amplitude (0.8): each of the last three a number (every pair) or a list
-///   with one number per pair. Throws ParamError naming the bad key.
+///   with one number per pair; shape (triangle, or sine: flapsim::StrokeShape) for every
+///   pair. Throws ParamError naming the bad key.
 StrokeControllerParams parseStrokeControllerParams(const XmlRpc::XmlRpcValue& ns,
                                                    const std::string& default_creature);
 

@@ -34,6 +34,7 @@
 #include "flapsim/world.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/params.h"
+#include "flapsim_ros/power_publisher.h"
 #include "flapsim_ros/tf_publisher.h"
 #include "flapsim_ros/visuals.h"
 #include "flapsim_ros/warning_limiter.h"
@@ -67,6 +68,7 @@ class SimulatorNode {
     ros::Publisher joint_states;
     ros::Publisher odom;
     ros::Publisher imu;
+    std::unique_ptr<PowerPublisher> power;  // <creature>/power
     ros::Subscriber wing_command;
     ros::Publisher description;  // latched URDF text: what a replay needs to draw it
     std::vector<visualization_msgs::Marker> geometry;  // its boxes, for creature_markers

@@ -1,9 +1,11 @@
 // flight_check: flies a creature with its controller from held-out starts and prints, per
-// start, whether it flipped, its lowest up-component, its final and lowest height and the
-// fraction of time upright. Exit status 0 if every start passes (no flip, up-component
-// never below 0.5, final height above the start), 1 if one does not, 2 on bad arguments.
+// start, whether it flipped, its lowest up-component, its final and lowest height, the
+// fraction of time upright and its motors' power. Exit status 0 if every start passes (no
+// flip, up-component never below 0.5, final height above the start), 1 if one does not, 2 on
+// bad arguments. --hover flies the hover creature instead (flapsim::hoverCheckReport).
 #include "flapsim/flight_check.h"
 
+#include <algorithm>
 #include <iostream>
 #include <string>
 
@@ -13,17 +15,33 @@ int main(int argc, char** argv) {
   flapsim::FlightCheckOptions o;
   flapsim::CliParser cli = flapsim::flightCheckCli(o);
   try {
-    cli.parse(std::vector<std::string>(argv + 1, argv + argc));
+    const std::vector<flapsim::CliSeen> seen =
+        cli.parse(std::vector<std::string>(argv + 1, argv + argc));
     if (cli.help()) {
       std::cout << cli.usage();
       return 0;
     }
-    if (o.weights.empty()) throw flapsim::InputError("--weights FILE is required");
+    if (o.weights.empty() && !o.hover) throw flapsim::InputError("--weights FILE is required");
+    auto given = [&seen](const std::string& flag) {
+      return std::any_of(seen.begin(), seen.end(),
+                         [&](const flapsim::CliSeen& s) { return s.flag->names[0] == flag; });
+    };
+    if (o.hover && !given("--roll")) o.params.max_roll = 0.0;
+    if (o.hover && !given("--pitch")) o.params.max_pitch = 0.0;
   } catch (const std::exception& e) {
     std::cerr << "flight_check: " << e.what() << "\n" << cli.usage();
     return 2;
   }
   try {
+    if (o.hover) {
+      bool ok = false;
+      std::cout << flapsim::hoverCheckReport(
+          o.urdf.empty() ? flapsim::parseCreatureModel(flapsim::makeHoverUrdf("hover"),
+                                                       "make_creature --layout hover")
+                         : flapsim::loadCreatureModel(o.urdf),
+          o, ok);
+      return ok ? 0 : 1;
+    }
     const flapsim::ControllerSpec spec = flapsim::loadControllerYaml(o.weights);
     const flapsim::CreatureModelPtr model =
         o.urdf.empty()
@@ -32,8 +50,10 @@ int main(int argc, char** argv) {
             : flapsim::loadCreatureModel(o.urdf);
     const auto runs = flapsim::flightCheck(model, spec, o.params);
     int failed = 0;
-    std::cout << flapsim::flightCheckReport(
-        o, runs, static_cast<int>(model->wing_joints.size() / 2), failed);
+    std::cout << flapsim::flightCheckReport(o, runs,
+                                            static_cast<int>(model->wing_joints.size() / 2), failed)
+              << flapsim::flightPowerSummary(
+                     runs, flapsim::strokeDiskArea(*model, spec.params.amplitude));
     return failed == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::cerr << "flight_check: " << e.what() << "\n";

@@ -1,4 +1,4 @@
-// make_creature: writes the URDF of a creature of N flapping units.
+// make_creature: writes the URDF of a creature of N flapping units, or of the hover creature.
 #include "flapsim/make_creature.h"
 
 #include <iostream>
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   try {
-    const std::string urdf = flapsim::makeCreatureUrdf(o.pairs, o.name, o.params);
+    const std::string urdf = flapsim::makeCreatureOutput(o);
     if (o.output.empty()) {
       std::cout << urdf;
     } else {

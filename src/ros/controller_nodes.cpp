@@ -43,6 +43,17 @@ ros::Subscriber keepLatest(ros::NodeHandle& nh, const std::string& topic, std::m
                              }));
 }
 
+// Whether `steps` steps advanced the simulator by one control period `period`; else says so. A
+// wrong ~step_size would fly the network at another control period, silently.
+bool advancedOnePeriod(const ros::Duration& advanced, long steps, double period, double step_size) {
+  if (std::abs(advanced.toSec() - period) <= 1e-9) return true;
+  ROS_ERROR_STREAM("ann_controller: " << steps << " steps advanced the simulator by "
+                                      << advanced.toSec() << " s, not the control period " << period
+                                      << " s: ~step_size (" << step_size
+                                      << " s) is not the simulator's step size");
+  return false;
+}
+
 }  // namespace
 
 // ---- stroke_controller ---------------------------------------------------------------------
@@ -74,7 +85,7 @@ void StrokeControllerNode::reread() {
     for (size_t i = 0; !changed && i < p.strokes.size(); ++i) {
       const auto &a = p.strokes[i], &b = params_.strokes[i];
       changed = a.downstroke_rate != b.downstroke_rate || a.upstroke_rate != b.upstroke_rate ||
-                a.amplitude != b.amplitude;
+                a.amplitude != b.amplitude || a.shape != b.shape;
     }
     params_.strokes = p.strokes;
     params_.pairs = p.pairs;
@@ -106,8 +117,8 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
       altimeter_rng_(static_cast<std::uint64_t>(params_.noise_seed)) {
   if (params_.attitude_source == AttitudeSource::kTf && spec_.params.rate_inputs) {
     throw ParamError("parameter '" + pnh_.resolveName("attitude_source") +
-                     "': tf has no angular velocities, and the network of " +
-                     params_.weights_file + " takes the gyro's rates: use imu");
+                     "': tf has no angular velocities, and the network of " + params_.weights_file +
+                     " takes the gyro's rates: use imu");
   }
   controller_ = std::make_unique<flapsim::AnnWingController>(
       flapsim::FlapUnitController(spec_.params, spec_.weights));
@@ -128,17 +139,15 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   for (const std::string& k : params_.unknown_keys) {
     ROS_WARN_STREAM("ann_controller: ignoring unknown parameter '" << pnh_.resolveName(k) << "'");
   }
-  ROS_INFO_STREAM("ann_controller: " << params_.pairs << " unit(s) of '" << params_.creature
-                                     << "' at " << params_.rate << " Hz, weights "
-                                     << params_.weights_file << ", attitude from "
-                                     << (params_.attitude_source == AttitudeSource::kImu
-                                             ? subscribers_.front().getTopic()
-                                             : std::string("tf"))
-                                     << (params_.altitude ? ", holding " +
-                                                                std::to_string(*params_.altitude) +
-                                                                " m"
-                                                          : std::string(", climbing"))
-                                     << (params_.lockstep ? ", lockstep" : ""));
+  ROS_INFO_STREAM("ann_controller: "
+                  << params_.pairs << " unit(s) of '" << params_.creature << "' at " << params_.rate
+                  << " Hz, weights " << params_.weights_file << ", attitude from "
+                  << (params_.attitude_source == AttitudeSource::kImu
+                          ? subscribers_.front().getTopic()
+                          : std::string("tf"))
+                  << (params_.altitude ? ", holding " + std::to_string(*params_.altitude) + " m"
+                                       : std::string(", climbing"))
+                  << (params_.lockstep ? ", lockstep" : ""));
 }
 
 void AnnControllerNode::subscribe() {
@@ -340,15 +349,7 @@ bool AnnControllerNode::runLockstep() {
       commands[c] = command(*q, t);
     }
     if (!call(static_cast<std::uint32_t>(steps), commands)) return false;
-    const ros::Duration advanced = srv.response.sim_time - t;
-    if (std::abs(advanced.toSec() - period) > 1e-9) {
-      // A wrong ~step_size would fly the network at another control period, silently.
-      ROS_ERROR_STREAM("ann_controller: " << steps << " steps advanced the simulator by "
-                                          << advanced.toSec() << " s, not the control period "
-                                          << period << " s: ~step_size (" << step_size
-                                          << " s) is not the simulator's step size");
-      return false;
-    }
+    if (!advancedOnePeriod(srv.response.sim_time - t, steps, period, step_size)) return false;
     t = srv.response.sim_time;
   }
   ROS_INFO_STREAM("ann_controller: lockstep done at t = " << t);

@@ -79,11 +79,18 @@ StrokeControllerParams parseStrokeControllerParams(const XmlRpcValue& ns,
   const auto down = perPair(d, "downstroke_rate", p.pairs, 40.0);
   const auto up = perPair(d, "upstroke_rate", p.pairs, 10.0);
   const auto amp = perPair(d, "amplitude", p.pairs, 0.8);
+  flapsim::StrokeShape shape = flapsim::StrokeShape::kTriangle;
+  try {
+    shape = flapsim::strokeShapeFromString(d.string("shape", "triangle"));
+  } catch (const std::invalid_argument& e) {
+    failParam(d.key("shape"), e.what());
+  }
   for (int i = 0; i < p.pairs; ++i) {
     flapsim::StrokeCommand c;
     c.downstroke_rate = down[i];
     c.upstroke_rate = up[i];
     c.amplitude = amp[i];
+    c.shape = shape;
     const std::string err = flapsim::validateStroke(c);
     if (!err.empty()) throw ParamError("wing pair " + std::to_string(i) + ": " + err);
     p.strokes.push_back(c);

@@ -123,10 +123,17 @@ WingCommandRequest fromMsg(const flapsim::WingCommand& msg) {
                               std::to_string(msg.upstroke_rate.size()) + ", amplitude " +
                               std::to_string(msg.amplitude.size()));
   }
-  if (!msg.feather_angle.empty() && msg.feather_angle.size() != n) {
-    throw flapsim::InputError("wing command has " + std::to_string(msg.feather_angle.size()) +
-                              " feather_angle entries for " + std::to_string(n) + " strokes");
-  }
+  // An optional array: empty, or one entry per stroke.
+  auto optional = [n](size_t size, const char* name) {
+    if (size != 0 && size != n) {
+      throw flapsim::InputError("wing command has " + std::to_string(size) + " " + name +
+                                " entries for " + std::to_string(n) + " strokes");
+    }
+  };
+  optional(msg.feather_angle.size(), "feather_angle");
+  optional(msg.downstroke_feather_angle.size(), "downstroke_feather_angle");
+  optional(msg.offset.size(), "offset");
+  optional(msg.shape.size(), "shape");
   if (!msg.joint_names.empty() && msg.joint_names.size() != n) {
     throw flapsim::InputError("wing command has " + std::to_string(msg.joint_names.size()) +
                               " joint_names but " + std::to_string(n) + " strokes");
@@ -134,8 +141,19 @@ WingCommandRequest fromMsg(const flapsim::WingCommand& msg) {
   WingCommandRequest r;
   r.joints = msg.joint_names;
   for (size_t i = 0; i < n; ++i) {
-    r.strokes.push_back({msg.downstroke_rate[i], msg.upstroke_rate[i], msg.amplitude[i],
-                         msg.feather_angle.empty() ? 0.0 : msg.feather_angle[i]});
+    flapsim::StrokeCommand c{msg.downstroke_rate[i], msg.upstroke_rate[i], msg.amplitude[i],
+                             msg.feather_angle.empty() ? 0.0 : msg.feather_angle[i]};
+    if (!msg.downstroke_feather_angle.empty())
+      c.downstroke_feather = msg.downstroke_feather_angle[i];
+    if (!msg.offset.empty()) c.offset = msg.offset[i];
+    if (!msg.shape.empty()) {
+      try {
+        c.shape = flapsim::strokeShapeFromString(msg.shape[i]);
+      } catch (const std::invalid_argument& e) {
+        throw flapsim::InputError("wing command shape[" + std::to_string(i) + "]: " + e.what());
+      }
+    }
+    r.strokes.push_back(c);
   }
   return r;
 }
@@ -143,15 +161,22 @@ WingCommandRequest fromMsg(const flapsim::WingCommand& msg) {
 flapsim::WingCommand toMsg(const WingCommandRequest& request) {
   flapsim::WingCommand m;
   m.joint_names = request.joints;
+  bool feather = false, downstroke_feather = false, offset = false, shape = false;
   for (const auto& s : request.strokes) {
     m.downstroke_rate.push_back(s.downstroke_rate);
     m.upstroke_rate.push_back(s.upstroke_rate);
     m.amplitude.push_back(s.amplitude);
+    feather = feather || s.feather != 0.0;
+    downstroke_feather = downstroke_feather || s.downstroke_feather != 0.0;
+    offset = offset || s.offset != 0.0;
+    shape = shape || s.shape != flapsim::StrokeShape::kTriangle;
   }
+  // The optional arrays only where a stroke differs from their default.
   for (const auto& s : request.strokes) {
-    if (s.feather == 0.0) continue;
-    for (const auto& f : request.strokes) m.feather_angle.push_back(f.feather);
-    break;
+    if (feather) m.feather_angle.push_back(s.feather);
+    if (downstroke_feather) m.downstroke_feather_angle.push_back(s.downstroke_feather);
+    if (offset) m.offset.push_back(s.offset);
+    if (shape) m.shape.push_back(flapsim::toString(s.shape));
   }
   return m;
 }

@@ -115,12 +115,22 @@ ViewParams parseView(const Dict& d, ViewParams v) {
 std::vector<flapsim::StrokeCommand> parseWingCommand(const Dict& d) {
   const char* keys[3] = {"downstroke_rate", "upstroke_rate", "amplitude"};
   std::vector<std::vector<double>> v(3);
-  std::vector<double> feather;
-  if (d.has("feather")) {
-    const XmlRpcValue& x = d.at("feather");
-    feather = x.getType() == XmlRpcValue::TypeArray
-                  ? d.numbers("feather")
-                  : std::vector<double>{Dict::toNumber(x, d.key("feather"))};
+  // An optional entry: a number (every stroke) or a list; empty if absent.
+  auto numbers = [&d](const char* key) -> std::vector<double> {
+    if (!d.has(key)) return {};
+    const XmlRpcValue& x = d.at(key);
+    return x.getType() == XmlRpcValue::TypeArray
+               ? d.numbers(key)
+               : std::vector<double>{Dict::toNumber(x, d.key(key))};
+  };
+  const std::vector<double> feather = numbers("feather");
+  const std::vector<double> downstroke_feather = numbers("downstroke_feather");
+  const std::vector<double> offset = numbers("offset");
+  std::vector<std::string> shape;
+  if (d.has("shape")) {
+    shape = d.at("shape").getType() == XmlRpcValue::TypeArray
+                ? d.strings("shape")
+                : std::vector<std::string>{d.string("shape", "")};
   }
   for (int i = 0; i < 3; ++i) {
     if (!d.has(keys[i])) fail(d.key(keys[i]), "missing");
@@ -132,15 +142,27 @@ std::vector<flapsim::StrokeCommand> parseWingCommand(const Dict& d) {
     }
   }
   d.rejectUnknown();
-  if (v[0].size() != v[1].size() || v[0].size() != v[2].size() || v[0].empty()) {
+  const size_t n = v[0].size();
+  if (v[1].size() != n || v[2].size() != n || n == 0) {
     fail(d.name(), "needs downstroke_rate, upstroke_rate and amplitude of equal, non-zero length");
   }
-  if (!feather.empty() && feather.size() != v[0].size()) {
-    fail(d.key("feather"), "must have as many entries as downstroke_rate");
-  }
+  // A scalar of an optional entry applies to every stroke; a list needs one per stroke.
+  auto at = [&](const auto& values, const char* key, size_t k, auto fallback) {
+    if (values.empty()) return fallback;
+    if (values.size() == 1) return values[0];
+    if (values.size() != n) fail(d.key(key), "must have as many entries as downstroke_rate");
+    return values[k];
+  };
   std::vector<flapsim::StrokeCommand> out;
-  for (size_t k = 0; k < v[0].size(); ++k) {
-    flapsim::StrokeCommand c{v[0][k], v[1][k], v[2][k], feather.empty() ? 0.0 : feather[k]};
+  for (size_t k = 0; k < n; ++k) {
+    flapsim::StrokeCommand c{v[0][k], v[1][k], v[2][k], at(feather, "feather", k, 0.0)};
+    c.downstroke_feather = at(downstroke_feather, "downstroke_feather", k, 0.0);
+    c.offset = at(offset, "offset", k, 0.0);
+    try {
+      c.shape = flapsim::strokeShapeFromString(at(shape, "shape", k, std::string("triangle")));
+    } catch (const std::invalid_argument& e) {
+      fail(d.key("shape"), e.what());
+    }
     std::string err = flapsim::validateStroke(c);
     if (!err.empty()) fail(d.name(), err);
     out.push_back(c);

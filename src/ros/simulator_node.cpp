@@ -180,6 +180,7 @@ void SimulatorNode::advertiseCreature(Creature& c, const std::string& urdf_xml) 
                                              if (const Creature* c = find(name))
                                                p.publish(imuMsgOf(*c, world_.state(name), now()));
                                            });
+  c.power = std::make_unique<PowerPublisher>(c.nh, name, c.model);
   c.wing_command = c.nh.subscribe<flapsim::WingCommand>(
       name + "/wing_command", 10,
       [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });
@@ -194,6 +195,7 @@ void SimulatorNode::remove(const std::string& name) {
   (*it)->joint_states.shutdown();
   (*it)->odom.shutdown();
   (*it)->imu.shutdown();
+  (*it)->power->shutdown();
   (*it)->wing_command.shutdown();
   (*it)->description.shutdown();
   nh_.deleteParam(name + "/robot_description");
@@ -328,6 +330,7 @@ void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp) {
   const bool need_js = c.joint_states.getNumSubscribers() > 0;
   const bool need_odom = c.odom.getNumSubscribers() > 0;
   const bool need_imu = c.imu.getNumSubscribers() > 0;
+  c.power->publish(world_.power(c.name), stamp);
   if (!need_js && !need_odom && !need_imu) return;
   const flapsim::CreatureState s = world_.state(c.name);
   if (need_imu) c.imu.publish(imuMsgOf(c, s, stamp));

@@ -107,6 +107,10 @@ double linkReach(const LinkModel& l) {
     const double corner = (com_inv * b.origin).position.norm() + 0.5 * b.size.norm();
     reach = std::max(reach, corner);
   }
+  for (const RoundShape& r : l.rounds) {
+    const double rim = std::hypot(r.radius, 0.5 * r.length);  // a sphere's length is 0
+    reach = std::max(reach, (com_inv * r.origin).position.norm() + rim);
+  }
   return reach;
 }
 
@@ -136,9 +140,10 @@ BulletBody::~BulletBody() {
   if (mb_) w.removeMultiBody(mb_.get());
 }
 
-// The collision shape of a link with boxes (in the COM frame), owned by the body.
+// The collision shape of a link with shapes (in the COM frame), owned by the body.
 btCollisionShape* BulletBody::linkShape(const LinkModel& l) {
   const Pose com_inv{-l.com, Quat::Identity()};
+  if (l.boxes.empty() || !l.rounds.empty()) return roundLinkShape(l);
   const Pose first = com_inv * l.boxes[0].origin;
   if (l.boxes.size() == 1 && first.position.isZero(1e-12) &&
       first.orientation.isApprox(Quat::Identity(), 1e-12)) {
@@ -157,7 +162,31 @@ btCollisionShape* BulletBody::linkShape(const LinkModel& l) {
   return shape;
 }
 
-// The collider of link k (which has boxes), added to the scene.
+// The compound shape of a link with cylinders or spheres (btCylinderShapeZ: URDF's axis z)
+// and its boxes, in the COM frame, owned by the body.
+btCollisionShape* BulletBody::roundLinkShape(const LinkModel& l) {
+  const Pose com_inv{-l.com, Quat::Identity()};
+  auto compound =
+      std::make_unique<btCompoundShape>(false, static_cast<int>(l.boxes.size() + l.rounds.size()));
+  auto add = [&](std::unique_ptr<btCollisionShape> child, const Pose& origin) {
+    compound->addChildShape(toBt(com_inv * origin), child.get());
+    shapes_.push_back(std::move(child));
+  };
+  for (const Box& b : l.boxes) add(std::make_unique<btBoxShape>(toBt(0.5 * b.size)), b.origin);
+  for (const RoundShape& r : l.rounds) {
+    if (r.kind == RoundShape::Kind::kSphere) {
+      add(std::make_unique<btSphereShape>(r.radius), r.origin);
+    } else {
+      const btVector3 half(r.radius, r.radius, 0.5 * r.length);
+      add(std::make_unique<btCylinderShapeZ>(half), r.origin);
+    }
+  }
+  btCollisionShape* shape = compound.get();
+  shapes_.push_back(std::move(compound));
+  return shape;
+}
+
+// The collider of link k (which has shapes), added to the scene.
 void BulletBody::addCollider(const LinkModel& l, int k, double friction) {
   auto col = std::make_unique<btMultiBodyLinkCollider>(mb_.get(), k - 1);
   col->setCollisionShape(linkShape(l));
@@ -180,7 +209,7 @@ void BulletBody::addColliders(double friction) {
   for (size_t k = 0; k < model_.links.size(); ++k) {
     const LinkModel& l = model_.links[k];
     reach_[k] = linkReach(l);
-    if (!l.boxes.empty()) addCollider(l, static_cast<int>(k), friction);
+    if (l.hasShapes()) addCollider(l, static_cast<int>(k), friction);
   }
 }
 

@@ -85,6 +85,7 @@ class BulletBody {
   void addColliders(double friction);
   void addCollider(const LinkModel& l, int k, double friction);
   btCollisionShape* linkShape(const LinkModel& l);
+  btCollisionShape* roundLinkShape(const LinkModel& l);
   void addLimits();
 
   const CreatureModel& model_;

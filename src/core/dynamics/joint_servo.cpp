@@ -67,6 +67,7 @@ int JointServoSolver::prepare(const std::vector<ServoLink>& links,
   const bool given = tree.inertia && tree.subspace;
   status_.resize(n);
   tau_.assign(n, 0.0);
+  side_.assign(n, 0);
   body_inertia_.resize(n);
   const bool extra = !loads.extra_inertia.empty();
   // Given inertias are read where they are, unless loads add to every link's.
@@ -96,11 +97,12 @@ int JointServoSolver::prepare(const std::vector<ServoLink>& links,
     s_[k] = given ? (*tree.subspace)[k] : motionSubspace(l);
     if (k == 0 || l.joint == ServoJointType::kFixed) {
       status_[k] = Status::kFixed;
-    } else if (demands[k].active && demands[k].max_impulse > 0.0) {
+    } else if (demands[k].drives()) {
       ++driven;
       if (warm_.size() == n && warm_[k] != 0) {  // saturated in the last solve
         status_[k] = Status::kFree;
-        tau_[k] = warm_[k] * demands[k].max_impulse;
+        side_[k] = warm_[k];
+        tau_[k] = warm_[k] > 0 ? demands[k].upper() : -demands[k].lower();
         out.saturated[k] = true;
       } else {
         status_[k] = Status::kPrescribed;
@@ -130,18 +132,16 @@ void JointServoSolver::settleActiveSet(const std::vector<ServoLink>& links, bool
     changed = false;
     for (size_t k = 1; k < n; ++k) {
       const ServoDemand& d = demands[k];
-      if (!d.active || status_[k] == Status::kFixed || d.max_impulse <= 0.0) continue;
+      if (!d.drives() || status_[k] == Status::kFixed) continue;
       if (status_[k] == Status::kPrescribed) {
-        const double lambda = out.impulse[k];
-        if (std::abs(lambda) > d.max_impulse) {
-          status_[k] = Status::kFree;
-          tau_[k] = std::copysign(d.max_impulse, lambda);
+        if (saturate(k, d, out.impulse[k])) {
           out.saturated[k] = true;
           changed = true;
         }
       } else if (out.saturated[k]) {
+        // Re-driven when the bound it pushes with would carry it past its target.
         const double excess = out.velocity_change[k] - d.velocity_change;
-        if ((tau_[k] > 0.0 && excess > 0.0) || (tau_[k] < 0.0 && excess < 0.0)) {
+        if ((side_[k] > 0 && excess > 0.0) || (side_[k] < 0 && excess < 0.0)) {
           status_[k] = Status::kPrescribed;
           out.saturated[k] = false;
           changed = true;
@@ -152,10 +152,7 @@ void JointServoSolver::settleActiveSet(const std::vector<ServoLink>& links, bool
   if (changed) {
     // Out of passes (a cycling active set, in theory): keep every bound.
     for (size_t k = 1; k < n; ++k) {
-      const ServoDemand& d = demands[k];
-      if (status_[k] == Status::kPrescribed && std::abs(out.impulse[k]) > d.max_impulse) {
-        status_[k] = Status::kFree;
-        tau_[k] = std::copysign(d.max_impulse, out.impulse[k]);
+      if (status_[k] == Status::kPrescribed && saturate(k, demands[k], out.impulse[k])) {
         out.saturated[k] = true;
       }
     }
@@ -181,8 +178,24 @@ void JointServoSolver::solve(const std::vector<ServoLink>& links, bool fixed_roo
   settleActiveSet(links, fixed_root, demands, loads, driven, out);
   warm_.resize(n);
   for (size_t k = 0; k < n; ++k) {
-    warm_[k] = !out.saturated[k] ? 0 : tau_[k] > 0.0 ? 1 : -1;
+    warm_[k] = out.saturated[k] ? side_[k] : 0;
   }
+}
+
+bool JointServoSolver::saturate(size_t k, const ServoDemand& d, double impulse) {
+  if (impulse > d.upper()) {
+    status_[k] = Status::kFree;
+    tau_[k] = d.upper();
+    side_[k] = 1;
+    return true;
+  }
+  if (impulse < -d.lower()) {
+    status_[k] = Status::kFree;
+    tau_[k] = -d.lower();
+    side_[k] = -1;
+    return true;
+  }
+  return false;
 }
 
 void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root,

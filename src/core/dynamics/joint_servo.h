@@ -38,6 +38,15 @@ struct ServoDemand {
   bool active = false;           // false: passive, no impulse
   double velocity_change = 0.0;  // wanted change of the joint velocity
   double max_impulse = 0.0;      // bound on |impulse| (N m s or N s), >= 0
+  /// A different bound on -impulse (a motor's torque-speed line makes the bounds of driving
+  /// and braking differ), >= 0; < 0: max_impulse bounds both directions.
+  double max_negative_impulse = -1.0;
+
+  /// The bounds: -lower() <= impulse <= upper().
+  double upper() const { return max_impulse; }
+  double lower() const { return max_negative_impulse >= 0.0 ? max_negative_impulse : max_impulse; }
+  /// Whether the servo can push at all.
+  bool drives() const { return active && (upper() > 0.0 || lower() > 0.0); }
 };
 
 /// Optional per-link terms of a solve, each in the common frame about its origin (empty
@@ -90,6 +99,9 @@ class JointServoSolver {
 
  private:
   enum class Status { kFixed, kFree, kPrescribed };
+  // A prescribed joint whose impulse is beyond a bound pushes with that bound instead: made
+  // free at it; whether it was.
+  bool saturate(size_t k, const ServoDemand& d, double impulse);
   // Throws std::invalid_argument unless every vector has one entry per link.
   void checkArguments(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands,
                       const ServoLoads& loads, const ServoTree& tree) const;
@@ -105,7 +117,8 @@ class JointServoSolver {
             const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
 
   std::vector<Status> status_;
-  std::vector<double> tau_;  // known impulse of a free joint
+  std::vector<double> tau_;        // known impulse of a free joint
+  std::vector<signed char> side_;  // of a saturated joint: +1 at its upper bound, -1 at its lower
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
   // The links' spatial inertias in this solve: body_inertia_ or the caller's.
   const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia_ = &body_inertia_;

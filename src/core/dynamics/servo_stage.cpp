@@ -58,9 +58,14 @@ ServoStage::ServoStage(const CreatureModel& m, const WorldParams& params) : mode
 }
 
 void ServoStage::demand(int link, double target, double effort, double dt) {
+  demand(link, target, flatTorqueBounds(effort), dt);
+}
+
+void ServoStage::demand(int link, double target, const TorqueBounds& bounds, double dt) {
   ServoDemand& d = demands_[link];
   d.active = true;
-  d.max_impulse = effort * dt;
+  d.max_impulse = bounds.positive * dt;
+  d.max_negative_impulse = bounds.negative * dt;
   target_[link] = target;
 }
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dynamics/joint_servo.h"
+#include "dynamics/motor.h"
 #include "dynamics/spatial.h"
 #include "dynamics/tree_dynamics.h"
 #include "flapsim/creature_model.h"
@@ -36,6 +37,8 @@ class ServoStage {
   // parent): none, or a target velocity at the end of the step under a torque bound.
   void release(int link) { demands_[link].active = false; }
   void demand(int link, double target, double effort, double dt);
+  // The same under a motor's bounds, which differ in the two directions (dynamics/motor.h).
+  void demand(int link, double target, const TorqueBounds& bounds, double dt);
 
   // The start of a (sub)step: the velocities the fluid's implicit part and the saturated
   // servos' correction are measured from.

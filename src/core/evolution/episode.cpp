@@ -303,6 +303,10 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   if (tally.settled > 0) {
     result.altitude_rms = std::sqrt(tally.altitude_sq / static_cast<double>(tally.settled));
   }
+  const CreaturePower power = world.power(name);
+  result.positive_power = power.meanPositivePower();
+  result.net_power = power.time > 0.0 ? power.totalWork() / power.time : 0.0;
+  result.mass = power.mass;
   return result;
 }
 

@@ -59,6 +59,9 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
     run.altitude_rms = r.altitude_rms;
     run.lateral_drift = r.lateral_drift;
     run.mean_bank = r.mean_bank;
+    run.positive_power = r.positive_power;
+    run.net_power = r.net_power;
+    run.mass = r.mass;
     return 0.0;
   });
   return runs;
@@ -78,8 +81,11 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .real("--step-size", "DT", &p.step_size, {1e-6, 0.1}, "s")
       .integer("--threads", "N", &p.threads, {1, 256},
                "parallel flights; results do not depend on it")
+      .flag("--hover", &o.hover, true,
+            "fly the hover creature (make_creature --layout hover, or --urdf) under its "
+            "controller instead, started --roll, --pitch tilted (0 unless given)")
       .real("--wind", "SPEED", &p.wind, {0, 1e3},
-            "steady wind from t = 0, m/s, from a heading drawn per start")
+            "steady wind from t = 0, m/s, from a heading drawn per start (--hover: along +y)")
       .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
             "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
       .real("--gust-force", "N", &p.gust_force, {-1e6, 1e6},
@@ -97,7 +103,7 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
             p.altitude = parseCliReal("--altitude", v[0], {-1e6, 1e6});
           },
           [&p] { return p.altitude ? formatCliNumber(*p.altitude) : std::string("climb"); },
-          "hold M m (the root link frame's height); default: climb");
+          "hold M m (the root link frame's height); default: climb (--hover: 3)");
   return t;
 }
 
@@ -105,10 +111,11 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
                               int wing_pairs, int& failed) {
   const FlightCheckParams& p = o.params;
   constexpr double kDeg = 180.0 / M_PI;
-  char line[320];
-  std::snprintf(line, sizeof line, "%-5s %7s %7s %9s %7s %6s %8s %8s %7s %8s %8s %7s %6s\n",
-                "start", "roll", "pitch", "wind", "flipped", "min_up", "final_z", "min_z",
-                "upright", "alt_rms", "drift", "bank", "result");
+  char line[400];
+  std::snprintf(line, sizeof line,
+                "%-5s %7s %7s %9s %7s %6s %8s %8s %7s %8s %8s %7s %8s %9s %8s %6s\n", "start",
+                "roll", "pitch", "wind", "flipped", "min_up", "final_z", "min_z", "upright",
+                "alt_rms", "drift", "bank", "P+", "P+/m", "P_net", "result");
   std::string out = line;
   failed = 0;
   for (size_t i = 0; i < runs.size(); ++i) {
@@ -123,10 +130,13 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
     char rms[16] = "-";
     if (std::isfinite(r.altitude_rms)) std::snprintf(rms, sizeof rms, "%.3fm", r.altitude_rms);
     std::snprintf(line, sizeof line,
-                  "%-5zu %6.1f° %6.1f° %9s %7s %6.3f %7.2fm %7.2fm %6.1f%% %8s %7.2fm %6.2f° %6s\n",
+                  "%-5zu %6.1f° %6.1f° %9s %7s %6.3f %7.2fm %7.2fm %6.1f%% %8s %7.2fm %6.2f° "
+                  "%7.2fW %5.0fW/kg %7.2fW %6s\n",
                   i, r.start.roll * kDeg, r.start.pitch * kDeg, wind, r.flipped ? "yes" : "no",
                   r.min_upright, r.final_height, r.min_height, 100.0 * r.upright_fraction, rms,
-                  r.lateral_drift, r.mean_bank * kDeg, ok ? "pass" : "FAIL");
+                  r.lateral_drift, r.mean_bank * kDeg, r.positive_power,
+                  r.mass > 0.0 ? r.positive_power / r.mass : 0.0, r.net_power,
+                  ok ? "pass" : "FAIL");
     out += line;
   }
   std::snprintf(line, sizeof line, "%d of %zu starts passed (",
@@ -135,6 +145,55 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
   std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s))\n", p.duration,
                 1000.0 * p.step_size, wing_pairs);
   return out + line;
+}
+
+std::string flightPowerSummary(const std::vector<FlightCheckRun>& runs, double disk_area) {
+  double positive = 0.0, net = 0.0, mass = 0.0;
+  for (const FlightCheckRun& r : runs) {
+    positive += r.positive_power / static_cast<double>(runs.size());
+    net += r.net_power / static_cast<double>(runs.size());
+    mass = r.mass;
+  }
+  const double ideal = idealHoverPower(9.81 * mass, 1.204, disk_area);
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "mechanical power of the motors, mean over the starts: %.2f W positive (%.0f W/kg "
+                "of its %.1f g), %.2f W net; figure of merit %.3f (ideal %.3f W on a disk of %.3f "
+                "m^2)\n",
+                positive, mass > 0.0 ? positive / mass : 0.0, 1000.0 * mass, net,
+                positive > 0.0 ? ideal / positive : 0.0, ideal, disk_area);
+  return line;
+}
+
+std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& o, bool& ok) {
+  HoverControllerParams controller;
+  const double altitude = o.params.altitude.value_or(3.0);
+  controller.altitude = altitude;
+  HoverFlightParams p;
+  p.duration = o.params.duration;
+  p.world.step_size = o.params.step_size;
+  p.world.air.wind = Vec3(0.0, o.params.wind, 0.0);
+  p.start_roll = o.params.max_roll;
+  p.start_pitch = o.params.max_pitch;
+  const HoverFlightResult r = flyHover(model, controller, p);
+  const double disk = strokeDiskArea(*model, controller.amplitude);
+  const double ideal = idealHoverPower(r.mass * 9.81, p.world.air.density, disk);
+  ok = r.min_height >= altitude - 0.3 && r.max_height <= altitude + 0.3 && r.min_upright >= 0.9 &&
+       r.max_stroke_oscillation < 0.05 && r.specificPower() <= 100.0;
+  char line[1024];
+  std::snprintf(line, sizeof line,
+                "hover at %g m, wind %g m/s, %g s at %g ms (figures after %g s):\n"
+                "  height %.3f to %.3f m, lowest up-component %.4f, largest height range in a "
+                "stroke %.1f mm, drift %.2f m, %.2f Hz\n"
+                "  mechanical power of the motors: %.3f W positive (%.1f W/kg of its %.1f g), "
+                "%.3f W net\n"
+                "  figure of merit: ideal %.3f W (actuator disk of %.4f m^2) / %.3f W = %.2f\n%s\n",
+                altitude, o.params.wind, p.duration, 1000.0 * p.world.step_size, p.settle,
+                r.min_height, r.max_height, r.min_upright, 1000.0 * r.max_stroke_oscillation,
+                r.drift.norm(), r.mean_frequency, r.positive_power, r.specificPower(),
+                1000.0 * r.mass, r.net_power, ideal, disk, r.positive_power,
+                ideal / r.positive_power, ok ? "pass" : "FAIL");
+  return line;
 }
 
 }  // namespace flapsim

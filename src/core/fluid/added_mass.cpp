@@ -5,8 +5,34 @@
 
 namespace flapsim {
 
+namespace {
+
+// DNV-RP-C205 table A-2, rectangular plates: {c / b, C_A}, c / b falling (b / c = 1, 1.25,
+// 1.5, 1.59, 2, 2.5, 3, 4, 5, 6.25, 8, 10, infinity).
+constexpr double kPlateTable[][2] = {{1.0, 0.579},        {1.0 / 1.25, 0.642}, {1.0 / 1.5, 0.690},
+                                     {1.0 / 1.59, 0.704}, {1.0 / 2.0, 0.757},  {1.0 / 2.5, 0.801},
+                                     {1.0 / 3.0, 0.830},  {1.0 / 4.0, 0.871},  {1.0 / 5.0, 0.897},
+                                     {1.0 / 6.25, 0.917}, {1.0 / 8.0, 0.934},  {1.0 / 10.0, 0.947},
+                                     {0.0, 1.0}};
+
+}  // namespace
+
+double plateAddedMassCoefficient(double chord, double span) {
+  const double lo = std::min(chord, span), hi = std::max(chord, span);
+  const double r = hi > 0.0 ? lo / hi : 1.0;  // c / b in [0, 1]
+  constexpr size_t n = sizeof(kPlateTable) / sizeof(kPlateTable[0]);
+  for (size_t i = 1; i < n; ++i) {
+    if (r >= kPlateTable[i][0]) {
+      const double* a = kPlateTable[i - 1];
+      const double* b = kPlateTable[i];
+      return b[1] + (a[1] - b[1]) * (r - b[0]) / (a[0] - b[0]);
+    }
+  }
+  return 1.0;
+}
+
 double plateAddedMass(double density, double chord, double span) {
-  return density * M_PI * chord * chord * span / 4.0;
+  return plateAddedMassCoefficient(chord, span) * density * M_PI * chord * chord * span / 4.0;
 }
 
 void appendPlateAddedMass(std::vector<NormalMass>& masses, const Vec3& size, const Pose& origin,

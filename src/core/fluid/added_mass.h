@@ -1,7 +1,8 @@
 // The added mass of plates: the fluid a plate carries along when it moves along its normal,
-// strip theory, spread over the plate's cells as point masses that act along the normal. The
-// world treats it implicitly (an inertia added in the velocity update: a wing in water
-// carries ~175 times its own mass and stays stable). Pure functions. Private to flapsim_core.
+// strip theory reduced by the plate's aspect ratio (DNV-RP-C205 table A-2), spread over the plate's
+// cells as point masses that act along the normal. The world treats it implicitly (an inertia added
+// in the velocity update: a wing in water carries ~175 times its own mass and stays stable). Pure
+// functions. Private to flapsim_core.
 #pragma once
 
 #include <vector>
@@ -11,8 +12,18 @@
 
 namespace flapsim {
 
-/// Added mass of a flat plate moving along its normal, strip theory (Sane & Dickinson
-/// 2002; Whitney & Wood 2010): rho pi c^2 b / 4, c the shorter edge, b the longer.
+/// The added-mass coefficient C_A of a rectangular plate of sides c <= b moving along its
+/// normal, from DNV-RP-C205 "Environmental conditions and environmental loads" (Det Norske
+/// Veritas, 2010), Appendix A, table A-2 (rectangular plates): 0.579 at b / c = 1, 0.642 at
+/// 1.25, 0.690 at 1.5, 0.704 at 1.59, 0.757 at 2, 0.801 at 2.5, 0.830 at 3, 0.871 at 4,
+/// 0.897 at 5, 0.917 at 6.25, 0.934 at 8, 0.947 at 10 and 1 for an infinite strip; linear in
+/// c / b between the table's rows. Strip theory (C_A = 1) holds only for the infinite plate:
+/// the flow escapes round a finite plate's ends.
+double plateAddedMassCoefficient(double chord, double span);
+
+/// Added mass of a flat plate moving along its normal: C_A rho pi c^2 b / 4, c the shorter
+/// edge, b the longer, C_A = plateAddedMassCoefficient(c, b) (strip theory's rho pi c^2 b / 4,
+/// Sane & Dickinson 2002, Whitney & Wood 2010, times the finite plate's reduction).
 double plateAddedMass(double density, double chord, double span);
 
 /// A box is plate-like when its thinnest edge is at most this fraction of the middle one.

@@ -53,7 +53,7 @@ void setSurface(AeroBody& a, const CreatureModel& m, const AirParams& air) {
 CreatureFluid::CreatureFluid(const CreatureModel& m, const AirParams& air) {
   for (size_t k = 0; k < m.links.size(); ++k) {
     const LinkModel& l = m.links[k];
-    if (!l.aero.enabled || l.boxes.empty()) continue;
+    if (!l.aero.enabled || !l.hasShapes()) continue;
     AeroBody a;
     a.link = static_cast<int>(k);
     a.model = l.aero.model;
@@ -61,10 +61,19 @@ CreatureFluid::CreatureFluid(const CreatureModel& m, const AirParams& air) {
     a.last.link = a.link;
     bodies_.push_back(std::move(a));
   }
+  buildBatch();
 }
 
 void CreatureFluid::resurface(const CreatureModel& m, const AirParams& air) {
   for (AeroBody& a : bodies_) setSurface(a, m, air);
+  buildBatch();
+}
+
+void CreatureFluid::buildBatch() {
+  std::vector<const AeroSurface*> surfaces;
+  for (const AeroBody& a : bodies_) surfaces.push_back(&a.surface);
+  pressure_.build(surfaces);
+  kinematics_.resize(bodies_.size());
 }
 
 const SpatialFactor& CreatureFluid::addedMass(size_t i, const Mat3& rotation, double density) {

@@ -11,6 +11,7 @@
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/world.h"
+#include "fluid/pressure_batch.h"
 
 namespace flapsim {
 
@@ -73,8 +74,15 @@ class CreatureFluid {
 
  private:
   friend class AirStage;
+  void buildBatch();
+
   std::vector<AeroBody> bodies_;
   bool active_ = false;
+  // The pressure law on all the aero bodies at once (those it holds), and the fluid stage's
+  // scratch: per aero body, its kinematics and its wrench from the batch.
+  PressureBatch pressure_;
+  std::vector<BodyKinematics> kinematics_;
+  std::vector<Wrench> batch_wrench_;
 };
 
 }  // namespace flapsim

@@ -127,7 +127,114 @@ bool insideBox(const Box& box, const Vec3& p, double tolerance) {
   return (inBox(box, p).cwiseAbs() - 0.5 * box.size).maxCoeff() <= tolerance;
 }
 
+// Whether p lies inside the cylinder or sphere `r` or within `tolerance` of it.
+bool insideRound(const RoundShape& r, const Vec3& p, double tolerance) {
+  const Vec3 q = r.origin.inverse().apply(p);
+  if (r.kind == RoundShape::Kind::kSphere) return q.norm() <= r.radius + tolerance;
+  return std::abs(q.z()) <= 0.5 * r.length + tolerance &&
+         q.head<2>().norm() <= r.radius + tolerance;
+}
+
+// Adds one planar face of `cells` (all with normal `normal`, poses in the shape's frame
+// `origin`) with corners `corners` (shape frame) and longer edge `edge`, minus the hidden cells.
+template <typename Hidden>
+void addPlainFace(AeroSurface& surface, const Pose& origin, const Vec3& normal,
+                  const std::vector<SurfaceCell>& cells, const Vec3 (&corners)[4], const Vec3& edge,
+                  const std::optional<Vec3>& span, Hidden hidden) {
+  SurfaceFace face;
+  face.normal = origin.orientation * normal;
+  for (int k = 0; k < 4; ++k) face.corners[k] = origin.apply(corners[k]);
+  setFaceAxes(face, origin.orientation * edge, span);
+  face.first_cell = static_cast<int>(surface.cells.size());
+  for (const SurfaceCell& c : cells) {
+    const SurfaceCell cell{origin.apply(c.centre), face.normal, c.area};
+    if (!hidden(cell.centre)) surface.cells.push_back(cell);
+  }
+  face.cell_count = static_cast<int>(surface.cells.size()) - face.first_cell;
+  if (face.cell_count > 0) surface.faces.push_back(face);
+}
+
+// The faces of a cylinder: `around` flat strips of `along` cells on its side, and two caps of
+// `around` sector cells; each cell has its share of the true area.
+template <typename Hidden>
+void addCylinderFaces(AeroSurface& surface, const RoundShape& r, int around, int along,
+                      const std::optional<Vec3>& span, Hidden hidden) {
+  const double step = 2.0 * M_PI / around, half = 0.5 * r.length;
+  const double side_area = r.radius * step * r.length / along;
+  for (int k = 0; k < around; ++k) {
+    const double a0 = k * step, a1 = a0 + step, mid = a0 + 0.5 * step;
+    const Vec3 n(std::cos(mid), std::sin(mid), 0.0);
+    std::vector<SurfaceCell> cells;
+    for (int j = 0; j < along; ++j) {
+      const double z = r.length * ((j + 0.5) / along - 0.5);
+      cells.push_back(SurfaceCell{r.radius * n + z * Vec3::UnitZ(), n, side_area});
+    }
+    const Vec3 p0(r.radius * std::cos(a0), r.radius * std::sin(a0), 0.0);
+    const Vec3 p1(r.radius * std::cos(a1), r.radius * std::sin(a1), 0.0);
+    const Vec3 corners[4] = {p0 - half * Vec3::UnitZ(), p1 - half * Vec3::UnitZ(),
+                             p0 + half * Vec3::UnitZ(), p1 + half * Vec3::UnitZ()};
+    const Vec3 edge = r.length >= (p1 - p0).norm() ? Vec3::UnitZ() : (p1 - p0).normalized();
+    addPlainFace(surface, r.origin, n, cells, corners, edge, span, hidden);
+  }
+  // A sector's centroid lies 4 r sin(step / 2) / (3 step) from the axis.
+  const double arm = 4.0 * r.radius * std::sin(0.5 * step) / (3.0 * step);
+  for (const double sign : {1.0, -1.0}) {
+    const Vec3 n = sign * Vec3::UnitZ();
+    std::vector<SurfaceCell> cells;
+    for (int k = 0; k < around; ++k) {
+      const double mid = (k + 0.5) * step;
+      const Vec3 c(arm * std::cos(mid), arm * std::sin(mid), sign * half);
+      cells.push_back(SurfaceCell{c, n, M_PI * r.radius * r.radius / around});
+    }
+    const double q = r.radius;
+    const Vec3 corners[4] = {Vec3(-q, -q, sign * half), Vec3(q, -q, sign * half),
+                             Vec3(-q, q, sign * half), Vec3(q, q, sign * half)};
+    addPlainFace(surface, r.origin, n, cells, corners, Vec3::UnitX(), span, hidden);
+  }
+}
+
+// The faces of a sphere: `bands` bands of equal height (so of equal area, Archimedes) times
+// `around` longitudes, one flat cell each, along the patch's mean normal, with the patch's
+// true area. Its corners are its centre: the face is tested as a point.
+template <typename Hidden>
+void addSphereFaces(AeroSurface& surface, const RoundShape& r, int around, int bands,
+                    const std::optional<Vec3>& span, Hidden hidden) {
+  const double step = 2.0 * M_PI / around,
+               area = 4.0 * M_PI * r.radius * r.radius / (bands * around);
+  // The integral of sqrt(1 - z^2) dz (the horizontal part of the normal).
+  auto ring = [](double z) {
+    return 0.5 * (z * std::sqrt(std::max(0.0, 1.0 - z * z)) + std::asin(z));
+  };
+  for (int b = 0; b < bands; ++b) {
+    const double z0 = -1.0 + 2.0 * b / bands, z1 = -1.0 + 2.0 * (b + 1) / bands;
+    const double horizontal = (ring(z1) - ring(z0)) / (z1 - z0), vertical = 0.5 * (z0 + z1);
+    for (int k = 0; k < around; ++k) {
+      const double a0 = k * step, a1 = a0 + step;
+      const double sine = (std::sin(a1) - std::sin(a0)) / step;
+      const double cosine = (std::cos(a0) - std::cos(a1)) / step;
+      const Vec3 n = Vec3(horizontal * sine, horizontal * cosine, vertical).normalized();
+      const Vec3 c = r.radius * n;
+      const Vec3 corners[4] = {c, c, c, c};
+      const Vec3 east(-std::sin(a0 + 0.5 * step), std::cos(a0 + 0.5 * step), 0.0);
+      addPlainFace(surface, r.origin, n, {SurfaceCell{c, n, area}}, corners, east, span, hidden);
+    }
+  }
+}
+
 }  // namespace
+
+int roundCellsAround(int nu) { return std::max(12, 3 * nu); }
+
+int roundCellCount(const RoundShape& r, int nu, int nv) {
+  const int around = roundCellsAround(nu);
+  return r.kind == RoundShape::Kind::kSphere ? around * (around / 2)
+                                             : around * (std::max(1, nv) + 2);
+}
+
+double roundVolume(const RoundShape& r) {
+  const double area = M_PI * r.radius * r.radius;
+  return r.kind == RoundShape::Kind::kSphere ? 4.0 / 3.0 * area * r.radius : area * r.length;
+}
 
 void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int nu, int nv) {
   addBoxFaces(surface, size, origin, nu, nv, std::nullopt, false,
@@ -139,23 +246,44 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
 }
 
 AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
-                         const std::optional<Vec3>& span) {
+                         const std::optional<Vec3>& span, const std::vector<RoundShape>& rounds) {
   AeroSurface surface;
   double largest = 0.0;
   for (const Box& box : boxes) largest = std::max(largest, box.size.maxCoeff());
+  for (const RoundShape& r : rounds) largest = std::max(largest, 2.0 * r.radius + r.length);
   const double tolerance = 1e-6 * largest;
-  for (size_t i = 0; i < boxes.size(); ++i) {
-    auto hidden = [&](const Vec3& centre) {
+  // Whether a cell centre of box `box` (or round shape `round`) lies in another shape.
+  auto hiddenFrom = [&](size_t box, size_t round) {
+    return [&, box, round](const Vec3& centre) {
       for (size_t j = 0; j < boxes.size(); ++j) {
-        if (j != i && insideBox(boxes[j], centre, tolerance)) return true;
+        if (j != box && insideBox(boxes[j], centre, tolerance)) return true;
+      }
+      for (size_t j = 0; j < rounds.size(); ++j) {
+        if (j != round && insideRound(rounds[j], centre, tolerance)) return true;
       }
       return false;
     };
-    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, true, hidden);
+  };
+  const size_t none = boxes.size() + rounds.size();
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, true, hiddenFrom(i, none));
   }
   const BoxUnion u = unionOfBoxes(boxes);
   surface.volume = u.volume;
   surface.centroid = u.centroid;
+  const int around = roundCellsAround(nu);
+  for (size_t i = 0; i < rounds.size(); ++i) {
+    const RoundShape& r = rounds[i];
+    if (r.kind == RoundShape::Kind::kSphere) {
+      addSphereFaces(surface, r, around, around / 2, span, hiddenFrom(none, i));
+    } else {
+      addCylinderFaces(surface, r, around, std::max(1, nv), span, hiddenFrom(none, i));
+    }
+    // Overlaps with other shapes are counted twice (see buildSurface's comment).
+    const double v = roundVolume(r), total = surface.volume + v;
+    surface.centroid = (surface.volume * surface.centroid + v * r.origin.position) / total;
+    surface.volume = total;
+  }
   return surface;
 }
 
@@ -164,6 +292,13 @@ std::vector<Box> comFrameBoxes(const LinkModel& link) {
   std::vector<Box> boxes;
   for (const Box& b : link.boxes) boxes.push_back(Box{b.size, com_inv * b.origin});
   return boxes;
+}
+
+std::vector<RoundShape> comFrameRounds(const LinkModel& link) {
+  const Pose com_inv{-link.com, Quat::Identity()};
+  std::vector<RoundShape> rounds = link.rounds;
+  for (RoundShape& r : rounds) r.origin = com_inv * r.origin;
+  return rounds;
 }
 
 int subdivisionsU(const LinkModel& link, const AirParams& air) {
@@ -177,7 +312,7 @@ int subdivisionsV(const LinkModel& link, const AirParams& air) {
 AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParams& air) {
   const LinkModel& l = model.links.at(static_cast<size_t>(link));
   AeroSurface surface = buildSurface(comFrameBoxes(l), subdivisionsU(l, air), subdivisionsV(l, air),
-                                     spanAxis(model, link));
+                                     spanAxis(model, link), comFrameRounds(l));
   surface.drag_coefficient =
       l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
   if (l.parent_joint >= 0) {

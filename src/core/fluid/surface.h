@@ -25,12 +25,29 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
 /// `span` (body frame, any length), projected onto each face that it is not nearly normal
 /// to (at least 0.1 of it in the face plane), gives the faces' span; else the longer edge.
 /// volume/centroid: unionOfBoxes. drag_coefficient and pitch_axis_point keep defaults.
+/// `rounds` (cylinders and spheres, body frame) add faceted faces, each flat facet a plain
+/// cell list (nu = 0) with its outward normal and its share of the true area:
+/// roundCellsAround(nu) strips around a cylinder's side times nv along it, plus two caps of
+/// that many sectors; a sphere as roundCellsAround(nu) / 2 bands of equal height (equal area)
+/// times roundCellsAround(nu) longitudes, each cell along its patch's mean normal (a sphere
+/// cell's corners are its centre). Cells inside another shape are removed both ways. Their
+/// volumes (exact for each shape) are added to the boxes' union, the centroid volume-weighted:
+/// a round shape's overlap with another shape is counted twice.
 AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
-                         const std::optional<Vec3>& span = std::nullopt);
+                         const std::optional<Vec3>& span = std::nullopt,
+                         const std::vector<RoundShape>& rounds = {});
+
+/// Facets around a cylinder or sphere for `nu` subdivisions: max(12, 3 nu).
+int roundCellsAround(int nu);
+/// The cells of a cylinder or sphere for nu, nv subdivisions (before hidden ones are removed).
+int roundCellCount(const RoundShape& r, int nu, int nv);
+/// The volume of a cylinder or sphere.
+double roundVolume(const RoundShape& r);
 
 /// A link's boxes in its COM frame, and its cells per face edge (its AeroSettings', else the
 /// world's), as its aero surface and its added mass use them.
 std::vector<Box> comFrameBoxes(const LinkModel& link);
+std::vector<RoundShape> comFrameRounds(const LinkModel& link);
 int subdivisionsU(const LinkModel& link, const AirParams& air);
 int subdivisionsV(const LinkModel& link, const AirParams& air);
 

@@ -55,6 +55,49 @@ void readSprings(const tinyxml2::XMLElement* robot, const std::string& source, A
   }
 }
 
+void readMotors(const tinyxml2::XMLElement* robot, const std::string& source, Annotations& a) {
+  for (auto* e = robot->FirstChildElement("motor"); e; e = e->NextSiblingElement("motor")) {
+    const char* joint = e->Attribute("joint");
+    if (!joint || !*joint) fail(source, "<motor> without a joint attribute");
+    const std::string where = std::string("<motor joint='") + joint + "'>";
+    Annotations::Motor m;
+    m.joint = joint;
+    // A non-negative number within 1e9, if the attribute is there.
+    auto value = [&](const char* attr) -> std::optional<double> {
+      if (!e->Attribute(attr)) return std::nullopt;
+      const double v = parseDoubleAttr(e, attr, where, source);
+      if (v < 0.0 || v > kHugeUrdfValue) {
+        fail(source, where + ": " + attr + " must be in [0, 1e9]");
+      }
+      return v;
+    };
+    m.stall_torque = value("stall_torque");
+    m.no_load_speed = value("no_load_speed");
+    m.max_power = value("max_power").value_or(0.0);
+    a.motors.push_back(m);
+  }
+}
+
+// Sets the motors of `model`'s joints from `notes` (defaults from the joints' <limit>).
+void applyMotors(const Annotations& notes, const std::string& source, CreatureModel& model) {
+  for (const Annotations::Motor& m : notes.motors) {
+    const int idx = model.findJoint(m.joint);
+    if (idx < 0) fail(source, "<motor> names unknown joint '" + m.joint + "'");
+    JointModel& jm = model.joints[idx];
+    const std::string where = "<motor joint='" + m.joint + "'>";
+    if (!jm.movable()) fail(source, where + ": the joint is fixed");
+    if (jm.motor) fail(source, "joint '" + m.joint + "' has two <motor> elements");
+    MotorSpec spec;
+    spec.stall_torque = m.stall_torque.value_or(jm.effort);
+    if (!(spec.stall_torque > 0.0)) {
+      fail(source, where + ": needs a stall_torque > 0 (or the joint's <limit effort>)");
+    }
+    spec.no_load_speed = m.no_load_speed.value_or(jm.velocity);
+    spec.max_power = m.max_power;
+    jm.motor = spec;
+  }
+}
+
 // One <aero link=...> element's settings.
 AeroSettings readAero(const tinyxml2::XMLElement* e, const std::string& where,
                       const std::string& source) {
@@ -122,6 +165,7 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
   }
   readWings(robot, source, a);
   readSprings(robot, source, a);
+  readMotors(robot, source, a);
   for (auto* e = robot->FirstChildElement("aero"); e; e = e->NextSiblingElement("aero")) {
     const char* link = e->Attribute("link");
     if (!link || !*link) fail(source, "<aero> without a link attribute");
@@ -162,11 +206,11 @@ void applyJointAnnotations(const Annotations& notes, const std::string& source,
     if (idx < 0) fail(source, "<spring> names unknown joint '" + s.joint + "'");
     JointModel& jm = model.joints[idx];
     if (!jm.movable()) fail(source, "<spring joint='" + s.joint + "'>: the joint is fixed");
-    if (jm.wing) fail(source, "<spring joint='" + s.joint + "'>: a wing joint is driven");
     if (jm.stiffness > 0.0) fail(source, "joint '" + s.joint + "' has two <spring> elements");
     jm.stiffness = s.stiffness;
     jm.reference = s.reference;
   }
+  applyMotors(notes, source, model);
   for (size_t i = 0; i < model.joints.size(); ++i) {
     if (model.joints[i].wing) model.wing_joints.push_back(static_cast<int>(i));
   }

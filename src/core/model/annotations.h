@@ -1,11 +1,13 @@
 // flapsim's own URDF elements, which urdfdom ignores: read from the same XML. Private to
 // flapsim_core.
 //   <wing joint="..." [feather_joint="..."]/>   a flapping joint (and the joint that pitches it)
-//   <spring joint="..." stiffness="..." [reference="..."]/>   a passive joint's torsion spring
+//   <spring joint="..." stiffness="..." [reference="..."]/>   a joint's torsion spring
+//   <motor joint="..." [stall_torque] [no_load_speed] [max_power]/>   a joint's DC motor
 //   <aero link="..." drag_coefficient subdivisions="nu nv" enabled model span added_mass/>
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,14 +25,20 @@ struct Annotations {
     double stiffness = 0.0, reference = 0.0;
   };
   std::vector<Spring> springs;
+  struct Motor {
+    std::string joint;
+    std::optional<double> stall_torque, no_load_speed;
+    double max_power = 0.0;
+  };
+  std::vector<Motor> motors;
 };
 
 /// Parses the XML, checks every link's and joint's numbers (model/urdf_numbers.h) and reads
 /// the annotations. Throws ModelError naming `source` and the element at fault.
 Annotations readAnnotations(const std::string& xml, const std::string& source);
 
-/// Marks the wing joints and feather joints and sets the springs of `model` (whose joints are
-/// read) from `notes`. Throws ModelError naming `source` and the element at fault.
+/// Marks the wing joints and feather joints and sets the springs and motors of `model` (whose
+/// joints are read) from `notes`. Throws ModelError naming `source` and the element at fault.
 void applyJointAnnotations(const Annotations& notes, const std::string& source,
                            CreatureModel& model);
 

@@ -3,9 +3,9 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <algorithm>
 #include <limits>
 #include <map>
 #include <mutex>
@@ -83,18 +83,35 @@ const char* geometryKind(const urdf::Geometry& g) {
   return "geometry";
 }
 
-void addBoxes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
+// The link's simulated shapes (boxes, cylinders, spheres) from its collision elements, or from
+// its visual ones if none is simulated; meshes go to ignored_shapes.
+void addShapes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
   auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* role) {
     if (!g) return;
-    if (g->type != urdf::Geometry::BOX) {
-      out.ignored_shapes.push_back(std::string(role) + " " + geometryKind(*g));
-      return;
+    switch (g->type) {
+      case urdf::Geometry::BOX: {
+        const auto& box = static_cast<const urdf::Box&>(*g);
+        out.boxes.push_back(Box{Vec3(box.dim.x, box.dim.y, box.dim.z), toPose(origin)});
+        return;
+      }
+      case urdf::Geometry::CYLINDER: {
+        const auto& c = static_cast<const urdf::Cylinder&>(*g);
+        out.rounds.push_back(
+            RoundShape{RoundShape::Kind::kCylinder, c.radius, c.length, toPose(origin)});
+        return;
+      }
+      case urdf::Geometry::SPHERE: {
+        const auto& sphere = static_cast<const urdf::Sphere&>(*g);
+        out.rounds.push_back(
+            RoundShape{RoundShape::Kind::kSphere, sphere.radius, 0.0, toPose(origin)});
+        return;
+      }
+      default:
+        out.ignored_shapes.push_back(std::string(role) + " " + geometryKind(*g));
     }
-    auto box = std::static_pointer_cast<urdf::Box>(g);
-    out.boxes.push_back(Box{Vec3(box->dim.x, box->dim.y, box->dim.z), toPose(origin)});
   };
   for (const auto& c : link->collision_array) add(c->geometry, c->origin, "collision");
-  if (out.boxes.empty()) {
+  if (!out.hasShapes()) {
     for (const auto& v : link->visual_array) add(v->geometry, v->origin, "visual");
   }
 }
@@ -145,10 +162,18 @@ LinkModel readLink(const urdf::LinkConstSharedPtr& l, const std::string& source)
       lm.inertia.minCoeff() <= 0.0) {
     fail(source, where + ": inertia must be finite and positive");
   }
-  addBoxes(l, lm);
+  addShapes(l, lm);
   for (const Box& b : lm.boxes) {
     if (!finite(b.size) || b.size.minCoeff() <= 0.0) {
       fail(source, where + ": box size must be positive");
+    }
+  }
+  for (const RoundShape& r : lm.rounds) {
+    const bool cylinder = r.kind == RoundShape::Kind::kCylinder;
+    if (!(r.radius > 0.0 && r.radius <= kMaxUrdfLength) ||
+        (cylinder && !(r.length > 0.0 && r.length <= kMaxUrdfLength))) {
+      fail(source, where + (cylinder ? ": cylinder radius and length" : ": sphere radius") +
+                       " must be in (0, 1000] m");
     }
   }
   return lm;
@@ -299,6 +324,16 @@ double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_
         lowest = std::min(lowest, frame.apply(half.cwiseProduct(box.size)).z());
       }
     }
+    for (const RoundShape& r : model.links[l].rounds) {
+      const Pose frame = link_poses[l] * r.origin;
+      double below = r.radius;  // a sphere; a cylinder: its lower rim or cap
+      if (r.kind == RoundShape::Kind::kCylinder) {
+        const Vec3 axis = frame.orientation * Vec3::UnitZ();
+        below = 0.5 * r.length * std::abs(axis.z()) +
+                r.radius * std::sqrt(std::max(0.0, 1.0 - axis.z() * axis.z()));
+      }
+      lowest = std::min(lowest, frame.position.z() - below);
+    }
   }
   return lowest;
 }
@@ -307,8 +342,9 @@ std::vector<std::string> ignoredGeometry(const CreatureModel& model) {
   std::vector<std::string> lines;
   for (const LinkModel& link : model.links) {
     for (const std::string& shape : link.ignored_shapes) {
-      lines.push_back("link '" + link.name + "': " + shape +
-                      " ignored (no contact, no air): only boxes are simulated");
+      lines.push_back(
+          "link '" + link.name + "': " + shape +
+          " ignored (no contact, no air): only boxes, cylinders and spheres are simulated");
     }
   }
   return lines;

@@ -14,6 +14,7 @@
 #include "flapsim/world.h"
 #include "fluid/creature_fluid.h"
 #include "world/joint_drives.h"
+#include "world/power.h"
 
 namespace flapsim {
 
@@ -52,6 +53,7 @@ class CreatureSim {
   CreatureFluid fluid;       // the aero bodies
   MomentumBalance momentum;  // the momentum carried from step to step
   BodySnapshot before;       // the state before the current step (the watchdog's)
+  PowerMeter power;          // the work of its motors since it was built
 
   // After the multibody's state was set from outside a step: what comes next depends on
   // the new state alone, as for a body just built.

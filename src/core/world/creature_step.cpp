@@ -9,6 +9,7 @@ namespace flapsim {
 CreatureSim::CreatureSim(const CreatureModel& m, const Pose& pose, const Twist& twist,
                          const WorldParams& params)
     : body(m, pose, twist, params), servos(m, params), fluid(m, params.air), momentum(m) {
+  power.reset(m.joints.size());
   body.world().setServos([this] {
     momentum.setDragImpulse(
         servos.solve(body.multiBody(), body.frames(), body.world().leanTree(), fluid));
@@ -48,12 +49,14 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   // position: the frames of the start are those the last (sub)step ended with
   s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0);
   s.servos.begin(s.body.multiBody());
+  s.power.beginSubStep(*r.model, s.body.multiBody());
   applyDrives(*r.model, r.drives, s.servos, s.body.multiBody(), h);  // actuation
   c.air.apply(s.body, s.fluid, s.momentum, p, h);                    // fluid
   applyWrenches(r.wrenches, s);                                      // external
   s.body.world().step(h);  // dynamics (the servo stage acts inside)
-  s.servos.integrateSaturated(s.body.multiBody(), s.body.hasContacts(), h);  // integrate
-  s.momentum.end(s.body, s.fluid, p.gravity, h);                             // momentum
+  s.servos.integrateSaturated(s.body.multiBody(), s.body.hasContacts(), h);            // integrate
+  s.momentum.end(s.body, s.fluid, p.gravity, h);                                       // momentum
+  s.power.endSubStep(*r.model, r.drives, s.body.multiBody(), s.servos.solution(), h);  // power
 }
 
 // One step of every wrench taken; those whose time is up removed.
@@ -71,6 +74,7 @@ void countDown(std::vector<ActiveWrench>& wrenches) {
 void stepCreature(CreatureRecord& r, CreatureSim& s, const StepContext& c, std::uint64_t number) {
   if (r.divergence) return;  // check
   s.before.take(s.body.multiBody());
+  s.power.beginStep();
   const double dt = c.params.step_size, most = c.params.turn_substep;
   const StrokeTurn turn =
       most > 0.0 ? strokeTurn(*r.model, r.drives, s.servos, s.body.multiBody(), dt) : StrokeTurn();
@@ -92,8 +96,10 @@ void stepCreature(CreatureRecord& r, CreatureSim& s, const StepContext& c, std::
   std::string fault = s.body.motionFault(c.params.max_speed);
   if (fault.empty()) {
     r.root_acceleration = fromBt(s.body.multiBody().getBaseVel() - s.before.velocity) / dt;
+    s.power.endStep(dt);
     return;
   }
+  s.power.undoStep();
   s.before.restore(s.body.multiBody());
   s.body.updateKinematics();
   s.servos.forget();  // a frozen creature is driven by nothing: no efforts of the refused step

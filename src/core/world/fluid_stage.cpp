@@ -1,5 +1,7 @@
 #include "world/fluid_stage.h"
 
+#include <typeinfo>
+
 #include "dynamics/bullet_body.h"
 #include "dynamics/momentum_balance.h"
 #include "fluid/buoyancy.h"
@@ -7,8 +9,19 @@
 
 namespace flapsim {
 
-AirStage::AirStage(const std::string& default_model) : default_model_(makeAirModel(default_model)) {
+AirStage::AirStage(const std::string& default_model) {
+  setDefaultModel(makeAirModel(default_model));
   for (const std::string& name : airModelNames()) named_models_[name] = makeAirModel(name);
+}
+
+void AirStage::setDefaultModel(AirModelPtr model) {
+  default_model_ = std::move(model);
+  // The law itself, not a model derived from it (which may do anything).
+  default_pressure_ = default_model_ && typeid(*default_model_) == typeid(PressureAirModel);
+}
+
+bool AirStage::pressureLaw(const AeroBody& a) const {
+  return a.model.empty() ? default_pressure_ : a.model == "pressure";
 }
 
 const AirModel& AirStage::modelOf(const AeroBody& a) const {
@@ -21,13 +34,24 @@ void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& mo
   if (!params.air.enabled) return;
   btMultiBody& mb = body.multiBody();
   const AirParams& air = params.air;
+  // Every aero body's kinematics, then the pressure law on all those the batch holds at once
+  // (not when each cell's force is recorded).
+  bool batch = false;
+  for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
+    fluid.kinematics_[i] = body.frames().kinematics(fluid.bodies_[i].link);
+    batch = batch || (fluid.pressure_.holds(i) && pressureLaw(fluid.bodies_[i]));
+  }
+  batch = batch && !record_cells_;
+  if (batch) fluid.pressure_.run(fluid.kinematics_, air, fluid.batch_wrench_);
   for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
     AeroBody& a = fluid.bodies_[i];
     const int k = a.link;
-    Mat3 rotation;
-    const BodyKinematics kin = body.frames().kinematics(k, &rotation);
-    Wrench w =
-        modelOf(a).bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
+    const BodyKinematics& kin = fluid.kinematics_[i];
+    const Mat3& rotation = kin.rotation;
+    Wrench w = batch && fluid.pressure_.holds(i) && pressureLaw(a)
+                   ? fluid.batch_wrench_[i]
+                   : modelOf(a).bodyWrench(kin, a.surface, air,
+                                           record_cells_ ? &a.last.cell_forces : nullptr);
     if (air.buoyancy) w += buoyancyLaw(FluidInput{kin, a.surface, air, params.gravity}, nullptr);
     a.last.com = kin.com;
     a.last.wrench = w;

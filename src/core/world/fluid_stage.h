@@ -22,7 +22,7 @@ class AirStage {
  public:
   explicit AirStage(const std::string& default_model);
 
-  void setDefaultModel(AirModelPtr model) { default_model_ = std::move(model); }
+  void setDefaultModel(AirModelPtr model);
   void setRecordCells(bool on) { record_cells_ = on; }
 
   // The fluid stage of a (sub)step of `step` seconds: adds the air's wrench (and buoyancy) to
@@ -34,8 +34,12 @@ class AirStage {
 
  private:
   const AirModel& modelOf(const AeroBody& a) const;
+  // Whether aero body `a`'s air model is the built-in pressure law (which the fluid's
+  // PressureBatch then computes, with every other such body of the creature at once).
+  bool pressureLaw(const AeroBody& a) const;
 
   AirModelPtr default_model_;
+  bool default_pressure_ = false;                    // default_model_ is a PressureAirModel
   std::map<std::string, AirModelPtr> named_models_;  // for links that name their own
   bool record_cells_ = false;
 };

@@ -6,11 +6,22 @@
 #include <vector>
 
 #include "dynamics/bullet_scene.h"
+#include "dynamics/motor.h"
 #include "dynamics/servo_stage.h"
 
 namespace flapsim {
 
 namespace {
+
+// The motor of joint `j` (index `ji`) driving it towards velocity `target`: bounded by its
+// torque-speed line at the joint's velocity if it has a <motor>, else by its flat effort.
+void motorDemand(const JointModel& j, size_t ji, ServoStage& servos, const btMultiBody& mb,
+                 double target, double dt) {
+  const TorqueBounds bounds = j.motor
+                                  ? motorTorqueBounds(*j.motor, mb.getJointVel(j.child_link - 1))
+                                  : flatTorqueBounds(servos.maxEffort(ji));
+  servos.demand(j.child_link, target, bounds, dt);
+}
 
 void driveJoint(const JointModel& j, size_t ji, JointDrive& d, ServoStage& servos, btMultiBody& mb,
                 double dt) {
@@ -18,11 +29,10 @@ void driveJoint(const JointModel& j, size_t ji, JointDrive& d, ServoStage& servo
   servos.release(j.child_link);
   switch (d.mode) {
     case JointDrive::Mode::kStroke:
-      servos.demand(j.child_link, d.stroke.target(mb.getJointPos(link), dt), servos.maxEffort(ji),
-                    dt);
+      motorDemand(j, ji, servos, mb, d.stroke.target(mb.getJointPos(link), dt), dt);
       break;
     case JointDrive::Mode::kVelocity:
-      servos.demand(j.child_link, d.velocity, servos.maxEffort(ji), dt);
+      motorDemand(j, ji, servos, mb, d.velocity, dt);
       break;
     case JointDrive::Mode::kPassive:
       // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
@@ -30,15 +40,17 @@ void driveJoint(const JointModel& j, size_t ji, JointDrive& d, ServoStage& servo
       if (servos.damping(ji) > 0.0) {
         mb.addJointTorque(link, -servos.damping(ji) * mb.getJointVel(link));
       }
-      if (servos.stiffness(ji) > 0.0) {
-        mb.addJointTorque(link, -servos.stiffness(ji) * (mb.getJointPos(link) - j.reference));
-      }
       break;
+  }
+  // A spring acts whether or not a motor drives the joint (in parallel with it).
+  if (servos.stiffness(ji) > 0.0) {
+    mb.addJointTorque(link, -servos.stiffness(ji) * (mb.getJointPos(link) - j.reference));
   }
 }
 
-// Feathering: a stroking wing pitches its feather joint to the commanded angle during the
-// upstroke and back to flat for the downstroke (a stiff position servo).
+// Feathering: a stroking wing pitches its feather joint to the stroke's feather angle
+// (StrokeGenerator::featherTarget: a triangle stroke's per half-stroke, approached with the
+// time constant kFeatherTime; a sine stroke's smooth turn, followed step by step).
 void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives,
                    ServoStage& servos, const btMultiBody& mb, double dt) {
   for (int wi : m.wing_joints) {
@@ -46,11 +58,9 @@ void driveFeathers(const CreatureModel& m, const std::vector<JointDrive>& drives
     const JointDrive& d = drives[wi];
     if (wing.feather_joint < 0 || d.mode != JointDrive::Mode::kStroke) continue;
     const JointModel& feather = m.joints[wing.feather_joint];
-    const double target =
-        d.stroke.phase() == StrokeGenerator::Phase::kUp ? d.stroke.command().feather : 0.0;
-    const double position = mb.getJointPos(feather.child_link - 1);
-    servos.demand(feather.child_link, (target - position) / kFeatherTime,
-                  servos.maxEffort(wing.feather_joint), dt);
+    const double error = d.stroke.featherTarget() - mb.getJointPos(feather.child_link - 1);
+    const double time = d.stroke.command().shape == StrokeShape::kSine ? dt : kFeatherTime;
+    motorDemand(feather, static_cast<size_t>(wing.feather_joint), servos, mb, error / time, dt);
   }
 }
 

@@ -265,6 +265,11 @@ class World::Impl {
     return records_[index(creature)].root_acceleration;
   }
 
+  CreaturePower power(const std::string& creature) const {
+    const size_t c = index(creature);
+    return sims_[c]->power.report(records_[c].model->totalMass());
+  }
+
  private:
   std::unique_ptr<CreatureSim> build(const CreatureRecord& r) const {
     return std::make_unique<CreatureSim>(*r.model, r.pose, r.twist, params_);
@@ -396,13 +401,15 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
     const JointModel& j = model.joints[targets[i]];
     const std::string err = validateStroke(commands[i]);
     if (!err.empty()) throw InputError("joint '" + j.name + "': " + err);
-    // The stroke turns where the wing reaches -amplitude and +amplitude: beyond a limit the
-    // wing would rest on its stop with the motor pushing, and never turn.
-    const double amplitude = commands[i].amplitude;
-    if (j.limited && j.lower < j.upper && (amplitude >= j.upper || -amplitude <= j.lower)) {
+    // The stroke turns where the wing reaches offset -+ amplitude: beyond a limit the wing
+    // would rest on its stop with the motor pushing, and never turn.
+    const double amplitude = commands[i].amplitude, offset = commands[i].offset;
+    if (j.limited && j.lower < j.upper &&
+        (offset + amplitude >= j.upper || offset - amplitude <= j.lower)) {
       std::ostringstream msg;
-      msg << "joint '" << j.name << "': amplitude " << amplitude
-          << " rad does not fit inside its limits [" << j.lower << ", " << j.upper << "]";
+      msg << "joint '" << j.name << "': amplitude " << amplitude;
+      if (offset != 0.0) msg << " about offset " << offset;
+      msg << " rad does not fit inside its limits [" << j.lower << ", " << j.upper << "]";
       throw InputError(msg.str());
     }
   }
@@ -470,6 +477,7 @@ int World::wrenchCount(const std::string& creature) const { return impl_->wrench
 Vec3 World::rootAcceleration(const std::string& creature) const {
   return impl_->rootAcceleration(creature);
 }
+CreaturePower World::power(const std::string& creature) const { return impl_->power(creature); }
 Pose World::rootPose(const std::string& creature) const { return state(creature).link_poses[0]; }
 Twist World::rootTwist(const std::string& creature) const { return state(creature).link_twists[0]; }
 

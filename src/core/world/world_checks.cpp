@@ -86,7 +86,9 @@ const Rule<ExternalWrench> kWrenchRules[] = {
      "torque must be finite and at most 1e6 N m"},
     {[](const ExternalWrench& w) { return finiteWithin(w.point, kMaxPosition); },
      "point must be finite, each coordinate within +-1e6 m"},
-    {[](const ExternalWrench& w) { return std::isfinite(w.duration) && w.duration <= kMaxWrenchDuration; },
+    {[](const ExternalWrench& w) {
+       return std::isfinite(w.duration) && w.duration <= kMaxWrenchDuration;
+     },
      "duration must be finite and at most 1e9 s (< 0: until cleared)"},
 };
 
@@ -164,9 +166,10 @@ std::string checkCells(const std::string& name, const CreatureModel& m, const Ai
   double total = 0.0, largest = 0.0;
   std::string largest_link;
   for (const LinkModel& l : m.links) {
-    if (!l.aero.enabled || l.boxes.empty()) continue;
-    const double cells =
-        6.0 * static_cast<double>(l.boxes.size()) * subdivisionsU(l, air) * subdivisionsV(l, air);
+    if (!l.aero.enabled || !l.hasShapes()) continue;
+    const int nu = subdivisionsU(l, air), nv = subdivisionsV(l, air);
+    double cells = 6.0 * static_cast<double>(l.boxes.size()) * nu * nv;
+    for (const RoundShape& r : l.rounds) cells += roundCellCount(r, nu, nv);
     total += cells;
     if (cells > largest) {
       largest = cells;
@@ -178,7 +181,7 @@ std::string checkCells(const std::string& name, const CreatureModel& m, const Ai
   msg.precision(10);
   msg << "creature '" << name << "' would have " << total << " air cells (link '" << largest_link
       << "' alone " << largest << "), over max_cells " << max_cells
-      << " (boxes x 6 faces x subdivisions)";
+      << " (boxes x 6 faces x subdivisions, plus cylinders' and spheres' facets)";
   return msg.str();
 }
 

@@ -1,0 +1,56 @@
+// A hover flight: the hover creature flown by flapsim::HoverController in a World, with the
+// figures of issue 24's target (height band, attitude, vertical oscillation per stroke,
+// mechanical power) and the figure of merit. Used by flight_check --hover and the tests.
+// ROS-free; no clock.
+#pragma once
+
+#include "flapsim/creature_model.h"
+#include "flapsim/hover_controller.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+
+struct HoverFlightParams {
+  double duration = 60.0;        // s
+  double settle = 10.0;          // s before the figures count
+  double control_period = 0.01;  // s between controller updates (the node's IMU rate: 100 Hz)
+  double start_roll = 0.0;       // rad, about x
+  double start_pitch = 0.0;      // rad, about y
+  WorldParams world;             // its air's wind included (ground off by default)
+  HoverFlightParams() { world.ground = false; }
+};
+
+/// Empty if valid, else a message naming the bad field.
+std::string validateHoverFlightParams(const HoverFlightParams& params);
+
+struct HoverFlightResult {
+  // After the settling time:
+  double min_height = 0.0, max_height = 0.0;  // m, of the root link's origin
+  double min_upright = 1.0;                   // lowest up-component of the root body
+  /// m: the largest height range within one stroke period (at the frequency commanded).
+  double max_stroke_oscillation = 0.0;
+  double positive_power = 0.0;  // W: the motors' mean positive mechanical power
+  double net_power = 0.0;       // W: their mean net power
+  double mean_frequency = 0.0;  // Hz, commanded
+  Vec3 drift = Vec3::Zero();    // m: the root's horizontal offset from its start at the end
+  double mass = 0.0;            // kg
+  double specificPower() const { return mass > 0.0 ? positive_power / mass : 0.0; }
+};
+
+/// Flies `model` (make_creature --layout hover: wings kHoverWingJoints) from `controller`'s
+/// altitude, level but for the start roll and pitch, for `params.duration`. Throws InputError
+/// for bad parameters.
+HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerParams& controller,
+                           const HoverFlightParams& params);
+
+/// The area a creature's wings sweep with `amplitude` (rad, each way) about their stroke
+/// hinges: per wing joint, amplitude x r^2 (a sector of 2 amplitude), r the farthest corner of
+/// the wing's boxes from the hinge's axis (m^2).
+double strokeDiskArea(const CreatureModel& model, double amplitude);
+
+/// The ideal (actuator-disk, momentum theory) power to hover a weight (N) on a disk of `area`
+/// (m^2) in air of `density`: sqrt(W^3 / (2 rho A)). The figure of merit of a flier is this
+/// over its mechanical power.
+double idealHoverPower(double weight, double density, double area);
+
+}  // namespace flapsim

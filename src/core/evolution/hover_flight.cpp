@@ -1,0 +1,125 @@
+#include "flapsim/hover_flight.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace flapsim {
+
+std::string validateHoverFlightParams(const HoverFlightParams& p) {
+  if (!(p.duration > 0.0) || !std::isfinite(p.duration)) return "duration must be > 0";
+  if (!(p.settle >= 0.0) || p.settle >= p.duration) return "settle must be in [0, duration)";
+  if (!std::isfinite(p.start_roll) || !std::isfinite(p.start_pitch)) {
+    return "start roll and pitch must be finite";
+  }
+  const double steps = p.control_period / p.world.step_size;
+  if (!(p.control_period > 0.0) || std::abs(steps - std::round(steps)) > 1e-9 * steps ||
+      std::round(steps) < 1.0) {
+    return "control_period must be a positive multiple of the world's step";
+  }
+  const std::string w = validateWorldParams(p.world);
+  return w.empty() ? "" : "world: " + w;
+}
+
+HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerParams& controller,
+                           const HoverFlightParams& p) {
+  const std::string err = validateHoverFlightParams(p);
+  if (!err.empty()) throw InputError("hover flight: " + err);
+  World world(p.world);
+  const std::string name = "hover";
+  const Pose start =
+      poseFromXyzRpy(Vec3(0.0, 0.0, controller.altitude), Vec3(p.start_roll, p.start_pitch, 0.0));
+  world.spawn(name, model, start);
+  HoverController control(controller);
+  const std::vector<std::string> wings = {kHoverWingJoints[0], kHoverWingJoints[1]};
+  const int steps = static_cast<int>(std::lround(p.control_period / p.world.step_size));
+  const int updates = static_cast<int>(std::lround(p.duration / p.control_period));
+  HoverFlightResult r;
+  r.min_height = std::numeric_limits<double>::infinity();
+  r.max_height = -r.min_height;
+  r.mass = model->totalMass();
+  CreaturePower settled;
+  double stroke_low = r.min_height, stroke_high = r.max_height, stroke_time = 0.0;
+  double frequency_sum = 0.0;
+  int counted = 0;
+  for (int u = 0; u < updates; ++u) {
+    const CreatureState s = world.state(name);
+    HoverSensors sensors;
+    sensors.orientation = s.link_poses[0].orientation;
+    sensors.angular_velocity = sensors.orientation.conjugate() * s.link_twists[0].angular;
+    sensors.position = s.link_poses[0].position;
+    sensors.velocity = s.link_twists[0].linear;
+    const auto strokes = control.update(sensors, p.control_period);
+    world.setWingCommands(name, wings, {strokes[0], strokes[1]});
+    const double frequency = strokes[0].downstroke_rate / (4.0 * strokes[0].amplitude);
+    for (int k = 0; k < steps; ++k) {
+      world.step(1);
+      if (world.time() <= p.settle + 0.5 * p.world.step_size) continue;
+      const Pose pose = world.rootPose(name);
+      const double z = pose.position.z();
+      r.min_height = std::min(r.min_height, z);
+      r.max_height = std::max(r.max_height, z);
+      r.min_upright = std::min(r.min_upright, (pose.orientation * Vec3::UnitZ()).z());
+      stroke_low = std::min(stroke_low, z);
+      stroke_high = std::max(stroke_high, z);
+      stroke_time += p.world.step_size;
+      if (stroke_time >= 1.0 / frequency) {
+        r.max_stroke_oscillation = std::max(r.max_stroke_oscillation, stroke_high - stroke_low);
+        stroke_low = std::numeric_limits<double>::infinity();
+        stroke_high = -stroke_low;
+        stroke_time = 0.0;
+      }
+    }
+    if (world.time() <= p.settle + 0.5 * p.world.step_size) {
+      settled = world.power(name);
+    } else {
+      frequency_sum += frequency;
+      ++counted;
+    }
+  }
+  const CreaturePower end = world.power(name);
+  const double time = end.time - settled.time;
+  r.positive_power = (end.totalPositiveWork() - settled.totalPositiveWork()) / time;
+  r.net_power = (end.totalWork() - settled.totalWork()) / time;
+  r.mean_frequency = counted > 0 ? frequency_sum / counted : 0.0;
+  r.drift = world.rootPose(name).position - start.position;
+  r.drift.z() = 0.0;
+  return r;
+}
+
+double strokeDiskArea(const CreatureModel& m, double amplitude) {
+  double area = 0.0;
+  for (int w : m.wing_joints) {
+    const JointModel& hinge = m.joints[w];
+    // The links hanging from the hinge (links are stored parent before child), and the
+    // farthest corner of their boxes from the hinge's axis, all at zero joint angles.
+    std::vector<Pose> in_hinge(m.links.size());  // link frame in the hinge's child frame
+    std::vector<bool> below(m.links.size(), false);
+    below[hinge.child_link] = true;
+    double reach = 0.0;
+    for (size_t k = static_cast<size_t>(hinge.child_link); k < m.links.size(); ++k) {
+      const LinkModel& l = m.links[k];
+      if (k != static_cast<size_t>(hinge.child_link)) {
+        if (l.parent_joint < 0 || !below[m.joints[l.parent_joint].parent_link]) continue;
+        const JointModel& j = m.joints[l.parent_joint];
+        in_hinge[k] = in_hinge[j.parent_link] * j.origin;
+        below[k] = true;
+      }
+      for (const Box& b : l.boxes) {
+        for (int c = 0; c < 8; ++c) {
+          const Vec3 corner(c & 1 ? 0.5 : -0.5, c & 2 ? 0.5 : -0.5, c & 4 ? 0.5 : -0.5);
+          const Vec3 p = in_hinge[k].apply(b.origin.apply(corner.cwiseProduct(b.size)));
+          reach = std::max(reach, (p - p.dot(hinge.axis) * hinge.axis).norm());
+        }
+      }
+    }
+    area += amplitude * reach * reach;
+  }
+  return area;
+}
+
+double idealHoverPower(double weight, double density, double area) {
+  return std::sqrt(weight * weight * weight / (2.0 * density * area));
+}
+
+}  // namespace flapsim

@@ -1,0 +1,106 @@
+#include "world/power.h"
+
+#include <algorithm>
+
+namespace flapsim {
+
+double CreaturePower::totalPower() const {
+  double sum = 0.0;
+  for (double p : power) sum += p;
+  return sum;
+}
+
+double CreaturePower::totalWork() const {
+  double sum = 0.0;
+  for (double w : work) sum += w;
+  return sum;
+}
+
+double CreaturePower::totalPositiveWork() const {
+  double sum = 0.0;
+  for (double w : positive_work) sum += w;
+  return sum;
+}
+
+double CreaturePower::meanPositivePower() const {
+  return time > 0.0 ? totalPositiveWork() / time : 0.0;
+}
+
+void PowerMeter::reset(size_t joints) {
+  energy_.assign(joints, JointEnergy());
+  before_ = energy_;
+  step_work_.assign(joints, 0.0);
+  start_.assign(joints, 0.0);
+  time_ = 0.0;
+  last_step_ = 0.0;
+}
+
+void PowerMeter::beginStep() {
+  before_ = energy_;
+  std::fill(step_work_.begin(), step_work_.end(), 0.0);
+}
+
+void PowerMeter::beginSubStep(const CreatureModel& m, const btMultiBody& mb) {
+  for (size_t j = 0; j < m.joints.size(); ++j) {
+    if (m.joints[j].movable()) start_[j] = mb.getJointPos(m.joints[j].child_link - 1);
+  }
+}
+
+namespace {
+
+// Whether joint `j` has a motor at work: driven by a stroke or a velocity target, or the
+// feather joint of a stroking wing.
+bool motorAt(const CreatureModel& m, const std::vector<JointDrive>& drives, size_t j) {
+  if (drives[j].mode != JointDrive::Mode::kPassive) return true;
+  for (int w : m.wing_joints) {
+    if (m.joints[w].feather_joint == static_cast<int>(j) &&
+        drives[w].mode == JointDrive::Mode::kStroke) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+void PowerMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
+                            const btMultiBody& mb, const ServoSolution& servos, double h) {
+  const std::vector<double>& impulse = servos.impulse;
+  for (size_t j = 0; j < m.joints.size(); ++j) {
+    const JointModel& joint = m.joints[j];
+    const size_t k = static_cast<size_t>(joint.child_link);
+    if (!joint.movable() || k >= impulse.size() || impulse[k] == 0.0) continue;
+    if (!motorAt(m, drives, j)) continue;
+    const double work =
+        motorWork(impulse[k], h, mb.getJointPos(static_cast<int>(k) - 1) - start_[j]);
+    energy_[j].add(work);
+    step_work_[j] += work;
+  }
+}
+
+void PowerMeter::endStep(double dt) {
+  time_ += dt;
+  last_step_ = dt;
+}
+
+void PowerMeter::undoStep() {
+  energy_ = before_;
+  std::fill(step_work_.begin(), step_work_.end(), 0.0);
+}
+
+CreaturePower PowerMeter::report(double mass) const {
+  CreaturePower p;
+  p.time = time_;
+  p.mass = mass;
+  p.power.resize(energy_.size());
+  p.work.resize(energy_.size());
+  p.positive_work.resize(energy_.size());
+  for (size_t j = 0; j < energy_.size(); ++j) {
+    p.power[j] = last_step_ > 0.0 ? step_work_[j] / last_step_ : 0.0;
+    p.work[j] = energy_[j].work;
+    p.positive_work[j] = energy_[j].positive_work;
+  }
+  return p;
+}
+
+}  // namespace flapsim

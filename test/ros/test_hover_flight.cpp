@@ -1,0 +1,123 @@
+// launch/hover.launch holds its altitude: after `~settle` s of sim time, for `~duration` s more,
+// /hover/odom stays within `~band` m of `~altitude`, upright (up-component >= `~min_up`), its
+// height range within any stroke period (1 / `~stroke_frequency` s) under `~max_stroke` m; the
+// mean positive power on /hover/power is at most `~max_specific_power` W/kg of its mass, and
+// the same power from /hover/joint_states (the sum over joints of max(0, effort x velocity),
+// sampled) agrees with it within `~joint_states_tolerance` (relative).
+#include <gtest/gtest.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/JointState.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "flapsim/MotorPower.h"
+#include "recorder.h"
+
+namespace {
+
+using flapsim_test::Recorder;
+using flapsim_test::waitFor;
+
+double param(ros::NodeHandle& pnh, const std::string& key, double def) {
+  double v = def;
+  pnh.getParam(key, v);
+  return v;
+}
+
+TEST(HoverLaunch, HoldsItsAltitudeUprightAtAnimalPower) {
+  ros::NodeHandle nh, pnh("~");
+  const double altitude = param(pnh, "altitude", 3.0), band = param(pnh, "band", 0.3);
+  const double settle = param(pnh, "settle", 10.0), duration = param(pnh, "duration", 50.0);
+  const double min_up = param(pnh, "min_up", 0.9), max_stroke = param(pnh, "max_stroke", 0.05);
+  const double stroke_period = 1.0 / param(pnh, "stroke_frequency", 14.5);
+  const double max_specific = param(pnh, "max_specific_power", 100.0);
+  const double tolerance = param(pnh, "joint_states_tolerance", 0.15);
+  const double timeout = param(pnh, "wall_timeout", 240.0);
+  Recorder<nav_msgs::Odometry> odom;
+  Recorder<flapsim::MotorPower> power;
+  Recorder<sensor_msgs::JointState> joints;
+  odom.start(nh, "/hover/odom", 100000);
+  power.start(nh, "/hover/power", 100000);
+  joints.start(nh, "/hover/joint_states", 100000);
+  const ros::Time end(settle + duration);
+  ASSERT_TRUE(
+      waitFor([&] { return !odom.msgs.empty() && odom.msgs.back()->header.stamp >= end; }, timeout))
+      << "sim time did not reach " << end << " (last odom at "
+      << (odom.msgs.empty() ? ros::Time(0) : odom.msgs.back()->header.stamp) << ")";
+  const ros::Time start(settle);
+
+  double low = 1e9, high = -1e9, lowest_up = 1.0, worst_stroke = 0.0;
+  double stroke_low = 1e9, stroke_high = -1e9;
+  ros::Time stroke_start = start;
+  int samples = 0;
+  for (const auto& m : odom.msgs) {
+    if (m->header.stamp < start || m->header.stamp > end) continue;
+    ++samples;
+    const double z = m->pose.pose.position.z;
+    low = std::min(low, z);
+    high = std::max(high, z);
+    const auto& q = m->pose.pose.orientation;
+    lowest_up = std::min(lowest_up, 1.0 - 2.0 * (q.x * q.x + q.y * q.y));  // R(2,2)
+    stroke_low = std::min(stroke_low, z);
+    stroke_high = std::max(stroke_high, z);
+    if ((m->header.stamp - stroke_start).toSec() >= stroke_period) {
+      worst_stroke = std::max(worst_stroke, stroke_high - stroke_low);
+      stroke_low = 1e9;
+      stroke_high = -1e9;
+      stroke_start = m->header.stamp;
+    }
+  }
+  ASSERT_GT(samples, 0.9 * duration * 100);  // odometry at 100 Hz
+  RecordProperty("height_low", std::to_string(low));
+  RecordProperty("height_high", std::to_string(high));
+  RecordProperty("lowest_up", std::to_string(lowest_up));
+  RecordProperty("worst_stroke_range", std::to_string(worst_stroke));
+  EXPECT_GE(low, altitude - band);
+  EXPECT_LE(high, altitude + band);
+  EXPECT_GE(lowest_up, min_up);
+  EXPECT_LT(worst_stroke, max_stroke);
+
+  // The power topic: means over windows, weighted by their lengths.
+  double work = 0.0, time = 0.0, mass = 0.0;
+  for (const auto& m : power.msgs) {
+    if (m->header.stamp - ros::Duration(m->window) < start || m->header.stamp > end) continue;
+    work += m->total_positive_power * m->window;
+    time += m->window;
+    mass = m->mass;
+  }
+  ASSERT_GT(time, 0.9 * duration);
+  ASSERT_GT(mass, 0.0);
+  const double topic_power = work / time;
+  // joint_states: the motors' instantaneous effort x velocity, sampled at each publication.
+  double sampled = 0.0;
+  int count = 0;
+  for (const auto& m : joints.msgs) {
+    if (m->header.stamp < start || m->header.stamp > end) continue;
+    for (size_t j = 0; j < m->effort.size() && j < m->velocity.size(); ++j) {
+      sampled += std::max(0.0, m->effort[j] * m->velocity[j]);
+    }
+    ++count;
+  }
+  ASSERT_GT(count, 0.9 * duration * 100);
+  const double joint_power = sampled / count;
+  RecordProperty("power_topic_W_per_kg", std::to_string(topic_power / mass));
+  RecordProperty("joint_states_W_per_kg", std::to_string(joint_power / mass));
+  std::printf(
+      "hover: height %.3f to %.3f m, lowest up %.4f, stroke range %.1f mm, power %.3f W "
+      "(%.1f W/kg; joint_states %.3f W, %.1f W/kg)\n",
+      low, high, lowest_up, 1000 * worst_stroke, topic_power, topic_power / mass, joint_power,
+      joint_power / mass);
+  EXPECT_LE(topic_power / mass, max_specific);
+  EXPECT_LE(joint_power / mass, max_specific);
+  EXPECT_NEAR(joint_power, topic_power, tolerance * topic_power);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_hover_flight");
+  return RUN_ALL_TESTS();
+}

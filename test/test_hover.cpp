@@ -1,0 +1,123 @@
+// The hover creature (make_creature --layout hover), its hand-designed controller and issue
+// 24's target: 50 s within 0.3 m of 3 m after 10 s of settling, upright, at most 100 W/kg of
+// positive mechanical power, under 5 cm of vertical oscillation per stroke; also in a 1 m/s
+// side wind.
+#include <gtest/gtest.h>
+
+#include "flapsim/hover_flight.h"
+#include "flapsim/make_creature.h"
+#include "flapsim/text_file.h"
+#include "test_util.h"
+
+namespace flapsim {
+namespace {
+
+using test::sourcePath;
+
+TEST(HoverCreature, CommittedUrdfIsTheGeneratorsOutput) {
+  EXPECT_EQ(readTextFile(sourcePath("urdf/hover_1.urdf"), 1 << 20), makeHoverUrdf("hover"))
+      << "regenerate with make_creature --layout hover --output urdf/hover_1.urdf";
+}
+
+// Two stroke hinges about the body's vertical axis, mirror images, each with a DC motor (its
+// line from the <limit>), a parallel spring and a pitch joint along the span; the membranes
+// fly the quasi-steady model, the spars feel no air.
+TEST(HoverCreature, WingsStrokeAboutTheVerticalAndPitchAboutTheirSpans) {
+  const HoverParams p;
+  auto m = parseCreatureModel(makeHoverUrdf("hover", p));
+  ASSERT_EQ(m->wing_joints.size(), 2u);
+  for (int side = 0; side < 2; ++side) {
+    const JointModel& hinge = m->joints[m->findJoint(kHoverWingJoints[side])];
+    EXPECT_TRUE(hinge.axis.isApprox(Vec3(0, 0, side == 0 ? 1 : -1)));
+    ASSERT_TRUE(hinge.motor.has_value());
+    EXPECT_EQ(hinge.motor->stall_torque, p.stall_torque);
+    EXPECT_EQ(hinge.motor->no_load_speed, p.no_load_speed);
+    EXPECT_EQ(hinge.motor->max_power, p.max_power);
+    EXPECT_EQ(hinge.stiffness, p.hinge_stiffness);
+    ASSERT_GE(hinge.feather_joint, 0);
+    const JointModel& pitch = m->joints[hinge.feather_joint];
+    const LinkModel& membrane = m->links[pitch.child_link];
+    EXPECT_EQ(membrane.aero.model, "quasi_steady");
+    EXPECT_FALSE(m->links[hinge.child_link].aero.enabled);
+    const std::optional<Vec3> span = spanAxis(*m, pitch.child_link);
+    ASSERT_TRUE(span.has_value());
+    EXPECT_NEAR(std::abs(span->y()), 1.0, 1e-12);
+  }
+  EXPECT_NEAR(m->totalMass(), p.body_mass + 2 * (p.wing_mass + p.spar_mass), 1e-15);
+}
+
+// The controller's signs: below its height it beats faster; rolled about +x (left side up) the
+// right wing beats wider; nose down (the up axis leaning forward) the strokes move forward
+// (negative offset), the lift ahead of the centre of mass pitching the nose up; a wing
+// pitches +feather forward and -feather back.
+TEST(HoverController, CorrectsHeightRollAndPitchTheRightWay) {
+  HoverControllerParams p;
+  auto command = [&](const Quat& q, double z) {
+    HoverController c(p);
+    HoverSensors s;
+    s.orientation = q;
+    s.position = Vec3(0, 0, z);
+    return c.update(s, 0.01);
+  };
+  const auto level = command(Quat::Identity(), p.altitude);
+  EXPECT_NEAR(level[0].downstroke_rate / (4 * level[0].amplitude), p.trim_frequency, 1e-12);
+  EXPECT_EQ(level[0].shape, StrokeShape::kSine);
+  EXPECT_EQ(level[0].downstroke_feather, p.feather);
+  EXPECT_EQ(level[0].feather, -p.feather);
+  const auto low = command(Quat::Identity(), p.altitude - 0.5);
+  EXPECT_GT(low[0].downstroke_rate, level[0].downstroke_rate);
+  const auto rolled = command(Quat(Eigen::AngleAxisd(0.2, Vec3::UnitX())), p.altitude);
+  EXPECT_GT(rolled[1].amplitude, rolled[0].amplitude);  // +x roll: left side up
+  const auto nose_down = command(Quat(Eigen::AngleAxisd(0.2, Vec3::UnitY())), p.altitude);
+  EXPECT_LT(nose_down[0].offset, 0.0);  // strokes forward: lift ahead pitches the nose up
+  EXPECT_EQ(nose_down[0].offset, nose_down[1].offset);
+  HoverControllerParams bad;
+  bad.trim_frequency = -1.0;
+  EXPECT_THROW(HoverController{bad}, InputError);
+}
+
+// Issue 24's target at 1 ms steps in still air and in a 1 m/s side wind (blowing towards +y),
+// from a start tilted 0.1 rad in roll and pitch.
+TEST(HoverFlight, HoldsThreeMetresUprightAtAnimalPower) {
+  const CreatureModelPtr model = parseCreatureModel(makeHoverUrdf("hover"));
+  for (double wind : {0.0, 1.0}) {
+    SCOPED_TRACE(wind);
+    HoverFlightParams p;
+    p.world.air.wind = Vec3(0.0, wind, 0.0);
+    p.start_roll = 0.1;
+    p.start_pitch = -0.1;
+    const HoverFlightResult r = flyHover(model, HoverControllerParams(), p);
+    EXPECT_GT(r.min_height, 2.7);
+    EXPECT_LT(r.max_height, 3.3);
+    EXPECT_GT(r.min_upright, 0.9);  // never more than 26 deg from upright
+    EXPECT_LT(r.max_stroke_oscillation, 0.05);
+    EXPECT_LT(r.specificPower(), 100.0);
+    EXPECT_GT(r.positive_power, r.net_power);  // the motors also brake
+    EXPECT_LT(r.drift.norm(), 0.5);            // and it keeps its place
+  }
+}
+
+// The parallel springs of the stroke hinges store the wings' kinetic energy at each turn:
+// without them the motors brake the wings and drive them again, and the positive power grows.
+TEST(HoverFlight, HingeSpringsSaveTheMotorsPower) {
+  HoverParams sprung, bare;
+  bare.hinge_stiffness = 0.0;
+  HoverFlightParams p;
+  p.duration = 20.0;
+  const HoverFlightResult with =
+      flyHover(parseCreatureModel(makeHoverUrdf("hover", sprung)), HoverControllerParams(), p);
+  const HoverFlightResult without =
+      flyHover(parseCreatureModel(makeHoverUrdf("hover", bare)), HoverControllerParams(), p);
+  EXPECT_LT(with.positive_power, 0.8 * without.positive_power);
+}
+
+// The figure of merit's parts: momentum theory's sqrt(W^3 / (2 rho A)), and the disk of the
+// afc_1 creature's 0.35 m wings over +-1.2 rad: 2 x 1.2 x 0.35^2 = 0.294 m^2.
+TEST(FigureOfMerit, IdealPowerAndSweptDisk) {
+  EXPECT_DOUBLE_EQ(idealHoverPower(2.0, 1.0, 1.0), 2.0);
+  const double area = strokeDiskArea(*test::loadUrdf("afc_1.urdf"), 1.2);
+  EXPECT_NEAR(area, 2 * 1.2 * (0.35 * 0.35 + 0.001 * 0.001), 1e-12);
+}
+
+}  // namespace
+}  // namespace flapsim
