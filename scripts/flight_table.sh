@@ -24,7 +24,7 @@ for c in "${conditions[@]}"; do
       --duration 60 --step-size "$dt" --threads 2 $flags |
       awk -v name="$name" -v dt="$dt" '
         $1 ~ /^[0-9]+$/ && $2 != "of" {
-          n++; if ($5 == "yes") flips++; if ($13 == "pass") passed++
+          n++; if ($5 == "yes") flips++; if ($NF == "pass") passed++
           up = $6 + 0; if (n == 1 || up < minup) minup = up
           z = $7 + 0; if (n == 1 || z < zlo) zlo = z; if (n == 1 || z > zhi) zhi = z
           b = $12 + 0; bank += (b < 0 ? -b : b)

@@ -245,12 +245,12 @@ TEST(FarmScheduler, ACallStillRunningIsJoinedBeforeTheSchedulerIsGone) {
 }
 
 TEST(FarmScheduler, CallsAreCutToTheWorkersLimitAndAnEpisodeBeyondItIsRefused) {
-  EvolveParams p = robustPreset();  // 15 s episodes at 0.5 ms: 30,000 steps of one pair
+  EvolveParams p = robustPreset();  // 20 s episodes at 0.5 ms: 40,000 steps of one pair
   FakeFarm link(evaluationSpec(p));
   FarmParams fp;
   fp.batch = 1000;
   EXPECT_EQ(FarmScheduler(link, evaluationSpec(p), weightCount(p), fp).tasksPerCall(),
-            static_cast<int>(kMaxCallWork / 30000));
+            static_cast<int>(kMaxCallWork / 40000));
   fp.batch = 8;
   EXPECT_EQ(FarmScheduler(link, evaluationSpec(p), weightCount(p), fp).tasksPerCall(), 8);
   p.pairs = 12;

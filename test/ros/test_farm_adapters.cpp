@@ -61,8 +61,8 @@ TEST(Worker, TheCampaignsCallsAreRefusedBeforeAnyWork) {
   auto call = [&](std::vector<std::string> spec, size_t tasks, int episode = 0) {
     flapsim::EvaluateEpisodes::Request req;
     req.spec = std::move(spec);
-    req.weight_count = 12;
-    req.weights.assign(12 * tasks, 0.0);
+    req.weight_count = 33;  // the robust preset's network
+    req.weights.assign(33 * tasks, 0.0);
     req.episodes.assign(tasks, episode);
     return flapsim_ros::evaluateEpisodes(cache, req);
   };
@@ -73,17 +73,17 @@ TEST(Worker, TheCampaignsCallsAreRefusedBeforeAnyWork) {
   // 1: a spec of 10^7 episodes (860 MB of starts, kept in the cache).
   expectRefused(call({"--preset", "robust", "--episodes", "10000000"}, 1, -1),
                 "bad spec: --episodes: 10000000 is not in [1, 1000]");
-  // 2: 833,333 tasks in one call; 1.5e7 steps an episode; 4.3e7 s; 3,000 wing pairs.
+  // 2: 833,333 tasks in one call; 2e7 steps an episode; 4.3e7 s; 3,000 wing pairs.
   expectRefused(call({"--preset", "robust"}, 833333), "too many tasks: 833333, over the limit");
   expectRefused(call({"--preset", "robust", "--step-sizes", "0.000001"}, 1),
-                "bad spec: evolve: duration / step size = 1.5e+07 steps, over the limit of 1e+07");
+                "bad spec: evolve: duration / step size = 2e+07 steps, over the limit of 1e+07");
   expectRefused(call({"--preset", "robust", "--duration", "4.3e7"}, 1),
                 "bad spec: --duration: 4.3e7 is not in (0, 10000]");
   expectRefused(call({"--preset", "robust", "--pairs", "3000"}, 1),
                 "bad spec: --pairs: 3000 is not in [1, 64]");
-  // Within every limit of a spec, but 1024 robust episodes of 30,000 steps in one call.
+  // Within every limit of a spec, but 1024 robust episodes of 40,000 steps in one call.
   expectRefused(call({"--preset", "robust"}, 1024),
-                "too much work: 1024 tasks of 30000 steps x wing pairs, over the limit of 2e+06");
+                "too much work: 1024 tasks of 40000 steps x wing pairs, over the limit of 2e+06");
   // 5: 10^9 s episodes, whose sample count overflowed an int (fitness 0).
   expectRefused(call({"--preset", "robust", "--duration", "1e9"}, 1),
                 "bad spec: --duration: 1e9 is not in (0, 10000]");
