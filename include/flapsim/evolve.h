@@ -198,12 +198,13 @@ struct EvolveParams {
 /// (no phase lock), one step size, no flip detection.
 EvolveParams paperPreset(int pairs = 1);
 
-/// Robust flight (evolve's default): the paper's GA operators on 16
-/// individuals for 40 generations, the network with phase_lock, and 8 episodes
-/// of 15 s, each drawing its own start roll and pitch (up to +-20 deg), start
-/// angular velocity (up to 1 rad/s per axis), a horizontal gust (up to 1 m/s,
-/// in the first half), attitude-sensor noise (0.02 rad) and step size (1 or
-/// 0.5 ms); a flip ends the episode at the height there less 20 m.
+/// Robust flight (evolve's default): the paper's GA operators on 32 individuals for 100
+/// generations; the extended network (mirror, gyro and altitude inputs, 4 hidden, phase_lock);
+/// 12 episodes of 20 s, each drawing its start roll and pitch (up to +-30 deg), start angular
+/// velocity (up to 1 rad/s per axis), a steady wind (0-2 m/s, any heading), a 0.05 N m roll
+/// torque and a 1 N push on a wing at drawn times, IMU noise (0.1 rad, 0.1 rad/s), altimeter
+/// noise (0.05 m), an altitude setpoint (2-8 m) and step size (1 or 0.5 ms); a sample scores
+/// -|height - setpoint| - (1 - up-component), a flip ends the episode at that score less 20 m.
 EvolveParams robustPreset(int pairs = 1);
 
 struct EvolveResult {
