@@ -228,6 +228,11 @@ void check(const Scenario& s, const WorldParams& p, double seconds, double refer
   std::printf("%s, %g s simulated:\n", s.name.c_str(), seconds);
   printProbe("setting", step, at);
   printProbe("reference", reference_step, against);
+  // The verdict allows 10% of 1 m when the reference changes height by less (as mujoco_bench's);
+  // the error relative to the reference's own change, apart.
+  const double error = std::abs(at.early_height - against.early_height);
+  std::printf("  height error %.4f m, %.1f%% of the reference's change\n", error,
+              100.0 * error / std::max(1e-12, std::abs(against.early_height)));
   const std::string why = instability(at, against);
   std::printf("  verdict: %s%s%s\n", why.empty() ? "stable" : "UNSTABLE (", why.c_str(),
               why.empty() ? "" : ")");
