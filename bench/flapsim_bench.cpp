@@ -147,11 +147,8 @@ double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldPara
   return sps;
 }
 
-// --check, as mujoco_bench's: when heights are compared, the largest speed ratio and height
-// error a step may have against the reference.
-constexpr double kHeightTime = 3.0;  // s
-constexpr double kMaxSpeedRatio = 2.0;
-constexpr double kMaxHeightError = 0.10;
+// --check, as mujoco_bench's: when heights are compared, and the reference's step.
+constexpr double kHeightTime = 3.0;           // s
 constexpr double kReferenceStep = 0.0000625;  // s
 
 struct Probe {
@@ -194,21 +191,10 @@ Probe probe(const Scenario& s, WorldParams p, double step, double seconds) {
 }
 
 std::string instability(const Probe& r, const Probe& ref) {
-  if (r.warnings > 0) return std::to_string(r.warnings) + " warning(s)";
-  if (!r.finite) return "non-finite velocities";
-  char why[160];
-  if (r.max_speed > kMaxSpeedRatio * ref.max_speed) {
-    std::snprintf(why, sizeof(why), "max speed %.3g is %.1f x the reference's", r.max_speed,
-                  r.max_speed / ref.max_speed);
-    return why;
-  }
-  if (std::abs(r.early_height - ref.early_height) >
-      kMaxHeightError * std::max(1.0, std::abs(ref.early_height))) {
-    std::snprintf(why, sizeof(why), "height change %.3f m against the reference's %.3f m",
-                  r.early_height, ref.early_height);
-    return why;
-  }
-  return "";
+  auto figures = [](const Probe& x) {
+    return flapsim_bench::ProbeFigures{x.warnings, x.finite, x.max_speed, x.early_height};
+  };
+  return flapsim_bench::instability(figures(r), figures(ref), "warning(s)", "max speed");
 }
 
 void printProbe(const char* label, double step, const Probe& r) {
