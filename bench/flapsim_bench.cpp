@@ -1,17 +1,19 @@
 // flapsim_bench: steps per second and real-time factor of the core world, per creature.
 // Prints figures; never passes or fails on time.
 //
-//   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json] [--step S] [--check T]
+//   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json] [--step S] [--turn-substep S]
+//                 [--check T] [--reference-step S]
 //   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
 //
-// --step S: the world's step, s (WorldParams' 1 ms by default). --check T: instead of timing,
+// --step S, --turn-substep S: the world's step and turn substep, s (WorldParams' 1 ms and
+// 0.5 ms by default; either form). --check T: instead of timing,
 // the stability probe that bench/mujoco_bench.cpp applies to MuJoCo, here to flapsim at that
 // step: T simulated seconds (not timed) of each creature at the step and at the reference step
 // (--reference-step, 1/16 ms); a step counts if flapsim warned of nothing (no joint value
 // capped for the step, no divergence), every speed stayed finite, the largest speed (root
 // linear and angular, joints) within twice the reference's and the root's height change after
 // 3 s within 10% of the reference's (of 1 m if that is more). Then "verdict: stable" or
-// "verdict: UNSTABLE (why)".
+// "verdict: UNSTABLE (why)". With --urdf, of that creature.
 //
 // The second form times one creature from a URDF, every wing stroking at 30/10 rad/s with
 // amplitude 0.8, from `height`, after `skip` simulated seconds: the scenario of
@@ -254,19 +256,28 @@ int main(int argc, char** argv) {
       skip = std::atof(argv[++i]);
     } else if (a == "--no-ground") {
       ground = false;
-    } else if (a == "--step" && i + 1 < argc) {
-      if (!flapsim_bench::parseSeconds(argv[++i], &step)) return 2;
-    } else if (a == "--turn-substep" && i + 1 < argc) {
-      turn_substep = std::atof(argv[++i]);
-    } else if (a == "--check" && i + 1 < argc) {
-      if (!flapsim_bench::parseSeconds(argv[++i], &check_seconds)) return 2;
-    } else if (a == "--reference-step" && i + 1 < argc) {
-      if (!flapsim_bench::parseSeconds(argv[++i], &reference_step)) return 2;
+    } else if ((a == "--step" || a == "--turn-substep" || a == "--check" ||
+                a == "--reference-step") &&
+               i + 1 < argc) {
+      double* out = a == "--step"           ? &step
+                    : a == "--turn-substep" ? &turn_substep
+                    : a == "--check"        ? &check_seconds
+                                            : &reference_step;
+      // A turn substep of 0 is allowed: no substeps.
+      const bool zero = a == "--turn-substep" && std::string(argv[i + 1]) == "0";
+      if (zero) {
+        *out = 0.0;
+      } else if (!flapsim_bench::parseSeconds(argv[i + 1], out)) {
+        std::fprintf(stderr, "flapsim_bench: %s wants a duration in (0, 1e5] s%s, not '%s'\n",
+                     a.c_str(), a == "--turn-substep" ? " or 0" : "", argv[i + 1]);
+        return 2;
+      }
+      ++i;
     } else {
       std::fprintf(
           stderr,
           "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
-          "                     [--step S] [--check T] [--reference-step S]\n"
+          "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
           "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
           "[--runs N] [--seconds S]\n");
       return 2;
@@ -275,13 +286,21 @@ int main(int argc, char** argv) {
   WorldParams at_step;
   at_step.step_size = step;
   at_step.turn_substep = turn_substep;
+  at_step.ground = ground;
   if (!flapsim::validateWorldParams(at_step).empty()) {
     std::fprintf(stderr, "flapsim_bench: %s\n", flapsim::validateWorldParams(at_step).c_str());
     return 2;
   }
   if (check_seconds > 0.0) {
-    for (const Scenario& s : scenarios()) {
-      if (only.empty() || s.name == only) check(s, at_step, check_seconds, reference_step);
+    try {
+      for (const Scenario& s : urdf.empty() ? scenarios() : std::vector{fromUrdf(urdf, height)}) {
+        if (only.empty() || s.name == only || !urdf.empty()) {
+          check(s, at_step, check_seconds, reference_step);
+        }
+      }
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+      return 1;
     }
     return 0;
   }
@@ -296,7 +315,6 @@ int main(int argc, char** argv) {
       return 1;
     }
     WorldParams p = at_step;
-    p.ground = ground;
     std::vector<double> sps;
     flapsim::CreaturePower power;
     for (int r = 0; r < runs; ++r) {
