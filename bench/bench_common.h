@@ -113,4 +113,42 @@ inline void printTableRow(const std::string& name, int bodies, double steps_per_
               steps_per_second * step_size, 1e6 / (steps_per_second * bodies));
 }
 
+/// The stability probe's verdict (mujoco_bench --check, flapsim_bench --check): a setting
+/// counts if over the probe the simulator warned of nothing, every speed stayed finite, the
+/// largest speed stayed within kMaxSpeedRatio of the reference's (in MuJoCo 3.12 the runaway
+/// settings of flapsim's creatures reach 2.4 to 42 times it: RK4 at 0.125 ms and Euler at 1 ms
+/// on the flap unit) and the root's height change after the probe's height time within
+/// kMaxHeightError of the reference's (m, or that fraction of the change if larger): the same
+/// flight, not merely a bounded one.
+constexpr double kMaxSpeedRatio = 2.0;
+constexpr double kMaxHeightError = 0.10;
+
+struct ProbeFigures {
+  int warnings = 0;
+  bool finite = true;
+  double max_speed = 0.0;
+  double height_change = 0.0;  // m, at the probe's height time
+};
+
+/// Empty if `r` counts against the reference `ref`, else why not; `warnings` and `speed` name
+/// the simulator's warnings and its speed figure in the message.
+inline std::string instability(const ProbeFigures& r, const ProbeFigures& ref, const char* warnings,
+                               const char* speed) {
+  if (r.warnings > 0) return std::to_string(r.warnings) + " " + warnings;
+  if (!r.finite) return "non-finite velocities";
+  char why[160];
+  if (r.max_speed > kMaxSpeedRatio * ref.max_speed) {
+    std::snprintf(why, sizeof(why), "%s %.3g is %.1f x the reference's", speed, r.max_speed,
+                  r.max_speed / ref.max_speed);
+    return why;
+  }
+  const double dz = r.height_change, dz_ref = ref.height_change;
+  if (std::abs(dz - dz_ref) > kMaxHeightError * std::max(1.0, std::abs(dz_ref))) {
+    std::snprintf(why, sizeof(why), "height change %.3f m against the reference's %.3f m", dz,
+                  dz_ref);
+    return why;
+  }
+  return "";
+}
+
 }  // namespace flapsim_bench

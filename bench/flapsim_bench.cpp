@@ -1,8 +1,19 @@
 // flapsim_bench: steps per second and real-time factor of the core world, per creature.
 // Prints figures; never passes or fails on time.
 //
-//   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json]
+//   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json] [--step S] [--turn-substep S]
+//                 [--check T] [--reference-step S]
 //   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
+//
+// --step S, --turn-substep S: the world's step and turn substep, s (WorldParams' 1 ms and
+// 0.5 ms by default; either form). --check T: instead of timing,
+// the stability probe that bench/mujoco_bench.cpp applies to MuJoCo, here to flapsim at that
+// step: T simulated seconds (not timed) of each creature at the step and at the reference step
+// (--reference-step, 1/16 ms); a step counts if flapsim warned of nothing (no joint value
+// capped for the step, no divergence), every speed stayed finite, the largest speed (root
+// linear and angular, joints) within twice the reference's and the root's height change after
+// 3 s within 10% of the reference's (of 1 m if that is more). Then "verdict: stable" or
+// "verdict: UNSTABLE (why)". With --urdf, of that creature.
 //
 // The second form times one creature from a URDF, every wing stroking at 30/10 rad/s with
 // amplitude 0.8, from `height`, after `skip` simulated seconds: the scenario of
@@ -138,6 +149,83 @@ double timeRun(const Scenario& s, bool air, int steps, WorldParams p = WorldPara
   return sps;
 }
 
+// --check, as mujoco_bench's: when heights are compared, and the reference's step.
+constexpr double kHeightTime = 3.0;           // s
+constexpr double kReferenceStep = 0.0000625;  // s
+
+struct Probe {
+  int warnings = 0;  // joint values capped for the step, divergences
+  bool finite = true;
+  double max_speed = 0.0, max_time = 0.0;  // the largest |root velocity| or |joint velocity|
+  double early_height = 0.0, early_time = 0.0, end_height = 0.0;  // root, change since start
+};
+
+Probe probe(const Scenario& s, WorldParams p, double step, double seconds) {
+  p.step_size = step;
+  World w(p);
+  s.setup(w);
+  Probe r;
+  r.warnings = static_cast<int>(flapsim::cappedJointValues(*w.model("c"), step).size());
+  const double z0 = w.state("c").link_poses[0].position.z();
+  const int steps = static_cast<int>(std::lround(seconds / step));
+  const int early = std::min(steps, static_cast<int>(std::lround(kHeightTime / step)));
+  for (int i = 1; i <= steps; ++i) {
+    w.step(1);
+    if (w.divergence("c")) {
+      ++r.warnings;
+      break;
+    }
+    const flapsim::CreatureState c = w.state("c");
+    const flapsim::Twist& root = c.link_twists[0];
+    std::vector<double> speeds = c.joint_velocities;
+    for (int k = 0; k < 3; ++k) {
+      speeds.push_back(root.linear[k]);
+      speeds.push_back(root.angular[k]);
+    }
+    for (double v : speeds) {
+      if (!std::isfinite(v)) r.finite = false;
+      if (std::abs(v) > r.max_speed) r.max_speed = std::abs(v), r.max_time = w.time();
+    }
+    r.end_height = c.link_poses[0].position.z() - z0;
+    if (i == early) r.early_height = r.end_height, r.early_time = w.time();
+  }
+  return r;
+}
+
+std::string instability(const Probe& r, const Probe& ref) {
+  auto figures = [](const Probe& x) {
+    return flapsim_bench::ProbeFigures{x.warnings, x.finite, x.max_speed, x.early_height};
+  };
+  return flapsim_bench::instability(figures(r), figures(ref), "warning(s)", "max speed");
+}
+
+void printProbe(const char* label, double step, const Probe& r) {
+  std::printf(
+      "  %-9s %-10s warnings %d, %s, max speed %.4g (at %.3f s), height change %.4f m after %g s "
+      "(%.4f m at the end)\n",
+      label, (std::to_string(step * 1e3).substr(0, 8) + " ms").c_str(), r.warnings,
+      r.finite ? "finite" : "NON-FINITE", r.max_speed, r.max_time, r.early_height, r.early_time,
+      r.end_height);
+}
+
+// The reference: the same world parameters (turn substeps too) at `reference_step`.
+void check(const Scenario& s, const WorldParams& p, double seconds, double reference_step) {
+  const double step = p.step_size;
+  const Probe at = probe(s, p, step, seconds);
+  const Probe against = probe(s, p, reference_step, seconds);
+  std::printf("%s, %g s simulated:\n", s.name.c_str(), seconds);
+  printProbe("setting", step, at);
+  printProbe("reference", reference_step, against);
+  // The verdict allows 10% of 1 m when the reference changes height by less (as mujoco_bench's);
+  // the error relative to the reference's own change, apart.
+  const double error = std::abs(at.early_height - against.early_height);
+  std::printf("  height error %.4f m, %.1f%% of the reference's change\n", error,
+              100.0 * error / std::max(1e-12, std::abs(against.early_height)));
+  const std::string why = instability(at, against);
+  std::printf("  verdict: %s%s%s\n", why.empty() ? "stable" : "UNSTABLE (", why.c_str(),
+              why.empty() ? "" : ")");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -146,6 +234,8 @@ int main(int argc, char** argv) {
   std::string only, urdf;
   double height = 50.0, skip = 0.0;
   bool json = false, ground = true;
+  double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
+  double turn_substep = WorldParams().turn_substep;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--runs" && i + 1 < argc) {
@@ -166,17 +256,56 @@ int main(int argc, char** argv) {
       skip = std::atof(argv[++i]);
     } else if (a == "--no-ground") {
       ground = false;
+    } else if ((a == "--step" || a == "--turn-substep" || a == "--check" ||
+                a == "--reference-step") &&
+               i + 1 < argc) {
+      double* out = a == "--step"           ? &step
+                    : a == "--turn-substep" ? &turn_substep
+                    : a == "--check"        ? &check_seconds
+                                            : &reference_step;
+      // A turn substep of 0 is allowed: no substeps.
+      const bool zero = a == "--turn-substep" && std::string(argv[i + 1]) == "0";
+      if (zero) {
+        *out = 0.0;
+      } else if (!flapsim_bench::parseSeconds(argv[i + 1], out)) {
+        std::fprintf(stderr, "flapsim_bench: %s wants a duration in (0, 1e5] s%s, not '%s'\n",
+                     a.c_str(), a == "--turn-substep" ? " or 0" : "", argv[i + 1]);
+        return 2;
+      }
+      ++i;
     } else {
       std::fprintf(
           stderr,
           "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
+          "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
           "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
           "[--runs N] [--seconds S]\n");
       return 2;
     }
   }
-  const double dt = WorldParams().step_size;
-  const int steps = std::max(1, static_cast<int>(seconds / dt));
+  WorldParams at_step;
+  at_step.step_size = step;
+  at_step.turn_substep = turn_substep;
+  at_step.ground = ground;
+  if (!flapsim::validateWorldParams(at_step).empty()) {
+    std::fprintf(stderr, "flapsim_bench: %s\n", flapsim::validateWorldParams(at_step).c_str());
+    return 2;
+  }
+  if (check_seconds > 0.0) {
+    try {
+      for (const Scenario& s : urdf.empty() ? scenarios() : std::vector{fromUrdf(urdf, height)}) {
+        if (only.empty() || s.name == only || !urdf.empty()) {
+          check(s, at_step, check_seconds, reference_step);
+        }
+      }
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+      return 1;
+    }
+    return 0;
+  }
+  const double dt = step;
+  const int steps = std::max(1, static_cast<int>(std::lround(seconds / dt)));
   if (!urdf.empty()) {
     Scenario s;
     try {
@@ -185,8 +314,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
       return 1;
     }
-    WorldParams p;
-    p.ground = ground;
+    WorldParams p = at_step;
     std::vector<double> sps;
     flapsim::CreaturePower power;
     for (int r = 0; r < runs; ++r) {
@@ -217,8 +345,8 @@ int main(int argc, char** argv) {
     std::vector<double> with_air, without_air;
     flapsim::CreaturePower power;  // of the motors, in air (the same in every run)
     for (int r = 0; r < runs; ++r) {
-      with_air.push_back(timeRun(s, true, steps, WorldParams(), 0, &power));
-      without_air.push_back(timeRun(s, false, steps));
+      with_air.push_back(timeRun(s, true, steps, at_step, 0, &power));
+      without_air.push_back(timeRun(s, false, steps, at_step));
     }
     const double positive = power.meanPositivePower();
     const double sps = median(with_air);
@@ -244,7 +372,7 @@ int main(int argc, char** argv) {
   const Scenario unit = flapper("flap_unit", 1);
   std::vector<double> fine, coarse;
   for (int r = 0; r < runs; ++r) {
-    WorldParams p;
+    WorldParams p = at_step;
     coarse.push_back(timeRun(unit, true, steps, p));
     p.air.subdivisions_u = p.air.subdivisions_v = 8;
     fine.push_back(timeRun(unit, true, steps, p));
@@ -260,7 +388,7 @@ int main(int argc, char** argv) {
   // A flock of 16 flap units in one world, on 1 and 2 threads.
   CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "unit"));
   auto flock = [&](int threads, flapsim::CreatureState* last) {
-    WorldParams p;
+    WorldParams p = at_step;
     p.threads = threads;
     World w(p);
     for (int i = 0; i < 16; ++i) {
@@ -295,7 +423,7 @@ int main(int argc, char** argv) {
   // Memory: resident size before and after a 12-unit world ran.
   const double before = residentMb();
   {
-    WorldParams p;
+    WorldParams p = at_step;
     World w(p);
     flapper("chain_12", 12).setup(w);
     w.step(steps);

@@ -292,31 +292,13 @@ std::string describe(const Setting& s) {
   return text;
 }
 
-// A setting counts if over the probe MuJoCo warned of nothing, every speed stayed finite, the
-// largest joint speed stayed within kMaxSpeedRatio of the reference's (in MuJoCo 3.12 the
-// runaway settings of flapsim's creatures reach 2.4 to 42 times it: RK4 at 0.125 ms and Euler
-// at 1 ms on the flap unit) and the root's height change after kHeightTime within
-// kMaxHeightError of the reference's (m, or that fraction of the change if larger): the same
-// flight, not merely a bounded one.
-constexpr double kMaxSpeedRatio = 2.0;
-constexpr double kMaxHeightError = 0.10;
-
+// The verdict (flapsim_bench::instability()) on MuJoCo's figures.
 std::string instability(const RunResult& r, const RunResult& ref) {
-  if (r.warnings > 0) return std::to_string(r.warnings) + " MuJoCo warning(s)";
-  if (!r.finite) return "non-finite velocities";
-  char why[160];
-  if (r.max_qvel > kMaxSpeedRatio * ref.max_qvel) {
-    std::snprintf(why, sizeof(why), "max |qvel| %.3g is %.1f x the reference's", r.max_qvel,
-                  r.max_qvel / ref.max_qvel);
-    return why;
-  }
-  const double dz = r.early_height - kStartHeight, dz_ref = ref.early_height - kStartHeight;
-  if (std::abs(dz - dz_ref) > kMaxHeightError * std::max(1.0, std::abs(dz_ref))) {
-    std::snprintf(why, sizeof(why), "height change %.3f m against the reference's %.3f m", dz,
-                  dz_ref);
-    return why;
-  }
-  return "";
+  auto figures = [](const RunResult& x) {
+    return flapsim_bench::ProbeFigures{x.warnings, x.finite, x.max_qvel,
+                                       x.early_height - kStartHeight};
+  };
+  return flapsim_bench::instability(figures(r), figures(ref), "MuJoCo warning(s)", "max |qvel|");
 }
 
 void printProbe(const char* label, const Setting& s, const RunResult& r) {

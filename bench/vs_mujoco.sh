@@ -6,11 +6,14 @@
 # speed drifts from minute to minute, and both sides of a pair see about the same machine.
 # Before a creature is timed, its MuJoCo setting is checked for stability (mujoco_bench
 # --check: warnings, non-finite or runaway speeds, the height reached, against RK4 at
-# 0.25 ms); an unstable setting is reported and not timed. Prints figures; never passes or
-# fails on time.
+# 1/16 ms); an unstable setting is reported and not timed. flapsim's setting, when it is not
+# its default (--flapsim-step, --flapsim-turn-substep), is checked the same way
+# (flapsim_bench --check: against flapsim at 1/16 ms). Prints figures; never passes or fails
+# on time.
 #   bash bench/vs_mujoco.sh [--pairs N] [--seconds S] [--bin DIR] [--mujoco PREFIX]
 #        [--mujoco-include DIR] [--mujoco-lib DIR] [--integrator I] [--step S]
-#        [--jacobian J] [--check-seconds T] [NAME...]
+#        [--jacobian J] [--check-seconds T] [--flapsim-step S] [--flapsim-turn-substep S]
+#        [NAME...]
 #   NAME: flap_unit, chain_4, chain_6, chain_12, chain_25 (default: all)
 #   --seconds S: simulated seconds per run (1; a flap unit's second is a few ms of CPU)
 #   MuJoCo: by default Debian's (the catkin build's mujoco_bench). --mujoco PREFIX takes
@@ -21,6 +24,8 @@
 #     and rebuilt when a source changes.
 #   --integrator Euler|RK4|implicit|implicitfast (implicit), --step S in s (0.001),
 #   --jacobian dense|sparse|auto (auto), --check-seconds T (10; 0: no check).
+#   --flapsim-step S, --flapsim-turn-substep S: flapsim's step and turn substep in s
+#     (WorldParams' step_size 0.001 and turn_substep 0.0005); the ratio stays per simulated s.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 pairs=5
@@ -30,6 +35,7 @@ names=()
 mj_include="" mj_lib=""
 setting=(--integrator implicit --step 0.001 --jacobian auto)
 check=10
+fsetting=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --pairs) pairs="$2"; shift 2 ;;
@@ -42,7 +48,9 @@ while [ $# -gt 0 ]; do
     --step) setting[3]="$2"; shift 2 ;;
     --jacobian) setting[5]="$2"; shift 2 ;;
     --check-seconds) check="$2"; shift 2 ;;
-    -h|--help) sed -n '2,23p' "$0"; exit 0 ;;
+    --flapsim-step) fsetting+=(--step "$2"); shift 2 ;;
+    --flapsim-turn-substep) fsetting+=(--turn-substep "$2"); shift 2 ;;
+    -h|--help) sed -n '2,28p' "$0"; exit 0 ;;
     -*) echo "vs_mujoco.sh: unknown option '$1'" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
@@ -83,6 +91,7 @@ rate() { awk -v n="$2" '$1 == n { print $3 }' <<< "$1"; }
 step_of() { grep -o 'steps of [0-9.e+-]* ms' <<< "$1" | head -1 | awk '{ print $3 / 1000 }'; }
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 flags=(--runs 3 --seconds "$seconds" --cpu-time)
+fflags=("${flags[@]}" "${fsetting[@]}")
 
 echo "MuJoCo: $("$mujoco" "${setting[@]}" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//')"
 echo "ratio: flapsim / MuJoCo per simulated second (steps/s x step), CPU time; order: which ran first"
@@ -96,17 +105,25 @@ for name in "${names[@]}"; do
       echo "$name: not counted: MuJoCo unstable at this setting"
       continue
     fi
+    if [ ${#fsetting[@]} -gt 0 ]; then
+      probe="$("$bin/flapsim_bench" "${fsetting[@]}" --check "$check" --only "$name")"
+      sed -n '2,$p' <<< "$probe" | sed 's/^/  flapsim /'
+      if ! grep -q 'verdict: stable' <<< "$probe"; then
+        echo "$name: not counted: flapsim unstable at ${fsetting[*]}"
+        continue
+      fi
+    fi
   fi
   ours=() theirs=() ratios=()
   for p in $(seq "$pairs"); do
     if [ $((p % 2)) = 1 ]; then
       order=fm
-      a_out="$("$bin/flapsim_bench" "${flags[@]}" --only "$name")"
+      a_out="$("$bin/flapsim_bench" "${fflags[@]}" --only "$name")"
       b_out="$("$mujoco" "${setting[@]}" "${flags[@]}" --only "$name")"
     else
       order=mf
       b_out="$("$mujoco" "${setting[@]}" "${flags[@]}" --only "$name")"
-      a_out="$("$bin/flapsim_bench" "${flags[@]}" --only "$name")"
+      a_out="$("$bin/flapsim_bench" "${fflags[@]}" --only "$name")"
     fi
     a=$(rate "$a_out" "$name") b=$(rate "$b_out" "$name")
     ha=$(step_of "$a_out") hb=$(step_of "$b_out")
