@@ -1,6 +1,8 @@
 // Parameters and messages of the controller nodes, without a master.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "flapsim_ros/controller_params.h"
 #include "flapsim_ros/conversions.h"
 
@@ -97,6 +99,36 @@ TEST(AnnControllerParams, RequiresWeightsAndReadsLockstep) {
                ParamError);
   EXPECT_THROW(parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w")}}), ""),
                ParamError);  // no creature: neither a parameter nor a namespace
+}
+
+// Issue 23: the attitude comes from the IMU unless ~attitude_source is tf; ~altitude (m) is
+// unset (climb) or finite. A misspelt source or a NaN altitude is refused by its key.
+TEST(AnnControllerParams, AttitudeSourceAndAltitudeAreReadOrRefusedByName) {
+  const XmlRpc::XmlRpcValue w("w");
+  AnnControllerParams p = parseAnnControllerParams(yamlish({{"weights", w}}), "afc");
+  EXPECT_EQ(p.attitude_source, AttitudeSource::kImu);
+  EXPECT_FALSE(p.altitude.has_value());
+  p = parseAnnControllerParams(yamlish({{"weights", w},
+                                        {"attitude_source", XmlRpc::XmlRpcValue("tf")},
+                                        {"altitude", XmlRpc::XmlRpcValue(4.0)}}),
+                               "afc");
+  EXPECT_EQ(p.attitude_source, AttitudeSource::kTf);
+  ASSERT_TRUE(p.altitude.has_value());
+  EXPECT_EQ(*p.altitude, 4.0);
+  auto refusal = [&](const char* key, const XmlRpc::XmlRpcValue& value) {
+    try {
+      parseAnnControllerParams(yamlish({{"weights", w}, {key, value}}), "afc");
+    } catch (const ParamError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string source = refusal("attitude_source", XmlRpc::XmlRpcValue("gps"));
+  EXPECT_NE(source.find("attitude_source"), std::string::npos) << source;
+  EXPECT_NE(source.find("'gps' is neither imu nor tf"), std::string::npos) << source;
+  const std::string nan = refusal("altitude", XmlRpc::XmlRpcValue(std::nan("")));
+  EXPECT_NE(nan.find("altitude"), std::string::npos) << nan;
+  EXPECT_NE(nan.find("must be finite"), std::string::npos) << nan;
 }
 
 // A flock in one lockstep: lockstep_creatures, a list of non-empty names, with lockstep
