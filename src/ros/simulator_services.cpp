@@ -274,7 +274,8 @@ bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetStat
     const double lowest = flapsim::lowestBoxPoint(*c->model, world_.state(req.name).link_poses);
     if (params_.world.ground && lowest < -kGroundTolerance) {
       std::ostringstream below;
-      below << "; its boxes reach " << -lowest << " m below the ground (z = 0): the contact "
+      below << "; its collision shapes reach " << -lowest
+            << " m below the ground (z = 0): the contact "
             << "will push it out";
       res.status_message += below.str();
       warnThrottled("set_state/below_ground", req.name, "set_state: " + res.status_message);

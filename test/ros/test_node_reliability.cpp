@@ -272,7 +272,8 @@ TEST_F(NodeGuards, ASetStateBelowTheGroundAndAClampedReconfigureAreSaid) {
   st.request.pose.orientation.w = 1;
   ASSERT_TRUE(ros::service::call("/flapsim/set_state", st));
   EXPECT_TRUE(st.response.success);
-  EXPECT_NE(st.response.status_message.find("; its boxes reach 0.501 m below the ground (z = 0)"),
+  EXPECT_NE(st.response.status_message.find(
+                "; its collision shapes reach 0.501 m below the ground (z = 0)"),
             std::string::npos)
       << st.response.status_message;
   st.request.pose.position.z = 0.5;  // above it: nothing to say
