@@ -30,14 +30,18 @@ def main():
     ap.add_argument("--roll", type=float, default=8.0, help="logit per unit of up.left")
     ap.add_argument("--rate", type=float, default=3.0, help="logit per 10 rad/s of roll rate")
     ap.add_argument("--altitude", type=float, default=5.0, help="logit per m of altitude error")
+    ap.add_argument("--altitude-neuron-gain", type=float, default=S,
+                    help="the altitude neuron's input weight g (its output weight is K / g): "
+                         "0.5 keeps every weight within evolve's gene range of +-10, for --init")
     a = ap.parse_args()
     attitude = [0.0, S * a.roll, S * a.rate, 0.0, 0.0, 0.0, 0.0]
-    altitude = [0.0, 0.0, 0.0, 0.0, 0.0, S, 0.0]
+    g = a.altitude_neuron_gain
+    altitude = [0.0, 0.0, 0.0, 0.0, 0.0, g, 0.0]
     unused = [0.0] * 14
-    output = [1.0 / S, a.altitude / S, 0.0, 0.0, a.trim]
+    output = [1.0 / S, a.altitude / g, 0.0, 0.0, a.trim]
     weights = attitude + altitude + unused + output
     print(f"""# Flap-unit controller set by hand (not evolved): the mirror network as a PD controller.
-# Reproduce: scripts/pd_flap_weights.py --trim {a.trim:g} --roll {a.roll:g} --rate {a.rate:g} --altitude {a.altitude:g}
+# Reproduce: scripts/pd_flap_weights.py --trim {a.trim:g} --roll {a.roll:g} --rate {a.rate:g} --altitude {a.altitude:g} --altitude-neuron-gain {g:g}
 # Weights: per neuron its input weights then its bias; hidden (tanh) neurons first, then the output (the right wing; the left is the net on mirrored inputs).
 flap_unit_controller:
   network: mirror

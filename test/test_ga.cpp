@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 #include <stdexcept>
+#include <string>
 
 #include "flapsim/ga.h"
 
@@ -73,6 +74,46 @@ TEST(GeneticAlgorithm, DefaultsAreThePapers) {
   EXPECT_GE(p.elite_count, 1);
   EXPECT_DOUBLE_EQ(p.crossover_rate, 0.1);
   EXPECT_DOUBLE_EQ(p.mutation_rate, 0.05);
+}
+
+// evolve --init: generation 0 holds the given genome unchanged (its fitness, 0 at the optimum
+// here, is generation 0's best) and the rest scattered around it; a random generation 0 of the
+// same seed misses the optimum; a seed gene outside the gene range is refused by its index.
+TEST(GeneticAlgorithm, AnInitialGenomeSeedsGenerationZero) {
+  const std::vector<double> target = {1.5, -2.0, 0.25, 3.0};
+  auto distance = [&](const std::vector<double>& g, std::uint64_t) {
+    double d = 0.0;
+    for (size_t k = 0; k < g.size(); ++k) d -= (g[k] - target[k]) * (g[k] - target[k]);
+    return d;
+  };
+  GaParams p;
+  p.seed = 3;
+  GeneticAlgorithm random(p, 4, distance);
+  random.initialize();
+  EXPECT_LT(random.best().fitness, -1.0);
+  p.initial_genes = target;
+  GeneticAlgorithm seeded(p, 4, distance);
+  seeded.initialize();
+  EXPECT_EQ(seeded.best().fitness, 0.0);
+  EXPECT_EQ(seeded.best().genes, target);
+  // The others: moved by mutation_sigma x range = 2 per gene (clamped): near, not equal.
+  double spread = 0.0;
+  for (size_t i = 1; i < seeded.population().size(); ++i) {
+    spread += -seeded.population()[i].fitness / (4.0 * (seeded.population().size() - 1));
+  }
+  EXPECT_GT(spread, 0.5 * 4.0);  // mean square move per gene ~ sigma^2 = 4
+  EXPECT_LT(spread, 2.0 * 4.0);
+  p.initial_genes = {1.5, -2.0, 11.0, 3.0};
+  try {
+    GeneticAlgorithm bad(p, 4, distance);
+    ADD_FAILURE() << "a seed gene of 11 outside +-10 was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("initial gene 2 (11) is not in [-10, 10]"),
+              std::string::npos)
+        << e.what();
+  }
+  p.initial_genes = target;
+  EXPECT_THROW(GeneticAlgorithm(p, 5, distance), std::invalid_argument);  // 4 genes for 5
 }
 
 TEST(GeneticAlgorithm, ElitismNeverLetsTheBestFall) {

@@ -23,6 +23,7 @@ struct EvolveOptions {
   bool plot = true;
   bool help = false;
   std::string resume_dir;  // --resume DIR
+  std::string init_path;   // --init FILE: generation 0 seeded with its weights (GaParams)
   // --farm: evaluate on the flapsim_worker nodes under /flapsim_farm.
   bool farm = false;
   double farm_timeout = 60.0;  // s: a call not answered by then is sent elsewhere

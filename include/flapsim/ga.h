@@ -51,6 +51,10 @@ struct GaParams {
   // mutation) inherits the parent's fitness instead of being re-evaluated.
   // Right only for a fitness that depends on the genes alone.
   bool reuse_fitness_of_copies = true;
+  /// Seeds generation 0 (empty: all random in [gene_min, gene_max]): individual 0 is these
+  /// genes, each other one these genes with every gene moved by a Gaussian of
+  /// mutation_sigma x the gene range (clamped). Each gene within [gene_min, gene_max].
+  std::vector<double> initial_genes;
 };
 
 /// Limits of a GA run (doc/reliability.md).

@@ -218,6 +218,8 @@ void runFlags(CliParser& t, EvolveOptions& o) {
       .text("--weights", "FILE", &o.weights_path, "weights YAML (empty: DIR/weights.yaml)")
       .flag("--no-plot", &o.plot, false, "do not run gnuplot")
       .text("--resume", "DIR", &o.resume_dir, "continue the run of DIR/checkpoint.txt")
+      .text("--init", "FILE", &o.init_path,
+            "seed generation 0 with this weights file (its network must be the evolution's)")
       .flag("--farm", &o.farm, true, "evaluate on the flapsim_worker nodes under /flapsim_farm")
       .real("--farm-timeout", "S", &o.farm_timeout, {0, 1e6, true},
             "a call unanswered after S s is sent to another worker")

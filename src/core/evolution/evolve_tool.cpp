@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "flapsim/ann.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/make_creature.h"
 
@@ -18,11 +19,31 @@ std::string formatDuration(double s) {
   return buf;
 }
 
+// --init FILE: the file's network must be the one evolved (same form, inputs, hidden layer
+// and weight count); its weights seed generation 0.
+void seedFromWeightsFile(EvolveOptions& o) {
+  const ControllerSpec init = loadControllerYaml(o.init_path);
+  const FlapControllerParams& want = o.params.controller;
+  const FlapControllerParams& got = init.params;
+  if (got.network != want.network || flapInputNames(got) != flapInputNames(want) ||
+      got.hidden != want.hidden || got.hidden_activation != want.hidden_activation ||
+      init.weights.size() != static_cast<size_t>(FlapUnitController::weightCount(want))) {
+    throw InputError("--init: " + o.init_path + " holds a " + toString(got.network) +
+                     " network of " + std::to_string(init.weights.size()) +
+                     " weights, not the evolution's " + toString(want.network) + " network of " +
+                     std::to_string(FlapUnitController::weightCount(want)));
+  }
+  o.params.ga.initial_genes = init.weights;
+  const std::string err = validateGaParams(o.params.ga);
+  if (!err.empty()) throw InputError("--init: " + o.init_path + ": " + err + " (--gene-range)");
+}
+
 }  // namespace
 
 EvolveOptions resolveEvolveOptions(const std::vector<std::string>& args, int threads,
                                    std::optional<EvolveCheckpoint>& resume) {
   EvolveOptions o = parseEvolveArgs(args, threads);
+  if (!o.init_path.empty() && !o.help) seedFromWeightsFile(o);
   if (o.resume_dir.empty() || o.help) return o;
   // The run's own flags, then the directory, then this command line's.
   EvolveCheckpoint c = readCheckpointFile(o.resume_dir + "/checkpoint.txt");
@@ -37,6 +58,7 @@ EvolveOptions resolveEvolveOptions(const std::vector<std::string>& args, int thr
 std::string evolveCommand(const EvolveOptions& o) {
   std::string command = "evolve";
   for (const auto& a : o.spec_args) command += " " + a;
+  if (!o.init_path.empty()) command += " --init " + o.init_path;
   return command;
 }
 

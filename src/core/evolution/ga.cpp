@@ -6,6 +6,7 @@
 #include <exception>
 #include <limits>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -101,6 +102,15 @@ std::string validateGaParams(const GaParams& p) {
     return "gene_min < gene_max required";
   }
   if (p.threads < 1) return "threads must be >= 1";
+  for (size_t i = 0; i < p.initial_genes.size(); ++i) {
+    const double g = p.initial_genes[i];
+    if (!(g >= p.gene_min && g <= p.gene_max)) {
+      std::ostringstream msg;
+      msg << "initial gene " << i << " (" << g << ") is not in [" << p.gene_min << ", "
+          << p.gene_max << "]";
+      return msg.str();
+    }
+  }
   return "";
 }
 
@@ -110,6 +120,11 @@ GeneticAlgorithm::GeneticAlgorithm(const GaParams& params, int gene_count,
   const std::string err = validateGaParams(params);
   if (!err.empty()) throw std::invalid_argument("GA: " + err);
   if (gene_count < 1) throw std::invalid_argument("GA: gene_count must be >= 1");
+  if (!params.initial_genes.empty() &&
+      params.initial_genes.size() != static_cast<size_t>(gene_count)) {
+    throw std::invalid_argument("GA: " + std::to_string(params.initial_genes.size()) +
+                                " initial genes for a genome of " + std::to_string(gene_count));
+  }
   if (!fitness_) throw std::invalid_argument("GA: no fitness function");
 }
 
@@ -171,9 +186,19 @@ void GeneticAlgorithm::initialize() {
   history_.clear();
   Rng rng(mixSeed(params_.seed, 0, ~0ULL));
   population_.assign(params_.population, Individual());
-  for (auto& ind : population_) {
-    ind.genes.resize(gene_count_);
-    for (double& g : ind.genes) g = rng.uniform(params_.gene_min, params_.gene_max);
+  const std::vector<double>& seed = params_.initial_genes;
+  const double sigma = params_.mutation_sigma * (params_.gene_max - params_.gene_min);
+  for (size_t i = 0; i < population_.size(); ++i) {
+    std::vector<double>& genes = population_[i].genes;
+    genes.resize(gene_count_);
+    for (int k = 0; k < gene_count_; ++k) {
+      if (seed.empty()) {
+        genes[k] = rng.uniform(params_.gene_min, params_.gene_max);
+      } else {
+        const double moved = i == 0 ? seed[k] : seed[k] + sigma * rng.normal();
+        genes[k] = std::clamp(moved, params_.gene_min, params_.gene_max);
+      }
+    }
   }
   std::vector<int> all(population_.size());
   std::iota(all.begin(), all.end(), 0);
