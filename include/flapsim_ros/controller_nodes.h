@@ -61,8 +61,6 @@ class AnnControllerNode {
   std::optional<std::vector<flapsim::Quat>> bodies(const ros::Time& stamp, size_t c = 0) const;
   void command(const std::vector<flapsim::Quat>& bodies, const ros::Time& stamp);
   void onTimer(const ros::TimerEvent& event);
-  // The simulator step the lockstep counts in: ~step_size, else the simulator's parameter.
-  double simulatorStepSize() const;
   bool runLockstep();
   bool onStart(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
 
