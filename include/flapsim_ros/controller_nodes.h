@@ -83,8 +83,6 @@ class AnnControllerNode {
   void subscribe();
   flapsim::WingCommand command(const flapsim::FlapSensing& sensed, const ros::Time& stamp) const;
   void onTimer(const ros::TimerEvent& event);
-  // The simulator step the lockstep counts in: ~step_size, else the simulator's parameter.
-  double simulatorStepSize() const;
   bool runLockstep();
   bool onStart(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
 

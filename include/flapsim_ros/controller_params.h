@@ -56,8 +56,25 @@ enum class AttitudeSource {
   kTf,
 };
 
+/// Lockstep (ann_controller, hover_controller; tests, exact replays): the node drives a paused
+/// flapsim_node itself: it reads the state at t, calls step for one control period with its
+/// command in the request (not on the topic), and repeats until lockstep_duration (0: forever).
+struct LockstepParams {
+  bool lockstep = false;
+  double lockstep_duration = 0.0;  // s of sim time
+  std::string step_service = "/flapsim/step";
+  // s, the simulator's step (for the steps per control period); 0 (unset): the parameter
+  // step_size next to step_service (/flapsim/step_size), else 0.001.
+  double step_size = 0.0;
+  double wait_timeout = 30.0;  // s (wall) for connections and the state in lockstep
+};
+
+/// Reads the keys lockstep, lockstep_duration, step_service, step_size and wait_timeout into
+/// `p`. Throws ParamError naming the bad key.
+void readLockstepParams(const ParamReader& d, LockstepParams& p);
+
 /// ann_controller: the evolved network on every unit of a creature.
-struct AnnControllerParams {
+struct AnnControllerParams : LockstepParams {
   std::string creature;      // tf frames <creature>/unit<k>_body, topic <creature>/wing_command
   std::string weights_file;  // YAML written by `evolve` (required)
   int pairs = 1;
@@ -67,22 +84,12 @@ struct AnnControllerParams {
   int noise_seed = 0;              // seeds the altimeter's noise (a run repeats exactly)
   std::string world_frame = "world";
   double rate = 0.0;  // Hz (sim time); 0: 1 / control_period of the weights file
-  // Lockstep (tests, exact replays): the node drives a paused flapsim_node
-  // itself: read the unit bodies at t from tf, call step for one control
-  // period with the command in the request (not on the topic), repeat until
-  // lockstep_duration (0: forever).
-  bool lockstep = false;
-  double lockstep_duration = 0.0;        // s of sim time
+  // Lockstep (LockstepParams; tests, exact replays): read the unit bodies at t from tf.
   bool lockstep_wait_for_start = false;  // wait for a call of ~start before stepping
   // Lockstep only (set without lockstep: ParamError): the creatures this node flies and steps
   // together, each with the network on its `pairs` units (a flock in one lockstep); empty:
   // {creature}.
   std::vector<std::string> lockstep_creatures;
-  std::string step_service = "/flapsim/step";
-  // s, the simulator's step (for the steps per control period); 0 (unset): the parameter
-  // step_size next to step_service (/flapsim/step_size), else 0.001.
-  double step_size = 0.0;
-  double wait_timeout = 30.0;             // s (wall) for connections and transforms in lockstep
   std::vector<std::string> unknown_keys;  // keys of the namespace this node does not read
 };
 

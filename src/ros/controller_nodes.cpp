@@ -6,9 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "flapsim/Step.h"
-#include "flapsim/control_loop.h"
 #include "flapsim_ros/conversions.h"
+#include "flapsim_ros/lockstep_client.h"
 
 namespace flapsim_ros {
 
@@ -41,17 +40,6 @@ ros::Subscriber keepLatest(ros::NodeHandle& nh, const std::string& topic, std::m
                                std::lock_guard<std::mutex> lock(mutex);
                                slot = msg;
                              }));
-}
-
-// Whether `steps` steps advanced the simulator by one control period `period`; else says so. A
-// wrong ~step_size would fly the network at another control period, silently.
-bool advancedOnePeriod(const ros::Duration& advanced, long steps, double period, double step_size) {
-  if (std::abs(advanced.toSec() - period) <= 1e-9) return true;
-  ROS_ERROR_STREAM("ann_controller: " << steps << " steps advanced the simulator by "
-                                      << advanced.toSec() << " s, not the control period " << period
-                                      << " s: ~step_size (" << step_size
-                                      << " s) is not the simulator's step size");
-  return false;
 }
 
 }  // namespace
@@ -269,90 +257,35 @@ bool AnnControllerNode::run() {
   return true;
 }
 
-double AnnControllerNode::simulatorStepSize() const {
-  if (params_.step_size > 0.0) return params_.step_size;
-  const std::string key =
-      ros::names::parentNamespace(ros::names::resolve(params_.step_service)) + "/step_size";
-  double step_size = 0.0;
-  if (nh_.getParam(key, step_size) && step_size > 0.0) return step_size;
-  ROS_WARN_STREAM("ann_controller: neither ~step_size nor " << key << " is set: 0.001 s");
-  return 0.001;
-}
-
 bool AnnControllerNode::runLockstep() {
   ros::AsyncSpinner spinner(1);  // serves ~start
   spinner.start();
-  const double period = 1.0 / params_.rate;
-  const double step_size = simulatorStepSize();
-  long steps = 0;
-  try {
-    steps = flapsim::ControlLoop(period, step_size).stepsPerPeriod();
-  } catch (const flapsim::InputError& e) {
-    ROS_ERROR_STREAM("ann_controller: " << e.what());
-    return false;
-  }
-  const double timeout = params_.wait_timeout;
-  if (!ros::service::waitForService(params_.step_service, ros::Duration(timeout))) {
-    ROS_ERROR_STREAM("ann_controller: no service " << params_.step_service);
-    return false;
-  }
-  ros::ServiceClient step = nh_.serviceClient<flapsim::Step>(params_.step_service, true);
   if (params_.lockstep_wait_for_start) {
     ROS_INFO("ann_controller: lockstep waits for a call of ~start");
-    if (!waitFor([&] { return started_.load(); }, timeout)) return false;
+    if (!waitFor([&] { return started_.load(); }, params_.wait_timeout)) return false;
   }
-  flapsim::Step srv;
-  // The commands travel with the step request (applied before the first step): no race
-  // between the wing_command topic and the service.
-  auto call = [&](std::uint32_t n, const std::vector<flapsim::WingCommand>& commands = {}) {
-    srv.request.steps = n;
-    srv.request.creatures.clear();
-    srv.request.wing_commands = commands;
-    if (!commands.empty()) srv.request.creatures = creatures_;
-    if (!step.call(srv) || !srv.response.success) {
-      ROS_ERROR_STREAM("ann_controller: " << params_.step_service
-                                          << " failed: " << srv.response.status_message);
-      return false;
-    }
-    return true;
-  };
-  if (!call(0)) return false;  // the state at the current time, published
-  ros::Time t = srv.response.sim_time;
-  const long periods =
-      params_.lockstep_duration > 0.0 ? std::lround(params_.lockstep_duration / period) : -1;
+  LockstepClient lockstep(nh_, params_, "ann_controller");
+  if (!lockstep.connect(1.0 / params_.rate)) return false;
+  const long periods = lockstep.periods();
   std::vector<flapsim::WingCommand> commands(creatures_.size());
   for (long k = 0; ros::ok() && (periods < 0 || k < periods); ++k) {
+    const ros::Time t = lockstep.time();
     for (size_t c = 0; c < creatures_.size(); ++c) {
       std::optional<flapsim::FlapSensing> q;
-      ros::WallTime repeat = ros::WallTime::now() + ros::WallDuration(1.0);
-      bool got = false;
       try {
-        got = waitFor(
-            [&] {
-              q = sense(t, c);
-              if (!q && ros::WallTime::now() > repeat) {  // lost publication: ask again
-                repeat = ros::WallTime::now() + ros::WallDuration(1.0);
-                call(0);
-              }
-              return q.has_value();
-            },
-            timeout);
+        if (!lockstep.await([&] { return (q = sense(t, c)).has_value(); }, missing(c))) {
+          return false;
+        }
       } catch (const std::exception& e) {
         ROS_ERROR_STREAM("ann_controller: " << creatures_[c] << " at t = " << t << ": "
                                             << e.what());
         return false;
       }
-      if (!got) {
-        ROS_ERROR_STREAM("ann_controller: no " << missing(c) << " at t = " << t);
-        return false;
-      }
       commands[c] = command(*q, t);
     }
-    if (!call(static_cast<std::uint32_t>(steps), commands)) return false;
-    if (!advancedOnePeriod(srv.response.sim_time - t, steps, period, step_size)) return false;
-    t = srv.response.sim_time;
+    if (!lockstep.advance(creatures_, commands)) return false;
   }
-  ROS_INFO_STREAM("ann_controller: lockstep done at t = " << t);
+  ROS_INFO_STREAM("ann_controller: lockstep done at t = " << lockstep.time());
   return true;
 }
 

@@ -132,9 +132,7 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   p.world_frame = d.string("world_frame", p.world_frame);
   p.rate = d.number("rate", p.rate);
   atLeast(d, "rate", p.rate, 0.0, false);
-  p.lockstep = d.boolean("lockstep", p.lockstep);
-  p.lockstep_duration = d.number("lockstep_duration", p.lockstep_duration);
-  atLeast(d, "lockstep_duration", p.lockstep_duration, 0.0, false);
+  readLockstepParams(d, p);
   p.lockstep_wait_for_start = d.boolean("lockstep_wait_for_start", p.lockstep_wait_for_start);
   if (d.has("lockstep_creatures")) {
     // Only a lockstep node flies several creatures: without it the list would be ignored.
@@ -148,6 +146,14 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
       }
     }
   }
+  p.unknown_keys = d.unknownKeys();
+  return p;
+}
+
+void readLockstepParams(const ParamReader& d, LockstepParams& p) {
+  p.lockstep = d.boolean("lockstep", p.lockstep);
+  p.lockstep_duration = d.number("lockstep_duration", p.lockstep_duration);
+  atLeast(d, "lockstep_duration", p.lockstep_duration, 0.0, false);
   p.step_service = d.string("step_service", p.step_service);
   if (d.has("step_size")) {
     p.step_size = d.number("step_size", p.step_size);
@@ -155,8 +161,6 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   }
   p.wait_timeout = d.number("wait_timeout", p.wait_timeout);
   atLeast(d, "wait_timeout", p.wait_timeout, 0.0, true);
-  p.unknown_keys = d.unknownKeys();
-  return p;
 }
 
 flapsim::WingCommand annCommandMsg(const flapsim::FlapUnitLayout& layout,

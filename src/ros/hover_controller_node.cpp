@@ -3,6 +3,7 @@
 #include "flapsim/WingCommand.h"
 #include "flapsim_ros/controller_params.h"
 #include "flapsim_ros/conversions.h"
+#include "flapsim_ros/lockstep_client.h"
 
 namespace flapsim_ros {
 
@@ -20,6 +21,7 @@ HoverControllerNodeParams parseHoverControllerParams(const XmlRpc::XmlRpcValue& 
   if (!err.empty()) failParam(d.key("creature"), "'" + p.creature + "': " + err);
   p.rate = d.number("rate", p.rate);
   if (!(p.rate > 0.0)) failParam(d.key("rate"), "must be > 0");
+  readLockstepParams(d, p);
   flapsim::HoverControllerParams& c = p.controller;
   c.altitude = d.number("altitude", c.altitude);
   c.trim_frequency = d.number("trim_frequency", c.trim_frequency);
@@ -49,30 +51,37 @@ HoverControllerNode::HoverControllerNode(const ros::NodeHandle& nh, const ros::N
       controller_(params_.controller) {
   // In the creature's namespace (as ann_controller): imu, odom and wing_command are its topics.
   const std::string& c = params_.creature;
-  imu_sub_ = nh_.subscribe<sensor_msgs::Imu>(
-      "imu", 10, [this](const sensor_msgs::Imu::ConstPtr& m) { imu_ = m; });
-  odom_sub_ = nh_.subscribe<nav_msgs::Odometry>(
-      "odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) { odom_ = m; });
+  imu_sub_ =
+      nh_.subscribe<sensor_msgs::Imu>("imu", 10, [this](const sensor_msgs::Imu::ConstPtr& m) {
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          imu_ = m;
+        }
+        if (!params_.lockstep) onState();
+      });
+  odom_sub_ =
+      nh_.subscribe<nav_msgs::Odometry>("odom", 10, [this](const nav_msgs::Odometry::ConstPtr& m) {
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          odom_ = m;
+        }
+        if (!params_.lockstep) onState();
+      });
   pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
-  timer_ = nh_.createTimer(ros::Duration(1.0 / params_.rate), &HoverControllerNode::onTimer, this);
   for (const std::string& k : params_.unknown_keys) {
     ROS_WARN_STREAM("hover_controller: ignoring unknown parameter '" << pnh_.resolveName(k) << "'");
   }
   ROS_INFO_STREAM("hover_controller: '" << c << "' at " << params_.controller.altitude << " m, "
-                                        << params_.rate << " Hz");
+                                        << params_.rate << " Hz"
+                                        << (params_.lockstep ? ", lockstep" : ""));
 }
 
-void HoverControllerNode::onTimer(const ros::TimerEvent&) {
-  if (!imu_ || !odom_) {
-    ROS_WARN_STREAM_THROTTLE(5.0, "hover_controller: no " << imu_sub_.getTopic() << " or "
-                                                          << odom_sub_.getTopic() << " yet");
-    return;
-  }
-  const ros::Time now = ros::Time::now();
-  const double dt = last_.isZero() || now < last_ ? 1.0 / params_.rate : (now - last_).toSec();
-  if (now < last_) controller_.reset();  // sim time went back: the simulator was reset
-  last_ = now;
-  flapsim::HoverSensors s;
+bool HoverControllerNode::sensorsAt(const ros::Time& stamp, flapsim::HoverSensors& s,
+                                    ros::Time& at) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!imu_ || !odom_ || imu_->header.stamp != odom_->header.stamp) return false;
+  if (!stamp.isZero() && odom_->header.stamp != stamp) return false;
+  at = odom_->header.stamp;
   const auto& q = imu_->orientation;
   s.orientation = flapsim::Quat(q.w, q.x, q.y, q.z).normalized();
   s.angular_velocity =
@@ -81,13 +90,62 @@ void HoverControllerNode::onTimer(const ros::TimerEvent&) {
   s.position = flapsim::Vec3(p.x, p.y, p.z);
   const auto& v = odom_->twist.twist.linear;  // body frame (REP 105)
   s.velocity = s.orientation * flapsim::Vec3(v.x, v.y, v.z);
+  return true;
+}
+
+flapsim::WingCommand HoverControllerNode::command(const flapsim::HoverSensors& s, double dt,
+                                                  const ros::Time& stamp) {
   const auto strokes = controller_.update(s, dt);
   WingCommandRequest r;
   r.joints = {flapsim::kHoverWingJoints[0], flapsim::kHoverWingJoints[1]};
   r.strokes = {strokes[0], strokes[1]};
   flapsim::WingCommand msg = toMsg(r);
-  msg.header.stamp = now;
-  pub_.publish(msg);
+  msg.header.stamp = stamp;
+  return msg;
+}
+
+void HoverControllerNode::onState() {
+  flapsim::HoverSensors s;
+  ros::Time stamp;
+  if (!sensorsAt(ros::Time(0), s, stamp)) return;  // the other half of this state yet to come
+  const double period = 1.0 / params_.rate;
+  if (stamp < last_) {
+    controller_.reset();  // sim time went back: the simulator was reset
+    last_ = ros::Time();
+  }
+  // At most `rate` answers a second (to a microsecond: stamps are whole steps).
+  if (!last_.isZero() && (stamp - last_).toSec() < period - 1e-6) return;
+  const double dt = last_.isZero() ? period : (stamp - last_).toSec();
+  last_ = stamp;
+  pub_.publish(command(s, dt, stamp));
+}
+
+bool HoverControllerNode::run() {
+  if (params_.lockstep) return runLockstep();
+  ros::spin();
+  return true;
+}
+
+bool HoverControllerNode::runLockstep() {
+  ros::AsyncSpinner spinner(1);  // receives imu and odom
+  spinner.start();
+  const double period = 1.0 / params_.rate;
+  LockstepClient lockstep(nh_, params_, "hover_controller");
+  if (!lockstep.connect(period)) return false;
+  const long periods = lockstep.periods();
+  const std::vector<std::string> creatures = {params_.creature};
+  for (long k = 0; ros::ok() && (periods < 0 || k < periods); ++k) {
+    const ros::Time t = lockstep.time();
+    flapsim::HoverSensors s;
+    ros::Time at;
+    if (!lockstep.await([&] { return sensorsAt(t, s, at); },
+                        imu_sub_.getTopic() + " and " + odom_sub_.getTopic())) {
+      return false;
+    }
+    if (!lockstep.advance(creatures, {command(s, period, t)})) return false;
+  }
+  ROS_INFO_STREAM("hover_controller: lockstep done at t = " << lockstep.time());
+  return true;
 }
 
 }  // namespace flapsim_ros

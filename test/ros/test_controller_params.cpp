@@ -5,6 +5,7 @@
 
 #include "flapsim_ros/controller_params.h"
 #include "flapsim_ros/conversions.h"
+#include "flapsim_ros/hover_controller_node.h"
 
 namespace flapsim_ros {
 namespace {
@@ -231,6 +232,34 @@ TEST(NamespaceBasename, LastComponent) {
   EXPECT_EQ(namespaceBasename("/flock/afc3"), "afc3");
   EXPECT_EQ(namespaceBasename("/afc/"), "afc");
   EXPECT_EQ(namespaceBasename("/"), "");
+}
+
+// hover_controller reads the lockstep keys as ann_controller does: free running by default,
+// lockstep with its duration and step size when set; a step size <= 0 is refused by name.
+TEST(HoverControllerParams, LockstepKeysAsAnnController) {
+  const HoverControllerNodeParams d = parseHoverControllerParams(XmlRpc::XmlRpcValue(), "hover");
+  EXPECT_EQ(d.creature, "hover");
+  EXPECT_FALSE(d.lockstep);
+  EXPECT_EQ(d.step_size, 0.0);
+  EXPECT_EQ(d.rate, 100.0);
+  const HoverControllerNodeParams p =
+      parseHoverControllerParams(yamlish({{"lockstep", XmlRpc::XmlRpcValue(true)},
+                                          {"lockstep_duration", XmlRpc::XmlRpcValue(60.0)},
+                                          {"step_size", XmlRpc::XmlRpcValue(0.0005)},
+                                          {"altitude", XmlRpc::XmlRpcValue(2.5)}}),
+                                 "hover");
+  EXPECT_TRUE(p.lockstep);
+  EXPECT_EQ(p.lockstep_duration, 60.0);
+  EXPECT_EQ(p.step_size, 0.0005);
+  EXPECT_EQ(p.step_service, "/flapsim/step");
+  EXPECT_EQ(p.controller.altitude, 2.5);
+  EXPECT_TRUE(p.unknown_keys.empty());
+  try {
+    parseHoverControllerParams(yamlish({{"step_size", XmlRpc::XmlRpcValue(0.0)}}), "hover");
+    ADD_FAILURE() << "step_size 0 was taken";
+  } catch (const ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("step_size"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
