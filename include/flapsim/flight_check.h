@@ -8,7 +8,6 @@
 #pragma once
 
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,19 +40,11 @@ struct FlightCheckParams {
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
 
-struct FlightCheckRun {
+/// One start's flight: the episode's result (flipped, lowest up-component, heights, time
+/// upright, altitude rms after the settle time, lateral drift, mean bank, the motors' power)
+/// and the start it flew from.
+struct FlightCheckRun : EpisodeResult {
   EpisodeStart start;
-  bool flipped = false;       // the root's up axis went below the horizon
-  double min_upright = 1.0;   // lowest up-component of the root body
-  double final_height = 0.0;  // m
-  double min_height = 0.0;    // m
-  double upright_fraction = 0.0;
-  double altitude_rms = std::numeric_limits<double>::quiet_NaN();  // m, after 10 s
-  double lateral_drift = 0.0;  // m: horizontal distance from the start at the end
-  double mean_bank = 0.0;      // rad (> 0: right wing low)
-  double positive_power = 0.0;  // W: the motors' mean positive mechanical power
-  double net_power = 0.0;       // W: their mean net mechanical power
-  double mass = 0.0;            // kg
   /// No flip, up-component never below 0.5, final height above the start.
   bool passed(double start_height) const {
     return !flipped && min_upright >= 0.5 && final_height > start_height;
@@ -69,11 +60,11 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
 /// The flight_check tool's settings.
 struct FlightCheckOptions {
   FlightCheckParams params;
-  std::string weights;    // controller weights YAML (required)
-  std::string urdf;       // a creature of flap units from a URDF file; empty: make_creature
-  int pairs = 1;          // make_creature --pairs
-  bool hover = false;  // --hover: the hover creature under HoverController instead, holding
-                       // params.altitude (3 m if unset) in a wind of params.wind along +y
+  std::string weights;  // controller weights YAML (required)
+  std::string urdf;     // a creature of flap units from a URDF file; empty: make_creature
+  int pairs = 1;        // make_creature --pairs
+  bool hover = false;   // --hover: the hover creature under HoverController instead, holding
+                        // params.altitude (3 m if unset) in a wind of params.wind along +y
 };
 
 /// flight_check's flags (flapsim/cli_args.h), over `options`.

@@ -47,21 +47,8 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
   const AnnWingController ann(FlapUnitController(controller.params, controller.weights));
   std::vector<FlightCheckRun> runs(starts.size());
   parallelMap(static_cast<int>(starts.size()), p.threads, [&](int i) {
-    const EpisodeResult r =
-        runEpisode(model, ann, controller.params.control_period, episode, starts[i]);
-    FlightCheckRun& run = runs[i];
-    run.start = starts[i];
-    run.flipped = r.flipped;
-    run.min_upright = r.min_upright;
-    run.final_height = r.final_height;
-    run.min_height = r.min_height;
-    run.upright_fraction = r.upright_fraction;
-    run.altitude_rms = r.altitude_rms;
-    run.lateral_drift = r.lateral_drift;
-    run.mean_bank = r.mean_bank;
-    run.positive_power = r.positive_power;
-    run.net_power = r.net_power;
-    run.mass = r.mass;
+    runs[i] = FlightCheckRun{
+        runEpisode(model, ann, controller.params.control_period, episode, starts[i]), starts[i]};
     return 0.0;
   });
   return runs;
