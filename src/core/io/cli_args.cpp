@@ -184,47 +184,50 @@ CliParser& CliParser::flag(const std::string& names, bool* field, bool value,
               {}});
 }
 
+namespace {
+
+// A flag whose value is a comma-separated list of at most `max_items` items, each checked
+// by `parse(flag, item)`; shown as the list it holds.
+template <typename T, typename Parse>
+CliFlag listFlag(const std::string& names, const std::string& metavar, std::vector<T>* field,
+                 int max_items, const std::string& help, Parse parse) {
+  const std::string flag = splitNames(names).front();
+  auto set = [=](const std::vector<std::string>& v) {
+    std::vector<T> out;
+    for (const auto& item : splitList(flag, v[0], max_items)) out.push_back(parse(flag, item));
+    *field = out;
+  };
+  return {splitNames(names), {metavar}, help, "", set, [=] { return joinList(*field); }};
+}
+
+}  // namespace
+
 CliParser& CliParser::reals(const std::string& names, const std::string& metavar,
                             std::vector<double>* field, CliRange range, int max_items,
                             const std::string& help) {
-  const std::string flag = splitNames(names).front();
-  auto set = [=](const std::vector<std::string>& v) {
-    std::vector<double> out;
-    for (const auto& item : splitList(flag, v[0], max_items)) {
-      out.push_back(parseCliReal(flag, item, range));
-    }
-    *field = out;
-  };
-  return add({splitNames(names), {metavar}, help, "", set, [=] { return joinList(*field); }});
+  return add(listFlag(names, metavar, field, max_items, help,
+                      [range](const std::string& flag, const std::string& item) {
+                        return parseCliReal(flag, item, range);
+                      }));
 }
 
 CliParser& CliParser::integers(const std::string& names, const std::string& metavar,
                                std::vector<int>* field, CliRange range, int max_items,
                                const std::string& help) {
-  const std::string flag = splitNames(names).front();
-  auto set = [=](const std::vector<std::string>& v) {
-    std::vector<int> out;
-    for (const auto& item : splitList(flag, v[0], max_items)) {
-      out.push_back(parseCliInteger(flag, item, range));
-    }
-    *field = out;
-  };
-  return add({splitNames(names), {metavar}, help, "", set, [=] { return joinList(*field); }});
+  return add(listFlag(names, metavar, field, max_items, help,
+                      [range](const std::string& flag, const std::string& item) {
+                        return parseCliInteger(flag, item, range);
+                      }));
 }
 
 CliParser& CliParser::texts(const std::string& names, const std::string& metavar,
                             std::vector<std::string>* field,
                             const std::vector<std::string>& choices, int max_items,
                             const std::string& help) {
-  const std::string flag = splitNames(names).front();
-  auto set = [=](const std::vector<std::string>& v) {
-    std::vector<std::string> out;
-    for (const auto& item : splitList(flag, v[0], max_items)) {
-      out.push_back(checkedText(flag, item, choices));
-    }
-    *field = out;
-  };
-  return add({splitNames(names), {metavar}, help, "", set, [=] { return joinList(*field); }});
+  return add(listFlag(names, metavar, field, max_items, help,
+                      [choices](const std::string& flag, const std::string& item) {
+                        return checkedText(flag, item, choices);
+                      }));
 }
 
 CliParser& CliParser::custom(const std::string& names, const std::vector<std::string>& metavars,
