@@ -1,8 +1,15 @@
 #!/bin/bash
 # The README's flight table: flight_check of one controller in the issue-23 conditions (20
 # held-out starts within +-30 deg, 60 s), one markdown row per condition and step size.
-# usage: scripts/flight_table.sh WEIGHTS PAIRS [STEP_SIZES...]   (default steps: 0.001 0.0005)
+# usage: scripts/flight_table.sh [--altitude M] WEIGHTS PAIRS [STEP_SIZES...]
+#   (default steps: 0.001 0.0005; --altitude M: every row holds M m instead of climbing, and the
+#   rows "hold 5 m" are left out)
 set -u
+hold=""
+if [ "${1:-}" = "--altitude" ]; then
+  hold=$2
+  shift 2
+fi
 weights=$1
 pairs=$2
 shift 2
@@ -11,8 +18,14 @@ fc=$(dirname "$0")/../build/devel/lib/flapsim/flight_check
 conditions=("still air|" "wind 1 m/s|--wind 1" "wind 2 m/s|--wind 2"
   "roll torque 0.05 N m, 0.5 s|--gust-torque 0.05 --gust-time 0.5"
   "1 N up on one wing, 0.2 s|--gust-force 1 --gust-time 0.2"
-  "attitude noise 0.1 rad|--noise 0.1" "hold 5 m|--altitude 5"
-  "hold 5 m, wind 1 m/s|--altitude 5 --wind 1")
+  "attitude noise 0.1 rad|--noise 0.1")
+if [ -z "$hold" ]; then
+  conditions+=("hold 5 m|--altitude 5" "hold 5 m, wind 1 m/s|--altitude 5 --wind 1")
+else
+  for i in "${!conditions[@]}"; do
+    conditions[i]="${conditions[i]%%|*}, hold $hold m|${conditions[i]#*|} --altitude $hold"
+  done
+fi
 echo "| condition | step | passed | flips | lowest up | final height | mean abs bank | max drift | alt. rms after 10 s |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for c in "${conditions[@]}"; do
