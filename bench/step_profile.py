@@ -8,7 +8,9 @@ wing stroking at 30/10 rad/s and amplitude 0.8 rad, as flapsim_bench does) it ru
 `flapsim_bench --urdf` under valgrind's callgrind, counting only World::step (instruction
 counts repeat to a few in a million whatever else the machine runs), and prints per step,
 per body and per air cell: the whole step, the air model (its per-face work and per-cell
-sums apart), the servo solve, the articulated-body velocity update, Bullet's own stages
+sums apart), the servo solve (which on a lean step takes the velocity update into its own
+pass over the tree), the articulated-body velocity update (its velocities and bias forces,
+and its own passes when no servo acts and the fluid has no implicit part), Bullet's own stages
 (position integration; collision and constraint solving, which lean steps skip), the
 momentum balance, the drives, the watchdog and the rest. Unless --no-timing, it then times
 the same creature natively (`flapsim_bench --urdf --cpu-time --runs 5`, CPU time of the
@@ -44,15 +46,15 @@ STAGES = [
                                                   ("in", "flapsim::AirStage::apply(", "flapsim::buoyancyLaw("),
                                                   ("in", "flapsim::AirStage::apply(", "flapsim::needsImplicitDrag("),
                                                   ("in", "flapsim::AirStage::apply(", "flapsim::pressureDragDamping(")]),
-    ("servo solve (servos + fluid implicit part)", [("incl", "flapsim::ServoStage::solve(")]),
-    ("articulated-body velocity update", [("incl", "flapsim::TreeDynamics::velocityStep(")]),
+    ("servo solve (+ velocity update, lean steps)", [("incl", "flapsim::ServoStage::solve(")]),
+    ("velocity update: bias (+ own passes)", [("in", "flapsim::ServoWorld::leanVelocities(", "flapsim::TreeDynamics::")]),
     ("Bullet: its articulated-body pass", [("incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof(")]),
     ("Bullet: position integration", [("incl", "btMultiBody::stepPositionsMultiDof(")]),
     ("Bullet: collision detection", [("incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]),
     ("Bullet: constraint solve (joint limits, contacts)", CONSTRAINTS),
     ("Bullet: rest of its step", [("incl", "flapsim::ServoWorld::step("),
                                   ("-incl", "flapsim::ServoStage::solve("),
-                                  ("-incl", "flapsim::TreeDynamics::velocityStep("),
+                                  ("-in", "flapsim::ServoWorld::leanVelocities(", "flapsim::TreeDynamics::"),
                                   ("-incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof("),
                                   ("-incl", "btMultiBody::stepPositionsMultiDof("),
                                   ("-incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]

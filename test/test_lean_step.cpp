@@ -82,6 +82,33 @@ TEST(LeanStep, ChainWithAddedMassFollowsFullSteps) {
       p, [](World& w) { flapper(w, 3, 50); }, 300, 20, nullptr);
 }
 
+// The feathering unit (a second servo on each wing) and the flap unit under the
+// quasi-steady model in a side wind, which rolls it (the implicit drag's loads in the servo
+// solve, on a root that turns).
+TEST(LeanStep, FeatheringAndImplicitDragFollowFullSteps) {
+  const CreatureModelPtr feather = test::loadUrdf("feather_unit.urdf");
+  expectSameTrajectory(
+      WorldParams(),
+      [&feather](World& w) {
+        w.spawn("c", feather, at(0, 0, 50));
+        w.setWingCommands(
+            "c", {}, std::vector<StrokeCommand>(feather->wing_joints.size(), {30, 10, 0.8, 1.2}));
+      },
+      300, 20, nullptr);
+  WorldParams p;
+  p.air.model = "quasi_steady";
+  p.air.wind = Vec3(0.0, 1.0, 0.0);
+  const CreatureModelPtr fu = test::loadUrdf("flap_unit.urdf");
+  expectSameTrajectory(
+      p,
+      [&fu](World& w) {
+        w.spawn("c", fu, at(0, 0, 50));
+        w.setWingCommands("c", {},
+                          std::vector<StrokeCommand>(fu->wing_joints.size(), {40, 10, 0.8}));
+      },
+      300, 20, nullptr);
+}
+
 // A flap unit released 0.3 m above the ground falls onto it and keeps flapping there: the
 // steps near the ground are Bullet's (contacts hold it up) and the trajectory is the same.
 // Without added mass: with it the unit (30/10) comes down onto a wing at step 676, where the

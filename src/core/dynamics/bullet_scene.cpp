@@ -112,7 +112,7 @@ void ServoWorld::leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo
   mb.clearConstraintForces();
   const bool tree = TreeDynamics::handles(mb);
   if (tree) {
-    tree_.velocityStep(mb, h);
+    tree_.beginStep(mb, h);  // the update itself below, unless the servos take it
   } else {
     bulletVelocityStep(mb, h, info);
   }
@@ -120,6 +120,7 @@ void ServoWorld::leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo
   tree_fresh_ = tree;
   if (servos_) servos_();
   tree_fresh_ = false;
+  if (tree) tree_.finishVelocityStep(mb);
   // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
   // the (zero) velocity change's clamp.
   if (constraintsMayAct(h) || mb.internalNeedsJointFeedback()) {

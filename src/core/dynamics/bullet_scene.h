@@ -12,9 +12,9 @@
 #include <memory>
 #include <utility>
 
+#include "dynamics/tree_dynamics.h"
 #include "flapsim/types.h"
 #include "flapsim/world.h"
-#include "dynamics/tree_dynamics.h"
 
 namespace flapsim {
 
@@ -58,7 +58,9 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   bool leanStepped() const { return lean_stepped_; }
   // While the servos of a lean step act: its velocity update's tree (inertias and joint
   // subspaces of the step's positions); else null.
-  const TreeDynamics* leanTree() const { return tree_fresh_ ? &tree_ : nullptr; }
+  // Its velocity update may still be to come (TreeDynamics::velocitiesPending()): the servo
+  // stage then takes it into its own solve.
+  TreeDynamics* leanTree() { return tree_fresh_ ? &tree_ : nullptr; }
   // The tree the lean steps use, for the frames and velocities of the multibody between
   // steps (TreeDynamics::updateFrames() and velocities()).
   TreeDynamics& tree() { return tree_; }

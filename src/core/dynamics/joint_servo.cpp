@@ -46,6 +46,13 @@ void JointServoSolver::checkArguments(const std::vector<ServoLink>& links,
   if (tree.inertia && tree.subspace && (tree.inertia->size() != n || tree.subspace->size() != n)) {
     throw std::invalid_argument("JointServoSolver: inertias or subspaces not one per link");
   }
+  if (tree.bias &&
+      (!tree.inertia || !tree.subspace || !tree.coriolis || !tree.joint_torque ||
+       tree.bias->size() != n || tree.coriolis->size() != n || tree.joint_torque->size() != n)) {
+    throw std::invalid_argument(
+        "JointServoSolver: a velocity update needs inertias, subspaces, biases, velocity "
+        "products and joint torques, one per link");
+  }
   for (size_t size : {loads.extra_inertia.size(), loads.impulse.size()}) {
     if (size != 0 && size != n) {
       throw std::invalid_argument("JointServoSolver: " + std::to_string(size) + " loads for " +
@@ -84,6 +91,17 @@ int JointServoSolver::prepare(const std::vector<ServoLink>& links,
   out.velocity_change.assign(n, 0.0);
   out.saturated.assign(n, false);
   out.passes = 0;
+  update_ = given && tree.bias;
+  if (update_) {
+    step_bias_.resize(n);
+    step_coriolis_.resize(n);
+    step_torque_.resize(n);
+    for (size_t k = 0; k < n; ++k) {
+      step_bias_[k] = tree.step * (*tree.bias)[k];
+      step_coriolis_[k] = tree.step * (*tree.coriolis)[k];
+      step_torque_[k] = tree.step * (*tree.joint_torque)[k];
+    }
+  }
 
   int driven = 0;
   for (size_t k = 0; k < n; ++k) {
@@ -206,7 +224,9 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
   for (size_t k = 0; k < n; ++k) {
     articulated_[k] = (*inertia_)[k];
     // The bias impulse is what must act for no velocity change: minus the applied one.
-    if (loads.impulse.empty() || listed) {
+    if (update_) {
+      bias_[k] = step_bias_[k];
+    } else if (loads.impulse.empty() || listed) {
       bias_[k].setZero();
     } else {
       bias_[k] = -loads.impulse[k];
@@ -214,14 +234,26 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
   }
   for (int k : loads.links) {
     if (listed_extra_) articulated_[k] += loads.extra_inertia[k];
-    if (!loads.impulse.empty()) bias_[k] = -loads.impulse[k];
+    if (loads.impulse.empty()) continue;
+    if (update_) {
+      bias_[k] -= loads.impulse[k];
+    } else {
+      bias_[k] = -loads.impulse[k];
+    }
   }
-  // Leaves to root: articulated inertias and bias impulses.
-  for (size_t k = n - 1; k >= 1; --k) {
+  inwardPass(links, demands);
+  outwardPass(links, fixed_root, demands, out);
+  ++out.passes;
+}
+
+// Leaves to root: articulated inertias and bias impulses.
+void JointServoSolver::inwardPass(const std::vector<ServoLink>& links,
+                                  const std::vector<ServoDemand>& demands) {
+  for (size_t k = links.size() - 1; k >= 1; --k) {
     const int p = links[k].parent;
     const Mat6& ia = articulated_[k];
     switch (status_[k]) {
-      case Status::kFixed:
+      case Status::kFixed:  // no joint velocity: no velocity product either
         articulated_[p] += ia;
         bias_[p] += bias_[k];
         break;
@@ -230,30 +262,45 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
         const double d = s_[k].dot(u_vec);
         u_vec_[k] = u_vec;
         d_[k] = d;
-        u_[k] = tau_[k] - s_[k].dot(bias_[k]);
-        if (d > 0.0) {
+        u_[k] = (update_ ? tau_[k] + step_torque_[k] : tau_[k]) - s_[k].dot(bias_[k]);
+        if (d > 0.0 && update_) {
+          const Mat6 reduced = ia - u_vec * (u_vec.transpose() / d);
+          articulated_[p] += reduced;
+          bias_[p] += bias_[k] + reduced * step_coriolis_[k] + u_vec * (u_[k] / d);
+        } else if (d > 0.0) {
           articulated_[p] += ia - u_vec * (u_vec.transpose() / d);
           bias_[p] += bias_[k] + u_vec * (u_[k] / d);
         } else {  // a subtree without inertia about its joint: carried along
           articulated_[p] += ia;
           bias_[p] += bias_[k];
+          if (update_) bias_[p].noalias() += ia * step_coriolis_[k];
         }
         break;
       }
       case Status::kPrescribed:
         articulated_[p] += ia;
-        bias_[p] += bias_[k] + ia * (s_[k] * demands[k].velocity_change);
+        if (update_) {
+          bias_[p] += bias_[k] + ia * (s_[k] * demands[k].velocity_change + step_coriolis_[k]);
+        } else {
+          bias_[p] += bias_[k] + ia * (s_[k] * demands[k].velocity_change);
+        }
         break;
     }
   }
-  // Root to leaves: velocity changes and the driven joints' impulses.
+}
+
+// Root to leaves: velocity changes and the driven joints' impulses.
+void JointServoSolver::outwardPass(const std::vector<ServoLink>& links, bool fixed_root,
+                                   const std::vector<ServoDemand>& demands, ServoSolution& out) {
+  const size_t n = links.size();
   if (fixed_root) {
     dv_[0].setZero();
   } else {
     dv_[0] = solveSymmetric(articulated_[0], -bias_[0]);
   }
   for (size_t k = 1; k < n; ++k) {
-    const Vec6& ap = dv_[links[k].parent];
+    Vec6 ap = dv_[links[k].parent];
+    if (update_ && status_[k] != Status::kFixed) ap += step_coriolis_[k];
     double dq = 0.0;
     switch (status_[k]) {
       case Status::kFixed:
@@ -270,12 +317,12 @@ void JointServoSolver::pass(const std::vector<ServoLink>& links, bool fixed_root
     dv_[k] = ap + s_[k] * dq;
     if (status_[k] == Status::kPrescribed) {
       out.impulse[k] = s_[k].dot(articulated_[k] * dv_[k] + bias_[k]);
+      if (update_) out.impulse[k] -= step_torque_[k];  // the servo's share
     }
     out.velocity_change[k] = dq;
   }
   out.root_velocity_change = dv_[0];
   out.link_velocity_change.assign(dv_.begin(), dv_.begin() + static_cast<long>(n));
-  ++out.passes;
 }
 
 }  // namespace flapsim

@@ -66,6 +66,17 @@ struct ServoLoads {
 struct ServoTree {
   const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia = nullptr;
   const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>* subspace = nullptr;
+  /// Optional (with `inertia` and `subspace`), one per link: the tree's velocity update over
+  /// `step` solved with the servos (one pass over the tree instead of an articulated-body
+  /// pass and then the servos'). Per link, its bias force (velocity products less applied
+  /// forces), its joint's velocity-product acceleration and its joint's torque (0 for the
+  /// root), each acting over `step`: the velocity changes and the prescribed ones are then
+  /// from the velocities these were taken at, and the driven joints' impulses are the servos'
+  /// alone (beyond step x joint torque).
+  const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>* bias = nullptr;
+  const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>* coriolis = nullptr;
+  const std::vector<double>* joint_torque = nullptr;
+  double step = 0.0;
 };
 
 struct ServoSolution {
@@ -115,6 +126,9 @@ class JointServoSolver {
                        ServoSolution& out);
   void pass(const std::vector<ServoLink>& links, bool fixed_root,
             const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
+  void inwardPass(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands);
+  void outwardPass(const std::vector<ServoLink>& links, bool fixed_root,
+                   const std::vector<ServoDemand>& demands, ServoSolution& out);
 
   std::vector<Status> status_;
   std::vector<double> tau_;        // known impulse of a free joint
@@ -125,6 +139,11 @@ class JointServoSolver {
   bool listed_extra_ = false;  // a pass adds the extra inertias of loads.links itself
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
   std::vector<double> d_, u_;
+  // A solve with the velocity update (ServoTree::bias): per link, step x its bias force and
+  // step x its joint's velocity-product acceleration; step x joint torque.
+  bool update_ = false;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> step_bias_, step_coriolis_;
+  std::vector<double> step_torque_;
   // Per link: the sign of its bound if it was saturated in the last solve, else 0. The
   // active set starts from it: the solution is unique, and saturated servos mostly stay so
   // from one step to the next, which then takes one pass instead of two.

@@ -105,6 +105,19 @@ void ServoStage::updateLinks(const LinkFrames& frames) {
 void ServoStage::velocityChanges(const btMultiBody& mb, const ServoTree& tree) {
   const size_t n = links_.size();
   change_of_link_.resize(n);
+  if (tree.bias) {
+    // The solve's velocity changes hold the step's velocity products, which the joints'
+    // velocities do not: less their sums along the tree, they are the joints'. The root's
+    // change is its COM's, as measured from begin(): the spatial one plus step x omega x v.
+    change_of_link_[0] << Vec3::Zero(), base_bias_;
+    for (size_t k = 1; k < n; ++k) {
+      change_of_link_[k] = change_of_link_[links_[k].parent];
+      if (links_[k].joint != ServoJointType::kFixed) {
+        change_of_link_[k] -= tree.step * (*tree.coriolis)[k];
+      }
+    }
+    return;
+  }
   // The root's [angular; linear of its COM], which is the point the spatial velocities are
   // taken at.
   change_of_link_[0] << fromBt(mb.getBaseOmega()) - start_base_omega_,
@@ -158,7 +171,7 @@ Vec6 ServoStage::solveWithFluid(const btMultiBody& mb, const LinkFrames& frames,
   return drag_impulse;
 }
 
-Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, const TreeDynamics* lean,
+Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, TreeDynamics* lean,
                        const CreatureFluid& fluid) {
   bool any = false;
   for (size_t k = 1; k < demands_.size(); ++k) {
@@ -173,11 +186,19 @@ Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, const TreeDyna
   }
   // A lean step has the links' inertias and joint subspaces already (same frame and origin).
   ServoTree tree;
+  const bool update = lean && lean->velocitiesPending();
   if (lean) {
     tree.inertia = &lean->bodyInertias();
     tree.subspace = &lean->jointAxes();
   } else {
     updateLinks(frames);
+  }
+  if (update) {
+    base_bias_ = lean->baseLinearBias();
+    tree.bias = &lean->biasForces();
+    tree.coriolis = &lean->coriolis();
+    tree.joint_torque = &lean->jointTorques();
+    tree.step = lean->step();
   }
   Vec6 drag_impulse = Vec6::Zero();
   if (fluid.active()) {
@@ -185,6 +206,12 @@ Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, const TreeDyna
   } else {
     solver_.solve(links_, model_->fixed_base, demands_, ServoLoads(), tree, solution_);
   }
+  addVelocityChange(mb, update);
+  if (update) lean->velocitiesUpdated();
+  return drag_impulse;
+}
+
+void ServoStage::addVelocityChange(btMultiBody& mb, bool update) const {
   for (size_t k = 1; k < demands_.size(); ++k) {
     if (links_[k].joint == ServoJointType::kFixed) continue;
     const int link = static_cast<int>(k) - 1;
@@ -193,9 +220,12 @@ Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, const TreeDyna
   if (!model_->fixed_base) {
     const Vec6& dv = solution_.root_velocity_change;
     mb.setBaseOmega(mb.getBaseOmega() + toBt(Vec3(dv.head<3>())));
-    mb.setBaseVel(mb.getBaseVel() + toBt(Vec3(dv.tail<3>())));
+    if (update) {
+      mb.setBaseVel(mb.getBaseVel() + toBt(Vec3(dv.tail<3>() + base_bias_)));
+    } else {
+      mb.setBaseVel(mb.getBaseVel() + toBt(Vec3(dv.tail<3>())));
+    }
   }
-  return drag_impulse;
 }
 
 void ServoStage::integrateSaturated(btMultiBody& mb, bool contacts, double dt) {

@@ -45,10 +45,12 @@ class ServoStage {
   void begin(const btMultiBody& mb);
   // Inside Bullet's step, once the velocities hold gravity, air and damping: solves every
   // servo and the fluid's implicit part together and adds the velocity change they cause
-  // (frames of the start of the step; `lean`: the lean step's tree, if this is one). Returns
-  // the implicit drag's impulse over the step [moment about the root COM; force] (the added
-  // mass is part of the momentum itself).
-  Vec6 solve(btMultiBody& mb, const LinkFrames& frames, const TreeDynamics* lean,
+  // (frames of the start of the step; `lean`: the lean step's tree, if this is one). On a
+  // lean step whose velocity update is still to come (TreeDynamics::velocitiesPending()) the
+  // same solve takes the update as well (ServoTree::bias), unless no servo acts and the
+  // fluid has no implicit part. Returns the implicit drag's impulse over the step [moment
+  // about the root COM; force] (the added mass is part of the momentum itself).
+  Vec6 solve(btMultiBody& mb, const LinkFrames& frames, TreeDynamics* lean,
              const CreatureFluid& fluid);
   // After Bullet's step of `dt`: a saturated servo pushed with its bound all step, a constant
   // torque, under which (with the air and gravity) its joint moves by the trapezoid of its
@@ -74,11 +76,16 @@ class ServoStage {
   void updateLinks(const LinkFrames& frames);
   // Per link, the change of its spatial velocity [angular; linear at the root COM of the
   // step's start] since begin(), from the joints' (the motion subspaces of `tree`, else of
-  // links_) into change_of_link_.
+  // links_) into change_of_link_. With the velocity update in the solve (ServoTree::bias),
+  // no change yet, but the solve's changes hold the step's velocity products, which are
+  // taken off here: then minus their sums from the root.
   void velocityChanges(const btMultiBody& mb, const ServoTree& tree);
   // The servos with the fluid's loads; returns the implicit drag's impulse.
   Vec6 solveWithFluid(const btMultiBody& mb, const LinkFrames& frames, const ServoTree& tree,
                       const CreatureFluid& fluid);
+  // The velocity change of the last solve added to the multibody (`update`: a solve with the
+  // velocity update, whose root COM also gains base_bias_).
+  void addVelocityChange(btMultiBody& mb, bool update) const;
 
   const CreatureModel* model_;
   std::vector<double> max_effort_, damping_, stiffness_;  // per model joint
@@ -91,6 +98,9 @@ class ServoStage {
   std::vector<double> start_joint_velocity_;  // per Bullet link
   Vec3 start_base_omega_ = Vec3::Zero();      // world frame
   Vec3 start_base_velocity_ = Vec3::Zero();   // of the base's COM
+  // In a solve with the velocity update, what the base COM's velocity gains over the step
+  // beyond the spatial change (TreeDynamics::baseLinearBias()).
+  Vec3 base_bias_ = Vec3::Zero();
   // Scratch, kept between steps: no allocation once warm.
   ServoLoads loads_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_of_link_;

@@ -155,6 +155,8 @@ void TreeDynamics::velocitiesAndBias(const btMultiBody& mb) {
   velocities(mb);
   coriolis_.resize(n + 1);
   bias_.resize(n + 1);
+  torque_.resize(n + 1);
+  torque_[0] = 0.0;
   coriolis_[0].setZero();
   bias_[0] = crossForce(velocity_[0], body_[0] * velocity_[0]) -
              spatialForce(mb.getBaseForce(), mb.getBaseTorque(), com_[0]);
@@ -165,6 +167,7 @@ void TreeDynamics::velocitiesAndBias(const btMultiBody& mb) {
     coriolis_[b] = crossMotion(velocity_[b], joint);
     bias_[b] = crossForce(velocity_[b], body_[b] * velocity_[b]) -
                spatialForce(l.m_appliedForce, l.m_appliedTorque, com_[b]);
+    torque_[b] = l.m_dofCount == 1 ? mb.getJointTorque(k) : 0.0;
   }
 }
 
@@ -182,7 +185,7 @@ void TreeDynamics::inwardPass(const btMultiBody& mb) {
       u_vec_[b] = ia * axis_[b];
       const double d = axis_[b].dot(u_vec_[b]);
       inv_d_[b] = d >= SIMD_EPSILON ? 1.0 / d : 0.0;  // Bullet's guard
-      u_[b] = mb.getJointTorque(k) - axis_[b].dot(pa);
+      u_[b] = torque_[b] - axis_[b].dot(pa);
       ia.noalias() -= (u_vec_[b] * inv_d_[b]) * u_vec_[b].transpose();
       pa += ia * coriolis_[b] + u_vec_[b] * (u_[b] * inv_d_[b]);
     } else {
@@ -231,8 +234,24 @@ const std::vector<double>& TreeDynamics::accelerations(const btMultiBody& mb) {
   return out_;
 }
 
-void TreeDynamics::velocityStep(btMultiBody& mb, double dt) {
-  const std::vector<double>& a = accelerations(mb);
+void TreeDynamics::beginStep(const btMultiBody& mb, double dt) {
+  updateFrames(mb);
+  velocitiesAndBias(mb);
+  dt_ = dt;
+  pending_ = true;
+}
+
+Vec3 TreeDynamics::baseLinearBias() const {
+  return dt_ * velocity_[0].head<3>().cross(velocity_[0].tail<3>());
+}
+
+void TreeDynamics::finishVelocityStep(btMultiBody& mb) {
+  if (!pending_) return;
+  pending_ = false;
+  inwardPass(mb);
+  outwardPass(mb);
+  const std::vector<double>& a = out_;
+  const double dt = dt_;
   const btScalar most = mb.getMaxCoordinateVelocity();
   auto add = [dt, most](btScalar v, double acc) {
     btScalar out = v + acc * dt;

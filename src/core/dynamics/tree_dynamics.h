@@ -19,8 +19,8 @@ namespace flapsim {
 
 class TreeDynamics {
  public:
-  // Whether velocityStep() handles `mb`: revolute, prismatic and fixed joints, no link
-  // damping, the gyroscopic term on, no joint feedback (as flapsim builds its multibodies).
+  // Whether beginStep() and finishVelocityStep() handle `mb`: revolute, prismatic and fixed joints,
+  // no link damping, the gyroscopic term on, no joint feedback (as flapsim builds its multibodies).
   static bool handles(const btMultiBody& mb);
 
   // The joint accelerations and the base's (angular, and linear of its centre of mass, world
@@ -50,14 +50,32 @@ class TreeDynamics {
   const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>& bodyInertias() const { return body_; }
   const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& jointAxes() const { return axis_; }
 
-  // What Bullet's step does with them: velocities += dt * accelerations (clamped to the
-  // multibody's maximum coordinate velocity).
-  void velocityStep(btMultiBody& mb, double dt);
+  // What Bullet's step does with them, velocities += dt * accelerations (clamped to the
+  // multibody's maximum coordinate velocity), in two halves, between which the servo stage
+  // may take it over (the unconstrained update and the servos in one solve,
+  // ServoTree::bias): beginStep() takes the frames, the velocities and the multibody's
+  // applied forces, torques and joint torques (which may be cleared after it);
+  // finishVelocityStep() does the rest unless velocitiesUpdated() was called in between.
+  void beginStep(const btMultiBody& mb, double dt);
+  void finishVelocityStep(btMultiBody& mb);
+  bool velocitiesPending() const { return pending_; }
+  void velocitiesUpdated() { pending_ = false; }
+  // While velocitiesPending(), per body (about the base's COM, world axes): the bias force
+  // (velocity products less the applied forces) and the velocity-product acceleration of
+  // its joint, the joint torques (0 for the base and fixed joints), the step, and what the
+  // base COM's velocity gains over the step beyond the spatial velocity change (omega x v,
+  // times the step).
+  const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& biasForces() const { return bias_; }
+  const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& coriolis() const { return coriolis_; }
+  const std::vector<double>& jointTorques() const { return torque_; }
+  double step() const { return dt_; }
+  Vec3 baseLinearBias() const;
 
  private:
   void linkFrames(const btMultiBody& mb);
   // Whether the frames' inputs are those of the last linkFrames(); records them if not.
   bool framesCurrent(const btMultiBody& mb);
+  // Spatial velocities, velocity-product accelerations, bias forces and joint torques.
   void velocitiesAndBias(const btMultiBody& mb);
   void inwardPass(const btMultiBody& mb);
   void outwardPass(const btMultiBody& mb);
@@ -76,6 +94,9 @@ class TreeDynamics {
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> u_vec_;     // inertia x axis
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> accel_;     // spatial acceleration
   std::vector<double> inv_d_, u_;
+  std::vector<double> torque_;  // joint torque
+  double dt_ = 0.0;
+  bool pending_ = false;
   std::vector<double> out_;  // Bullet's velocity order
   // The inputs of the frames (framesCurrent()), and scratch to gather them.
   const btMultiBody* framed_ = nullptr;
