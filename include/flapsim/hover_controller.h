@@ -58,6 +58,15 @@ struct HoverControllerParams {
 /// Empty if valid, else a message naming the bad field.
 std::string validateHoverControllerParams(const HoverControllerParams& params);
 
+/// A field of HoverControllerParams by name: the hover_controller node's private parameter and
+/// the gains file's key (flapsim/hover_gains.h) of the same name.
+struct HoverParamField {
+  const char* name;
+  double HoverControllerParams::*member;
+};
+/// Every field of HoverControllerParams, in declaration order.
+const std::vector<HoverParamField>& hoverParamFields();
+
 /// What the controller reads: an IMU's orientation and body rates, and the root's position and
 /// velocity in the world frame (an altimeter, a position fix: the odometry).
 struct HoverSensors {

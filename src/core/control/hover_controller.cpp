@@ -5,16 +5,34 @@
 
 namespace flapsim {
 
+const std::vector<HoverParamField>& hoverParamFields() {
+  using P = HoverControllerParams;
+  static const std::vector<HoverParamField> fields = {
+      {"altitude", &P::altitude},
+      {"trim_frequency", &P::trim_frequency},
+      {"amplitude", &P::amplitude},
+      {"feather", &P::feather},
+      {"height_gain", &P::height_gain},
+      {"climb_damping", &P::climb_damping},
+      {"height_integral", &P::height_integral},
+      {"max_frequency_ratio", &P::max_frequency_ratio},
+      {"roll_gain", &P::roll_gain},
+      {"roll_damping", &P::roll_damping},
+      {"max_roll_share", &P::max_roll_share},
+      {"pitch_gain", &P::pitch_gain},
+      {"pitch_damping", &P::pitch_damping},
+      {"max_offset", &P::max_offset},
+      {"attitude_integral", &P::attitude_integral},
+      {"position_gain", &P::position_gain},
+      {"position_integral", &P::position_integral},
+      {"velocity_gain", &P::velocity_gain},
+      {"max_tilt", &P::max_tilt}};
+  return fields;
+}
+
 std::string validateHoverControllerParams(const HoverControllerParams& p) {
-  const double values[] = {p.altitude,         p.trim_frequency,      p.amplitude,
-                           p.feather,          p.height_gain,         p.climb_damping,
-                           p.height_integral,  p.roll_gain,           p.roll_damping,
-                           p.max_roll_share,   p.pitch_gain,          p.pitch_damping,
-                           p.max_offset,       p.position_gain,       p.velocity_gain,
-                           p.max_tilt,         p.max_frequency_ratio, p.attitude_integral,
-                           p.position_integral};
-  for (double v : values) {
-    if (!std::isfinite(v)) return "hover controller parameters must be finite";
+  for (const HoverParamField& f : hoverParamFields()) {
+    if (!std::isfinite(p.*f.member)) return std::string(f.name) + " must be finite";
   }
   if (p.trim_frequency <= 0.0) return "trim_frequency must be > 0";
   if (p.amplitude <= 0.0) return "amplitude must be > 0";
