@@ -53,6 +53,9 @@ struct HoverControllerParams {
   double position_integral = 0.02;    // rad of tilt per m s
   double velocity_gain = 0.15;        // rad of tilt per m/s
   double max_tilt = 0.2;              // rad
+  /// rad: a wing's amplitude + |offset| at most this (its amplitude cut to fit), inside the
+  /// hover wings' stops at +-1.5 rad; the hand-designed gains never reach it (1.2 + 0.25).
+  double max_stroke = 1.45;
 };
 
 /// Empty if valid, else a message naming the bad field.

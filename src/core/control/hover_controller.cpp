@@ -26,7 +26,8 @@ const std::vector<HoverParamField>& hoverParamFields() {
       {"position_gain", &P::position_gain},
       {"position_integral", &P::position_integral},
       {"velocity_gain", &P::velocity_gain},
-      {"max_tilt", &P::max_tilt}};
+      {"max_tilt", &P::max_tilt},
+      {"max_stroke", &P::max_stroke}};
   return fields;
 }
 
@@ -40,6 +41,7 @@ std::string validateHoverControllerParams(const HoverControllerParams& p) {
   if (p.max_frequency_ratio < 1.0) return "max_frequency_ratio must be >= 1";
   if (p.max_roll_share < 0.0 || p.max_roll_share >= 1.0) return "max_roll_share must be in [0, 1)";
   if (p.max_offset < 0.0 || p.max_tilt < 0.0) return "max_offset and max_tilt must be >= 0";
+  if (!(p.max_stroke > p.max_offset)) return "max_stroke must be > max_offset";
   return "";
 }
 
@@ -120,7 +122,8 @@ std::array<StrokeCommand, 2> HoverController::update(const HoverSensors& s, doub
   for (int side = 0; side < 2; ++side) {
     StrokeCommand& c = out[side];
     c.shape = StrokeShape::kSine;
-    c.amplitude = p.amplitude * (side == 0 ? 1.0 + roll : 1.0 - roll);
+    c.amplitude = std::min(p.amplitude * (side == 0 ? 1.0 + roll : 1.0 - roll),
+                           p.max_stroke - std::abs(offset));
     // Half a period per half-stroke: 2 amplitude / rate = 1 / (2 f).
     c.downstroke_rate = c.upstroke_rate = 4.0 * c.amplitude * frequency;
     c.offset = offset;
