@@ -6,11 +6,13 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
+#include "flapsim/evolve_tool.h"
 #include "flapsim/hover_evolution.h"
 #include "flapsim/hover_gains.h"
 
@@ -105,6 +107,23 @@ TEST(HoverEvolution, BadGenomesKindsAndFlagsAreRefusedByName) {
             }),
             "evolve: the hover episodes' settling time must be shorter than their "
             "duration (--settle)");
+}
+
+// --init: the hand-designed gains file (config/hover_1_hand_gains.yaml, written by
+// flight_check --hover --write-gains) is the genome of zeros; a flap network's weights file is
+// refused by its key.
+TEST(HoverEvolution, InitSeedsFromAGainsFileAndRefusesAWeightsFile) {
+  const std::string dir = FLAPSIM_SOURCE_DIR;
+  std::optional<EvolveCheckpoint> resume;
+  const EvolveOptions o = resolveEvolveOptions(
+      {"--preset", "hover", "--init", dir + "/config/hover_1_hand_gains.yaml"}, 1, resume);
+  EXPECT_EQ(o.params.ga.initial_genes, std::vector<double>(kHoverGeneCount, 0.0));
+  EXPECT_EQ(o.weights_path, "evolve_out/gains.yaml");
+  EXPECT_EQ(message([&] {
+              resolveEvolveOptions(
+                  {"--preset", "hover", "--init", dir + "/config/afc_1_weights.yaml"}, 1, resume);
+            }),
+            dir + "/config/afc_1_weights.yaml: unknown key 'flap_unit_controller'");
 }
 
 TEST(HoverGains, AFileReadsBackBitForBitAndBadOnesAreRefusedByKey) {
