@@ -262,7 +262,8 @@ int geneCount(const EvolveParams& params);
 /// Throws std::invalid_argument for bad episode or controller parameters.
 EvaluationSpec evaluationSpec(const EvolveParams& params);
 
-/// Runs the GA on the flap-unit network of a `pairs`-unit creature; the
+/// Runs the GA on the flap-unit network of a `pairs`-unit creature (params.kind kHover: on
+/// the hover controller's gains, each episode runHoverEpisode, flapsim/hover_evolution.h); the
 /// fitness is flapFitness with episode.seed = mixSeed(ga.seed, 0xE915) (the
 /// same start attitudes for every individual of the run, so the fitness is a
 /// function of the weights alone): one task per (individual, episode) through

@@ -1,7 +1,8 @@
-// A hand-designed hover controller for the hover creature (make_creature --layout hover): PD
-// with integral on the height, PD on the attitude, and a slow hold of the horizontal position,
-// from what an IMU and an altimeter give. It proves the creature can hover before an evolved
-// controller exists (the IMU-driven network replaces or extends it). ROS-free; no clock.
+// The hover controller of the hover creature (make_creature --layout hover): PD with integral
+// on the height, PD on the attitude, and a slow hold of the horizontal position, from what an
+// IMU and an altimeter give. Its default gains are the hand-designed ones; evolve --preset
+// hover evolves them on the episode farm (flapsim/hover_evolution.h, config/hover_1_gains.yaml).
+// ROS-free; no clock.
 #pragma once
 
 #include <array>

@@ -51,8 +51,9 @@ struct HoverFlightResult {
   double specificPower() const { return mass > 0.0 ? positive_power / mass : 0.0; }
 };
 
-/// Flies `model` (make_creature --layout hover: wings kHoverWingJoints) from `controller`'s
-/// altitude, level but for the start roll and pitch, for `params.duration`. Throws InputError
+/// Flies `model` (make_creature --layout hover: wings kHoverWingJoints) from
+/// `params.start_height` (`controller`'s altitude if none), level but for the start roll and
+/// pitch, for `params.duration` (less after a flip with end_on_flip). Throws InputError
 /// for bad parameters.
 HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerParams& controller,
                            const HoverFlightParams& params);
