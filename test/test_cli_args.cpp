@@ -192,7 +192,7 @@ TEST(ToolTables, EvolveFlagsKeepTheirMeaningAndRefuseByFlag) {
   EXPECT_EQ(refused({"--roll", "0.2", "0.1"}), "--roll: 0.1 is not in [0.2, 3.14159]");
   EXPECT_EQ(refused({"--roll", "0.2"}), "--roll needs a value (HI)");
   EXPECT_EQ(refused({"--phase-lock", "maybe"}), "--phase-lock takes on or off");
-  EXPECT_EQ(refused({"--preset", "fast"}), "--preset: 'fast' is not one of robust, paper");
+  EXPECT_EQ(refused({"--preset", "fast"}), "--preset: 'fast' is not one of robust, paper, hover");
   EXPECT_EQ(refused({"--farm-timeout", "0"}), "--farm-timeout: 0 is not in (0, 1e+06]");
   EXPECT_EQ(refused({"--air-model", "vacuum"}),
             "--air-model: 'vacuum' is not one of pressure, quasi_steady");

@@ -16,17 +16,18 @@
 
 namespace flapsim {
 
-/// Everything that is the same for every task of an evolution: the creature
-/// (pairs + unit parameters), the controller's settings and the episodes
-/// (with the seed of their starts already set).
+/// Everything that is the same for every task of an evolution: what it evolves, the creature
+/// (kFlap: pairs + unit parameters; kHover: the hover creature), the controller's settings and
+/// the episodes (with the seed of their starts already set).
 struct EvaluationSpec {
+  EvolveKind kind = EvolveKind::kFlap;
   int pairs = 1;
   FlapUnitParams unit;
   FlapControllerParams controller;
   EpisodeParams episode;
 };
 
-/// One (individual, episode) task: network weights and an index into
+/// One (individual, episode) task: network weights (kHover: the gain genes) and an index into
 /// episodeStarts(spec.episode).
 struct EpisodeTask {
   std::vector<double> weights;

@@ -183,8 +183,13 @@ double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& co
 /// Largest creature an evolution flies: units (wing pairs) of makeCreatureUrdf.
 constexpr int kMaxEvolvePairs = 64;
 
+/// What an evolution evolves: the flap-unit network (the paper's; evolve's robust and paper
+/// presets) or the hover controller's gains (evolve --preset hover, flapsim/hover_evolution.h).
+enum class EvolveKind { kFlap, kHover };
+
 /// Everything an evolution needs.
 struct EvolveParams {
+  EvolveKind kind = EvolveKind::kFlap;
   int pairs = 1;  // the creature: makeCreatureUrdf(pairs, "afc", unit)
   FlapUnitParams unit;
   GaParams ga;
@@ -249,11 +254,16 @@ struct EvolveHooks {
   const EvolveCheckpoint* resume = nullptr;  // continue from here (same params)
 };
 
+/// The genes of an individual of `params`' evolution: the flap-unit network's weights or the
+/// hover controller's kHoverGeneCount gains.
+int geneCount(const EvolveParams& params);
+
 /// The task spec of an evolution: episode.seed = evolutionEpisodeSeed(ga.seed).
 /// Throws std::invalid_argument for bad episode or controller parameters.
 EvaluationSpec evaluationSpec(const EvolveParams& params);
 
-/// Runs the GA on the flap-unit network of a `pairs`-unit creature; the
+/// Runs the GA on the flap-unit network of a `pairs`-unit creature (params.kind kHover: on
+/// the hover controller's gains, each episode runHoverEpisode, flapsim/hover_evolution.h); the
 /// fitness is flapFitness with episode.seed = mixSeed(ga.seed, 0xE915) (the
 /// same start attitudes for every individual of the run, so the fitness is a
 /// function of the weights alone): one task per (individual, episode) through
@@ -275,7 +285,8 @@ std::string fitnessCsv(const std::vector<GenerationStats>& history);
 /// CSV: time,height,upright,left_downstroke,right_downstroke (of unit `unit`).
 std::string ratesCsv(const std::vector<EpisodeSample>& trace, int unit = 0);
 /// gnuplot commands drawing fitness.png (paper Fig. 8) and rates.png (Fig. 7)
-/// into `out_dir` from the two CSVs there (fitness.csv, rates.csv).
-std::string gnuplotScript(const std::string& out_dir, double rates_window = 5.0);
+/// into `out_dir` from the two CSVs there (fitness.csv, rates.csv); without `rates`, only
+/// fitness.png.
+std::string gnuplotScript(const std::string& out_dir, double rates_window = 5.0, bool rates = true);
 
 }  // namespace flapsim

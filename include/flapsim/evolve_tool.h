@@ -32,11 +32,12 @@ double secondsLeft(const EvolveOptions& options, const GenerationStats& g, int f
                    double elapsed);
 
 /// Writes the weights YAML, fitness.csv and rates.csv (the best individual on the first
-/// evolution episode) of a finished run; returns the line that says so.
+/// evolution episode) of a finished run (--preset hover: the gains file, flapsim/hover_gains.h,
+/// and fitness.csv); returns the line that says so.
 std::string writeEvolveOutputs(const EvolveOptions& options, const EvolveResult& result,
                                double wall_s, const std::string& evaluated_on);
 
-/// Runs gnuplot on gnuplotScript(out_dir); false if it failed (or is missing).
-bool plotEvolveOutputs(const std::string& out_dir);
+/// Runs gnuplot on gnuplotScript(out_dir, 5, rates); false if it failed (or is missing).
+bool plotEvolveOutputs(const std::string& out_dir, bool rates = true);
 
 }  // namespace flapsim

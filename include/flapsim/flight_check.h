@@ -60,11 +60,13 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
 /// The flight_check tool's settings.
 struct FlightCheckOptions {
   FlightCheckParams params;
-  std::string weights;  // controller weights YAML (required)
-  std::string urdf;     // a creature of flap units from a URDF file; empty: make_creature
-  int pairs = 1;        // make_creature --pairs
-  bool hover = false;   // --hover: the hover creature under HoverController instead, holding
-                        // params.altitude (3 m if unset) in a wind of params.wind along +y
+  std::string weights;      // controller weights YAML (required)
+  std::string urdf;         // a creature of flap units from a URDF file; empty: make_creature
+  int pairs = 1;            // make_creature --pairs
+  bool hover = false;       // --hover: the hover creature under HoverController instead, holding
+                            // params.altitude (3 m if unset) in a wind of params.wind along +y
+  std::string gains;        // --hover: its gains file (flapsim/hover_gains.h); empty: by hand
+  std::string write_gains;  // --hover: write the gains flown to this file
 };
 
 /// flight_check's flags (flapsim/cli_args.h), over `options`.
@@ -82,7 +84,15 @@ std::string flightCheckReport(const FlightCheckOptions& options,
 /// mean positive power.
 std::string flightPowerSummary(const std::vector<FlightCheckRun>& runs, double disk_area);
 
-/// flight_check --hover: flies `model` (the hover creature) under HoverController from
+/// The hover controller of flight_check --hover: the gains file's (the hand-designed
+/// defaults without one), holding `options.params.altitude` (3 m if unset).
+HoverControllerParams hoverCheckController(const FlightCheckOptions& options);
+
+/// The gains file of flight_check --hover --write-gains: hoverCheckController's gains, their
+/// source in its header.
+std::string hoverCheckGainsFile(const FlightCheckOptions& options);
+
+/// flight_check --hover: flies `model` (the hover creature) under hoverCheckController from
 /// `options.altitude` in a side wind of `options.wind`, started `params.max_roll` and
 /// `params.max_pitch` tilted, for `params.duration` at `params.step_size`; returns the report
 /// (height band, attitude, oscillation per stroke, power, figure of merit after 10 s) and sets

@@ -1,7 +1,8 @@
-// A hand-designed hover controller for the hover creature (make_creature --layout hover): PD
-// with integral on the height, PD on the attitude, and a slow hold of the horizontal position,
-// from what an IMU and an altimeter give. It proves the creature can hover before an evolved
-// controller exists (the IMU-driven network replaces or extends it). ROS-free; no clock.
+// The hover controller of the hover creature (make_creature --layout hover): PD with integral
+// on the height, PD on the attitude, and a slow hold of the horizontal position, from what an
+// IMU and an altimeter give. Its default gains are the hand-designed ones; evolve --preset
+// hover evolves them on the episode farm (flapsim/hover_evolution.h, config/hover_1_gains.yaml).
+// ROS-free; no clock.
 #pragma once
 
 #include <array>
@@ -53,10 +54,22 @@ struct HoverControllerParams {
   double position_integral = 0.02;    // rad of tilt per m s
   double velocity_gain = 0.15;        // rad of tilt per m/s
   double max_tilt = 0.2;              // rad
+  /// rad: a wing's amplitude + |offset| at most this (its amplitude cut to fit), inside the
+  /// hover wings' stops at +-1.5 rad; the hand-designed gains never reach it (1.2 + 0.25).
+  double max_stroke = 1.45;
 };
 
 /// Empty if valid, else a message naming the bad field.
 std::string validateHoverControllerParams(const HoverControllerParams& params);
+
+/// A field of HoverControllerParams by name: the hover_controller node's private parameter and
+/// the gains file's key (flapsim/hover_gains.h) of the same name.
+struct HoverParamField {
+  const char* name;
+  double HoverControllerParams::*member;
+};
+/// Every field of HoverControllerParams, in declaration order.
+const std::vector<HoverParamField>& hoverParamFields();
 
 /// What the controller reads: an IMU's orientation and body rates, and the root's position and
 /// velocity in the world frame (an altimeter, a position fix: the odometry).

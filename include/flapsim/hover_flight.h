@@ -4,19 +4,29 @@
 // ROS-free; no clock.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+
 #include "flapsim/creature_model.h"
 #include "flapsim/hover_controller.h"
+#include "flapsim/sensors.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
 
 struct HoverFlightParams {
-  double duration = 60.0;        // s
-  double settle = 10.0;          // s before the figures count
-  double control_period = 0.01;  // s between controller updates (the node's IMU rate: 100 Hz)
-  double start_roll = 0.0;       // rad, about x
-  double start_pitch = 0.0;      // rad, about y
-  WorldParams world;             // its air's wind included (ground off by default)
+  double duration = 60.0;              // s
+  double settle = 10.0;                // s before the figures count
+  double control_period = 0.01;        // s between controller updates (the node's IMU rate: 100 Hz)
+  double start_roll = 0.0;             // rad, about x
+  double start_pitch = 0.0;            // rad, about y
+  std::optional<double> start_height;  // m, of the root link's origin; none: the setpoint
+  /// The IMU's orientation and angular velocity noise (imuReading, normals from a generator
+  /// seeded with noise_seed); 0: the exact state, as the simulator's IMU by default.
+  ImuNoise imu_noise;
+  std::uint64_t noise_seed = 0;
+  bool end_on_flip = false;  // the root's up axis below the horizon ends the flight
+  WorldParams world;         // its air's wind included (ground off by default)
   HoverFlightParams() { world.ground = false; }
 };
 
@@ -32,13 +42,18 @@ struct HoverFlightResult {
   double positive_power = 0.0;  // W: the motors' mean positive mechanical power
   double net_power = 0.0;       // W: their mean net power
   double mean_frequency = 0.0;  // Hz, commanded
-  Vec3 drift = Vec3::Zero();    // m: the root's horizontal offset from its start at the end
-  double mass = 0.0;            // kg
+  /// m: rms of the height less the setpoint over the steps after the settling time (NaN if
+  /// none).
+  double altitude_rms = 0.0;
+  bool flipped = false;       // the root's up axis went below the horizon (end_on_flip: it ended)
+  Vec3 drift = Vec3::Zero();  // m: the root's horizontal offset from its start at the end
+  double mass = 0.0;          // kg
   double specificPower() const { return mass > 0.0 ? positive_power / mass : 0.0; }
 };
 
-/// Flies `model` (make_creature --layout hover: wings kHoverWingJoints) from `controller`'s
-/// altitude, level but for the start roll and pitch, for `params.duration`. Throws InputError
+/// Flies `model` (make_creature --layout hover: wings kHoverWingJoints) from
+/// `params.start_height` (`controller`'s altitude if none), level but for the start roll and
+/// pitch, for `params.duration` (less after a flip with end_on_flip). Throws InputError
 /// for bad parameters.
 HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerParams& controller,
                            const HoverFlightParams& params);

@@ -1,7 +1,7 @@
 // hover_controller: flies the hover creature (make_creature --layout hover) with the core's
-// hand-designed flapsim::HoverController, from imu (attitude, body rates) and odom (position
-// and velocity: an altimeter and a position fix); run it in the creature's namespace (as
-// ann_controller), whose topics these are.
+// flapsim::HoverController (its gains: private parameters, hover.launch loads the evolved ones),
+// from imu (attitude, body rates) and odom (position and velocity: an altimeter and a position
+// fix); run it in the creature's namespace (as ann_controller), whose topics these are.
 //  - free running: it answers each state (an imu and an odom message of one stamp) at most
 //    `rate` times a second of sim time with a wing_command stamped as the state, as soon as both
 //    arrive (the simulator's publish_rate sets how fresh the state is: 100 Hz by default);
@@ -33,8 +33,9 @@ struct HoverControllerNodeParams : LockstepParams {
 };
 
 /// Private namespace of hover_controller. Keys (all optional): creature (default
-/// `default_creature`), rate (100), the controller's: altitude (3), trim_frequency,
-/// amplitude, feather (flapsim::HoverControllerParams), and lockstep, lockstep_duration,
+/// `default_creature`), rate (100), the controller's: altitude (3) and every other field of
+/// flapsim::HoverControllerParams by its name (flapsim::hoverParamFields: the gains file
+/// flapsim/hover_gains.h, loaded by hover.launch with rosparam), and lockstep, lockstep_duration,
 /// step_service, step_size, wait_timeout (LockstepParams). Throws ParamError naming the bad
 /// key.
 HoverControllerNodeParams parseHoverControllerParams(const XmlRpc::XmlRpcValue& ns,

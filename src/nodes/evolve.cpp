@@ -35,11 +35,14 @@ int main(int argc, char** argv) {
     std::cerr << "evolve: " << e.what() << "\n";
     return 1;
   }
-  if (opt.plot && !flapsim::plotEvolveOutputs(opt.out_dir)) {
+  const bool rates = opt.params.kind == flapsim::EvolveKind::kFlap;
+  if (opt.plot && !flapsim::plotEvolveOutputs(opt.out_dir, rates)) {
     std::cerr << "evolve: gnuplot failed (apt package gnuplot-nox); no plots\n";
     return 1;
   }
-  if (opt.plot)
-    std::cout << "wrote " << opt.out_dir << "/fitness.png, " << opt.out_dir << "/rates.png\n";
+  if (opt.plot) {
+    std::cout << "wrote " << opt.out_dir << "/fitness.png"
+              << (rates ? ", " + opt.out_dir + "/rates.png" : std::string()) << "\n";
+  }
   return 0;
 }

@@ -34,6 +34,10 @@ int main(int argc, char** argv) {
   }
   try {
     if (o.hover) {
+      if (!o.write_gains.empty()) {
+        flapsim::writeTextFile(o.write_gains, flapsim::hoverCheckGainsFile(o));
+        std::cout << "wrote " << o.write_gains << "\n";
+      }
       bool ok = false;
       std::cout << flapsim::hoverCheckReport(
           o.urdf.empty() ? flapsim::parseCreatureModel(flapsim::makeHoverUrdf("hover"),

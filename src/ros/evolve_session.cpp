@@ -16,9 +16,8 @@ EvolveSession::EvolveSession(int argc, char** argv, const flapsim::EvolveOptions
   fp.wait = options_.farm_wait;
   fp.inflight = options_.farm_inflight;
   fp.batch = options_.farm_batch;
-  farm_ = std::make_unique<FarmEvaluator>(
-      *nh_, options_.spec_args,
-      flapsim::FlapUnitController::weightCount(options_.params.controller), fp);
+  farm_ = std::make_unique<FarmEvaluator>(*nh_, options_.spec_args,
+                                          flapsim::geneCount(options_.params), fp);
   progress_ = std::make_unique<ProgressPublisher>(*nh_, fp.ns);
 }
 

@@ -23,10 +23,9 @@ HoverControllerNodeParams parseHoverControllerParams(const XmlRpc::XmlRpcValue& 
   if (!(p.rate > 0.0)) failParam(d.key("rate"), "must be > 0");
   readLockstepParams(d, p);
   flapsim::HoverControllerParams& c = p.controller;
-  c.altitude = d.number("altitude", c.altitude);
-  c.trim_frequency = d.number("trim_frequency", c.trim_frequency);
-  c.amplitude = d.number("amplitude", c.amplitude);
-  c.feather = d.number("feather", c.feather);
+  for (const flapsim::HoverParamField& f : flapsim::hoverParamFields()) {
+    c.*f.member = d.number(f.name, c.*f.member);
+  }
   const std::string bad = flapsim::validateHoverControllerParams(c);
   if (!bad.empty()) failParam(d.key(""), bad);
   p.unknown_keys = d.unknownKeys();

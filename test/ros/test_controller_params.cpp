@@ -262,5 +262,29 @@ TEST(HoverControllerParams, LockstepKeysAsAnnController) {
   }
 }
 
+// Every field of the gains file (flapsim/hover_gains.h, loaded by hover.launch as the node's
+// private parameters) is a parameter of the node, none left at its default.
+TEST(HoverControllerParams, EveryGainOfTheGainsFileIsAParameter) {
+  XmlRpc::XmlRpcValue ns;
+  ns.begin();
+  const flapsim::HoverControllerParams hand;
+  for (const flapsim::HoverParamField& f : flapsim::hoverParamFields()) {
+    ns[f.name] = XmlRpc::XmlRpcValue(1.5 * (hand.*f.member));
+  }
+  const HoverControllerNodeParams p = parseHoverControllerParams(ns, "hover");
+  for (const flapsim::HoverParamField& f : flapsim::hoverParamFields()) {
+    EXPECT_EQ(p.controller.*f.member, 1.5 * (hand.*f.member)) << f.name;
+  }
+  EXPECT_TRUE(p.unknown_keys.empty());
+  ns["max_roll_share"] = XmlRpc::XmlRpcValue(1.5);
+  try {
+    parseHoverControllerParams(ns, "hover");
+    ADD_FAILURE() << "max_roll_share 1.5 was taken";
+  } catch (const ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_roll_share must be in [0, 1)"), std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace flapsim_ros

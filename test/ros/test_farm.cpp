@@ -60,6 +60,27 @@ TEST(Farm, ThreeWorkersGiveTheInProcessBits) {
   EXPECT_EQ(farm.resent(), 0);
 }
 
+// The hover controller's evolution (--preset hover: the kind travels in the spec's flags):
+// the workers fly its gains as the process does, bit for bit.
+TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
+  const std::vector<std::string> spec = {
+      "--preset",   "hover", "--population", "3",   "--generations", "1", "--episodes", "2",
+      "--duration", "1",     "--settle",     "0.5", "--seed",        "5"};
+  flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
+  ASSERT_EQ(p.kind, flapsim::EvolveKind::kHover);
+  p.ga.threads = 2;
+  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
+  flapsim_ros::FarmEvaluator farm(nh, spec, flapsim::geneCount(p), flapsim_ros::FarmParams());
+  flapsim::EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
+  expectSameBits(in_process, on_farm);
+  EXPECT_EQ(on_farm.best_weights.size(), 14u);
+  EXPECT_EQ(farm.resent(), 0);
+}
+
 TEST(Farm, AWorkerKilledMidRunAndOneJoiningGiveTheSameBits) {
   ros::NodeHandle nh;
   const flapsim::EvolveParams p = flapsim::parseEvolveArgs(kSpec).params;
@@ -120,6 +141,28 @@ TEST(Farm, AMalformedBatchIsRefusedByName) {
   srv.request.episodes.assign(2, 0);
   ASSERT_TRUE(client.call(srv));
   EXPECT_EQ(srv.response.message, "malformed batch: 12299 weights for 2 tasks of 12");
+  // A hover task: 14 genes, each within +-1.
+  srv.request.spec = {"--preset", "hover", "--duration", "1", "--settle", "0.5"};
+  srv.request.weight_count = 13;
+  srv.request.weights.assign(13, 0.0);
+  srv.request.episodes = {0};
+  ASSERT_TRUE(client.call(srv));
+  EXPECT_FALSE(srv.response.success);
+  EXPECT_NE(srv.response.message.find("13 weights, the controller has 14"), std::string::npos)
+      << srv.response.message;
+  srv.request.weight_count = 14;
+  srv.request.weights.assign(14, 0.0);
+  srv.request.weights[3] = 2.0;
+  ASSERT_TRUE(client.call(srv));
+  EXPECT_FALSE(srv.response.success);
+  EXPECT_NE(srv.response.message.find("gene 3 (height_gain) is not a number in [-1, 1]"),
+            std::string::npos)
+      << srv.response.message;
+  srv.request.spec = {"--preset", "hover", "--hidden", "4"};
+  ASSERT_TRUE(client.call(srv));
+  EXPECT_FALSE(srv.response.success);
+  EXPECT_NE(srv.response.message.find("--hidden: not a flag of --preset hover"), std::string::npos)
+      << srv.response.message;
   // Through the farm: a batch that every worker refuses ends the run.
   flapsim_ros::FarmEvaluator farm(nh, kSpec, 3, flapsim_ros::FarmParams());
   EXPECT_THROW(farm.evaluate({flapsim::EpisodeTask{{1.0, 2.0, 3.0}, 0}}), flapsim_ros::FarmError);

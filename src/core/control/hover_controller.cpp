@@ -5,16 +5,35 @@
 
 namespace flapsim {
 
+const std::vector<HoverParamField>& hoverParamFields() {
+  using P = HoverControllerParams;
+  static const std::vector<HoverParamField> fields = {
+      {"altitude", &P::altitude},
+      {"trim_frequency", &P::trim_frequency},
+      {"amplitude", &P::amplitude},
+      {"feather", &P::feather},
+      {"height_gain", &P::height_gain},
+      {"climb_damping", &P::climb_damping},
+      {"height_integral", &P::height_integral},
+      {"max_frequency_ratio", &P::max_frequency_ratio},
+      {"roll_gain", &P::roll_gain},
+      {"roll_damping", &P::roll_damping},
+      {"max_roll_share", &P::max_roll_share},
+      {"pitch_gain", &P::pitch_gain},
+      {"pitch_damping", &P::pitch_damping},
+      {"max_offset", &P::max_offset},
+      {"attitude_integral", &P::attitude_integral},
+      {"position_gain", &P::position_gain},
+      {"position_integral", &P::position_integral},
+      {"velocity_gain", &P::velocity_gain},
+      {"max_tilt", &P::max_tilt},
+      {"max_stroke", &P::max_stroke}};
+  return fields;
+}
+
 std::string validateHoverControllerParams(const HoverControllerParams& p) {
-  const double values[] = {p.altitude,         p.trim_frequency,      p.amplitude,
-                           p.feather,          p.height_gain,         p.climb_damping,
-                           p.height_integral,  p.roll_gain,           p.roll_damping,
-                           p.max_roll_share,   p.pitch_gain,          p.pitch_damping,
-                           p.max_offset,       p.position_gain,       p.velocity_gain,
-                           p.max_tilt,         p.max_frequency_ratio, p.attitude_integral,
-                           p.position_integral};
-  for (double v : values) {
-    if (!std::isfinite(v)) return "hover controller parameters must be finite";
+  for (const HoverParamField& f : hoverParamFields()) {
+    if (!std::isfinite(p.*f.member)) return std::string(f.name) + " must be finite";
   }
   if (p.trim_frequency <= 0.0) return "trim_frequency must be > 0";
   if (p.amplitude <= 0.0) return "amplitude must be > 0";
@@ -22,6 +41,7 @@ std::string validateHoverControllerParams(const HoverControllerParams& p) {
   if (p.max_frequency_ratio < 1.0) return "max_frequency_ratio must be >= 1";
   if (p.max_roll_share < 0.0 || p.max_roll_share >= 1.0) return "max_roll_share must be in [0, 1)";
   if (p.max_offset < 0.0 || p.max_tilt < 0.0) return "max_offset and max_tilt must be >= 0";
+  if (!(p.max_stroke > p.max_offset)) return "max_stroke must be > max_offset";
   return "";
 }
 
@@ -102,7 +122,8 @@ std::array<StrokeCommand, 2> HoverController::update(const HoverSensors& s, doub
   for (int side = 0; side < 2; ++side) {
     StrokeCommand& c = out[side];
     c.shape = StrokeShape::kSine;
-    c.amplitude = p.amplitude * (side == 0 ? 1.0 + roll : 1.0 - roll);
+    c.amplitude = std::min(p.amplitude * (side == 0 ? 1.0 + roll : 1.0 - roll),
+                           p.max_stroke - std::abs(offset));
     // Half a period per half-stroke: 2 amplitude / rate = 1 / (2 f).
     c.downstroke_rate = c.upstroke_rate = 4.0 * c.amplitude * frequency;
     c.offset = offset;

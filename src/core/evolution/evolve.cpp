@@ -12,6 +12,7 @@
 
 #include "flapsim/control_loop.h"
 #include "flapsim/episode_evaluator.h"
+#include "flapsim/hover_evolution.h"
 #include "flapsim/make_creature.h"
 
 namespace flapsim {
@@ -68,8 +69,14 @@ EvolveParams robustPreset(int pairs) {
 
 std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed) { return mixSeed(ga_seed, 0xE915ULL); }
 
+int geneCount(const EvolveParams& params) {
+  return params.kind == EvolveKind::kHover ? kHoverGeneCount
+                                           : FlapUnitController::weightCount(params.controller);
+}
+
 EvaluationSpec evaluationSpec(const EvolveParams& params) {
   EvaluationSpec spec;
+  spec.kind = params.kind;
   spec.pairs = params.pairs;
   spec.unit = params.unit;
   spec.controller = params.controller;
@@ -77,6 +84,7 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   spec.episode.seed = evolutionEpisodeSeed(params.ga.seed);
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);
+  if (err.empty() && spec.kind == EvolveKind::kHover) err = validateHoverEpisodes(spec.episode);
   if (!err.empty()) throw std::invalid_argument("evolve: " + err);
   return spec;
 }
@@ -118,8 +126,7 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
     }
     return out;
   };
-  GeneticAlgorithm ga(params.ga, FlapUnitController::weightCount(params.controller),
-                      BatchFitnessFunction(batch));
+  GeneticAlgorithm ga(params.ga, geneCount(params), BatchFitnessFunction(batch));
   if (hooks.resume != nullptr) {
     if (hooks.resume->seed != params.ga.seed) {
       throw std::invalid_argument("evolve: the checkpoint is of seed " +
@@ -169,18 +176,24 @@ std::string ratesCsv(const std::vector<EpisodeSample>& trace, int unit) {
   return out.str();
 }
 
-std::string gnuplotScript(const std::string& dir, double window) {
+std::string gnuplotScript(const std::string& dir, double window, bool rates) {
   std::ostringstream g;
   g << "set datafile separator ','\n"
     << "set terminal pngcairo size 800,500 font 'sans,11'\n"
     << "set grid\n"
     << "set key bottom right\n"
     << "set output '" << dir << "/fitness.png'\n"
-    << "set title 'Fitness (mean height of the root body, m) per generation'\n"
+    << "set title '"
+    << (rates ? "Fitness (mean height of the root body, m)" : "Fitness (hover gains, m)")
+    << " per generation'\n"
     << "set xlabel 'generation'\nset ylabel 'fitness (m)'\n"
     << "plot '" << dir << "/fitness.csv' using 1:2 skip 1 with lines lw 2 title 'best', \\\n"
-    << "     '' using 1:3 skip 1 with lines lw 1 title 'mean'\n"
-    << "set output '" << dir << "/rates.png'\n"
+    << "     '' using 1:3 skip 1 with lines lw 1 title 'mean'\n";
+  if (!rates) {
+    g << "unset output\n";
+    return g.str();
+  }
+  g << "set output '" << dir << "/rates.png'\n"
     << "set key bottom right box opaque\n"
     << "set yrange [*:*] writeback\n"
     << "set title 'Downstroke rates of the best individual (unit 0)'\n"

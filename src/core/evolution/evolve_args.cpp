@@ -8,6 +8,7 @@
 #include "flapsim/air_model.h"
 #include "flapsim/cli_args.h"
 #include "flapsim/episode_evaluator.h"
+#include "flapsim/hover_evolution.h"
 
 namespace flapsim {
 
@@ -16,7 +17,9 @@ namespace {
 const char* const kSpec = "spec";  // the tag of the flags that define the evolution
 
 const char* const kNotes =
-    "Defaults in parentheses are those of the preset given (robust unless --preset paper)\n"
+    "Defaults in parentheses are those of the preset given (robust unless --preset paper or\n"
+    "hover; hover evolves the hover controller's gains, and refuses the flags of the flap\n"
+    "network and of the flap units' disturbances)\n"
     "and the flags before --help. A checkpoint is written to DIR/checkpoint.txt after every\n"
     "generation; --resume DIR continues it with its own flags, then the ones given.\n";
 
@@ -26,7 +29,7 @@ void specFlags(CliParser& t, EvolveOptions& o) {
   FlapControllerParams& c = p.controller;
   t.custom(
        "--preset", {"NAME"}, [](const std::vector<std::string>&) {},  // applied first
-       [&o] { return o.preset; }, "robust or paper; the flags below change it")
+       [&o] { return o.preset; }, "robust, paper or hover; the flags below change it")
       .integer("--pairs", "N", &p.pairs, {1, kMaxEvolvePairs}, "wing pairs of the creature")
       .tag(kSpec)
       .integer("--generations", "G", &p.ga.generations, {0, kMaxGenerations},
@@ -162,6 +165,9 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
       })
       .real("--flip-penalty", "P", &e.flip_penalty, {0, kMaxFlipPenalty},
             "a flip ends the episode, less P m (0: off)")
+      .tag(kSpec)
+      .real("--settle", "S", &e.settle_time, {0, kMaxEpisodeDuration},
+            "the altitude rms (--preset hover: every figure) counts after S s")
       .tag(kSpec);
 }
 
@@ -215,11 +221,13 @@ void runFlags(CliParser& t, EvolveOptions& o) {
   t.integer("--threads", "T", &o.params.ga.threads, {1, 256},
             "parallel episodes; results do not depend on it")
       .text("--out", "DIR", &o.out_dir, "output directory")
-      .text("--weights", "FILE", &o.weights_path, "weights YAML (empty: DIR/weights.yaml)")
+      .text("--weights", "FILE", &o.weights_path,
+            "weights YAML (empty: DIR/weights.yaml; --preset hover: the gains, DIR/gains.yaml)")
       .flag("--no-plot", &o.plot, false, "do not run gnuplot")
       .text("--resume", "DIR", &o.resume_dir, "continue the run of DIR/checkpoint.txt")
       .text("--init", "FILE", &o.init_path,
-            "seed generation 0 with this weights file (its network must be the evolution's)")
+            "seed generation 0 with this weights file (its network must be the evolution's; "
+            "--preset hover: a gains file)")
       .flag("--farm", &o.farm, true, "evaluate on the flapsim_worker nodes under /flapsim_farm")
       .real("--farm-timeout", "S", &o.farm_timeout, {0, 1e6, true},
             "a call unanswered after S s is sent to another worker")
@@ -245,10 +253,37 @@ std::string presetOf(const std::vector<std::string>& args) {
   for (size_t i = 0; i + 1 < args.size(); ++i) {
     if (args[i] == "--preset") preset = args[i + 1];
   }
-  if (preset != "robust" && preset != "paper") {
-    throw InputError("--preset: " + quoteValue(preset) + " is not one of robust, paper");
+  if (preset != "robust" && preset != "paper" && preset != "hover") {
+    throw InputError("--preset: " + quoteValue(preset) + " is not one of robust, paper, hover");
   }
   return preset;
+}
+
+EvolveParams presetParams(const std::string& preset) {
+  if (preset == "paper") return paperPreset();
+  return preset == "hover" ? hoverPreset() : robustPreset();
+}
+
+// The flags that mean nothing to the hover controller's evolution (the flap network's, the
+// flap units' and their disturbances'): --preset hover refuses them by name.
+const std::vector<std::string> kNotHoverFlags = {
+    "--pairs",           "--min-rate",         "--max-rate",
+    "--upstroke-rate",   "--amplitude",        "--control-period",
+    "--network",         "--hidden",           "--rate-inputs",
+    "--altitude-input",  "--com-drop",         "--phase-lock",
+    "--pitch-gain",      "--gene-range",       "--link-axis",
+    "--link-stiffness",  "--start-rate",       "--gust",
+    "--gust-torque",     "--gust-torque-time", "--gust-force",
+    "--gust-force-time", "--gust-link",        "--altitude-noise",
+    "--altitude-hold"};
+
+void checkHoverFlags(const std::vector<CliSeen>& seen) {
+  for (const CliSeen& s : seen) {
+    const std::string& name = s.flag->names.front();
+    if (std::find(kNotHoverFlags.begin(), kNotHoverFlags.end(), name) != kNotHoverFlags.end()) {
+      throw InputError(name + ": not a flag of --preset hover (the hover controller's gains)");
+    }
+  }
 }
 
 }  // namespace
@@ -256,17 +291,21 @@ std::string presetOf(const std::vector<std::string>& args) {
 EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads) {
   EvolveOptions o;
   o.preset = presetOf(args);
-  o.params = o.preset == "paper" ? paperPreset() : robustPreset();
+  o.params = presetParams(o.preset);
   o.params.ga.threads = threads;
   o.spec_args = {"--preset", o.preset};
   CliParser table = evolveTable(o);
-  for (const CliSeen& s : table.parse(args, /*skip_remaps=*/true)) {
+  const std::vector<CliSeen> seen = table.parse(args, /*skip_remaps=*/true);
+  if (o.preset == "hover") checkHoverFlags(seen);
+  for (const CliSeen& s : seen) {
     if (s.flag->tag != kSpec) continue;
     o.spec_args.push_back(s.flag->names.front());
     o.spec_args.insert(o.spec_args.end(), s.values.begin(), s.values.end());
   }
   o.help = table.help();
-  if (o.weights_path.empty()) o.weights_path = o.out_dir + "/weights.yaml";
+  if (o.weights_path.empty()) {
+    o.weights_path = o.out_dir + (o.preset == "hover" ? "/gains.yaml" : "/weights.yaml");
+  }
   return o;
 }
 
@@ -292,7 +331,7 @@ void checkSpecArgs(const std::vector<std::string>& spec_args) {
   }
   EvolveOptions o;
   o.preset = presetOf(spec_args);
-  o.params = o.preset == "paper" ? paperPreset() : robustPreset();
+  o.params = presetParams(o.preset);
   CliParser table = evolveTable(o);
   // The flags first, before any value is read: values never start with "--".
   for (const std::string& a : spec_args) {
@@ -303,7 +342,8 @@ void checkSpecArgs(const std::vector<std::string>& spec_args) {
       }
     }
   }
-  table.parse(spec_args);
+  const std::vector<CliSeen> seen = table.parse(spec_args);
+  if (o.preset == "hover") checkHoverFlags(seen);
 }
 
 EvaluationSpec evaluationSpecFromArgs(const std::vector<std::string>& spec_args) {

@@ -7,6 +7,8 @@
 
 #include "flapsim/ann.h"
 #include "flapsim/controller_file.h"
+#include "flapsim/hover_evolution.h"
+#include "flapsim/hover_gains.h"
 #include "flapsim/make_creature.h"
 
 namespace flapsim {
@@ -19,9 +21,21 @@ std::string formatDuration(double s) {
   return buf;
 }
 
+// --init FILE of --preset hover: a gains file whose genes are within the range.
+void seedFromGainsFile(EvolveOptions& o) {
+  const std::vector<double> genes = hoverGenesFromParams(loadHoverGainsYaml(o.init_path));
+  const std::string err = checkHoverGenes(genes);
+  if (!err.empty()) {
+    throw InputError("--init: " + o.init_path + ": " + err +
+                     " (gains beyond the hover evolution's range)");
+  }
+  o.params.ga.initial_genes = genes;
+}
+
 // --init FILE: the file's network must be the one evolved (same form, inputs, hidden layer
 // and weight count); its weights seed generation 0.
 void seedFromWeightsFile(EvolveOptions& o) {
+  if (o.params.kind == EvolveKind::kHover) return seedFromGainsFile(o);
   const ControllerSpec init = loadControllerYaml(o.init_path);
   const FlapControllerParams& want = o.params.controller;
   const FlapControllerParams& got = init.params;
@@ -82,8 +96,54 @@ std::string evolveProgressLine(const EvolveOptions& o, const GenerationStats& g,
   return line;
 }
 
+namespace {
+
+std::map<std::string, std::string> runMetadata(const EvolveOptions& o, const EvolveResult& result,
+                                               double wall_s, const std::string& evaluated_on) {
+  return {{"command", evolveCommand(o)},
+          {"best_fitness", std::to_string(result.best_fitness)},
+          {"first_best_fitness", std::to_string(result.history.front().best)},
+          {"wall_time_s", std::to_string(wall_s)},
+          {"threads", std::to_string(o.params.ga.threads)},
+          {"evaluated_on", evaluated_on}};
+}
+
+std::string writtenLine(const EvolveOptions& o, const EvolveResult& result, double wall_s,
+                        const std::string& files) {
+  std::ostringstream line;
+  line << std::fixed << std::setprecision(4) << "best fitness " << result.best_fitness
+       << " (generation 0: " << result.history.front().best << "), wall time "
+       << std::setprecision(1) << wall_s << " s; wrote " << o.weights_path << ", " << files << "\n";
+  return line.str();
+}
+
+// --preset hover: the gains file and fitness.csv.
+std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result, double wall_s,
+                              const std::string& evaluated_on) {
+  const EpisodeParams& e = o.params.episode;
+  std::ostringstream header;
+  header << "Hover controller gains (flapsim::HoverController) evolved on " << evaluated_on
+         << ".\nReproduce: " << evolveCommand(o) << " --out <dir>\n"
+         << "Fitness = mean of -(altitude rms after " << e.settle_time << " s + "
+         << kHoverPowerWeight << " x W/kg / 100 + " << kHoverTiltWeight << " x ("
+         << kHoverMinUpright << " - lowest up)+, less " << e.flip_penalty << " after a flip) over "
+         << e.episodes << " episodes of " << e.duration << " s: " << result.best_fitness
+         << "\nLoad it as hover_controller's private parameters (hover.launch gains:=FILE); "
+         << "measure it with flight_check --hover --gains FILE.";
+  writeTextFile(o.weights_path,
+                hoverGainsToYaml(hoverParamsFromGenes(result.best_weights), header.str(),
+                                 runMetadata(o, result, wall_s, evaluated_on)));
+  writeTextFile(o.out_dir + "/fitness.csv", fitnessCsv(result.history));
+  return writtenLine(o, result, wall_s, o.out_dir + "/fitness.csv");
+}
+
+}  // namespace
+
 std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& result, double wall_s,
                                const std::string& evaluated_on) {
+  if (o.params.kind == EvolveKind::kHover) {
+    return writeHoverOutputs(o, result, wall_s, evaluated_on);
+  }
   const EvolveParams& params = o.params;
   const ControllerSpec spec{params.controller, result.best_weights};
   std::ostringstream header;
@@ -98,14 +158,8 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
          << (params.controller.network == FlapNetwork::kMirror
                  ? " then the output (the right wing; the left is the net on mirrored inputs)."
                  : " then output 0 (right), output 1 (left).");
-  const std::map<std::string, std::string> meta = {
-      {"command", evolveCommand(o)},
-      {"best_fitness", std::to_string(result.best_fitness)},
-      {"first_best_fitness", std::to_string(result.history.front().best)},
-      {"wall_time_s", std::to_string(wall_s)},
-      {"threads", std::to_string(params.ga.threads)},
-      {"evaluated_on", evaluated_on}};
-  writeTextFile(o.weights_path, controllerToYaml(spec, header.str(), meta));
+  writeTextFile(o.weights_path,
+                controllerToYaml(spec, header.str(), runMetadata(o, result, wall_s, evaluated_on)));
   writeTextFile(o.out_dir + "/fitness.csv", fitnessCsv(result.history));
 
   // The best individual on the first evolution episode, for the rates plot (Fig. 7).
@@ -116,18 +170,13 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
   const EpisodeResult ep = runEpisode(model, ann, spec.params.control_period, episode,
                                       episodeStarts(episode, model.get()).front(), true);
   writeTextFile(o.out_dir + "/rates.csv", ratesCsv(ep.trace));
-  std::ostringstream line;
-  line << std::fixed << std::setprecision(4) << "best fitness " << result.best_fitness
-       << " (generation 0: " << result.history.front().best << "), wall time "
-       << std::setprecision(1) << wall_s << " s; wrote " << o.weights_path << ", " << o.out_dir
-       << "/fitness.csv, " << o.out_dir << "/rates.csv\n";
-  return line.str();
+  return writtenLine(o, result, wall_s, o.out_dir + "/fitness.csv, " + o.out_dir + "/rates.csv");
 }
 
-bool plotEvolveOutputs(const std::string& out_dir) {
+bool plotEvolveOutputs(const std::string& out_dir, bool rates) {
   FILE* gp = popen("gnuplot", "w");
   if (gp == nullptr) return false;
-  const bool written = std::fputs(gnuplotScript(out_dir).c_str(), gp) >= 0;
+  const bool written = std::fputs(gnuplotScript(out_dir, 5.0, rates).c_str(), gp) >= 0;
   return pclose(gp) == 0 && written;
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "flapsim/ga.h"
+#include "flapsim/hover_gains.h"
 
 namespace flapsim {
 
@@ -71,6 +72,9 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .flag("--hover", &o.hover, true,
             "fly the hover creature (make_creature --layout hover, or --urdf) under its "
             "controller instead, started --roll, --pitch tilted (0 unless given)")
+      .text("--gains", "FILE", &o.gains,
+            "--hover: the controller's gains file (evolve --preset hover's; default: by hand)")
+      .text("--write-gains", "FILE", &o.write_gains, "--hover: write the gains flown to FILE")
       .real("--wind", "SPEED", &p.wind, {0, 1e3},
             "steady wind from t = 0, m/s, from a heading drawn per start (--hover: along +y)")
       .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
@@ -152,10 +156,26 @@ std::string flightPowerSummary(const std::vector<FlightCheckRun>& runs, double d
   return line;
 }
 
-std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& o, bool& ok) {
+HoverControllerParams hoverCheckController(const FlightCheckOptions& o) {
   HoverControllerParams controller;
-  const double altitude = o.params.altitude.value_or(3.0);
-  controller.altitude = altitude;
+  if (!o.gains.empty()) controller = loadHoverGainsYaml(o.gains);
+  controller.altitude = o.params.altitude.value_or(3.0);
+  return controller;
+}
+
+std::string hoverCheckGainsFile(const FlightCheckOptions& o) {
+  const std::string from =
+      o.gains.empty() ? "set by hand (flapsim::HoverControllerParams' defaults), not evolved"
+                      : "as read from " + o.gains;
+  return hoverGainsToYaml(hoverCheckController(o),
+                          "Hover controller gains " + from +
+                              ".\nReproduce: flight_check --hover --write-gains FILE" +
+                              (o.gains.empty() ? "" : " --gains " + o.gains));
+}
+
+std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& o, bool& ok) {
+  const HoverControllerParams controller = hoverCheckController(o);
+  const double altitude = controller.altitude;
   HoverFlightParams p;
   p.duration = o.params.duration;
   p.world.step_size = o.params.step_size;
@@ -168,18 +188,19 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
   ok = r.min_height >= altitude - 0.3 && r.max_height <= altitude + 0.3 && r.min_upright >= 0.9 &&
        r.max_stroke_oscillation < 0.05 && r.specificPower() <= 100.0;
   char line[1024];
-  std::snprintf(line, sizeof line,
-                "hover at %g m, wind %g m/s, %g s at %g ms (figures after %g s):\n"
-                "  height %.3f to %.3f m, lowest up-component %.4f, largest height range in a "
-                "stroke %.1f mm, drift %.2f m, %.2f Hz\n"
-                "  mechanical power of the motors: %.3f W positive (%.1f W/kg of its %.1f g), "
-                "%.3f W net\n"
-                "  figure of merit: ideal %.3f W (actuator disk of %.4f m^2) / %.3f W = %.2f\n%s\n",
-                altitude, o.params.wind, p.duration, 1000.0 * p.world.step_size, p.settle,
-                r.min_height, r.max_height, r.min_upright, 1000.0 * r.max_stroke_oscillation,
-                r.drift.norm(), r.mean_frequency, r.positive_power, r.specificPower(),
-                1000.0 * r.mass, r.net_power, ideal, disk, r.positive_power,
-                ideal / r.positive_power, ok ? "pass" : "FAIL");
+  std::snprintf(
+      line, sizeof line,
+      "hover at %g m, wind %g m/s, %g s at %g ms (figures after %g s), gains %s:\n"
+      "  height %.3f to %.3f m (rms %.4f m), lowest up-component %.4f, largest height range in a "
+      "stroke %.1f mm, drift %.2f m, %.2f Hz\n"
+      "  mechanical power of the motors: %.3f W positive (%.1f W/kg of its %.1f g), "
+      "%.3f W net\n"
+      "  figure of merit: ideal %.3f W (actuator disk of %.4f m^2) / %.3f W = %.2f\n%s\n",
+      altitude, o.params.wind, p.duration, 1000.0 * p.world.step_size, p.settle,
+      o.gains.empty() ? "by hand" : o.gains.c_str(), r.min_height, r.max_height, r.altitude_rms,
+      r.min_upright, 1000.0 * r.max_stroke_oscillation, r.drift.norm(), r.mean_frequency,
+      r.positive_power, r.specificPower(), 1000.0 * r.mass, r.net_power, ideal, disk,
+      r.positive_power, ideal / r.positive_power, ok ? "pass" : "FAIL");
   return line;
 }
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "flapsim/ga.h"
+
 namespace flapsim {
 
 std::string validateHoverFlightParams(const HoverFlightParams& p) {
@@ -12,6 +14,9 @@ std::string validateHoverFlightParams(const HoverFlightParams& p) {
   if (!std::isfinite(p.start_roll) || !std::isfinite(p.start_pitch)) {
     return "start roll and pitch must be finite";
   }
+  if (p.start_height && !std::isfinite(*p.start_height)) return "start height must be finite";
+  const std::string noise = validateImuNoise(p.imu_noise);
+  if (!noise.empty()) return noise;
   const double steps = p.control_period / p.world.step_size;
   if (!(p.control_period > 0.0) || std::abs(steps - std::round(steps)) > 1e-9 * steps ||
       std::round(steps) < 1.0) {
@@ -21,16 +26,60 @@ std::string validateHoverFlightParams(const HoverFlightParams& p) {
   return w.empty() ? "" : "world: " + w;
 }
 
+namespace {
+
+// The controller's sensors: the root's IMU (with the flight's noise) and its odometry.
+HoverSensors hoverSensors(const CreatureState& s, const ImuNoise& noise, Rng& rng) {
+  const ImuReading imu =
+      imuReading(s, Vec3::Zero(), Vec3::Zero(), noise, [&rng] { return rng.normal(); });
+  HoverSensors sensors;
+  sensors.orientation = imu.orientation;
+  sensors.angular_velocity = imu.angular_velocity;
+  sensors.position = s.link_poses[0].position;
+  sensors.velocity = s.link_twists[0].linear;
+  return sensors;
+}
+
+// The figures after the settling time, step by step.
+struct HoverFigures {
+  HoverFlightResult& r;
+  double altitude;
+  double stroke_low = std::numeric_limits<double>::infinity(), stroke_high = -stroke_low;
+  double stroke_time = 0.0, squares = 0.0;
+  long samples = 0;
+
+  void add(const Pose& pose, double step, double frequency) {
+    const double z = pose.position.z();
+    r.min_height = std::min(r.min_height, z);
+    r.max_height = std::max(r.max_height, z);
+    r.min_upright = std::min(r.min_upright, (pose.orientation * Vec3::UnitZ()).z());
+    squares += (z - altitude) * (z - altitude);
+    ++samples;
+    stroke_low = std::min(stroke_low, z);
+    stroke_high = std::max(stroke_high, z);
+    stroke_time += step;
+    if (stroke_time >= 1.0 / frequency) {
+      r.max_stroke_oscillation = std::max(r.max_stroke_oscillation, stroke_high - stroke_low);
+      stroke_low = std::numeric_limits<double>::infinity();
+      stroke_high = -stroke_low;
+      stroke_time = 0.0;
+    }
+  }
+};
+
+}  // namespace
+
 HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerParams& controller,
                            const HoverFlightParams& p) {
   const std::string err = validateHoverFlightParams(p);
   if (!err.empty()) throw InputError("hover flight: " + err);
   World world(p.world);
   const std::string name = "hover";
-  const Pose start =
-      poseFromXyzRpy(Vec3(0.0, 0.0, controller.altitude), Vec3(p.start_roll, p.start_pitch, 0.0));
+  const Pose start = poseFromXyzRpy(Vec3(0.0, 0.0, p.start_height.value_or(controller.altitude)),
+                                    Vec3(p.start_roll, p.start_pitch, 0.0));
   world.spawn(name, model, start);
   HoverController control(controller);
+  Rng rng(p.noise_seed);
   const std::vector<std::string> wings = {kHoverWingJoints[0], kHoverWingJoints[1]};
   const int steps = static_cast<int>(std::lround(p.control_period / p.world.step_size));
   const int updates = static_cast<int>(std::lround(p.duration / p.control_period));
@@ -38,37 +87,21 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   r.min_height = std::numeric_limits<double>::infinity();
   r.max_height = -r.min_height;
   r.mass = model->totalMass();
+  HoverFigures figures{r, controller.altitude};
   CreaturePower settled;
-  double stroke_low = r.min_height, stroke_high = r.max_height, stroke_time = 0.0;
   double frequency_sum = 0.0;
   int counted = 0;
-  for (int u = 0; u < updates; ++u) {
-    const CreatureState s = world.state(name);
-    HoverSensors sensors;
-    sensors.orientation = s.link_poses[0].orientation;
-    sensors.angular_velocity = sensors.orientation.conjugate() * s.link_twists[0].angular;
-    sensors.position = s.link_poses[0].position;
-    sensors.velocity = s.link_twists[0].linear;
-    const auto strokes = control.update(sensors, p.control_period);
+  for (int u = 0; u < updates && !(p.end_on_flip && r.flipped); ++u) {
+    const auto strokes =
+        control.update(hoverSensors(world.state(name), p.imu_noise, rng), p.control_period);
     world.setWingCommands(name, wings, {strokes[0], strokes[1]});
     const double frequency = strokes[0].downstroke_rate / (4.0 * strokes[0].amplitude);
     for (int k = 0; k < steps; ++k) {
       world.step(1);
-      if (world.time() <= p.settle + 0.5 * p.world.step_size) continue;
       const Pose pose = world.rootPose(name);
-      const double z = pose.position.z();
-      r.min_height = std::min(r.min_height, z);
-      r.max_height = std::max(r.max_height, z);
-      r.min_upright = std::min(r.min_upright, (pose.orientation * Vec3::UnitZ()).z());
-      stroke_low = std::min(stroke_low, z);
-      stroke_high = std::max(stroke_high, z);
-      stroke_time += p.world.step_size;
-      if (stroke_time >= 1.0 / frequency) {
-        r.max_stroke_oscillation = std::max(r.max_stroke_oscillation, stroke_high - stroke_low);
-        stroke_low = std::numeric_limits<double>::infinity();
-        stroke_high = -stroke_low;
-        stroke_time = 0.0;
-      }
+      if ((pose.orientation * Vec3::UnitZ()).z() < 0.0) r.flipped = true;
+      if (world.time() <= p.settle + 0.5 * p.world.step_size) continue;
+      figures.add(pose, p.world.step_size, frequency);
     }
     if (world.time() <= p.settle + 0.5 * p.world.step_size) {
       settled = world.power(name);
@@ -79,9 +112,12 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   }
   const CreaturePower end = world.power(name);
   const double time = end.time - settled.time;
-  r.positive_power = (end.totalPositiveWork() - settled.totalPositiveWork()) / time;
-  r.net_power = (end.totalWork() - settled.totalWork()) / time;
+  r.positive_power =
+      time > 0.0 ? (end.totalPositiveWork() - settled.totalPositiveWork()) / time : 0.0;
+  r.net_power = time > 0.0 ? (end.totalWork() - settled.totalWork()) / time : 0.0;
   r.mean_frequency = counted > 0 ? frequency_sum / counted : 0.0;
+  r.altitude_rms = figures.samples > 0 ? std::sqrt(figures.squares / figures.samples)
+                                       : std::numeric_limits<double>::quiet_NaN();
   r.drift = world.rootPose(name).position - start.position;
   r.drift.z() = 0.0;
   return r;

@@ -1,0 +1,74 @@
+// Evolution of the hover controller (issue 24): the genome is the gain vector of
+// flapsim::HoverController (its trims and the gains of its height, attitude and position
+// loops: the weights of a linear controller, the paper's network without a hidden layer, its
+// outputs saturated), each gene a step from the hand-designed value; an episode is a flight
+// of the hover creature (flyHover) from a start drawn by episodeStarts (tilt, steady wind,
+// setpoint, step size, IMU noise); its fitness rewards holding the setpoint upright at low
+// mechanical power. evolve --preset hover runs it, in process or on the farm. ROS-free; no
+// clock.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "flapsim/evolve.h"
+#include "flapsim/hover_flight.h"
+
+namespace flapsim {
+
+/// A gene: field `name` of HoverControllerParams = its hand-designed value (the defaults) +
+/// gene x span, the gene in [-kHoverGeneRange, kHoverGeneRange].
+struct HoverGene {
+  const char* name;
+  double HoverControllerParams::*member;
+  double span;
+};
+/// The genes in genome order: trim_frequency (span half its value), amplitude and feather
+/// (0.3 of theirs), the height, attitude and position gains (their value: from 0 to twice).
+const std::vector<HoverGene>& hoverGenes();
+constexpr int kHoverGeneCount = 14;
+constexpr double kHoverGeneRange = 1.0;
+
+/// Empty if `genes` is a hover genome (kHoverGeneCount finite genes within
+/// +-kHoverGeneRange), else a message naming the culprit.
+std::string checkHoverGenes(const std::vector<double>& genes);
+/// The controller of a genome (checkHoverGenes first: InputError), holding `altitude`.
+HoverControllerParams hoverParamsFromGenes(const std::vector<double>& genes,
+                                           double altitude = HoverControllerParams().altitude);
+/// The genome of `params` (the inverse; genes may lie outside the range: checkHoverGenes).
+std::vector<double> hoverGenesFromParams(const HoverControllerParams& params);
+
+/// The fitness of a hover episode (m, to maximise): -(altitude rms after the settling time +
+/// kHoverPowerWeight x W/kg / 100 + kHoverTiltWeight x (kHoverMinUpright - lowest up-component
+/// after the settling time, if positive)), less the flip penalty after a flip; the rms and the
+/// power term capped at kHoverMaxTerm. The tilt penalty starts at 0.95, a margin above issue 24's
+/// upright (0.9).
+constexpr double kHoverPowerWeight = 0.5;  // m per 100 W/kg
+constexpr double kHoverTiltWeight = 10.0;  // m per unit of up-component below 0.9
+constexpr double kHoverMinUpright = 0.95;
+constexpr double kHoverMaxTerm = 10.0;
+double hoverEpisodeFitness(const HoverFlightResult& result, double flip_penalty);
+/// The largest |fitness| a hover episode can score.
+double hoverFitnessBound(const EpisodeParams& params);
+
+/// Empty if `params` suit hover episodes (beyond validateEpisodeParams), else why not: the
+/// settling time must be shorter than the duration.
+std::string validateHoverEpisodes(const EpisodeParams& params);
+
+/// One hover episode: flyHover of `controller` holding start.altitude (the controller's
+/// altitude without one), from params.start_height tilted start.roll and start.pitch, in the
+/// steady wind start.wind, at start.step_size (the world's if 0), with params.imu_noise
+/// (seeded with start.noise_seed), for params.duration, its figures after
+/// params.settle_time; a flip ends it.
+HoverFlightResult runHoverEpisode(const CreatureModelPtr& model,
+                                  const HoverControllerParams& controller,
+                                  const EpisodeParams& params, const EpisodeStart& start);
+
+/// evolve --preset hover: 16 individuals, 20 generations, the paper's GA operators but a
+/// mutation rate of 0.15, genes within +-1; 6 episodes of 12 s (figures after 4 s) at 1 ms
+/// from 3 m, each drawing its start roll (0-0.3 rad, sign alternating) and pitch (+-0.3 rad),
+/// a steady wind (0-1 m/s, any heading) and a setpoint (2.7-3.3 m); a flip ends an episode
+/// less 20 m.
+EvolveParams hoverPreset();
+
+}  // namespace flapsim

@@ -1,0 +1,80 @@
+#include "flapsim/hover_gains.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+#include "flapsim/text_file.h"
+
+namespace flapsim {
+
+namespace {
+
+void commentLines(std::ostringstream& out, const std::string& text) {
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
+}
+
+// The shortest decimal that reads back as `x`, bit for bit.
+std::string shortest(double x) {
+  char buf[32];
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+    if (std::strtod(buf, nullptr) == x) break;
+  }
+  return buf;
+}
+
+}  // namespace
+
+std::string hoverGainsToYaml(const HoverControllerParams& params, const std::string& header,
+                             const std::map<std::string, std::string>& metadata) {
+  std::ostringstream out;
+  commentLines(out, header);
+  for (const HoverParamField& f : hoverParamFields()) {
+    if (std::strcmp(f.name, "altitude") != 0)
+      out << f.name << ": " << shortest(params.*f.member) << "\n";
+  }
+  for (const auto& kv : metadata) commentLines(out, kv.first + ": " + kv.second);
+  return out.str();
+}
+
+HoverControllerParams hoverGainsFromYaml(const std::string& text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source + ": not YAML: " + e.what());
+  }
+  if (!root.IsMap()) throw InputError(source + ": not a map of hover controller gains");
+  HoverControllerParams p;
+  for (const auto& kv : root) {
+    const std::string key = kv.first.Scalar();
+    const HoverParamField* field = nullptr;
+    for (const HoverParamField& f : hoverParamFields()) {
+      if (key == f.name) field = &f;
+    }
+    if (field == nullptr) throw InputError(source + ": unknown key '" + key + "'");
+    double value = NAN;
+    try {
+      value = kv.second.as<double>();
+    } catch (const YAML::Exception&) {
+      throw InputError(source + ": '" + key + "' is not a number");
+    }
+    if (!std::isfinite(value)) throw InputError(source + ": '" + key + "' is not finite");
+    p.*field->member = value;
+  }
+  const std::string err = validateHoverControllerParams(p);
+  if (!err.empty()) throw InputError(source + ": " + err);
+  return p;
+}
+
+HoverControllerParams loadHoverGainsYaml(const std::string& path) {
+  return hoverGainsFromYaml(readTextFile(path, kMaxHoverGainsFileBytes), path);
+}
+
+}  // namespace flapsim

@@ -1,0 +1,147 @@
+// The hover controller's evolution (evolve --preset hover): its genome maps to the gains and
+// back, its episodes' fitness is a function of the genes alone (same bits on any thread count)
+// and ranks broken controllers below the hand-designed one, its gains file reads back bit for
+// bit, and bad input is refused by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flapsim/episode_evaluator.h"
+#include "flapsim/evolve_args.h"
+#include "flapsim/evolve_tool.h"
+#include "flapsim/hover_evolution.h"
+#include "flapsim/hover_gains.h"
+
+namespace flapsim {
+namespace {
+
+// Two short episodes of the hover preset.
+EvaluationSpec shortSpec() {
+  return evaluationSpecFromArgs(
+      {"--preset", "hover", "--episodes", "2", "--duration", "6", "--settle", "3", "--seed", "4"});
+}
+
+std::vector<double> geneSet(const std::string& name, double value) {
+  std::vector<double> genes(kHoverGeneCount, 0.0);
+  for (size_t i = 0; i < hoverGenes().size(); ++i) {
+    if (name == hoverGenes()[i].name) genes[i] = value;
+  }
+  return genes;
+}
+
+std::string message(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(HoverEvolution, ZeroGenesAreTheHandDesignedGainsAndTheMapIsInvertible) {
+  const HoverControllerParams hand;
+  const HoverControllerParams zero = hoverParamsFromGenes(std::vector<double>(kHoverGeneCount));
+  for (const HoverParamField& f : hoverParamFields()) EXPECT_EQ(zero.*f.member, hand.*f.member);
+  // A gene of -1 on a gain is a zero gain, +1 twice the hand-designed one.
+  EXPECT_EQ(hoverParamsFromGenes(geneSet("height_gain", -1.0)).height_gain, 0.0);
+  EXPECT_EQ(hoverParamsFromGenes(geneSet("roll_gain", 1.0)).roll_gain, 2.0 * hand.roll_gain);
+  EXPECT_EQ(hoverParamsFromGenes(geneSet("trim_frequency", -1.0)).trim_frequency,
+            0.5 * hand.trim_frequency);
+  const std::vector<double> genes = {0.5,  -0.25, 0.125, 1.0,    -1.0, 0.5, 0.75,
+                                     -0.5, 0.25,  0.0,   -0.125, 0.5,  1.0, -1.0};
+  const std::vector<double> back = hoverGenesFromParams(hoverParamsFromGenes(genes));
+  ASSERT_EQ(back.size(), genes.size());
+  for (size_t i = 0; i < genes.size(); ++i) EXPECT_NEAR(back[i], genes[i], 1e-15) << i;
+}
+
+TEST(HoverEvolution, FitnessIsTheSameBitsOnAnyThreadCountAndRanksBrokenGenomesBelowTheHandOne) {
+  const EvaluationSpec spec = shortSpec();
+  ASSERT_EQ(spec.kind, EvolveKind::kHover);
+  const EpisodeRunner runner(spec);
+  ASSERT_EQ(runner.weightCount(), kHoverGeneCount);
+  const std::vector<double> hand(kHoverGeneCount, 0.0);
+  std::vector<double> no_hold = geneSet("height_gain", -1.0);
+  no_hold[5] = -1.0;  // height_integral 0 too: nothing holds the setpoint
+  const std::vector<double> slow = geneSet("trim_frequency", -1.0);  // 7.25 Hz
+  std::vector<EpisodeTask> tasks;
+  for (const auto& g : {hand, no_hold, slow}) {
+    for (int k = 0; k < 2; ++k) tasks.push_back(EpisodeTask{g, k});
+  }
+  const std::vector<double> one = InProcessEvaluator(spec, 1).evaluate(tasks);
+  const std::vector<double> two = InProcessEvaluator(spec, 2).evaluate(tasks);
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(runner.evaluate(tasks[1]), one[1]);
+  const double f_hand = one[0] + one[1], f_no_hold = one[2] + one[3], f_slow = one[4] + one[5];
+  EXPECT_GT(f_hand, f_no_hold);
+  EXPECT_GT(f_hand, f_slow);
+  for (double f : one) EXPECT_LE(std::abs(f), fitnessBound(spec));
+}
+
+TEST(HoverEvolution, BadGenomesKindsAndFlagsAreRefusedByName) {
+  const EpisodeRunner runner(shortSpec());
+  EXPECT_EQ(runner.check({std::vector<double>(13, 0.0), 0}), "13 weights, the controller has 14");
+  EXPECT_EQ(runner.check({geneSet("roll_gain", NAN), 0}),
+            "gene 6 (roll_gain) is not a number in [-1, 1]");
+  EXPECT_EQ(runner.check({geneSet("feather", 1.5), 0}),
+            "gene 2 (feather) is not a number in [-1, 1]");
+  EXPECT_EQ(runner.check({std::vector<double>(14, 0.0), 2}), "episode 2 is not in [0, 2)");
+  EXPECT_THROW(runner.evaluate({geneSet("amplitude", INFINITY), 0}), TaskError);
+  EXPECT_EQ(message([] {
+              parseEvolveArgs({"--preset", "helicopter"});
+            }),
+            "--preset: 'helicopter' is not one of robust, paper, hover");
+  EXPECT_EQ(message([] {
+              parseEvolveArgs({"--preset", "hover", "--hidden", "4"});
+            }),
+            "--hidden: not a flag of --preset hover (the hover controller's gains)");
+  EXPECT_EQ(message([] {
+              evaluationSpecFromArgs({"--preset", "hover", "--pairs", "2"});
+            }),
+            "--pairs: not a flag of --preset hover (the hover controller's gains)");
+  EXPECT_EQ(message([] {
+              evaluationSpecFromArgs({"--preset", "hover", "--settle", "12"});
+            }),
+            "evolve: the hover episodes' settling time must be shorter than their "
+            "duration (--settle)");
+}
+
+// --init: the hand-designed gains file (config/hover_1_hand_gains.yaml, written by
+// flight_check --hover --write-gains) is the genome of zeros; a flap network's weights file is
+// refused by its key.
+TEST(HoverEvolution, InitSeedsFromAGainsFileAndRefusesAWeightsFile) {
+  const std::string dir = FLAPSIM_SOURCE_DIR;
+  std::optional<EvolveCheckpoint> resume;
+  const EvolveOptions o = resolveEvolveOptions(
+      {"--preset", "hover", "--init", dir + "/config/hover_1_hand_gains.yaml"}, 1, resume);
+  EXPECT_EQ(o.params.ga.initial_genes, std::vector<double>(kHoverGeneCount, 0.0));
+  EXPECT_EQ(o.weights_path, "evolve_out/gains.yaml");
+  EXPECT_EQ(message([&] {
+              resolveEvolveOptions(
+                  {"--preset", "hover", "--init", dir + "/config/afc_1_weights.yaml"}, 1, resume);
+            }),
+            dir + "/config/afc_1_weights.yaml: unknown key 'flap_unit_controller'");
+}
+
+TEST(HoverGains, AFileReadsBackBitForBitAndBadOnesAreRefusedByKey) {
+  HoverControllerParams p = hoverParamsFromGenes(
+      {0.1, -0.2, 0.3, -0.4, 0.5, -0.6, 0.7, -0.8, 0.9, -1.0, 0.11, 0.13, -0.17, 0.19});
+  const HoverControllerParams back = hoverGainsFromYaml(hoverGainsToYaml(p, "a header"), "f");
+  for (const HoverParamField& f : hoverParamFields()) EXPECT_EQ(back.*f.member, p.*f.member);
+  EXPECT_EQ(message([] { hoverGainsFromYaml("height_gain: 4\nheigth_gain: 3\n", "f.yaml"); }),
+            "f.yaml: unknown key 'heigth_gain'");
+  EXPECT_EQ(message([] { hoverGainsFromYaml("roll_gain: .nan\n", "f.yaml"); }),
+            "f.yaml: 'roll_gain' is not finite");
+  EXPECT_EQ(message([] { hoverGainsFromYaml("roll_gain: fast\n", "f.yaml"); }),
+            "f.yaml: 'roll_gain' is not a number");
+  EXPECT_EQ(message([] { hoverGainsFromYaml("trim_frequency: -2\n", "f.yaml"); }),
+            "f.yaml: trim_frequency must be > 0");
+  EXPECT_EQ(message([] { hoverGainsFromYaml("[1, 2]", "f.yaml"); }),
+            "f.yaml: not a map of hover controller gains");
+}
+
+}  // namespace
+}  // namespace flapsim
