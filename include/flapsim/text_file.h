@@ -16,4 +16,7 @@ void writeTextFile(const std::string& path, const std::string& text);
 /// SIGINT is seen. Throws InputError naming the path.
 std::string readTextFile(const std::string& path, std::size_t max_bytes);
 
+/// `text` as comment lines of a YAML or shell file: each line prefixed with "# ".
+std::string commentLines(const std::string& text);
+
 }  // namespace flapsim

@@ -9,14 +9,14 @@
 #include <stdexcept>
 
 #include "flapsim/cli_args.h"
+#include "flapsim/text_file.h"
 
 namespace flapsim {
 
 std::string controllerToYaml(const ControllerSpec& spec, const std::string& header,
                              const std::map<std::string, std::string>& metadata) {
   std::ostringstream out;
-  std::istringstream lines(header);
-  for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
+  out << commentLines(header);
   YAML::Emitter e;
   e.SetDoublePrecision(17);
   const FlapControllerParams& p = spec.params;

@@ -14,11 +14,6 @@ namespace flapsim {
 
 namespace {
 
-void commentLines(std::ostringstream& out, const std::string& text) {
-  std::istringstream lines(text);
-  for (std::string line; std::getline(lines, line);) out << "# " << line << "\n";
-}
-
 // The shortest decimal that reads back as `x`, bit for bit.
 std::string shortest(double x) {
   char buf[32];
@@ -34,12 +29,12 @@ std::string shortest(double x) {
 std::string hoverGainsToYaml(const HoverControllerParams& params, const std::string& header,
                              const std::map<std::string, std::string>& metadata) {
   std::ostringstream out;
-  commentLines(out, header);
+  out << commentLines(header);
   for (const HoverParamField& f : hoverParamFields()) {
     if (std::strcmp(f.name, "altitude") != 0)
       out << f.name << ": " << shortest(params.*f.member) << "\n";
   }
-  for (const auto& kv : metadata) commentLines(out, kv.first + ": " + kv.second);
+  for (const auto& kv : metadata) out << commentLines(kv.first + ": " + kv.second);
   return out.str();
 }
 

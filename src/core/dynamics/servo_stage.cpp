@@ -220,11 +220,9 @@ void ServoStage::addVelocityChange(btMultiBody& mb, bool update) const {
   if (!model_->fixed_base) {
     const Vec6& dv = solution_.root_velocity_change;
     mb.setBaseOmega(mb.getBaseOmega() + toBt(Vec3(dv.head<3>())));
-    if (update) {
-      mb.setBaseVel(mb.getBaseVel() + toBt(Vec3(dv.tail<3>() + base_bias_)));
-    } else {
-      mb.setBaseVel(mb.getBaseVel() + toBt(Vec3(dv.tail<3>())));
-    }
+    Vec3 linear = dv.tail<3>();
+    if (update) linear += base_bias_;  // the fused update's velocity products (solve())
+    mb.setBaseVel(mb.getBaseVel() + toBt(linear));
   }
 }
 

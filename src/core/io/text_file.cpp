@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdint>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 #include "flapsim/types.h"
@@ -52,6 +53,13 @@ std::string readTextFile(const std::string& path, std::size_t max_bytes) {
     }
   }
   return text;
+}
+
+std::string commentLines(const std::string& text) {
+  std::istringstream lines(text);
+  std::string out;
+  for (std::string line; std::getline(lines, line);) out += "# " + line + "\n";
+  return out;
 }
 
 }  // namespace flapsim
