@@ -108,7 +108,9 @@ void ServoWorld::leanStep(btScalar h) {
   colliders_behind_ = true;
   mb.substractSplitV();
   updateActivationState(h);
-  clearForces();
+  // clearForces() would clear the multibody's forces and torques again (leanVelocities cleared
+  // them once it had taken them, and nothing adds any after) and those of the non-static rigid
+  // bodies, which a lean world has none of.
 }
 
 // solveConstraints(): the unconstrained velocities, the servos, and the constraint solve
