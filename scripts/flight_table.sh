@@ -26,8 +26,8 @@ else
     conditions[i]="${conditions[i]%%|*}, hold $hold m|${conditions[i]#*|} --altitude $hold"
   done
 fi
-echo "| condition | step | passed | flips | lowest up | final height | mean abs bank | max drift | alt. rms after 10 s |"
-echo "|---|---|---|---|---|---|---|---|---|"
+echo "| condition | step | passed | flips | lowest up | lowest up after 10 s | final height | mean abs bank | max drift | alt. rms after 10 s |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
 for c in "${conditions[@]}"; do
   name=${c%%|*}
   flags=${c#*|}
@@ -39,14 +39,15 @@ for c in "${conditions[@]}"; do
         $1 ~ /^[0-9]+$/ && $2 != "of" {
           n++; if ($5 == "yes") flips++; if ($NF == "pass") passed++
           up = $6 + 0; if (n == 1 || up < minup) minup = up
+          us = $11 + 0; if (n == 1 || us < minset) minset = us
           z = $7 + 0; if (n == 1 || z < zlo) zlo = z; if (n == 1 || z > zhi) zhi = z
-          b = $12 + 0; bank += (b < 0 ? -b : b)
-          d = $11 + 0; if (d > drift) drift = d
+          b = $13 + 0; bank += (b < 0 ? -b : b)
+          d = $12 + 0; if (d > drift) drift = d
           if ($10 != "-") { r = $10 + 0; if (r > rms) rms = r; hold = 1 }
         }
         END {
-          printf "| %s | %g ms | %d/%d | %d | %.3f | %.1f to %.1f m | %.2f deg | %.1f m | %s |\n",
-            name, dt * 1000, passed, n, flips, minup, zlo, zhi, bank / n, drift,
+          printf "| %s | %g ms | %d/%d | %d | %.3f | %.3f | %.1f to %.1f m | %.2f deg | %.1f m | %s |\n",
+            name, dt * 1000, passed, n, flips, minup, minset, zlo, zhi, bank / n, drift,
             hold ? sprintf("max %.2f m", rms) : "-"
         }'
   done

@@ -87,6 +87,12 @@ TEST(FlapUnitController, MapsOutputsIntoTheRateRangeRightFirst) {
   EXPECT_DOUBLE_EQ(cmd.right.downstroke_rate, 45.0);
   EXPECT_DOUBLE_EQ(cmd.left.upstroke_rate, 12.0);
   EXPECT_DOUBLE_EQ(cmd.right.amplitude, 0.7);
+  EXPECT_EQ(cmd.left.offset, 0.0);
+  p.stroke_offset = 0.25;  // both wings' strokes about the raised mean angle
+  const WingPairCommand raised =
+      FlapUnitController(p, std::vector<double>(12, 0.0)).command(Quat());
+  EXPECT_EQ(raised.left.offset, 0.25);
+  EXPECT_EQ(raised.right.offset, 0.25);
   EXPECT_EQ(FlapUnitController::weightCount(p), 12);
   p.hidden = 3;
   EXPECT_EQ(FlapUnitController::weightCount(p), 3 * 3 + 2 * 4);
@@ -185,6 +191,9 @@ TEST(FlapUnitController, BadParamsAreRefused) {
   p = FlapControllerParams();
   p.amplitude = 0.0;
   EXPECT_FALSE(validateFlapControllerParams(p).empty());
+  p = FlapControllerParams();
+  p.stroke_offset = std::nan("");
+  EXPECT_NE(validateFlapControllerParams(p).find("stroke_offset"), std::string::npos);
   EXPECT_THROW(FlapUnitController(FlapControllerParams(), {1.0, 2.0}), std::invalid_argument);
 }
 
@@ -226,6 +235,7 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   spec.params.pitch_gain = 0.1 + 0.2;
   spec.params.pitch_limit = 0.25;
   spec.params.pitch_max_downstroke_rate = 70.0;
+  spec.params.stroke_offset = 0.25;
   spec.weights = kWeights;
   spec.weights[0] = 0.1 + 0.2;  // not exactly representable in short decimal
   const std::string text = controllerToYaml(spec, "line one\nline two", {{"seed", "7"}});
@@ -238,6 +248,7 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_EQ(back.params.pitch_gain, 0.1 + 0.2);
   EXPECT_EQ(back.params.pitch_limit, 0.25);
   EXPECT_EQ(back.params.pitch_max_downstroke_rate, 70.0);
+  EXPECT_EQ(back.params.stroke_offset, 0.25);
 
   try {
     controllerFromYaml("flap_unit_controller: {hidden: 2, weights: [1, 2, 3]}", "short.yaml");

@@ -135,6 +135,17 @@ TEST(Episodes, FitnessIsTheMeanSampledHeight) {
   EXPECT_NEAR(r.trace.front().height, 1.0, 0.15);
   // Rolled by 0.05 rad at the start: the root's z axis is tilted by that much.
   EXPECT_NEAR(r.trace.front().upright, std::cos(0.05), 0.01);
+  // The lowest up-component over all samples, and over those after settle_time only.
+  double lowest = 1.0, lowest_settled = 1.0;
+  p.settle_time = 0.5;
+  const EpisodeResult q = runEpisode(creature(1), open, 0.02, p, attitudeStart(0.05, 0.0), true);
+  for (const auto& s : q.trace) {
+    lowest = std::min(lowest, s.upright);
+    if (s.time > 0.5 + 1e-9) lowest_settled = std::min(lowest_settled, s.upright);
+  }
+  EXPECT_EQ(q.min_upright, lowest);
+  EXPECT_EQ(q.min_upright_settled, lowest_settled);
+  EXPECT_NE(lowest, lowest_settled);  // the two windows differ in this flight
 }
 
 TEST(Episodes, BadSetupsAreRefused) {

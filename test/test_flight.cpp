@@ -246,5 +246,32 @@ TEST(Feathering, RaisesNetLift) {
   EXPECT_GT(last, 1.3 * anchoredImpulse(0.0));
 }
 
+// Dihedral: the afc unit, weightless, stroking evenly about a raised or lowered mean angle in
+// a 1 m/s wind from its right (air moving towards +y). The side wind pushes a raised
+// windward wing up and the leeward one down, so raised strokes bank the unit away from the
+// wind (left wing low: bank < 0); lowered strokes are an anhedral and bank it into the wind;
+// a mirrored wind mirrors the bank. The bank: asin of the body's left axis' height (after 1 s:
+// -0.19 rad raised by 0.4 rad, 0.36 level, 0.38 lowered by 0.4 rad).
+double sideWindBank(double offset, double wind_y) {
+  WorldParams p = weightless();
+  p.air.wind = Vec3(0.0, wind_y, 0.0);
+  World w(p);
+  w.spawn("u", loadUrdf("afc_1.urdf"), at(0, 0, 0));
+  const StrokeCommand stroke{33, 10, 0.9, 0.0, 0.0, offset};
+  w.setWingCommands("u", {}, {stroke, stroke});
+  w.step(static_cast<int>(1.0 / p.step_size));
+  return std::asin((w.rootPose("u").orientation * Vec3::UnitY()).z());
+}
+
+TEST(SideWind, RaisedStrokesBankAwayFromItLoweredOnesInto) {
+  const double raised = sideWindBank(0.4, 1.0), level = sideWindBank(0.0, 1.0),
+               lowered = sideWindBank(-0.4, 1.0);
+  EXPECT_LT(raised, 0.0);
+  EXPECT_GT(lowered, 0.0);
+  EXPECT_LT(raised, level);  // level strokes bank into it too (0.36 rad after 1 s)
+  EXPECT_NEAR(sideWindBank(0.4, -1.0), -raised, 1e-6);
+  EXPECT_NEAR(sideWindBank(-0.4, -1.0), -lowered, 1e-6);
+}
+
 }  // namespace
 }  // namespace flapsim

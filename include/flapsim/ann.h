@@ -89,7 +89,12 @@ struct FlapControllerParams {
   double max_downstroke_rate = 60.0;  // rad/s
   double upstroke_rate = 10.0;        // rad/s
   double amplitude = 1.2;             // rad (at 0.8 the unit rolls over within ~2 s)
-  double control_period = 0.02;       // s between network updates
+  /// Stroke offset (an extension; 0 is the paper's): both wings' stroke turns at
+  /// stroke_offset -+ amplitude (rad; > 0 raises it). Raised strokes are a dihedral: air from
+  /// the side pushes the windward wing up and the leeward one down, which rolls the unit away
+  /// from a side wind instead of into it (README, flight in real air).
+  double stroke_offset = 0.0;
+  double control_period = 0.02;  // s between network updates
   /// Phase lock (an extension of the paper's controller): each wing's upstroke rate follows
   /// its downstroke rate so that its stroke period stays that of the middle downstroke rate
   /// with upstroke_rate, 2 theta0 (1/w1 + 1/w2). Without it a wing beating faster than the

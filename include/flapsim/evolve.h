@@ -150,7 +150,8 @@ struct EpisodeResult {
   double min_height = 0.0;
   double final_height = 0.0;  // at t = T
   double max_height = 0.0;
-  double min_upright = 1.0;  // over all samples
+  double min_upright = 1.0;          // over all samples
+  double min_upright_settled = 1.0;  // over the samples after settle_time
   double final_upright = 1.0;
   double upright_fraction = 0.0;  // of the samples with the up axis within 60 deg of vertical
   /// m: rms of height - setpoint over the samples after settle_time (NaN without a setpoint

@@ -131,6 +131,9 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
     return "upstroke_rate must be finite and >= 0";
   }
   if (!std::isfinite(p.amplitude) || p.amplitude <= 0.0) return "amplitude must be > 0";
+  if (!(std::abs(p.stroke_offset) <= kMaxStrokeAmplitude)) {
+    return "stroke_offset must be finite and within +-1000 rad";
+  }
   if (!(p.control_period >= kMinControlPeriod && p.control_period <= kMaxControlPeriod)) {
     return "control_period must be in [0.001, 10] s";
   }
@@ -258,6 +261,7 @@ WingPairCommand FlapUnitController::command(const Quat& body, const Vec3& rate,
   WingPairCommand c;
   c.right = StrokeCommand{r[0], upstrokeRate(params_, r[0]), params_.amplitude};
   c.left = StrokeCommand{r[1], upstrokeRate(params_, r[1]), params_.amplitude};
+  c.right.offset = c.left.offset = params_.stroke_offset;
   return c;
 }
 

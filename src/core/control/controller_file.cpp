@@ -35,6 +35,7 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   e << YAML::Key << "max_downstroke_rate" << YAML::Value << p.max_downstroke_rate;
   e << YAML::Key << "upstroke_rate" << YAML::Value << p.upstroke_rate;
   e << YAML::Key << "amplitude" << YAML::Value << p.amplitude;
+  if (p.stroke_offset != 0.0) e << YAML::Key << "stroke_offset" << YAML::Value << p.stroke_offset;
   e << YAML::Key << "control_period" << YAML::Value << p.control_period;
   e << YAML::Key << "phase_lock" << YAML::Value << p.phase_lock;
   e << YAML::Key << "pitch_gain" << YAML::Value << p.pitch_gain;
@@ -70,6 +71,7 @@ const std::vector<std::string> kKeys = {"network",
                                         "max_downstroke_rate",
                                         "upstroke_rate",
                                         "amplitude",
+                                        "stroke_offset",
                                         "control_period",
                                         "phase_lock",
                                         "pitch_gain",
@@ -130,6 +132,7 @@ ControllerSpec readController(const YAML::Node& c,
   get("max_downstroke_rate", p.max_downstroke_rate);
   get("upstroke_rate", p.upstroke_rate);
   get("amplitude", p.amplitude);
+  get("stroke_offset", p.stroke_offset);
   get("control_period", p.control_period);
   get("phase_lock", p.phase_lock);
   get("pitch_gain", p.pitch_gain);

@@ -230,9 +230,11 @@ double addSample(EpisodeResult& r, Tally& tally, const EpisodeParams& p, const E
   if (up >= 0.5) r.upright_fraction += 1.0;
   tally.bank += std::asin(std::clamp(axes(2, 1), -1.0, 1.0));
   ++tally.samples;
+  const bool settled = t > p.settle_time + 1e-9;
+  if (settled) r.min_upright_settled = std::min(r.min_upright_settled, up);
   if (!start.altitude) return z;
   const double error = z - *start.altitude;
-  if (t > p.settle_time + 1e-9) {
+  if (settled) {
     tally.altitude_sq += error * error;
     ++tally.settled;
   }

@@ -55,6 +55,9 @@ void specFlags(CliParser& t, EvolveOptions& o) {
       .real("--amplitude", "A", &c.amplitude, {0, kMaxStrokeAmplitude, true},
             "stroke amplitude, rad")
       .tag(kSpec)
+      .real("--stroke-offset", "A", &c.stroke_offset, {-kMaxStrokeAmplitude, kMaxStrokeAmplitude},
+            "the strokes' mean angle, rad (> 0: raised, a dihedral)")
+      .tag(kSpec)
       .real("--control-period", "P", &c.control_period, {kMinControlPeriod, kMaxControlPeriod},
             "network update period, s")
       .tag(kSpec);
@@ -267,15 +270,15 @@ EvolveParams presetParams(const std::string& preset) {
 // The flags that mean nothing to the hover controller's evolution (the flap network's, the
 // flap units' and their disturbances'): --preset hover refuses them by name.
 const std::vector<std::string> kNotHoverFlags = {
-    "--pairs",           "--min-rate",         "--max-rate",
-    "--upstroke-rate",   "--amplitude",        "--control-period",
-    "--network",         "--hidden",           "--rate-inputs",
-    "--altitude-input",  "--com-drop",         "--phase-lock",
-    "--pitch-gain",      "--gene-range",       "--link-axis",
-    "--link-stiffness",  "--start-rate",       "--gust",
-    "--gust-torque",     "--gust-torque-time", "--gust-force",
-    "--gust-force-time", "--gust-link",        "--altitude-noise",
-    "--altitude-hold"};
+    "--pairs",          "--min-rate",        "--max-rate",
+    "--upstroke-rate",  "--amplitude",       "--stroke-offset",
+    "--control-period", "--network",         "--hidden",
+    "--rate-inputs",    "--altitude-input",  "--com-drop",
+    "--phase-lock",     "--pitch-gain",      "--gene-range",
+    "--link-axis",      "--link-stiffness",  "--start-rate",
+    "--gust",           "--gust-torque",     "--gust-torque-time",
+    "--gust-force",     "--gust-force-time", "--gust-link",
+    "--altitude-noise", "--altitude-hold"};
 
 void checkHoverFlags(const std::vector<CliSeen>& seen) {
   for (const CliSeen& s : seen) {

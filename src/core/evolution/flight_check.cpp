@@ -104,9 +104,9 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
   constexpr double kDeg = 180.0 / M_PI;
   char line[400];
   std::snprintf(line, sizeof line,
-                "%-5s %7s %7s %9s %7s %6s %8s %8s %7s %8s %8s %7s %8s %9s %8s %6s\n", "start",
+                "%-5s %7s %7s %9s %7s %6s %8s %8s %7s %8s %6s %8s %7s %8s %9s %8s %6s\n", "start",
                 "roll", "pitch", "wind", "flipped", "min_up", "final_z", "min_z", "upright",
-                "alt_rms", "drift", "bank", "P+", "P+/m", "P_net", "result");
+                "alt_rms", "up_set", "drift", "bank", "P+", "P+/m", "P_net", "result");
   std::string out = line;
   failed = 0;
   for (size_t i = 0; i < runs.size(); ++i) {
@@ -121,11 +121,11 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
     char rms[16] = "-";
     if (std::isfinite(r.altitude_rms)) std::snprintf(rms, sizeof rms, "%.3fm", r.altitude_rms);
     std::snprintf(line, sizeof line,
-                  "%-5zu %6.1f° %6.1f° %9s %7s %6.3f %7.2fm %7.2fm %6.1f%% %8s %7.2fm %6.2f° "
-                  "%7.2fW %5.0fW/kg %7.2fW %6s\n",
+                  "%-5zu %6.1f° %6.1f° %9s %7s %6.3f %7.2fm %7.2fm %6.1f%% %8s %6.3f %7.2fm "
+                  "%6.2f° %7.2fW %5.0fW/kg %7.2fW %6s\n",
                   i, r.start.roll * kDeg, r.start.pitch * kDeg, wind, r.flipped ? "yes" : "no",
                   r.min_upright, r.final_height, r.min_height, 100.0 * r.upright_fraction, rms,
-                  r.lateral_drift, r.mean_bank * kDeg, r.positive_power,
+                  r.min_upright_settled, r.lateral_drift, r.mean_bank * kDeg, r.positive_power,
                   r.mass > 0.0 ? r.positive_power / r.mass : 0.0, r.net_power,
                   ok ? "pass" : "FAIL");
     out += line;
