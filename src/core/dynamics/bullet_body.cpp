@@ -323,7 +323,7 @@ std::string BulletBody::motionFault(double max_speed) const {
       return msg.str();
     }
   }
-  return "";
+  return {};  // no fault (an empty string without copying a literal)
 }
 
 }  // namespace flapsim

@@ -5,6 +5,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyMLCPConstraintSolver.h>
 
 #include <atomic>
+#include <typeinfo>
 
 #include "dynamics/joint_limit.h"
 
@@ -75,8 +76,12 @@ bool ServoWorld::leanCapable(btScalar h) const {
 
 bool ServoWorld::constraintsMayAct(btScalar h) const {
   for (int i = 0; i < m_multiBodyConstraints.size(); ++i) {
-    const auto* limits = dynamic_cast<const JointLimits*>(m_multiBodyConstraints[i]);
-    if (!limits || limits->mayAct(h)) return true;
+    // The exact type, not a dynamic_cast (a walk of the class hierarchy every step): anything
+    // else, a class derived from JointLimits included, may act.
+    const btMultiBodyConstraint* c = m_multiBodyConstraints[i];
+    if (typeid(*c) != typeid(JointLimits) || static_cast<const JointLimits*>(c)->mayAct(h)) {
+      return true;
+    }
   }
   return false;
 }
@@ -103,7 +108,9 @@ void ServoWorld::leanStep(btScalar h) {
   colliders_behind_ = true;
   mb.substractSplitV();
   updateActivationState(h);
-  clearForces();
+  // clearForces() would clear the multibody's forces and torques again (leanVelocities cleared
+  // them once it had taken them, and nothing adds any after) and those of the non-static rigid
+  // bodies, which a lean world has none of.
 }
 
 // solveConstraints(): the unconstrained velocities, the servos, and the constraint solve

@@ -4,8 +4,21 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace flapsim {
+
+namespace {
+
+// v.assign(n, x) for a vector that keeps its size from one solve to the next: a resize (a
+// compare when the size is the same) and a fill, inline, instead of a call per vector.
+template <class T>
+void refill(std::vector<T>& v, size_t n, T x) {
+  v.resize(n);
+  std::fill(v.begin(), v.end(), x);
+}
+
+}  // namespace
 
 Vec6 motionSubspace(const ServoLink& link) {
   Vec6 s = Vec6::Zero();
@@ -73,8 +86,8 @@ int JointServoSolver::prepare(const std::vector<ServoLink>& links,
   const size_t n = links.size();
   const bool given = tree.inertia && tree.subspace;
   status_.resize(n);
-  tau_.assign(n, 0.0);
-  side_.assign(n, 0);
+  refill(tau_, n, 0.0);
+  refill<signed char>(side_, n, 0);
   body_inertia_.resize(n);
   const bool extra = !loads.extra_inertia.empty();
   // Given inertias are read where they are, unless loads add to every link's.
@@ -87,8 +100,8 @@ int JointServoSolver::prepare(const std::vector<ServoLink>& links,
   dv_.resize(n);
   d_.resize(n);
   u_.resize(n);
-  out.impulse.assign(n, 0.0);
-  out.velocity_change.assign(n, 0.0);
+  refill(out.impulse, n, 0.0);
+  refill(out.velocity_change, n, 0.0);
   out.saturated.assign(n, false);
   out.passes = 0;
   update_ = given && tree.bias;

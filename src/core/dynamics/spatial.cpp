@@ -25,34 +25,50 @@ Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia) {
 }
 
 Vec6 solveSymmetric(const Mat6& a, const Vec6& b) {
-  // a = L L^T, column by column as Eigen's LLT; the diagonal kept as its inverse.
+  // a = L D L^T (L unit lower triangular), column by column, without square roots: the
+  // dependent chain from one column to the next is a division and a product instead of a
+  // square root, a division and a product. The diagonal is kept as its inverse, and
+  // w[j][k] = l[j][k] d[k] once per row.
   double l[6][6];
+  double w[6][6];
+  double d[6];
   double inv[6];
 #pragma GCC unroll 6
   for (int j = 0; j < 6; ++j) {
-    double d = a(j, j);
-    for (int k = 0; k < j; ++k) d -= l[j][k] * l[j][k];
-    inv[j] = 1.0 / std::sqrt(d);
+    double dj = a(j, j);
+#pragma GCC unroll 6
+    for (int k = 0; k < j; ++k) {
+      w[j][k] = l[j][k] * d[k];
+      dj -= l[j][k] * w[j][k];
+    }
+    d[j] = dj;
+    inv[j] = 1.0 / dj;
+#pragma GCC unroll 6
     for (int i = j + 1; i < 6; ++i) {
       double s = a(i, j);
-      for (int k = 0; k < j; ++k) s -= l[i][k] * l[j][k];
+#pragma GCC unroll 6
+      for (int k = 0; k < j; ++k) s -= l[i][k] * w[j][k];
       l[i][j] = s * inv[j];
     }
   }
-  Vec6 x;
+  double x[6];
 #pragma GCC unroll 6
   for (int i = 0; i < 6; ++i) {  // L y = b
     double s = b[i];
+#pragma GCC unroll 6
     for (int k = 0; k < i; ++k) s -= l[i][k] * x[k];
-    x[i] = s * inv[i];
+    x[i] = s;
   }
 #pragma GCC unroll 6
-  for (int i = 5; i >= 0; --i) {  // L^T x = y
-    double s = x[i];
+  for (int i = 5; i >= 0; --i) {  // D L^T x = y
+    double s = x[i] * inv[i];
+#pragma GCC unroll 6
     for (int k = i + 1; k < 6; ++k) s -= l[k][i] * x[k];
-    x[i] = s * inv[i];
+    x[i] = s;
   }
-  return x;
+  Vec6 out;
+  out << x[0], x[1], x[2], x[3], x[4], x[5];
+  return out;
 }
 
 void addNormalWeight(Mat6& out, const Vec3& a, const Vec3& n, double w) {

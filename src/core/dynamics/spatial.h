@@ -24,8 +24,8 @@ Mat3 skew(const Vec3& v);
 /// Spatial inertia about the frame origin, for velocities [angular; linear at origin].
 Mat6 spatialInertia(double mass, const Vec3& com, const Mat3& inertia);
 /// Solves a x = b for a symmetric positive definite `a` (its lower triangle is read) by
-/// Cholesky: a.llt().solve(b) up to rounding, unrolled for the 6x6 case (about a third of
-/// the instructions).
+/// a square-root-free Cholesky (L D L^T, no pivoting): a.ldlt().solve(b) up to rounding,
+/// unrolled for the 6x6 case.
 Vec6 solveSymmetric(const Mat6& a, const Vec6& b);
 
 /// Adds w f f^T for the spatial force f = [a; n] (a = r x n) to `out`.
