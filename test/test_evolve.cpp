@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "flapsim/evolve.h"
+#include "flapsim/evolve_tool.h"
 #include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
 
@@ -472,6 +473,33 @@ TEST(Episodes, GustsActFromTheirDrawnTimeOn) {
       ASSERT_EQ(r.trace[i].upright, still.trace[i].upright) << i;
     }
     EXPECT_NE(r.trace[first].upright, still.trace[first].upright) << (torque ? "torque" : "push");
+  }
+}
+
+// evolve --init FILE: the file's weights seed generation 0 if it was flown with the
+// evolution's stroke settings; a file flown otherwise (config/afc_1_altitude_weights.yaml: a
+// raised stroke, a 65 rad/s cap) is refused by its key, naming the flag that would match it.
+TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
+  const std::string file = std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_altitude_weights.yaml";
+  const ControllerSpec spec = loadControllerYaml(file);
+  std::optional<EvolveCheckpoint> resume;
+  const std::vector<std::string> matching = {"--init",          file, "--max-rate", "65",
+                                             "--stroke-offset", "0.1"};
+  EXPECT_EQ(resolveEvolveOptions(matching, 1, resume).params.ga.initial_genes, spec.weights);
+  try {
+    resolveEvolveOptions({"--init", file, "--max-rate", "65"}, 1, resume);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--init: " + file +
+                                         ": its stroke_offset is 0.1, the evolution's 0 (give "
+                                         "--stroke-offset 0.1)");
+  }
+  try {
+    resolveEvolveOptions({"--init", file}, 1, resume);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("max_downstroke_rate is 65"), std::string::npos)
+        << e.what();
   }
 }
 

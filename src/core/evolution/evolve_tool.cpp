@@ -47,6 +47,29 @@ void seedFromWeightsFile(EvolveOptions& o) {
                      " weights, not the evolution's " + toString(want.network) + " network of " +
                      std::to_string(FlapUnitController::weightCount(want)));
   }
+  // The stroke settings the weights were flown with, each an evolve flag: a file flown
+  // otherwise would seed an evolution of a different controller, silently.
+  struct Setting {
+    const char* key;
+    const char* flag;
+    double file, evolution;
+  };
+  for (const Setting& s :
+       {Setting{"min_downstroke_rate", "--min-rate", got.min_downstroke_rate,
+                want.min_downstroke_rate},
+        Setting{"max_downstroke_rate", "--max-rate", got.max_downstroke_rate,
+                want.max_downstroke_rate},
+        Setting{"upstroke_rate", "--upstroke-rate", got.upstroke_rate, want.upstroke_rate},
+        Setting{"amplitude", "--amplitude", got.amplitude, want.amplitude},
+        Setting{"stroke_offset", "--stroke-offset", got.stroke_offset, want.stroke_offset},
+        Setting{"control_period", "--control-period", got.control_period, want.control_period}}) {
+    if (s.file != s.evolution) {
+      std::ostringstream m;
+      m << "--init: " << o.init_path << ": its " << s.key << " is " << s.file
+        << ", the evolution's " << s.evolution << " (give " << s.flag << " " << s.file << ")";
+      throw InputError(m.str());
+    }
+  }
   o.params.ga.initial_genes = init.weights;
   const std::string err = validateGaParams(o.params.ga);
   if (!err.empty()) throw InputError("--init: " + o.init_path + ": " + err + " (--gene-range)");
