@@ -1,6 +1,6 @@
 #!/bin/bash
-# Episodes per second of one robust-preset generation (16 individuals x 8 episodes of
-# 15 s) in process on 1 and 2 threads and through the episode farm with 1 and 2
+# Episodes per second of one robust-preset generation (16 individuals x 8 episodes of the
+# preset's length) in process on 1 and 2 threads and through the episode farm with 1 and 2
 # one-thread workers, on a master of its own; checks that all four wrote the same
 # fitness.csv. Prints figures; never passes or fails on time.
 #   bash bench/farm_bench.sh [build/devel/lib/flapsim]
