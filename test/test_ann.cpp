@@ -175,6 +175,59 @@ TEST(WingControllers, ChainPitchTermSlowsTheNoseAndSpeedsTheTailWhileTheNoseIsUp
   EXPECT_DOUBLE_EQ(capped[2].downstroke_rate, 30.0);
 }
 
+// The roll reflex: banked beyond roll_reflex_bank and still rolling over faster than
+// roll_reflex_rate (body gyro), the low wing beats fast down / slow up, the high wing slow
+// down / fast up; otherwise, and with the reflex off, the command stays the network's.
+TEST(RollReflex, ActsOnlyWhileBankedAndRollingFurtherOverAndMirrors) {
+  FlapControllerParams p;
+  p.roll_reflex_bank = 0.4;
+  p.roll_reflex_rate = 5.0;
+  p.roll_reflex_fast_rate = 65.0;
+  p.roll_reflex_slow_rate = 40.0;
+  const WingPairCommand net{StrokeCommand{30, 10, 1.2}, StrokeCommand{31, 11, 1.2}};
+  auto reflex = [&](double bank, double roll_rate, const FlapControllerParams& params,
+                    WingPairCommand& c) {
+    c = net;
+    return applyRollReflex(params, Quat(Eigen::AngleAxisd(bank, Vec3::UnitX())),
+                           Vec3(roll_rate, 0.3, -0.2), c);
+  };
+  WingPairCommand c;
+  // right wing low (bank > 0), rolling further right: the right wing is the low one
+  ASSERT_TRUE(reflex(0.45, 6.0, p, c));
+  EXPECT_EQ(c.right.downstroke_rate, 65.0);
+  EXPECT_EQ(c.right.upstroke_rate, 40.0);
+  EXPECT_EQ(c.left.downstroke_rate, 40.0);
+  EXPECT_EQ(c.left.upstroke_rate, 65.0);
+  EXPECT_EQ(c.left.amplitude, 1.2);  // only the rates change
+  // the mirror image: left wing low, rolling further left
+  ASSERT_TRUE(reflex(-0.45, -6.0, p, c));
+  EXPECT_EQ(c.left.downstroke_rate, 65.0);
+  EXPECT_EQ(c.left.upstroke_rate, 40.0);
+  EXPECT_EQ(c.right.downstroke_rate, 40.0);
+  EXPECT_EQ(c.right.upstroke_rate, 65.0);
+  // banked but rolling back, or over more slowly than the gate, or banked less: the network's
+  for (const auto& [bank, rate] : {std::pair<double, double>{0.45, -6.0},
+                                   {0.45, 4.9},
+                                   {0.35, 6.0},
+                                   {-0.45, 6.0},
+                                   {-0.35, -6.0}}) {
+    EXPECT_FALSE(reflex(bank, rate, p, c)) << bank << " rad, " << rate << " rad/s";
+    EXPECT_EQ(c.right.downstroke_rate, 31.0);
+    EXPECT_EQ(c.left.upstroke_rate, 10.0);
+  }
+  FlapControllerParams off = p;
+  off.roll_reflex_bank = 0.0;
+  EXPECT_FALSE(reflex(1.2, 50.0, off, c));
+  // through the wing controller, per unit
+  const AnnWingController ann(FlapUnitController(p, std::vector<double>(12, 0.0)));
+  FlapSensing sensed({Quat::Identity(), Quat(Eigen::AngleAxisd(0.5, Vec3::UnitX()))});
+  sensed.rates[1] = Vec3(8.0, 0.0, 0.0);
+  const std::vector<StrokeCommand> cmds = ann.commands(sensed);
+  EXPECT_EQ(cmds[0].downstroke_rate, cmds[1].downstroke_rate);  // unit 0 level: the network's
+  EXPECT_EQ(cmds[3].downstroke_rate, 65.0);                     // unit 1: right wing low
+  EXPECT_EQ(cmds[2].upstroke_rate, 65.0);
+}
+
 TEST(FlapUnitController, BadParamsAreRefused) {
   FlapControllerParams p;
   p.max_downstroke_rate = p.min_downstroke_rate - 1.0;
@@ -194,6 +247,15 @@ TEST(FlapUnitController, BadParamsAreRefused) {
   p = FlapControllerParams();
   p.stroke_offset = std::nan("");
   EXPECT_NE(validateFlapControllerParams(p).find("stroke_offset"), std::string::npos);
+  p = FlapControllerParams();
+  p.roll_reflex_bank = M_PI / 2;
+  EXPECT_NE(validateFlapControllerParams(p).find("roll_reflex_bank"), std::string::npos);
+  p = FlapControllerParams();
+  p.roll_reflex_rate = std::nan("");
+  EXPECT_NE(validateFlapControllerParams(p).find("roll_reflex_rate"), std::string::npos);
+  p = FlapControllerParams();
+  p.roll_reflex_slow_rate = 0.0;
+  EXPECT_NE(validateFlapControllerParams(p).find("roll_reflex_slow_rate"), std::string::npos);
   EXPECT_THROW(FlapUnitController(FlapControllerParams(), {1.0, 2.0}), std::invalid_argument);
 }
 
@@ -236,6 +298,10 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   spec.params.pitch_limit = 0.25;
   spec.params.pitch_max_downstroke_rate = 70.0;
   spec.params.stroke_offset = 0.25;
+  spec.params.roll_reflex_bank = 0.3;
+  spec.params.roll_reflex_rate = 0.1 + 0.2;
+  spec.params.roll_reflex_fast_rate = 70.0;
+  spec.params.roll_reflex_slow_rate = 35.0;
   spec.weights = kWeights;
   spec.weights[0] = 0.1 + 0.2;  // not exactly representable in short decimal
   const std::string text = controllerToYaml(spec, "line one\nline two", {{"seed", "7"}});
@@ -249,6 +315,13 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_EQ(back.params.pitch_limit, 0.25);
   EXPECT_EQ(back.params.pitch_max_downstroke_rate, 70.0);
   EXPECT_EQ(back.params.stroke_offset, 0.25);
+  EXPECT_EQ(back.params.roll_reflex_bank, 0.3);
+  EXPECT_EQ(back.params.roll_reflex_rate, 0.1 + 0.2);
+  EXPECT_EQ(back.params.roll_reflex_fast_rate, 70.0);
+  EXPECT_EQ(back.params.roll_reflex_slow_rate, 35.0);
+  // without the reflex its keys are not written
+  EXPECT_EQ(controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights}).find("roll_reflex"),
+            std::string::npos);
 
   try {
     controllerFromYaml("flap_unit_controller: {hidden: 2, weights: [1, 2, 3]}", "short.yaml");

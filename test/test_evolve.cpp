@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <utility>
 #include <vector>
@@ -442,6 +443,37 @@ TEST(EvolvedController, RollJointsFlyASixUnitChainWherePitchJointsFail) {
   EXPECT_EQ(roll, 8);
 }
 
+// A 1 N push on a wing for 0.2 s (4.4 times the unit's weight, about 0.2 N m of roll) flips
+// the altitude controller's unit in most of flight_check's 20 held-out starts when its network
+// flies alone: the network steers only the downstroke rates, its upstrokes stay near 10 rad/s.
+// With the roll reflex (config/afc_1_altitude_weights.yaml: fast upstrokes on the high wing,
+// fast downstrokes on the low one while the unit rolls over) one does at most. 30 s flights
+// (the push at 3-18 s), 1 ms: 13 flips without, 1 with (60 s flights: 11 and 0).
+TEST(EvolvedController, TheRollReflexCutsTheFlipsOfAWingPushFromMostStartsToOneAtMost) {
+  ControllerSpec spec =
+      loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_altitude_weights.yaml");
+  ASSERT_GT(spec.params.roll_reflex_bank, 0.0);
+  FlightCheckParams p;
+  p.starts = 20;
+  p.max_roll = p.max_pitch = 0.52;
+  p.duration = 30.0;
+  p.gust_force = 1.0;
+  p.gust_time = 0.2;
+  p.threads = 2;
+  auto flips = [&](const ControllerSpec& c) {
+    const std::vector<FlightCheckRun> runs = flightCheck(creature(1), c, p);
+    return std::count_if(runs.begin(), runs.end(),
+                         [](const FlightCheckRun& r) { return r.flipped; });
+  };
+  const long with_reflex = flips(spec);
+  spec.params.roll_reflex_bank = 0.0;
+  const long net_alone = flips(spec);
+  std::printf("1 N wing push, 20 starts: %ld flips with the roll reflex, %ld without\n",
+              with_reflex, net_alone);
+  EXPECT_LE(with_reflex, 1);
+  EXPECT_GE(net_alone, 10);
+}
+
 // A gust acts from its drawn time on: the flight is the still one, bit for bit, up to the
 // sample it starts at, and another after it (the roll torque of 0.05 N m for 0.5 s, and the
 // 1 N push on a drawn wing for 0.2 s).
@@ -480,9 +512,27 @@ TEST(Episodes, GustsActFromTheirDrawnTimeOn) {
 // evolution's stroke settings; a file flown otherwise (config/afc_1_altitude_weights.yaml: a
 // raised stroke, a 65 rad/s cap) is refused by its key, naming the flag that would match it.
 TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
-  const std::string file = std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_altitude_weights.yaml";
-  const ControllerSpec spec = loadControllerYaml(file);
+  const std::string flown = std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_altitude_weights.yaml";
+  ControllerSpec spec = loadControllerYaml(flown);
   std::optional<EvolveCheckpoint> resume;
+  // The roll reflex is set by hand: no evolution flies it, so a file with it seeds none.
+  ASSERT_GT(spec.params.roll_reflex_bank, 0.0);
+  try {
+    resolveEvolveOptions({"--init", flown, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
+                         resume);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--init: " + flown +
+                                         ": its roll_reflex_bank is 0.4, the evolution's 0 (set "
+                                         "by hand, not evolved: seed from a file without it)");
+  }
+  // The same file without it.
+  spec.params.roll_reflex_bank = 0.0;
+  const std::string file = ::testing::TempDir() + "afc_1_altitude_no_reflex.yaml";
+  {
+    std::ofstream out(file);
+    out << controllerToYaml(spec);
+  }
   const std::vector<std::string> matching = {"--init",          file, "--max-rate", "65",
                                              "--stroke-offset", "0.1"};
   EXPECT_EQ(resolveEvolveOptions(matching, 1, resume).params.ga.initial_genes, spec.weights);

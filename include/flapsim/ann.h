@@ -114,6 +114,19 @@ struct FlapControllerParams {
   double pitch_gain = 0.0;
   double pitch_limit = 0.2;
   double pitch_max_downstroke_rate = 75.0;  // rad/s
+  /// Roll reflex (an extension, set by hand, not evolved; roll_reflex_bank 0: off). The net
+  /// can only steer the downstroke rates, and under phase_lock its upstrokes stay near
+  /// upstroke_rate: a roll moment of a quarter of what a 1 N push on a wing makes. While a
+  /// unit is banked beyond roll_reflex_bank (rad) and its gyro says it still rolls further
+  /// over faster than roll_reflex_rate (rad/s), the reflex takes over its strokes: the low
+  /// wing beats down at roll_reflex_fast_rate and up at roll_reflex_slow_rate (air pushes it
+  /// up), the high wing the other way round (air pushes it down). The gyro is the body's:
+  /// it swings by tens of rad/s with each stroke, so the bank gates it (README, flight in real
+  /// air).
+  double roll_reflex_bank = 0.0;        // rad
+  double roll_reflex_rate = 5.0;        // rad/s
+  double roll_reflex_fast_rate = 65.0;  // rad/s
+  double roll_reflex_slow_rate = 40.0;  // rad/s
 };
 
 /// The factor unit `unit` of `units` scales its downstroke rates by under the chain pitch
@@ -164,6 +177,12 @@ struct WingPairCommand {
   StrokeCommand left;
   StrokeCommand right;
 };
+
+/// The roll reflex (FlapControllerParams::roll_reflex_bank) on a unit with orientation `body`
+/// and body-frame angular velocity `rate`: replaces `command`'s stroke rates if it acts, and
+/// says whether it did.
+bool applyRollReflex(const FlapControllerParams& params, const Quat& body, const Vec3& rate,
+                     WingPairCommand& command);
 
 /// One unit's network: output 0 = right downstroke rate, output 1 = left
 /// (the paper's order).

@@ -154,7 +154,35 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
       p.pitch_max_downstroke_rate < p.max_downstroke_rate) {
     return "pitch_max_downstroke_rate must be finite and >= max_downstroke_rate";
   }
+  if (!(p.roll_reflex_bank >= 0.0 && p.roll_reflex_bank < M_PI / 2)) {
+    return "roll_reflex_bank must be in [0, pi/2) rad";
+  }
+  if (!(p.roll_reflex_rate >= 0.0 && p.roll_reflex_rate <= kMaxStrokeRate)) {
+    return "roll_reflex_rate must be in [0, 1e5] rad/s";
+  }
+  for (const auto& [name, rate] :
+       {std::pair<const char*, double>{"roll_reflex_fast_rate", p.roll_reflex_fast_rate},
+        {"roll_reflex_slow_rate", p.roll_reflex_slow_rate}}) {
+    if (!(rate > 0.0 && rate <= kMaxStrokeRate)) {
+      return std::string(name) + " must be in (0, 1e5] rad/s";
+    }
+  }
   return "";
+}
+
+bool applyRollReflex(const FlapControllerParams& p, const Quat& body, const Vec3& rate,
+                     WingPairCommand& command) {
+  if (p.roll_reflex_bank <= 0.0) return false;
+  // world_up . body_left = sin(bank), > 0 with the right wing low (flapInputs); a positive
+  // roll rate about body x lowers the right wing further.
+  const double bank = std::asin(std::clamp(flapInputs(body)[1], -1.0, 1.0));
+  const double over = bank > 0.0 ? rate.x() : -rate.x();
+  if (!(std::abs(bank) > p.roll_reflex_bank && over > p.roll_reflex_rate)) return false;
+  StrokeCommand& low = bank > 0.0 ? command.right : command.left;
+  StrokeCommand& high = bank > 0.0 ? command.left : command.right;
+  low.downstroke_rate = high.upstroke_rate = p.roll_reflex_fast_rate;
+  low.upstroke_rate = high.downstroke_rate = p.roll_reflex_slow_rate;
+  return true;
 }
 
 double chainPitchScale(const FlapControllerParams& p, int unit, int units, double pitch) {
@@ -327,6 +355,7 @@ std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed
         s->upstroke_rate = upstrokeRate(p, s->downstroke_rate);
       }
     }
+    applyRollReflex(p, bodies[k], sensed.rates[k], c);
     out.push_back(c.left);
     out.push_back(c.right);
   }

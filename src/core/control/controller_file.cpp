@@ -41,6 +41,12 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   e << YAML::Key << "pitch_gain" << YAML::Value << p.pitch_gain;
   e << YAML::Key << "pitch_limit" << YAML::Value << p.pitch_limit;
   e << YAML::Key << "pitch_max_downstroke_rate" << YAML::Value << p.pitch_max_downstroke_rate;
+  if (p.roll_reflex_bank != 0.0) {
+    e << YAML::Key << "roll_reflex_bank" << YAML::Value << p.roll_reflex_bank;
+    e << YAML::Key << "roll_reflex_rate" << YAML::Value << p.roll_reflex_rate;
+    e << YAML::Key << "roll_reflex_fast_rate" << YAML::Value << p.roll_reflex_fast_rate;
+    e << YAML::Key << "roll_reflex_slow_rate" << YAML::Value << p.roll_reflex_slow_rate;
+  }
   e << YAML::Key << "weights" << YAML::Value << YAML::Flow << spec.weights;
   e << YAML::EndMap;
   if (!metadata.empty()) {
@@ -77,6 +83,10 @@ const std::vector<std::string> kKeys = {"network",
                                         "pitch_gain",
                                         "pitch_limit",
                                         "pitch_max_downstroke_rate",
+                                        "roll_reflex_bank",
+                                        "roll_reflex_rate",
+                                        "roll_reflex_fast_rate",
+                                        "roll_reflex_slow_rate",
                                         "weights"};
 
 ControllerSpec readController(const YAML::Node& c,
@@ -138,6 +148,10 @@ ControllerSpec readController(const YAML::Node& c,
   get("pitch_gain", p.pitch_gain);
   get("pitch_limit", p.pitch_limit);
   get("pitch_max_downstroke_rate", p.pitch_max_downstroke_rate);
+  get("roll_reflex_bank", p.roll_reflex_bank);
+  get("roll_reflex_rate", p.roll_reflex_rate);
+  get("roll_reflex_fast_rate", p.roll_reflex_fast_rate);
+  get("roll_reflex_slow_rate", p.roll_reflex_slow_rate);
   if (!c["weights"]) throw fail("no 'weights'");
   get("weights", spec.weights);
   return spec;

@@ -62,11 +62,17 @@ void seedFromWeightsFile(EvolveOptions& o) {
         Setting{"upstroke_rate", "--upstroke-rate", got.upstroke_rate, want.upstroke_rate},
         Setting{"amplitude", "--amplitude", got.amplitude, want.amplitude},
         Setting{"stroke_offset", "--stroke-offset", got.stroke_offset, want.stroke_offset},
-        Setting{"control_period", "--control-period", got.control_period, want.control_period}}) {
+        Setting{"control_period", "--control-period", got.control_period, want.control_period},
+        Setting{"roll_reflex_bank", nullptr, got.roll_reflex_bank, want.roll_reflex_bank}}) {
     if (s.file != s.evolution) {
       std::ostringstream m;
       m << "--init: " << o.init_path << ": its " << s.key << " is " << s.file
-        << ", the evolution's " << s.evolution << " (give " << s.flag << " " << s.file << ")";
+        << ", the evolution's " << s.evolution;
+      if (s.flag) {
+        m << " (give " << s.flag << " " << s.file << ")";
+      } else {
+        m << " (set by hand, not evolved: seed from a file without it)";
+      }
       throw InputError(m.str());
     }
   }
