@@ -13,7 +13,8 @@ BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
   BodyKinematics kin;
   kin.orientation = fromBt(world_to_local[k].inverse());
   // One rotation matrix for both velocities: cheaper than two quaternion rotations.
-  const Mat3 r = kin.orientation.toRotationMatrix();
+  const Mat3 r = tree && tree->framesCount() == tree_frames ? tree->rotations()[k]
+                                                            : kin.orientation.toRotationMatrix();
   kin.com = fromBt(local_origin[k]);
   // Bullet's link velocities are in the link's (COM) frame.
   kin.body_linear_velocity = fromBt(vel[k]);
@@ -228,6 +229,7 @@ void BulletBody::addLimits() {
 }
 
 void BulletBody::updateKinematics() {
+  frames_.tree = nullptr;
   mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
   mb_->compTreeLinkVelocities(frames_.omega.data(), frames_.vel.data());
 }
@@ -244,6 +246,7 @@ LinkFrames BulletBody::currentFrames() const {
 }
 
 void BulletBody::framesAfterStep() {
+  frames_.tree = nullptr;
   // Bullet's step placed the links (and joints moved since have their caches from
   // setJointPos); after a lean step, the same sums without writing the multibody.
   if (world().leanStepped()) {
