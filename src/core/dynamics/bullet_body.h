@@ -25,6 +25,8 @@ namespace flapsim {
 struct LinkFrames {
   // World-frame kinematics of link k's centre of mass; its rotation matrix in `rotation`.
   BodyKinematics kinematics(int k, Mat3* rotation = nullptr) const;
+  // The same into `kin`, every field written (no temporary to copy).
+  void kinematics(int k, BodyKinematics& kin) const;
 
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
