@@ -11,19 +11,26 @@ namespace flapsim {
 
 BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
   BodyKinematics kin;
+  kinematics(k, kin);
+  if (rotation) *rotation = kin.rotation;
+  return kin;
+}
+
+void LinkFrames::kinematics(int k, BodyKinematics& kin) const {
   kin.orientation = fromBt(world_to_local[k].inverse());
   // One rotation matrix for both velocities: cheaper than two quaternion rotations.
-  const Mat3 r = kin.orientation.toRotationMatrix();
+  if (tree && tree->framesCount() == tree_frames) {
+    kin.rotation = tree->rotations()[k];
+  } else {
+    kin.rotation = kin.orientation.toRotationMatrix();
+  }
   kin.com = fromBt(local_origin[k]);
   // Bullet's link velocities are in the link's (COM) frame.
   kin.body_linear_velocity = fromBt(vel[k]);
   kin.body_angular_velocity = fromBt(omega[k]);
-  kin.linear_velocity = r * kin.body_linear_velocity;
-  kin.angular_velocity = r * kin.body_angular_velocity;
-  kin.rotation = r;
+  kin.linear_velocity = kin.rotation * kin.body_linear_velocity;
+  kin.angular_velocity = kin.rotation * kin.body_angular_velocity;
   kin.has_body_frame = true;
-  if (rotation) *rotation = r;
-  return kin;
 }
 
 void BodySnapshot::take(const btMultiBody& mb) {
@@ -228,6 +235,7 @@ void BulletBody::addLimits() {
 }
 
 void BulletBody::updateKinematics() {
+  frames_.tree = nullptr;
   mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
   mb_->compTreeLinkVelocities(frames_.omega.data(), frames_.vel.data());
 }
@@ -244,6 +252,7 @@ LinkFrames BulletBody::currentFrames() const {
 }
 
 void BulletBody::framesAfterStep() {
+  frames_.tree = nullptr;
   // Bullet's step placed the links (and joints moved since have their caches from
   // setJointPos); after a lean step, the same sums without writing the multibody.
   if (world().leanStepped()) {

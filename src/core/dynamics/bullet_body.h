@@ -8,6 +8,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,10 +25,18 @@ namespace flapsim {
 struct LinkFrames {
   // World-frame kinematics of link k's centre of mass; its rotation matrix in `rotation`.
   BodyKinematics kinematics(int k, Mat3* rotation = nullptr) const;
+  // The same into `kin`, every field written (no temporary to copy).
+  void kinematics(int k, BodyKinematics& kin) const;
 
   btAlignedObjectArray<btQuaternion> world_to_local;
   btAlignedObjectArray<btVector3> local_origin;
   std::vector<btVector3> omega, vel;  // in the link frames
+  // Where the momentum balance placed every link by `tree`'s frames (BulletBody::setFrame(),
+  // then framesFromTree()): while that tree's frames are those of `tree_frames`, its
+  // rotations are every link's rotation matrix, by kinematics()' arithmetic (Eigen's
+  // toRotationMatrix of the same quaternions), which kinematics() then takes.
+  const TreeDynamics* tree = nullptr;
+  std::uint64_t tree_frames = 0;
 };
 
 // What a step may change in a multibody: enough to put it back bit for bit.
@@ -69,6 +78,11 @@ class BulletBody {
   // Link k's frame and velocities as the momentum balance placed them after its correction.
   void setFrame(int k, const btQuaternion& world_to_local, const btVector3& origin,
                 const btVector3& omega, const btVector3& velocity);
+  // After setFrame() of every link with the rotations of `tree`'s current frames.
+  void framesFromTree(const TreeDynamics& tree) {
+    frames_.tree = &tree;
+    frames_.tree_frames = tree.framesCount();
+  }
   // After the multibody's state was set from outside a step: the frames, the colliders and
   // the broadphase's pairs follow the new state, as for a body just built.
   void settle();

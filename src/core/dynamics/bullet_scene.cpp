@@ -107,7 +107,10 @@ void ServoWorld::leanStep(btScalar h) {
   mb.stepPositionsMultiDof(h);
   colliders_behind_ = true;
   mb.substractSplitV();
-  updateActivationState(h);
+  // updateActivationState(h): what it does in a leanCapable() world, without its profile
+  // samples and its loops over colliders (which never sleep) and rigid bodies (none). A
+  // multibody that cannot sleep is marked awake.
+  mb.checkMotionAndSleepIfRequired(h);
   // clearForces() would clear the multibody's forces and torques again (leanVelocities cleared
   // them once it had taken them, and nothing adds any after) and those of the non-static rigid
   // bodies, which a lean world has none of.

@@ -63,7 +63,15 @@ void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added
   carried_valid_ = false;
   density_ = added_mass_density;
   if (model_.fixed_base) return;
-  start_ = carried ? carried_ : measure(body, fluid);
+  if (carried) {
+    start_ = carried_;
+    return;
+  }
+  const SystemMomentum s = measure(body, fluid);
+  start_.mass = s.mass;
+  start_.com = s.com;
+  start_.linear = s.linear;
+  start_.angular = s.angular;
 }
 
 void MomentumBalance::addExternal(const Vec3& com, const Wrench& wrench) {
@@ -108,6 +116,7 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
     body.setFrame(k, tree.worldToLocal()[k], toBt(Vec3(b.com + shift)),
                   toBt(Vec3(to_world.transpose() * w)), toBt(Vec3(to_world.transpose() * v)));
   }
+  body.framesFromTree(tree);
   // The momentum is now the target, about the shifted centre of mass: the next step starts
   // from it instead of measuring it again.
   carried_.mass = now.mass;

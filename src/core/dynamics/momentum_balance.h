@@ -42,11 +42,20 @@ class MomentumBalance {
   // scene's TreeDynamics frames, which the next lean step's velocity update reuses).
   SystemMomentum measure(BulletBody& body, CreatureFluid& fluid);
 
+  // What the balance keeps of a SystemMomentum from one step to the next (not its matrices:
+  // copying them each step cost more than the rest of begin()).
+  struct Carried {
+    double mass = 0.0;
+    Vec3 com = Vec3::Zero();
+    Vec3 linear = Vec3::Zero();
+    Vec3 angular = Vec3::Zero();
+  };
+
   const CreatureModel& model_;
   // This step's balance: the start, and the external impulses so far (moments about the root
   // COM at the start of the step, `origin_`).
-  SystemMomentum start_;
-  SystemMomentum carried_;  // of the end of the last corrected step
+  Carried start_;
+  Carried carried_;  // of the end of the last corrected step
   bool carried_valid_ = false;
   double carried_density_ = 0.0;
   double density_ = 0.0;  // of the added mass in this step

@@ -37,10 +37,14 @@ Vec6 spatialForce(const btVector3& force, const btVector3& torque, const Vec3& c
 void setSpatialInertia(double mass, const Vec3& com, const Mat3& rot, const Vec3& d, Mat6& out) {
   const Vec3 mc = mass * com;
   const double mcc = mc.dot(com);
+  double rd[3][3];  // rot diag(d), each product once
+  for (int i = 0; i < 3; ++i) {
+    for (int k = 0; k < 3; ++k) rd[i][k] = rot(i, k) * d[k];
+  }
   for (int i = 0; i < 3; ++i) {
     for (int j = i; j < 3; ++j) {
-      double v = rot(i, 0) * d[0] * rot(j, 0) + rot(i, 1) * d[1] * rot(j, 1) +
-                 rot(i, 2) * d[2] * rot(j, 2) - mc[i] * com[j];
+      double v =
+          rd[i][0] * rot(j, 0) + rd[i][1] * rot(j, 1) + rd[i][2] * rot(j, 2) - mc[i] * com[j];
       if (i == j) v += mcc;
       out(i, j) = v;
       out(j, i) = v;
@@ -71,6 +75,7 @@ bool TreeDynamics::handles(const btMultiBody& mb) {
 // Rotations, COMs, spatial inertias and joint axes, about the base's COM, as
 // btMultiBody::forwardKinematics places the links.
 void TreeDynamics::linkFrames(const btMultiBody& mb) {
+  ++frames_count_;
   const int n = mb.getNumLinks();
   for (auto* v : {&inv_d_, &u_}) v->resize(n + 1);
   to_local_.resize(n + 1);

@@ -38,7 +38,7 @@ void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& mo
   // (not when each cell's force is recorded).
   bool batch = false;
   for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
-    fluid.kinematics_[i] = body.frames().kinematics(fluid.bodies_[i].link);
+    body.frames().kinematics(fluid.bodies_[i].link, fluid.kinematics_[i]);
     batch = batch || (fluid.pressure_.holds(i) && pressureLaw(fluid.bodies_[i]));
   }
   batch = batch && !record_cells_;
