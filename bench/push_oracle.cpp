@@ -24,6 +24,7 @@
 #include "flapsim/cli_args.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
+#include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
 
 namespace {
@@ -84,16 +85,14 @@ int main(int argc, char** argv) {
     flapsim::ControllerSpec spec = flapsim::loadControllerYaml(weights);
     spec.params.roll_reflex_bank = 0.0;  // the network's own authority
     const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "afc"), "afc1");
-    flapsim::EpisodeParams e;  // as flight_check draws its starts
-    e.duration = 60.0;
-    e.start_height = 1.0;
-    e.min_roll = 0.0;
-    e.max_roll = e.max_pitch = 0.52;
-    e.episodes = starts;
-    e.seed = seed;
-    e.world.step_size = step;
-    e.gust_force = force;
-    e.gust_force_duration = 0.2;
+    flapsim::FlightCheckParams check;  // flight_check's starts, with the push
+    check.starts = starts;
+    check.seed = seed;
+    check.max_roll = check.max_pitch = 0.52;
+    check.step_size = step;
+    check.gust_force = force;
+    check.gust_time = 0.2;
+    const flapsim::EpisodeParams e = flapsim::flightCheckEpisodes(check);
     const std::vector<flapsim::EpisodeStart> drawn = flapsim::episodeStarts(e, model.get());
     const AnnWingController net(flapsim::FlapUnitController(spec.params, spec.weights));
     const double period = spec.params.control_period;

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <utility>
 #include <vector>
@@ -15,6 +14,7 @@
 #include "flapsim/evolve_tool.h"
 #include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
+#include "flapsim/text_file.h"
 
 namespace flapsim {
 namespace {
@@ -529,10 +529,7 @@ TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
   // The same file without it.
   spec.params.roll_reflex_bank = 0.0;
   const std::string file = ::testing::TempDir() + "afc_1_altitude_no_reflex.yaml";
-  {
-    std::ofstream out(file);
-    out << controllerToYaml(spec);
-  }
+  writeTextFile(file, controllerToYaml(spec));
   const std::vector<std::string> matching = {"--init",          file, "--max-rate", "65",
                                              "--stroke-offset", "0.1"};
   EXPECT_EQ(resolveEvolveOptions(matching, 1, resume).params.ga.initial_genes, spec.weights);

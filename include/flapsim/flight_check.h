@@ -51,6 +51,10 @@ struct FlightCheckRun : EpisodeResult {
   }
 };
 
+/// The episodes flightCheck() flies: its starts are their episodeStarts(). Throws InputError
+/// for bad parameters.
+EpisodeParams flightCheckEpisodes(const FlightCheckParams& params);
+
 /// Flies `model` under `controller` (the same network on every unit) from `params.starts`
 /// starts drawn from `params.seed`. Throws InputError for bad parameters.
 std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,

@@ -8,9 +8,6 @@
 
 namespace flapsim {
 
-namespace {
-
-// The episodes the flight check flies (its starts are their episodeStarts()).
 EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   if (p.starts < 1) throw InputError("flight check: starts must be >= 1");
   EpisodeParams episode;
@@ -35,8 +32,6 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   if (!err.empty()) throw InputError("flight check: " + err);
   return episode;
 }
-
-}  // namespace
 
 std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
