@@ -12,7 +12,11 @@ full-screen rviz; starts the flight once rviz receives flapsim's topics (so it s
 pauses flapsim at sim time T, and saves the first screenshot in which rviz has drawn the
 creatures. --summary FILE also writes (YAML) what rviz was given to draw: the creatures'
 marker namespaces, markers per creature, marker frames that /tf never carried, and the
-creature roots outside the camera's view (of frame flapsim/camera). With --bag, replays the bag instead (launch/replay.launch, which starts
+creature roots outside the camera's view (of frame flapsim/camera), and the height of each
+creature root. With lockstep:=true among the launch arguments the controller steps the
+simulator itself: the launch starts it once rviz receives flapsim, and the script passes
+lockstep_duration:=T (unless given), so that the controller stops and flapsim stays paused at
+T. With --bag, replays the bag instead (launch/replay.launch, which starts
 playback once rviz listens) and pauses the playback at T. Prints the sim time and the creature and force-arrow pixel counts. Needs the
 package on ROS_PACKAGE_PATH (source build/devel/setup.bash).
 
@@ -80,9 +84,18 @@ def shoot(launch, out, at, size="800x600", min_pixels=50, timeout=120.0, log=Non
     width, height = (int(v) for v in size.split("x"))
     out = os.path.abspath(out)
     log = log or os.path.splitext(out)[0] + ".log"
+    # lockstep:=true: the controller steps the paused simulator through flapsim/step; the
+    # launch starts it once rviz receives flapsim and it flies `at` s (lockstep_duration), so
+    # flapsim stays paused there. Unpausing it instead would run the world between the
+    # controller's steps on stale commands (a flock filmed that way lay on the ground at 30 s).
+    lockstep = "lockstep:=true" in launch
+    extra = ["paused:=true"]
+    if lockstep:
+        extra = [] if any(a.startswith("lockstep_duration:=") for a in launch) else [
+            f"lockstep_duration:={at}"]
     with views.xvfb(width, height) as display:
-        with views.roslaunch(list(launch) + ["rviz:=true", "paused:=true",
-                                             views.rviz_args(width, height, config=config)],
+        with views.roslaunch(list(launch) + ["rviz:=true"] + extra +
+                             [views.rviz_args(width, height, config=config)],
                              display, log) as (proc, env):
             latest = views.join(env, "flapsim_screenshot")
             seen = Seen(width / height)
@@ -94,10 +107,12 @@ def shoot(launch, out, at, size="800x600", min_pixels=50, timeout=120.0, log=Non
                                            for n in listeners),
                            timeout, f"{' and '.join(listeners)} to receive flapsim's topics",
                            poll=0.1)
-            rospy.wait_for_service("/flapsim/unpause", timeout=timeout)
-            rospy.ServiceProxy("/flapsim/unpause", Empty)()
+            if not lockstep:
+                rospy.wait_for_service("/flapsim/unpause", timeout=timeout)
+                rospy.ServiceProxy("/flapsim/unpause", Empty)()
             views.wait_for(lambda: latest[0] >= at, timeout, f"sim time {at} s")
-            rospy.ServiceProxy("/flapsim/pause", Empty)()
+            if not lockstep:
+                rospy.ServiceProxy("/flapsim/pause", Empty)()
             t = latest[0]
             counts = views.shoot_until_drawn(display, out, min_pixels, 30.0)
             if summary:
@@ -187,7 +202,10 @@ class Seen:
         return {"namespaces": sorted(per_namespace), "per_namespace": per_namespace,
                 "frames_without_tf": sorted({m.header.frame_id for m in self.markers} -
                                             self.frames),
-                "roots_out_of_view": self.out_of_view()}
+                "roots_out_of_view": self.out_of_view(),
+                "root_heights": {frame: round(t.translation.z, 3)
+                                 for frame, t in sorted(self.in_world.items())
+                                 if not frame.startswith("flapsim/")}}
 
 
 def rotate_back(q, v):

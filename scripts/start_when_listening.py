@@ -3,13 +3,16 @@
 flight that rviz sees from its first frame.
 
 start_when_listening.py --listener NODE [--topics REGEX] [--listener NODE2 --topics REGEX2 ...]
-                        [--source /flapsim] [--stay-paused] [--timeout S]
+                        [--source /flapsim] [--start-service SERVICE] [--stay-paused]
+                        [--timeout S]
 
 Waits until each listener NODE is subscribed, and connected, to every topic that the source
 node publishes and its REGEX matches (matched as rosbag record -e does: the whole name; the
 n-th --topics goes with the n-th --listener, default /clock|/tf), then starts the source and
 exits: flapsim through <source>/unpause (std_srvs/Empty), rosbag play
-through <source>/pause_playback (std_srvs/SetBool false). With --stay-paused it only waits.
+through <source>/pause_playback (std_srvs/SetBool false); with --start-service, by calling
+that std_srvs/Empty service instead (a lockstep controller's ~start: the controller steps the
+paused flapsim itself). With --stay-paused it only waits.
 Exits 1 if that takes longer than the timeout (wall seconds).
 """
 import argparse
@@ -39,8 +42,13 @@ def unconnected(master, source, listener, pattern):
     return [t for t in topics if t not in subscribed or t not in connected]
 
 
-def start(source, timeout):
-    """Unpauses flapsim, or resumes rosbag play, whichever `source` is."""
+def start(source, timeout, service=None):
+    """Unpauses flapsim, or resumes rosbag play, whichever `source` is; or calls `service`
+    (std_srvs/Empty) if given."""
+    if service:
+        rospy.wait_for_service(service, timeout=timeout)
+        rospy.ServiceProxy(service, Empty)()
+        return
     playback, unpause = source + "/pause_playback", source + "/unpause"
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
@@ -63,6 +71,9 @@ def main(argv):
     parser.add_argument("--source", default="/flapsim", help="/flapsim or a rosbag play node")
     parser.add_argument("--topics", action="append", default=[],
                         help="what the listener before it must receive (default /clock|/tf)")
+    parser.add_argument("--start-service",
+                        help="call this std_srvs/Empty service to start (e.g. a lockstep "
+                        "controller's ~start) instead of unpausing the source")
     parser.add_argument("--stay-paused", action="store_true")
     parser.add_argument("--timeout", type=float, default=120.0)
     args, _ = parser.parse_known_args(rospy.myargv(argv))
@@ -85,8 +96,9 @@ def main(argv):
     if args.stay_paused:
         rospy.loginfo("%s receive %s, which stays paused", listeners, args.source)
         return 0
-    start(args.source, args.timeout)
-    rospy.loginfo("%s receive %s: started", listeners, args.source)
+    start(args.source, args.timeout, args.start_service)
+    rospy.loginfo("%s receive %s: started%s", listeners, args.source,
+                  f" through {args.start_service}" if args.start_service else "")
     return 0
 
 

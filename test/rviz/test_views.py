@@ -160,6 +160,25 @@ class Views(unittest.TestCase):
         creature, _ = views.pixel_counts(png)
         self.assertGreaterEqual(creature, 100, f"{png}: the flock is not drawn")
 
+    def test_a_lockstep_flock_is_filmed_aloft_at_exactly_its_time(self):
+        """lockstep:=true: the controller steps the paused simulator, so screenshot.py must not
+        unpause it (it did: the world then ran between the controller's steps on stale commands
+        and at 30 s every member lay on the ground). The launch starts the controller once rviz
+        receives flapsim, and lockstep_duration:=T (which screenshot.py passes) stops it at T,
+        so the shot is of exactly T. Every member has climbed from 1 m to about 29 m by then
+        (afc_1_weights.yaml climbs at about 0.93 m/s); lying on the ground they were at 0.03 m."""
+        png = os.path.join(OUT, "flock_8_lockstep.png")
+        summary = os.path.join(OUT, "flock_8_lockstep.yaml")
+        out = run("screenshot.py", "--out", png, "--summary", summary, "--at", "30",
+                  "flock.launch", "count:=8", "lockstep:=true", "rtf:=0")
+        self.assertAlmostEqual(shot_time(out), 30.0, places=6)
+        with open(summary) as f:
+            markers = yaml.safe_load(f)
+        heights = markers["root_heights"]
+        self.assertEqual(sorted(heights), [f"afc{i}/unit0_body" for i in range(8)])
+        for frame, z in heights.items():
+            self.assertGreater(z, 25.0, f"{frame} at {z} m at 30 s")
+
     def test_robot_model_display_with_tf_prefix_draws_a_chain(self):
         """rviz's RobotModel display (config/robot_model_afc.rviz: afc/robot_description, TF
         prefix afc; no creature markers) draws the 4-unit chain from the tf tree."""
