@@ -228,6 +228,76 @@ TEST(RollReflex, ActsOnlyWhileBankedAndRollingFurtherOverAndMirrors) {
   EXPECT_EQ(cmds[2].upstroke_rate, 65.0);
 }
 
+// The chain pitch reflex: while the chain's mean pitch is beyond pitch_reflex_angle, the units
+// of its low end (|s_k| > pitch_reflex_ends) beat fast down / slow up, those of its high end
+// slow down / fast up, the middle ones keep their command; within the angle, with the reflex
+// off, or for a single unit, every command stays the network's.
+TEST(PitchReflex, ActsOnTheChainsEndsOnlyBeyondItsAngleAndMirrors) {
+  FlapControllerParams p;
+  p.pitch_reflex_angle = 0.2;
+  p.pitch_reflex_ends = 0.3;
+  p.pitch_reflex_fast_rate = 65.0;
+  p.pitch_reflex_slow_rate = 40.0;
+  const WingPairCommand net{StrokeCommand{30, 10, 1.2}, StrokeCommand{31, 11, 1.2}};
+  auto reflex = [&](int unit, double pitch_angle, const FlapControllerParams& params,
+                    WingPairCommand& c, int units = 5) {
+    c = net;
+    return applyPitchReflex(params, unit, units, std::sin(pitch_angle), c);
+  };
+  WingPairCommand c;
+  // nose up 0.25 rad, 5 units (s = 1, 0.5, 0, -0.5, -1): the nose is the high end
+  for (int unit : {0, 1}) {
+    ASSERT_TRUE(reflex(unit, 0.25, p, c)) << unit;
+    for (const StrokeCommand& w : {c.left, c.right}) {
+      EXPECT_EQ(w.downstroke_rate, 40.0);
+      EXPECT_EQ(w.upstroke_rate, 65.0);
+      EXPECT_EQ(w.amplitude, 1.2);  // only the rates change
+    }
+  }
+  for (int unit : {3, 4}) {  // the tail: the low end
+    ASSERT_TRUE(reflex(unit, 0.25, p, c)) << unit;
+    EXPECT_EQ(c.right.downstroke_rate, 65.0);
+    EXPECT_EQ(c.left.upstroke_rate, 40.0);
+  }
+  EXPECT_FALSE(reflex(2, 0.25, p, c));  // the middle (s = 0) keeps the network's
+  EXPECT_EQ(c.right.downstroke_rate, 31.0);
+  // the mirror image: nose down, the nose is the low end
+  ASSERT_TRUE(reflex(0, -0.25, p, c));
+  EXPECT_EQ(c.left.downstroke_rate, 65.0);
+  EXPECT_EQ(c.right.upstroke_rate, 40.0);
+  ASSERT_TRUE(reflex(4, -0.25, p, c));
+  EXPECT_EQ(c.left.downstroke_rate, 40.0);
+  // within the angle, either way; the ends threshold; off; a single unit
+  for (double angle : {0.19, -0.19, 0.0}) {
+    EXPECT_FALSE(reflex(0, angle, p, c)) << angle;
+    EXPECT_EQ(c.right.downstroke_rate, 31.0);
+    EXPECT_EQ(c.left.upstroke_rate, 10.0);
+  }
+  FlapControllerParams ends = p;
+  ends.pitch_reflex_ends = 0.5;  // units 1 and 3 (|s| = 0.5) no longer take part
+  EXPECT_FALSE(reflex(1, 0.25, ends, c));
+  EXPECT_TRUE(reflex(0, 0.25, ends, c));
+  FlapControllerParams off = p;
+  off.pitch_reflex_angle = 0.0;
+  EXPECT_FALSE(reflex(0, 1.0, off, c));
+  EXPECT_FALSE(reflex(0, 1.0, p, c, 1));
+  // through the wing controller: the mean pitch of the units decides, without a pitch term
+  FlapControllerParams q = p;
+  q.pitch_reflex_fast_rate = 64.0;
+  q.pitch_reflex_slow_rate = 36.0;
+  const AnnWingController ann(FlapUnitController(q, std::vector<double>(12, 0.0)));
+  const Quat up(Eigen::AngleAxisd(-0.3, Vec3::UnitY()));  // nose up 0.3 rad (y left)
+  const std::vector<StrokeCommand> cmds = ann.commands(FlapSensing({up, up, up}));
+  ASSERT_EQ(cmds.size(), 6u);
+  EXPECT_EQ(cmds[0].downstroke_rate, 36.0);  // nose unit: the high end
+  EXPECT_EQ(cmds[0].upstroke_rate, 64.0);
+  EXPECT_EQ(cmds[5].downstroke_rate, 64.0);  // tail unit: the low end
+  EXPECT_EQ(cmds[5].upstroke_rate, 36.0);
+  // the middle unit: the network's (sigmoid(0) of 20-60 rad/s)
+  EXPECT_DOUBLE_EQ(cmds[2].downstroke_rate, 0.5 * (q.min_downstroke_rate + q.max_downstroke_rate));
+  EXPECT_EQ(cmds[2].downstroke_rate, cmds[3].downstroke_rate);
+}
+
 TEST(FlapUnitController, BadParamsAreRefused) {
   FlapControllerParams p;
   p.max_downstroke_rate = p.min_downstroke_rate - 1.0;
@@ -256,6 +326,15 @@ TEST(FlapUnitController, BadParamsAreRefused) {
   p = FlapControllerParams();
   p.roll_reflex_slow_rate = 0.0;
   EXPECT_NE(validateFlapControllerParams(p).find("roll_reflex_slow_rate"), std::string::npos);
+  p = FlapControllerParams();
+  p.pitch_reflex_angle = -0.1;
+  EXPECT_NE(validateFlapControllerParams(p).find("pitch_reflex_angle"), std::string::npos);
+  p = FlapControllerParams();
+  p.pitch_reflex_ends = 1.0;
+  EXPECT_NE(validateFlapControllerParams(p).find("pitch_reflex_ends"), std::string::npos);
+  p = FlapControllerParams();
+  p.pitch_reflex_fast_rate = std::nan("");
+  EXPECT_NE(validateFlapControllerParams(p).find("pitch_reflex_fast_rate"), std::string::npos);
   EXPECT_THROW(FlapUnitController(FlapControllerParams(), {1.0, 2.0}), std::invalid_argument);
 }
 
@@ -302,6 +381,10 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   spec.params.roll_reflex_rate = 0.1 + 0.2;
   spec.params.roll_reflex_fast_rate = 70.0;
   spec.params.roll_reflex_slow_rate = 35.0;
+  spec.params.pitch_reflex_angle = 0.1 + 0.2;
+  spec.params.pitch_reflex_ends = 0.4;
+  spec.params.pitch_reflex_fast_rate = 66.0;
+  spec.params.pitch_reflex_slow_rate = 33.0;
   spec.weights = kWeights;
   spec.weights[0] = 0.1 + 0.2;  // not exactly representable in short decimal
   const std::string text = controllerToYaml(spec, "line one\nline two", {{"seed", "7"}});
@@ -319,9 +402,14 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_EQ(back.params.roll_reflex_rate, 0.1 + 0.2);
   EXPECT_EQ(back.params.roll_reflex_fast_rate, 70.0);
   EXPECT_EQ(back.params.roll_reflex_slow_rate, 35.0);
-  // without the reflex its keys are not written
-  EXPECT_EQ(controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights}).find("roll_reflex"),
-            std::string::npos);
+  EXPECT_EQ(back.params.pitch_reflex_angle, 0.1 + 0.2);
+  EXPECT_EQ(back.params.pitch_reflex_ends, 0.4);
+  EXPECT_EQ(back.params.pitch_reflex_fast_rate, 66.0);
+  EXPECT_EQ(back.params.pitch_reflex_slow_rate, 33.0);
+  // without the reflexes their keys are not written
+  const std::string plain = controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights});
+  EXPECT_EQ(plain.find("roll_reflex"), std::string::npos);
+  EXPECT_EQ(plain.find("pitch_reflex"), std::string::npos);
 
   try {
     controllerFromYaml("flap_unit_controller: {hidden: 2, weights: [1, 2, 3]}", "short.yaml");

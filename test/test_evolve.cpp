@@ -474,6 +474,39 @@ TEST(EvolvedController, TheRollReflexCutsTheFlipsOfAWingPushFromMostStartsToOneA
   EXPECT_GE(net_alone, 10);
 }
 
+// The 12-unit chain holding 5 m in a 1 m/s side wind (flight_check's held-out start 18 of 20,
+// wind from 98 deg, config/afc_12_altitude_weights.yaml): without the chain pitch reflex it
+// pitches over with its pitch term pinned and sinks below its 1 m start within 20 s (-23.8 m
+// when measured); with it, it is at 5 m (5.02 m) at 20 s, upright.
+TEST(EvolvedController, ThePitchReflexKeepsTheChainAtItsAltitudeInASideWindThatSinksItWithout) {
+  ControllerSpec spec =
+      loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
+  ASSERT_GT(spec.params.pitch_reflex_angle, 0.0);
+  FlightCheckParams p;
+  p.starts = 20;
+  p.max_roll = p.max_pitch = 0.52;
+  p.duration = 20.0;
+  p.wind = 1.0;
+  p.altitude = 5.0;
+  const EpisodeParams e = flightCheckEpisodes(p);
+  const CreatureModelPtr chain = creature(12);
+  const EpisodeStart start = episodeStarts(e, chain.get()).at(18);
+  auto fly = [&](const ControllerSpec& c) {
+    const AnnWingController ann(FlapUnitController(c.params, c.weights));
+    return runEpisode(chain, ann, c.params.control_period, e, start);
+  };
+  const EpisodeResult with_reflex = fly(spec);
+  spec.params.pitch_reflex_angle = 0.0;
+  const EpisodeResult without = fly(spec);
+  std::printf(
+      "12 units, 1 m/s side wind, hold 5 m: %.2f m at 20 s with the pitch reflex, %.2f m "
+      "without\n",
+      with_reflex.final_height, without.final_height);
+  EXPECT_FALSE(with_reflex.flipped);
+  EXPECT_NEAR(with_reflex.final_height, 5.0, 0.3);
+  EXPECT_LT(without.final_height, p.start_height);
+}
+
 // A gust acts from its drawn time on: the flight is the still one, bit for bit, up to the
 // sample it starts at, and another after it (the roll torque of 0.05 N m for 0.5 s, and the
 // 1 N push on a drawn wing for 0.2 s).
@@ -547,6 +580,19 @@ TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("max_downstroke_rate is 65"), std::string::npos)
         << e.what();
+  }
+  // The chain pitch reflex is set by hand too.
+  spec.params.pitch_reflex_angle = 0.2;
+  const std::string pitched = ::testing::TempDir() + "afc_1_altitude_pitch_reflex.yaml";
+  writeTextFile(pitched, controllerToYaml(spec));
+  try {
+    resolveEvolveOptions({"--init", pitched, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
+                         resume);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--init: " + pitched +
+                                         ": its pitch_reflex_angle is 0.2, the evolution's 0 (set "
+                                         "by hand, not evolved: seed from a file without it)");
   }
 }
 

@@ -127,6 +127,20 @@ struct FlapControllerParams {
   double roll_reflex_rate = 5.0;        // rad/s
   double roll_reflex_fast_rate = 65.0;  // rad/s
   double roll_reflex_slow_rate = 40.0;  // rad/s
+  /// Chain pitch reflex (an extension for chains, set by hand, not evolved;
+  /// pitch_reflex_angle 0: off). The chain pitch term steers only the downstroke rates, and
+  /// pinned at pitch_limit it cannot right a chain that a side wind has pitched over: the
+  /// chain sinks, and its slow upstrokes, which under phase_lock take most of each stroke,
+  /// meet the air rising past it and push it down. While the chain's mean pitch is beyond
+  /// pitch_reflex_angle (rad, either way), the units of its low end beat down at
+  /// pitch_reflex_fast_rate and up at pitch_reflex_slow_rate (the air pushes them up), those of
+  /// its high end the other way round (the air pushes them down): the units whose |s_k|
+  /// (chainPitchScale's) exceeds pitch_reflex_ends; the middle ones keep their command
+  /// (README, flight in real air).
+  double pitch_reflex_angle = 0.0;       // rad
+  double pitch_reflex_ends = 0.3;        // of |s_k| in [0, 1]
+  double pitch_reflex_fast_rate = 65.0;  // rad/s
+  double pitch_reflex_slow_rate = 40.0;  // rad/s
 };
 
 /// The factor unit `unit` of `units` scales its downstroke rates by under the chain pitch
@@ -183,6 +197,12 @@ struct WingPairCommand {
 /// says whether it did.
 bool applyRollReflex(const FlapControllerParams& params, const Quat& body, const Vec3& rate,
                      WingPairCommand& command);
+
+/// The chain pitch reflex (FlapControllerParams::pitch_reflex_angle) on unit `unit` of
+/// `units`, for the chain's mean pitch input `pitch` (world_up . body_forward, > 0: nose up):
+/// replaces `command`'s stroke rates if it acts, and says whether it did.
+bool applyPitchReflex(const FlapControllerParams& params, int unit, int units, double pitch,
+                      WingPairCommand& command);
 
 /// One unit's network: output 0 = right downstroke rate, output 1 = left
 /// (the paper's order).

@@ -160,9 +160,17 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
   if (!(p.roll_reflex_rate >= 0.0 && p.roll_reflex_rate <= kMaxStrokeRate)) {
     return "roll_reflex_rate must be in [0, 1e5] rad/s";
   }
+  if (!(p.pitch_reflex_angle >= 0.0 && p.pitch_reflex_angle < M_PI / 2)) {
+    return "pitch_reflex_angle must be in [0, pi/2) rad";
+  }
+  if (!(p.pitch_reflex_ends >= 0.0 && p.pitch_reflex_ends < 1.0)) {
+    return "pitch_reflex_ends must be in [0, 1)";
+  }
   for (const auto& [name, rate] :
        {std::pair<const char*, double>{"roll_reflex_fast_rate", p.roll_reflex_fast_rate},
-        {"roll_reflex_slow_rate", p.roll_reflex_slow_rate}}) {
+        {"roll_reflex_slow_rate", p.roll_reflex_slow_rate},
+        {"pitch_reflex_fast_rate", p.pitch_reflex_fast_rate},
+        {"pitch_reflex_slow_rate", p.pitch_reflex_slow_rate}}) {
     if (!(rate > 0.0 && rate <= kMaxStrokeRate)) {
       return std::string(name) + " must be in (0, 1e5] rad/s";
     }
@@ -182,6 +190,21 @@ bool applyRollReflex(const FlapControllerParams& p, const Quat& body, const Vec3
   StrokeCommand& high = bank > 0.0 ? command.left : command.right;
   low.downstroke_rate = high.upstroke_rate = p.roll_reflex_fast_rate;
   low.upstroke_rate = high.downstroke_rate = p.roll_reflex_slow_rate;
+  return true;
+}
+
+bool applyPitchReflex(const FlapControllerParams& p, int unit, int units, double pitch,
+                      WingPairCommand& command) {
+  if (p.pitch_reflex_angle <= 0.0 || units < 2) return false;
+  if (!(std::abs(pitch) > std::sin(p.pitch_reflex_angle))) return false;
+  const double s = 1.0 - 2.0 * unit / (units - 1);
+  if (!(std::abs(s) > p.pitch_reflex_ends)) return false;
+  // Nose up (pitch > 0): the tail (s < 0) is the low end, and needs the lift.
+  const bool low = s * pitch < 0.0;
+  for (StrokeCommand* w : {&command.left, &command.right}) {
+    w->downstroke_rate = low ? p.pitch_reflex_fast_rate : p.pitch_reflex_slow_rate;
+    w->upstroke_rate = low ? p.pitch_reflex_slow_rate : p.pitch_reflex_fast_rate;
+  }
   return true;
 }
 
@@ -339,7 +362,7 @@ std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed
   const double altitude = altitudeInput(p, sensed.altitude, sensed.setpoint);
   const int units = static_cast<int>(bodies.size());
   double pitch = 0.0;
-  if (p.pitch_gain > 0.0) {
+  if (p.pitch_gain > 0.0 || p.pitch_reflex_angle > 0.0) {
     for (const Quat& q : bodies) pitch += flapInputs(q)[0];
     pitch /= std::max(1, units);
   }
@@ -356,6 +379,7 @@ std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed
       }
     }
     applyRollReflex(p, bodies[k], sensed.rates[k], c);
+    applyPitchReflex(p, k, units, pitch, c);
     out.push_back(c.left);
     out.push_back(c.right);
   }

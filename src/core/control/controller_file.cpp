@@ -47,6 +47,12 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
     e << YAML::Key << "roll_reflex_fast_rate" << YAML::Value << p.roll_reflex_fast_rate;
     e << YAML::Key << "roll_reflex_slow_rate" << YAML::Value << p.roll_reflex_slow_rate;
   }
+  if (p.pitch_reflex_angle != 0.0) {
+    e << YAML::Key << "pitch_reflex_angle" << YAML::Value << p.pitch_reflex_angle;
+    e << YAML::Key << "pitch_reflex_ends" << YAML::Value << p.pitch_reflex_ends;
+    e << YAML::Key << "pitch_reflex_fast_rate" << YAML::Value << p.pitch_reflex_fast_rate;
+    e << YAML::Key << "pitch_reflex_slow_rate" << YAML::Value << p.pitch_reflex_slow_rate;
+  }
   e << YAML::Key << "weights" << YAML::Value << YAML::Flow << spec.weights;
   e << YAML::EndMap;
   if (!metadata.empty()) {
@@ -87,6 +93,10 @@ const std::vector<std::string> kKeys = {"network",
                                         "roll_reflex_rate",
                                         "roll_reflex_fast_rate",
                                         "roll_reflex_slow_rate",
+                                        "pitch_reflex_angle",
+                                        "pitch_reflex_ends",
+                                        "pitch_reflex_fast_rate",
+                                        "pitch_reflex_slow_rate",
                                         "weights"};
 
 ControllerSpec readController(const YAML::Node& c,
@@ -152,6 +162,10 @@ ControllerSpec readController(const YAML::Node& c,
   get("roll_reflex_rate", p.roll_reflex_rate);
   get("roll_reflex_fast_rate", p.roll_reflex_fast_rate);
   get("roll_reflex_slow_rate", p.roll_reflex_slow_rate);
+  get("pitch_reflex_angle", p.pitch_reflex_angle);
+  get("pitch_reflex_ends", p.pitch_reflex_ends);
+  get("pitch_reflex_fast_rate", p.pitch_reflex_fast_rate);
+  get("pitch_reflex_slow_rate", p.pitch_reflex_slow_rate);
   if (!c["weights"]) throw fail("no 'weights'");
   get("weights", spec.weights);
   return spec;

@@ -63,7 +63,8 @@ void seedFromWeightsFile(EvolveOptions& o) {
         Setting{"amplitude", "--amplitude", got.amplitude, want.amplitude},
         Setting{"stroke_offset", "--stroke-offset", got.stroke_offset, want.stroke_offset},
         Setting{"control_period", "--control-period", got.control_period, want.control_period},
-        Setting{"roll_reflex_bank", nullptr, got.roll_reflex_bank, want.roll_reflex_bank}}) {
+        Setting{"roll_reflex_bank", nullptr, got.roll_reflex_bank, want.roll_reflex_bank},
+        Setting{"pitch_reflex_angle", nullptr, got.pitch_reflex_angle, want.pitch_reflex_angle}}) {
     if (s.file != s.evolution) {
       std::ostringstream m;
       m << "--init: " << o.init_path << ": its " << s.key << " is " << s.file
