@@ -20,6 +20,10 @@ double activate(Activation a, double x) {
   return x;
 }
 
+// Unit `unit`'s place along a chain of `units` (>= 2): s_k = 1 - 2k/(n-1), +1 at the nose,
+// -1 at the tail (the chain pitch term's and the pitch reflex's).
+double chainPosition(int unit, int units) { return 1.0 - 2.0 * unit / (units - 1); }
+
 }  // namespace
 
 Activation activationFromString(const std::string& name) {
@@ -197,7 +201,7 @@ bool applyPitchReflex(const FlapControllerParams& p, int unit, int units, double
                       WingPairCommand& command) {
   if (p.pitch_reflex_angle <= 0.0 || units < 2) return false;
   if (!(std::abs(pitch) > std::sin(p.pitch_reflex_angle))) return false;
-  const double s = 1.0 - 2.0 * unit / (units - 1);
+  const double s = chainPosition(unit, units);
   if (!(std::abs(s) > p.pitch_reflex_ends)) return false;
   // Nose up (pitch > 0): the tail (s < 0) is the low end, and needs the lift.
   const bool low = s * pitch < 0.0;
@@ -210,7 +214,7 @@ bool applyPitchReflex(const FlapControllerParams& p, int unit, int units, double
 
 double chainPitchScale(const FlapControllerParams& p, int unit, int units, double pitch) {
   if (units < 2 || p.pitch_gain == 0.0) return 1.0;
-  const double s = 1.0 - 2.0 * unit / (units - 1);
+  const double s = chainPosition(unit, units);
   return 1.0 - std::clamp(p.pitch_gain * s * pitch, -p.pitch_limit, p.pitch_limit);
 }
 
