@@ -335,6 +335,9 @@ TEST(FlapUnitController, BadParamsAreRefused) {
   p = FlapControllerParams();
   p.pitch_reflex_fast_rate = std::nan("");
   EXPECT_NE(validateFlapControllerParams(p).find("pitch_reflex_fast_rate"), std::string::npos);
+  p = FlapControllerParams();
+  p.attitude_filter_time = -0.02;
+  EXPECT_NE(validateFlapControllerParams(p).find("attitude_filter_time"), std::string::npos);
   EXPECT_THROW(FlapUnitController(FlapControllerParams(), {1.0, 2.0}), std::invalid_argument);
 }
 
@@ -385,6 +388,7 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   spec.params.pitch_reflex_ends = 0.4;
   spec.params.pitch_reflex_fast_rate = 66.0;
   spec.params.pitch_reflex_slow_rate = 33.0;
+  spec.params.attitude_filter_time = 0.1 + 0.05;
   spec.weights = kWeights;
   spec.weights[0] = 0.1 + 0.2;  // not exactly representable in short decimal
   const std::string text = controllerToYaml(spec, "line one\nline two", {{"seed", "7"}});
@@ -406,10 +410,12 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_EQ(back.params.pitch_reflex_ends, 0.4);
   EXPECT_EQ(back.params.pitch_reflex_fast_rate, 66.0);
   EXPECT_EQ(back.params.pitch_reflex_slow_rate, 33.0);
+  EXPECT_EQ(back.params.attitude_filter_time, 0.1 + 0.05);
   // without the reflexes their keys are not written
   const std::string plain = controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights});
   EXPECT_EQ(plain.find("roll_reflex"), std::string::npos);
   EXPECT_EQ(plain.find("pitch_reflex"), std::string::npos);
+  EXPECT_EQ(plain.find("attitude_filter"), std::string::npos);
 
   try {
     controllerFromYaml("flap_unit_controller: {hidden: 2, weights: [1, 2, 3]}", "short.yaml");

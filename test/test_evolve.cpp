@@ -476,8 +476,9 @@ TEST(EvolvedController, TheRollReflexCutsTheFlipsOfAWingPushFromMostStartsToOneA
 
 // The 12-unit chain holding 5 m in a 1 m/s side wind (flight_check's held-out start 18 of 20,
 // wind from 98 deg, config/afc_12_altitude_weights.yaml): without the chain pitch reflex it
-// pitches over with its pitch term pinned and sinks below its 1 m start within 20 s (-23.8 m
-// when measured); with it, it is at 5 m (5.02 m) at 20 s, upright.
+// pitches over with its pitch term pinned and sinks below its 1 m start within 20 s (-30.0 m
+// when measured, through the file's attitude filter; -23.8 m read raw); with it, it is at 5 m
+// (5.12 m) at 20 s, upright.
 TEST(EvolvedController, ThePitchReflexKeepsTheChainAtItsAltitudeInASideWindThatSinksItWithout) {
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
@@ -505,6 +506,38 @@ TEST(EvolvedController, ThePitchReflexKeepsTheChainAtItsAltitudeInASideWindThatS
   EXPECT_FALSE(with_reflex.flipped);
   EXPECT_NEAR(with_reflex.final_height, 5.0, 0.3);
   EXPECT_LT(without.final_height, p.start_height);
+}
+
+// The 12-unit chain holding 5 m with 0.1 rad of attitude noise (and 0.1 rad/s on the gyro) on
+// its root's IMU (flight_check's held-out start 14 of 20, config/afc_12_altitude_weights.yaml):
+// the noise reaches every unit's input at once through the encoders, and read raw it flips the
+// chain within 10 s; through the weights file's attitude filter (0.1 s) the chain stays upright
+// (lowest up-component of the root in those 10 s measured: -0.049 raw, 0.883 filtered).
+TEST(EvolvedController, TheAttitudeFilterKeepsTheChainUprightUnderNoiseThatFlipsItReadRaw) {
+  ControllerSpec spec =
+      loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
+  ASSERT_GT(spec.params.attitude_filter_time, 0.0);
+  FlightCheckParams p;
+  p.starts = 20;
+  p.max_roll = p.max_pitch = 0.52;
+  p.duration = 10.0;
+  p.noise = 0.1;
+  p.altitude = 5.0;
+  const EpisodeParams e = flightCheckEpisodes(p);
+  const CreatureModelPtr chain = creature(12);
+  const EpisodeStart start = episodeStarts(e, chain.get()).at(14);
+  auto fly = [&](const ControllerSpec& c) {
+    const AnnWingController ann(FlapUnitController(c.params, c.weights));
+    return runEpisode(chain, ann, c.params.control_period, e, start);
+  };
+  const EpisodeResult filtered = fly(spec);
+  spec.params.attitude_filter_time = 0.0;
+  const EpisodeResult raw = fly(spec);
+  std::printf("12 units, 0.1 rad noise, 10 s: lowest up %.3f filtered, %.3f raw\n",
+              filtered.min_upright, raw.min_upright);
+  EXPECT_FALSE(filtered.flipped);
+  EXPECT_GT(filtered.min_upright, 0.5);
+  EXPECT_TRUE(raw.flipped);
 }
 
 // A gust acts from its drawn time on: the flight is the still one, bit for bit, up to the
@@ -593,6 +626,20 @@ TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
     EXPECT_EQ(std::string(e.what()), "--init: " + pitched +
                                          ": its pitch_reflex_angle is 0.2, the evolution's 0 (set "
                                          "by hand, not evolved: seed from a file without it)");
+  }
+  // And the attitude filter.
+  spec.params.pitch_reflex_angle = 0.0;
+  spec.params.attitude_filter_time = 0.2;
+  const std::string filtered = ::testing::TempDir() + "afc_1_altitude_attitude_filter.yaml";
+  writeTextFile(filtered, controllerToYaml(spec));
+  try {
+    resolveEvolveOptions({"--init", filtered, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
+                         resume);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--init: " + filtered +
+                                         ": its attitude_filter_time is 0.2, the evolution's 0 "
+                                         "(set by hand, not evolved: seed from a file without it)");
   }
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "flapsim/ann.h"
 #include "flapsim/make_creature.h"
@@ -69,6 +70,79 @@ TEST(ImuReading, OrientationNoiseIsARotationVectorInTheBodysAxes) {
       s.link_poses[0].orientation * Quat(Eigen::AngleAxisd(v.norm(), v / v.norm()));
   EXPECT_LT(r.orientation.angularDistance(expected), 1e-12);
   EXPECT_NEAR(r.orientation.angularDistance(s.link_poses[0].orientation), v.norm(), 1e-12);
+}
+
+// A steady turn at 0.5 rad/s read exactly: the filter's gyro carries its estimate along, so it
+// stays on the reading; blind to the gyro (angular velocity zero) it is a low-pass of the angle,
+// which trails a ramp by rate x time constant (0.1 rad).
+TEST(AttitudeFilter, FollowsASteadyTurnWhereALowPassTrailsByRateTimesTimeConstant) {
+  const double rate = 0.5, tau = 0.2, dt = 0.02;
+  const Vec3 axis = Vec3(0.3, -0.4, 0.866).normalized();
+  AttitudeFilter with_gyro(tau), blind(tau);
+  double lag_with = 0.0, lag_blind = 0.0;
+  for (int k = 0; k <= 200; ++k) {  // 4 s, 20 time constants
+    ImuReading r;
+    r.orientation = Quat(Eigen::AngleAxisd(rate * k * dt, axis));
+    r.angular_velocity = rate * axis;  // the body's axes: the axis is fixed in both
+    lag_with = with_gyro.update(r, dt).orientation.angularDistance(r.orientation);
+    r.angular_velocity = Vec3::Zero();
+    lag_blind = blind.update(r, dt).orientation.angularDistance(r.orientation);
+  }
+  EXPECT_LT(lag_with, 1e-9);
+  EXPECT_NEAR(lag_blind, rate * tau, 1e-6);
+}
+
+// A still body read with white orientation noise (0.1 rad per axis, a fresh draw each 0.02 s):
+// through a 0.2 s filter the estimate's error is the noise's times sqrt(a / (2 - a)), a = dt /
+// (tau + dt) (an exponential average of independent draws): 0.173 rad rms -> 0.038 rad.
+TEST(AttitudeFilter, CutsWhiteOrientationNoiseBySqrtAOver2MinusA) {
+  const double sigma = 0.1, tau = 0.2, dt = 0.02, a = dt / (tau + dt);
+  std::mt19937_64 gen(7);
+  std::normal_distribution<double> normal;
+  AttitudeFilter filter(tau);
+  const Quat truth(Eigen::AngleAxisd(0.4, Vec3(1, 2, 0).normalized()));
+  double raw_sq = 0.0, est_sq = 0.0;
+  int n = 0;
+  for (int k = 0; k < 100000; ++k) {
+    const Vec3 v(sigma * normal(gen), sigma * normal(gen), sigma * normal(gen));
+    ImuReading r;
+    r.orientation = truth * Quat(Eigen::AngleAxisd(v.norm(), v / v.norm()));
+    const double e = filter.update(r, dt).orientation.angularDistance(truth);
+    if (k < 100) continue;  // the first reading is taken as it is
+    raw_sq += v.squaredNorm();
+    est_sq += e * e;
+    ++n;
+  }
+  const double raw = std::sqrt(raw_sq / n), est = std::sqrt(est_sq / n);
+  EXPECT_NEAR(raw, sigma * std::sqrt(3.0), 0.002);
+  EXPECT_NEAR(est / raw, std::sqrt(a / (2.0 - a)), 0.03 * std::sqrt(a / (2.0 - a)));
+}
+
+// Time constant 0 passes the reading bit for bit; reset() makes the next reading the estimate
+// again; a bad time constant is named.
+TEST(AttitudeFilter, OffPassesTheReadingAndResetRestartsIt) {
+  ImuReading first, second;
+  first.orientation = Quat(Eigen::AngleAxisd(0.3, Vec3::UnitX()));
+  second.orientation = Quat(Eigen::AngleAxisd(-0.2, Vec3::UnitY()));
+  second.angular_velocity = Vec3(0.1, 0.2, 0.3);
+  AttitudeFilter off(0.0);
+  off.update(first, 0.02);
+  EXPECT_EQ(off.update(second, 0.02).orientation.coeffs(), second.orientation.coeffs());
+  AttitudeFilter on(0.2);
+  EXPECT_LT(on.update(first, 0.02).orientation.angularDistance(first.orientation), 1e-12);
+  const double moved = on.update(second, 0.02).orientation.angularDistance(first.orientation);
+  EXPECT_GT(moved, 0.0);
+  EXPECT_LT(moved, 0.2 * first.orientation.angularDistance(second.orientation));
+  on.reset();
+  EXPECT_LT(on.update(second, 0.02).orientation.angularDistance(second.orientation), 1e-12);
+  for (double bad : {-0.1, std::nan(""), 2e3}) {
+    try {
+      AttitudeFilter f(bad);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("time constant"), std::string::npos) << e.what();
+    }
+  }
 }
 
 FlapControllerParams extended() {

@@ -141,6 +141,13 @@ struct FlapControllerParams {
   double pitch_reflex_ends = 0.3;        // of |s_k| in [0, 1]
   double pitch_reflex_fast_rate = 65.0;  // rad/s
   double pitch_reflex_slow_rate = 40.0;  // rad/s
+  /// Attitude filter (an extension, set by hand, not evolved; 0: off): the time constant (s)
+  /// of the complementary filter (AttitudeFilter, flapsim/sensors.h) that whoever runs the
+  /// controller puts between the root's IMU and unitSensing(): the episodes of evolution and
+  /// flight_check, and ann_controller on <creature>/imu. The IMU's orientation noise reaches
+  /// every unit's input at once through the joint encoders, and the chain's reflexes act on
+  /// thresholds it crosses (README, flight in real air).
+  double attitude_filter_time = 0.0;  // s
 };
 
 /// The factor unit `unit` of `units` scales its downstroke rates by under the chain pitch
@@ -248,6 +255,9 @@ class WingController {
  public:
   virtual ~WingController() = default;
   virtual std::vector<StrokeCommand> commands(const FlapSensing& sensed) const = 0;
+  /// The time constant of the attitude filter its runner puts before unitSensing() (s; 0:
+  /// the IMU's orientation as it reads).
+  virtual double attitudeFilterTime() const { return 0.0; }
 };
 
 /// The same network on every unit (the paper's multi-pair creatures), with the chain pitch
@@ -257,6 +267,7 @@ class AnnWingController : public WingController {
  public:
   explicit AnnWingController(const FlapUnitController& unit) : unit_(unit) {}
   std::vector<StrokeCommand> commands(const FlapSensing& sensed) const override;
+  double attitudeFilterTime() const override { return unit_.params().attitude_filter_time; }
   const FlapUnitController& unit() const { return unit_; }
 
  private:

@@ -120,6 +120,12 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   simulator_ns_ = ros::names::parentNamespace(
       ros::names::parentNamespace(ros::names::resolve(params_.step_service)));
   readings_.resize(creatures_.size());
+  filters_.assign(creatures_.size(),
+                  Filter{flapsim::AttitudeFilter(spec_.params.attitude_filter_time), {}, {}});
+  if (params_.attitude_source == AttitudeSource::kTf && spec_.params.attitude_filter_time > 0.0) {
+    ROS_WARN_STREAM("ann_controller: the attitude filter of "
+                    << params_.weights_file << " is not applied to tf's exact attitude");
+  }
   if (params_.attitude_source == AttitudeSource::kImu) subscribe();
   pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
   if (params_.lockstep)
@@ -133,6 +139,11 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
                   << (params_.attitude_source == AttitudeSource::kImu
                           ? subscribers_.front().getTopic()
                           : std::string("tf"))
+                  << (params_.attitude_source == AttitudeSource::kImu &&
+                              spec_.params.attitude_filter_time > 0.0
+                          ? " through an attitude filter of " +
+                                std::to_string(spec_.params.attitude_filter_time) + " s"
+                          : std::string())
                   << (params_.altitude ? ", holding " + std::to_string(*params_.altitude) + " m"
                                        : std::string(", climbing"))
                   << (params_.lockstep ? ", lockstep" : ""));
@@ -210,7 +221,24 @@ std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time&
   if (need_odom && params_.altitude_noise > 0.0) {
     altitude += params_.altitude_noise * normal_(altimeter_rng_);
   }
-  return flapsim::unitSensing(*r.model, r.bodies, fromMsg(*r.imu), q, qd, altitude);
+  return flapsim::unitSensing(*r.model, r.bodies, filtered(c, fromMsg(*r.imu), r.imu->header.stamp),
+                              q, qd, altitude);
+}
+
+flapsim::ImuReading AnnControllerNode::filtered(size_t c, const flapsim::ImuReading& imu,
+                                                const ros::Time& stamp) {
+  Filter& f = filters_[c];
+  if (f.filter.timeConstant() <= 0.0) return imu;
+  if (!f.stamp.isZero() && stamp == f.stamp) return f.estimate;
+  double dt = spec_.params.control_period;
+  if (stamp < f.stamp) {
+    f.filter.reset();
+  } else if (!f.stamp.isZero()) {
+    dt = (stamp - f.stamp).toSec();
+  }
+  f.stamp = stamp;
+  f.estimate = f.filter.update(imu, dt);
+  return f.estimate;
 }
 
 std::string AnnControllerNode::missing(size_t c) const {

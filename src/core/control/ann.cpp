@@ -170,6 +170,9 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
   if (!(p.pitch_reflex_ends >= 0.0 && p.pitch_reflex_ends < 1.0)) {
     return "pitch_reflex_ends must be in [0, 1)";
   }
+  if (!(p.attitude_filter_time >= 0.0 && p.attitude_filter_time <= 10.0)) {
+    return "attitude_filter_time must be in [0, 10] s";
+  }
   for (const auto& [name, rate] :
        {std::pair<const char*, double>{"roll_reflex_fast_rate", p.roll_reflex_fast_rate},
         {"roll_reflex_slow_rate", p.roll_reflex_slow_rate},

@@ -53,6 +53,9 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
     e << YAML::Key << "pitch_reflex_fast_rate" << YAML::Value << p.pitch_reflex_fast_rate;
     e << YAML::Key << "pitch_reflex_slow_rate" << YAML::Value << p.pitch_reflex_slow_rate;
   }
+  if (p.attitude_filter_time != 0.0) {
+    e << YAML::Key << "attitude_filter_time" << YAML::Value << p.attitude_filter_time;
+  }
   e << YAML::Key << "weights" << YAML::Value << YAML::Flow << spec.weights;
   e << YAML::EndMap;
   if (!metadata.empty()) {
@@ -97,6 +100,7 @@ const std::vector<std::string> kKeys = {"network",
                                         "pitch_reflex_ends",
                                         "pitch_reflex_fast_rate",
                                         "pitch_reflex_slow_rate",
+                                        "attitude_filter_time",
                                         "weights"};
 
 ControllerSpec readController(const YAML::Node& c,
@@ -166,6 +170,7 @@ ControllerSpec readController(const YAML::Node& c,
   get("pitch_reflex_ends", p.pitch_reflex_ends);
   get("pitch_reflex_fast_rate", p.pitch_reflex_fast_rate);
   get("pitch_reflex_slow_rate", p.pitch_reflex_slow_rate);
+  get("attitude_filter_time", p.attitude_filter_time);
   if (!c["weights"]) throw fail("no 'weights'");
   get("weights", spec.weights);
   return spec;

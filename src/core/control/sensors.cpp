@@ -45,6 +45,32 @@ ImuReading imuReading(const CreatureState& state, const Vec3& acceleration, cons
   return r;
 }
 
+AttitudeFilter::AttitudeFilter(double time_constant) : time_constant_(time_constant) {
+  if (!(time_constant >= 0.0 && time_constant <= 1e3)) {
+    std::ostringstream msg;
+    msg << "attitude filter: time constant " << time_constant << " s is not in [0, 1000]";
+    throw InputError(msg.str());
+  }
+}
+
+ImuReading AttitudeFilter::update(const ImuReading& reading, double dt) {
+  ImuReading out = reading;
+  if (time_constant_ <= 0.0) return out;
+  if (!estimate_) {
+    estimate_ = reading.orientation.normalized();
+  } else {
+    const Vec3 turn = 0.5 * (rate_ + reading.angular_velocity) * dt;  // body axes
+    const double angle = turn.norm();
+    Quat predicted = *estimate_;
+    if (angle > 0.0) predicted = predicted * Quat(Eigen::AngleAxisd(angle, turn / angle));
+    const double a = dt / (time_constant_ + dt);
+    estimate_ = predicted.normalized().slerp(a, reading.orientation.normalized()).normalized();
+  }
+  rate_ = reading.angular_velocity;
+  out.orientation = *estimate_;
+  return out;
+}
+
 FlapSensing unitSensing(const CreatureModel& model, const std::vector<int>& body_links,
                         const ImuReading& imu, const std::vector<double>& q,
                         const std::vector<double>& qd, double altitude) {

@@ -160,13 +160,16 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureMo
 namespace {
 
 // The units as the controller senses them (flapsim/sensors.h): the root's IMU with the
-// episode's noise, exact joint encoders, the altimeter with its noise.
+// episode's noise through the controller's attitude filter, exact joint encoders, the
+// altimeter with its noise.
 FlapSensing sense(const World& world, const std::string& name, const CreatureModel& model,
-                  const std::vector<int>& bodies, const EpisodeParams& p, Rng& rng) {
+                  const std::vector<int>& bodies, const EpisodeParams& p, Rng& rng,
+                  AttitudeFilter& filter, double control_period) {
   const CreatureState state = world.state(name);
   const std::function<double()> normal = [&rng] { return rng.normal(); };
-  const ImuReading imu =
-      imuReading(state, world.rootAcceleration(name), world.params().gravity, p.imu_noise, normal);
+  const ImuReading imu = filter.update(
+      imuReading(state, world.rootAcceleration(name), world.params().gravity, p.imu_noise, normal),
+      control_period);
   double altitude = state.link_poses[0].position.z();
   if (p.altitude_noise > 0.0) altitude += p.altitude_noise * rng.normal();
   return unitSensing(model, bodies, imu, state.joint_positions, state.joint_velocities, altitude);
@@ -267,13 +270,14 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
 
   const std::int64_t samples = loop.periodsIn(p.duration);
   Rng noise(start.noise_seed);
+  AttitudeFilter filter(controller.attitudeFilterTime());
   EpisodeResult result;
   result.max_height = -std::numeric_limits<double>::infinity();
   result.min_height = std::numeric_limits<double>::infinity();
   Tally tally;
   for (std::int64_t s = 0; s < samples; ++s) {
     applyGusts(world, name, *model, p, start, s, control_period);
-    FlapSensing sensed = sense(world, name, *model, bodies, p, noise);
+    FlapSensing sensed = sense(world, name, *model, bodies, p, noise, filter, control_period);
     sensed.setpoint = start.altitude;
     const std::vector<StrokeCommand> commands = controller.commands(sensed);
     world.setWingCommands(name, layout.wing_joints, commands);

@@ -64,7 +64,9 @@ void seedFromWeightsFile(EvolveOptions& o) {
         Setting{"stroke_offset", "--stroke-offset", got.stroke_offset, want.stroke_offset},
         Setting{"control_period", "--control-period", got.control_period, want.control_period},
         Setting{"roll_reflex_bank", nullptr, got.roll_reflex_bank, want.roll_reflex_bank},
-        Setting{"pitch_reflex_angle", nullptr, got.pitch_reflex_angle, want.pitch_reflex_angle}}) {
+        Setting{"pitch_reflex_angle", nullptr, got.pitch_reflex_angle, want.pitch_reflex_angle},
+        Setting{"attitude_filter_time", nullptr, got.attitude_filter_time,
+                want.attitude_filter_time}}) {
     if (s.file != s.evolution) {
       std::ostringstream m;
       m << "--init: " << o.init_path << ": its " << s.key << " is " << s.file
