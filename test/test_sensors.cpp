@@ -145,6 +145,31 @@ TEST(AttitudeFilter, OffPassesTheReadingAndResetRestartsIt) {
   }
 }
 
+// updateAt (ann_controller's, on the IMU's stamps): stamps k x 20 ms step as update() by the
+// control period 0.02 does, bit for bit (the episodes'); the same stamp again changes nothing;
+// an earlier stamp (the simulator was reset) restarts the filter on that reading.
+TEST(AttitudeFilter, UpdateAtStepsByTheStampsAndRestartsWhenTheyGoBack) {
+  AttitudeFilter by_stamp(0.1), by_period(0.1);
+  std::vector<ImuReading> readings(50);
+  for (size_t k = 0; k < readings.size(); ++k) {
+    readings[k].orientation =
+        Quat(Eigen::AngleAxisd(0.3 * std::sin(0.7 * k), Vec3(1, 1, 0).normalized()));
+    readings[k].angular_velocity = Vec3(0.5 * std::cos(0.3 * k), -0.2, 0.1 * k);
+  }
+  ImuReading a, b;
+  for (size_t k = 0; k < readings.size(); ++k) {
+    const std::int64_t stamp = static_cast<std::int64_t>(k) * 20000000 + 1000000000;
+    a = by_stamp.updateAt(readings[k], stamp);
+    b = by_period.update(readings[k], 0.02);
+    ASSERT_EQ(a.orientation.coeffs(), b.orientation.coeffs()) << "reading " << k;
+    ASSERT_EQ(by_stamp.updateAt(readings[(k + 7) % readings.size()], stamp).orientation.coeffs(),
+              a.orientation.coeffs());
+  }
+  const ImuReading again = by_stamp.updateAt(readings[3], 0);
+  EXPECT_LT(again.orientation.angularDistance(readings[3].orientation), 1e-12);
+  EXPECT_GT(a.orientation.angularDistance(readings[3].orientation), 1e-3);
+}
+
 FlapControllerParams extended() {
   FlapControllerParams p;
   p.network = FlapNetwork::kMirror;

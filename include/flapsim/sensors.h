@@ -8,6 +8,7 @@
 // a lockstep controller commands [t, t + P) from it, as an episode does. ROS-free; no clock.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -62,13 +63,23 @@ class AttitudeFilter {
   /// `reading` with its orientation replaced by the estimate after it, dt (s, > 0) after the
   /// previous update.
   ImuReading update(const ImuReading& reading, double dt);
-  void reset() { estimate_.reset(); }
+  /// update() for a reading taken at time `t_ns` (ns, any clock: a ROS stamp's toNSec()):
+  /// stepped by the time since the previous call's (in s, (t_ns - previous) x 1e-9, so k x
+  /// 0.02 s stamps step by exactly 0.02); the same time again gives the same estimate without
+  /// a step, and an earlier one (the world was reset) restarts the filter.
+  ImuReading updateAt(const ImuReading& reading, std::int64_t t_ns);
+  void reset() {
+    estimate_.reset();
+    time_.reset();
+  }
   double timeConstant() const { return time_constant_; }
 
  private:
   double time_constant_;
   std::optional<Quat> estimate_;
-  Vec3 rate_ = Vec3::Zero();  // the previous reading's angular velocity (body axes)
+  Vec3 rate_ = Vec3::Zero();          // the previous reading's angular velocity (body axes)
+  std::optional<std::int64_t> time_;  // updateAt's previous t_ns
+  ImuReading last_;                   // updateAt's previous result
 };
 
 /// The units of a flap-unit creature as its controller senses them.

@@ -78,11 +78,6 @@ class AnnControllerNode {
   std::optional<flapsim::FlapSensing> sense(const ros::Time& stamp, size_t c);
   std::optional<flapsim::FlapSensing> senseTf(const ros::Time& stamp, size_t c) const;
   std::optional<flapsim::FlapSensing> senseImu(const ros::Time& stamp, size_t c);
-  /// `imu`, stamped `stamp`, through creature `c`'s attitude filter (the weights file's
-  /// attitude_filter_time; flapsim::AttitudeFilter), stepped by the time since its previous
-  /// reading. A reading older than that one (the simulator was reset) restarts the filter; the
-  /// same reading again gives the same estimate.
-  flapsim::ImuReading filtered(size_t c, const flapsim::ImuReading& imu, const ros::Time& stamp);
   /// What sense() waits for, for the messages.
   std::string missing(size_t c) const;
   void subscribe();
@@ -106,14 +101,9 @@ class AnnControllerNode {
   std::vector<ros::Subscriber> subscribers_;
   mutable std::mutex mutex_;        // guards readings_
   std::vector<Readings> readings_;  // per creature
-  // Per creature, used by sense() only: the attitude filter, its last reading's stamp and
-  // its estimate then.
-  struct Filter {
-    flapsim::AttitudeFilter filter;
-    ros::Time stamp;
-    flapsim::ImuReading estimate;
-  };
-  std::vector<Filter> filters_;
+  // Per creature, used by sense() only: the attitude filter of the weights file (restarted
+  // when the stamps go back, as after a reset).
+  std::vector<flapsim::AttitudeFilter> filters_;
   std::mt19937_64 altimeter_rng_;  // the altimeter's noise, seeded from ~noise_seed
   std::normal_distribution<double> normal_;
   std::atomic<bool> started_{false};

@@ -120,8 +120,7 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   simulator_ns_ = ros::names::parentNamespace(
       ros::names::parentNamespace(ros::names::resolve(params_.step_service)));
   readings_.resize(creatures_.size());
-  filters_.assign(creatures_.size(),
-                  Filter{flapsim::AttitudeFilter(spec_.params.attitude_filter_time), {}, {}});
+  filters_.assign(creatures_.size(), flapsim::AttitudeFilter(spec_.params.attitude_filter_time));
   if (params_.attitude_source == AttitudeSource::kTf && spec_.params.attitude_filter_time > 0.0) {
     ROS_WARN_STREAM("ann_controller: the attitude filter of "
                     << params_.weights_file << " is not applied to tf's exact attitude");
@@ -221,24 +220,9 @@ std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time&
   if (need_odom && params_.altitude_noise > 0.0) {
     altitude += params_.altitude_noise * normal_(altimeter_rng_);
   }
-  return flapsim::unitSensing(*r.model, r.bodies, filtered(c, fromMsg(*r.imu), r.imu->header.stamp),
+  return flapsim::unitSensing(*r.model, r.bodies,
+                              filters_[c].updateAt(fromMsg(*r.imu), r.imu->header.stamp.toNSec()),
                               q, qd, altitude);
-}
-
-flapsim::ImuReading AnnControllerNode::filtered(size_t c, const flapsim::ImuReading& imu,
-                                                const ros::Time& stamp) {
-  Filter& f = filters_[c];
-  if (f.filter.timeConstant() <= 0.0) return imu;
-  if (!f.stamp.isZero() && stamp == f.stamp) return f.estimate;
-  double dt = spec_.params.control_period;
-  if (stamp < f.stamp) {
-    f.filter.reset();
-  } else if (!f.stamp.isZero()) {
-    dt = (stamp - f.stamp).toSec();
-  }
-  f.stamp = stamp;
-  f.estimate = f.filter.update(imu, dt);
-  return f.estimate;
 }
 
 std::string AnnControllerNode::missing(size_t c) const {

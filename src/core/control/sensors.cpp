@@ -71,6 +71,16 @@ ImuReading AttitudeFilter::update(const ImuReading& reading, double dt) {
   return out;
 }
 
+ImuReading AttitudeFilter::updateAt(const ImuReading& reading, std::int64_t t_ns) {
+  if (time_ && t_ns == *time_) return last_;
+  if (time_ && t_ns < *time_) reset();
+  // The first update does not step: it takes the reading as it is.
+  const double dt = time_ ? static_cast<double>(t_ns - *time_) * 1e-9 : 0.0;
+  time_ = t_ns;
+  last_ = update(reading, dt);
+  return last_;
+}
+
 FlapSensing unitSensing(const CreatureModel& model, const std::vector<int>& body_links,
                         const ImuReading& imu, const std::vector<double>& q,
                         const std::vector<double>& qd, double altitude) {
