@@ -245,28 +245,34 @@ TEST(PitchReflex, ActsOnTheChainsEndsOnlyBeyondItsAngleAndMirrors) {
     return applyPitchReflex(params, unit, units, std::sin(pitch_angle), c);
   };
   WingPairCommand c;
+  // The pair's mean downstroke rate becomes the reflex's; the network's right/left ratio (its
+  // roll control, 31 / 30) is kept.
+  auto downstrokes = [](const WingPairCommand& c, double mean) {
+    EXPECT_DOUBLE_EQ(c.left.downstroke_rate, mean * 30.0 / 30.5);
+    EXPECT_DOUBLE_EQ(c.right.downstroke_rate, mean * 31.0 / 30.5);
+  };
   // nose up 0.25 rad, 5 units (s = 1, 0.5, 0, -0.5, -1): the nose is the high end
   for (int unit : {0, 1}) {
     ASSERT_TRUE(reflex(unit, 0.25, p, c)) << unit;
+    downstrokes(c, 40.0);
     for (const StrokeCommand& w : {c.left, c.right}) {
-      EXPECT_EQ(w.downstroke_rate, 40.0);
       EXPECT_EQ(w.upstroke_rate, 65.0);
       EXPECT_EQ(w.amplitude, 1.2);  // only the rates change
     }
   }
   for (int unit : {3, 4}) {  // the tail: the low end
     ASSERT_TRUE(reflex(unit, 0.25, p, c)) << unit;
-    EXPECT_EQ(c.right.downstroke_rate, 65.0);
+    downstrokes(c, 65.0);
     EXPECT_EQ(c.left.upstroke_rate, 40.0);
   }
   EXPECT_FALSE(reflex(2, 0.25, p, c));  // the middle (s = 0) keeps the network's
   EXPECT_EQ(c.right.downstroke_rate, 31.0);
   // the mirror image: nose down, the nose is the low end
   ASSERT_TRUE(reflex(0, -0.25, p, c));
-  EXPECT_EQ(c.left.downstroke_rate, 65.0);
+  downstrokes(c, 65.0);
   EXPECT_EQ(c.right.upstroke_rate, 40.0);
   ASSERT_TRUE(reflex(4, -0.25, p, c));
-  EXPECT_EQ(c.left.downstroke_rate, 40.0);
+  downstrokes(c, 40.0);
   // within the angle, either way; the ends threshold; off; a single unit
   for (double angle : {0.19, -0.19, 0.0}) {
     EXPECT_FALSE(reflex(0, angle, p, c)) << angle;

@@ -478,7 +478,7 @@ TEST(EvolvedController, TheRollReflexCutsTheFlipsOfAWingPushFromMostStartsToOneA
 // wind from 98 deg, config/afc_12_altitude_weights.yaml): without the chain pitch reflex it
 // pitches over with its pitch term pinned and sinks below its 1 m start within 20 s (-30.0 m
 // when measured, through the file's attitude filter; -23.8 m read raw); with it, it is at 5 m
-// (5.12 m) at 20 s, upright.
+// (5.14 m) at 20 s, upright.
 TEST(EvolvedController, ThePitchReflexKeepsTheChainAtItsAltitudeInASideWindThatSinksItWithout) {
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
@@ -510,10 +510,11 @@ TEST(EvolvedController, ThePitchReflexKeepsTheChainAtItsAltitudeInASideWindThatS
 
 // The 12-unit chain holding 5 m with 0.1 rad of attitude noise (and 0.1 rad/s on the gyro) on
 // its root's IMU (flight_check's held-out start 14 of 20, config/afc_12_altitude_weights.yaml):
-// the noise reaches every unit's input at once through the encoders, and read raw it flips the
-// chain within 10 s; through the weights file's attitude filter (0.1 s) the chain stays upright
-// (lowest up-component of the root in those 10 s measured: -0.049 raw, 0.883 filtered).
-TEST(EvolvedController, TheAttitudeFilterKeepsTheChainUprightUnderNoiseThatFlipsItReadRaw) {
+// the noise reaches every unit's input at once through the encoders; read raw, the root unit
+// rocks down to an up-component of 0.18 (80 deg) in its first 10 s; through the weights file's
+// attitude filter (0.1 s), to 0.93 (21 deg) (measured). Before the pitch reflex kept the units'
+// roll control, the raw reading flipped this start.
+TEST(EvolvedController, TheAttitudeFilterKeepsTheChainSteadyUnderNoiseThatRocksItReadRaw) {
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
   ASSERT_GT(spec.params.attitude_filter_time, 0.0);
@@ -535,9 +536,8 @@ TEST(EvolvedController, TheAttitudeFilterKeepsTheChainUprightUnderNoiseThatFlips
   const EpisodeResult raw = fly(spec);
   std::printf("12 units, 0.1 rad noise, 10 s: lowest up %.3f filtered, %.3f raw\n",
               filtered.min_upright, raw.min_upright);
-  EXPECT_FALSE(filtered.flipped);
-  EXPECT_GT(filtered.min_upright, 0.5);
-  EXPECT_TRUE(raw.flipped);
+  EXPECT_GT(filtered.min_upright, 0.85);
+  EXPECT_LT(raw.min_upright, 0.3);
 }
 
 // A gust acts from its drawn time on: the flight is the still one, bit for bit, up to the

@@ -136,7 +136,9 @@ struct FlapControllerParams {
   /// pitch_reflex_fast_rate and up at pitch_reflex_slow_rate (the air pushes them up), those of
   /// its high end the other way round (the air pushes them down): the units whose |s_k|
   /// (chainPitchScale's) exceeds pitch_reflex_ends; the middle ones keep their command
-  /// (README, flight in real air).
+  /// (README, flight in real air). "Beat down at" is the pair's mean: each wing's downstroke
+  /// keeps its share of the network's (within min_downstroke_rate and
+  /// pitch_max_downstroke_rate), so the unit keeps its roll control while the reflex acts.
   double pitch_reflex_angle = 0.0;       // rad
   double pitch_reflex_ends = 0.3;        // of |s_k| in [0, 1]
   double pitch_reflex_fast_rate = 65.0;  // rad/s

@@ -208,8 +208,13 @@ bool applyPitchReflex(const FlapControllerParams& p, int unit, int units, double
   if (!(std::abs(s) > p.pitch_reflex_ends)) return false;
   // Nose up (pitch > 0): the tail (s < 0) is the low end, and needs the lift.
   const bool low = s * pitch < 0.0;
+  // The unit's left/right ratio, its roll control, is kept: the pair's mean downstroke rate
+  // goes to the reflex's, each wing's scaled by its share of the network's mean.
+  const double mean = 0.5 * (command.left.downstroke_rate + command.right.downstroke_rate);
   for (StrokeCommand* w : {&command.left, &command.right}) {
-    w->downstroke_rate = low ? p.pitch_reflex_fast_rate : p.pitch_reflex_slow_rate;
+    const double rate = low ? p.pitch_reflex_fast_rate : p.pitch_reflex_slow_rate;
+    w->downstroke_rate = std::clamp(rate * w->downstroke_rate / mean, p.min_downstroke_rate,
+                                    p.pitch_max_downstroke_rate);
     w->upstroke_rate = low ? p.pitch_reflex_slow_rate : p.pitch_reflex_fast_rate;
   }
   return true;
