@@ -213,7 +213,7 @@ bool applyPitchReflex(const FlapControllerParams& p, int unit, int units, double
   const double mean = 0.5 * (command.left.downstroke_rate + command.right.downstroke_rate);
   for (StrokeCommand* w : {&command.left, &command.right}) {
     const double rate = low ? p.pitch_reflex_fast_rate : p.pitch_reflex_slow_rate;
-    w->downstroke_rate = std::clamp(rate * w->downstroke_rate / mean, p.min_downstroke_rate,
+    w->downstroke_rate = std::clamp(rate * (w->downstroke_rate / mean), p.min_downstroke_rate,
                                     p.pitch_max_downstroke_rate);
     w->upstroke_rate = low ? p.pitch_reflex_slow_rate : p.pitch_reflex_fast_rate;
   }
