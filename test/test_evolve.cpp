@@ -474,6 +474,24 @@ TEST(EvolvedController, TheRollReflexCutsTheFlipsOfAWingPushFromMostStartsToOneA
   EXPECT_GE(net_alone, 10);
 }
 
+// flight_check's table conditions (20 held-out starts within +-0.52 rad) holding 5 m for
+// `duration` s, the disturbance left to the caller.
+FlightCheckParams tableHolding5m(double duration) {
+  FlightCheckParams p;
+  p.starts = 20;
+  p.max_roll = p.max_pitch = 0.52;
+  p.duration = duration;
+  p.altitude = 5.0;
+  return p;
+}
+
+// One episode of `creature` under the network of `spec`, at its control period.
+EpisodeResult flyNetwork(const CreatureModelPtr& creature, const ControllerSpec& spec,
+                         const EpisodeParams& e, const EpisodeStart& start) {
+  const AnnWingController ann(FlapUnitController(spec.params, spec.weights));
+  return runEpisode(creature, ann, spec.params.control_period, e, start);
+}
+
 // The 12-unit chain holding 5 m in a 1 m/s side wind (flight_check's held-out start 18 of 20,
 // wind from 98 deg, config/afc_12_altitude_weights.yaml): without the chain pitch reflex it
 // pitches over with its pitch term pinned and sinks below its 1 m start within 20 s (-30.0 m
@@ -483,22 +501,14 @@ TEST(EvolvedController, ThePitchReflexKeepsTheChainAtItsAltitudeInASideWindThatS
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
   ASSERT_GT(spec.params.pitch_reflex_angle, 0.0);
-  FlightCheckParams p;
-  p.starts = 20;
-  p.max_roll = p.max_pitch = 0.52;
-  p.duration = 20.0;
+  FlightCheckParams p = tableHolding5m(20.0);
   p.wind = 1.0;
-  p.altitude = 5.0;
   const EpisodeParams e = flightCheckEpisodes(p);
   const CreatureModelPtr chain = creature(12);
   const EpisodeStart start = episodeStarts(e, chain.get()).at(18);
-  auto fly = [&](const ControllerSpec& c) {
-    const AnnWingController ann(FlapUnitController(c.params, c.weights));
-    return runEpisode(chain, ann, c.params.control_period, e, start);
-  };
-  const EpisodeResult with_reflex = fly(spec);
+  const EpisodeResult with_reflex = flyNetwork(chain, spec, e, start);
   spec.params.pitch_reflex_angle = 0.0;
-  const EpisodeResult without = fly(spec);
+  const EpisodeResult without = flyNetwork(chain, spec, e, start);
   std::printf(
       "12 units, 1 m/s side wind, hold 5 m: %.2f m at 20 s with the pitch reflex, %.2f m "
       "without\n",
@@ -520,21 +530,15 @@ TEST(EvolvedController, TheAttitudeFilterKeepsTheChainSteadierUnderNoiseThanRead
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
   ASSERT_GT(spec.params.attitude_filter_time, 0.0);
-  FlightCheckParams p;
-  p.starts = 20;
-  p.max_roll = p.max_pitch = 0.52;
-  p.duration = 20.0;
+  FlightCheckParams p = tableHolding5m(20.0);
   p.noise = 0.1;
-  p.altitude = 5.0;
   const EpisodeParams e = flightCheckEpisodes(p);
   const CreatureModelPtr chain = creature(12);
   const std::vector<EpisodeStart> starts = episodeStarts(e, chain.get());
   auto lowest = [&](const ControllerSpec& c) {
-    const AnnWingController ann(FlapUnitController(c.params, c.weights));
     double low = 1.0;
     for (int k = 10; k < 13; ++k) {
-      const EpisodeResult r = runEpisode(chain, ann, c.params.control_period, e, starts.at(k));
-      low = std::min(low, r.min_upright_settled);
+      low = std::min(low, flyNetwork(chain, c, e, starts.at(k)).min_upright_settled);
     }
     return low;
   };
