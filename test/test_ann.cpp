@@ -175,6 +175,63 @@ TEST(WingControllers, ChainPitchTermSlowsTheNoseAndSpeedsTheTailWhileTheNoseIsUp
   EXPECT_DOUBLE_EQ(capped[2].downstroke_rate, 30.0);
 }
 
+// Ground-speed damping: the up the units level to leans against the horizontal velocity
+// (odometry's, in the root's axes) by velocity_gain |v| up to velocity_tilt_limit.
+TEST(GroundSpeedDamping, LeansTheLevelledUpAgainstTheHorizontalVelocityUpToItsLimit) {
+  FlapControllerParams p;
+  p.velocity_gain = 0.1;
+  p.velocity_tilt_limit = 0.05;
+  const Quat level = Quat::Identity();
+  auto expectUp = [](const Vec3& up, const Vec3& want) {
+    EXPECT_NEAR((up - want).norm(), 0.0, 1e-15) << up.transpose() << " vs " << want.transpose();
+  };
+  // 0.3 m/s forward: leaned back by 0.03 rad
+  expectUp(levelledUp(p, level, Vec3(0.3, 0, 0)), Vec3(-std::sin(0.03), 0, std::cos(0.03)));
+  // the body's forward is the world's +y when it heads left (yaw 90 deg)
+  const Quat heading_left(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()));
+  expectUp(levelledUp(p, heading_left, Vec3(0.3, 0, 0)), Vec3(0, -std::sin(0.03), std::cos(0.03)));
+  // beyond 0.5 m/s the limit; climbing or sinking leans nothing; off: the world's up
+  expectUp(levelledUp(p, level, Vec3(0, -2.0, 0)), Vec3(0, std::sin(0.05), std::cos(0.05)));
+  EXPECT_EQ(levelledUp(p, level, Vec3(0, 0, 2.0)), Vec3::UnitZ());
+  p.velocity_gain = 0.0;
+  EXPECT_EQ(levelledUp(p, level, Vec3(0.3, 0, 0)), Vec3::UnitZ());
+}
+
+// What the damping does to the commands: a level chain moving forward at v commands what the
+// chain at rest pitched nose down by velocity_gain v commands (so it pitches up to brake), and
+// moving right what it commands rolled right wing low; the chain pitch term included.
+TEST(GroundSpeedDamping, ALevelChainMovingCommandsWhatItCommandsAtRestTiltedTheOtherWay) {
+  FlapControllerParams p;
+  p.pitch_gain = 2.0;
+  p.velocity_gain = 0.1;
+  const AnnWingController damped(FlapUnitController(p, kWeights));
+  auto chain = [](const Quat& q) { return FlapSensing({q, q, q}); };
+  auto expectSame = [](const std::vector<StrokeCommand>& a, const std::vector<StrokeCommand>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_NEAR(a[i].downstroke_rate, b[i].downstroke_rate, 1e-9) << i;
+      EXPECT_NEAR(a[i].upstroke_rate, b[i].upstroke_rate, 1e-9) << i;
+    }
+  };
+  FlapSensing forward = chain(Quat::Identity());
+  forward.velocity = Vec3(0.3, 0, 0);
+  const Quat nose_down(Eigen::AngleAxisd(0.03, Vec3::UnitY()));
+  const std::vector<StrokeCommand> moving = damped.commands(forward);
+  expectSame(moving, damped.commands(chain(nose_down)));
+  // and that is not what it commands level at rest: the nose and tail differ
+  const std::vector<StrokeCommand> still = damped.commands(chain(Quat::Identity()));
+  EXPECT_GT(std::abs(moving[0].downstroke_rate - still[0].downstroke_rate), 0.1);
+  FlapSensing right = chain(Quat::Identity());
+  right.velocity = Vec3(0, -0.3, 0);
+  const Quat right_low(Eigen::AngleAxisd(0.03, Vec3::UnitX()));
+  expectSame(damped.commands(right), damped.commands(chain(right_low)));
+  // without a velocity reading, or with the gain 0, the level chain's commands at rest
+  EXPECT_EQ(damped.commands(chain(Quat::Identity()))[0].downstroke_rate, still[0].downstroke_rate);
+  p.velocity_gain = 0.0;
+  EXPECT_EQ(AnnWingController(FlapUnitController(p, kWeights)).commands(forward)[0].downstroke_rate,
+            still[0].downstroke_rate);
+}
+
 // The roll reflex: banked beyond roll_reflex_bank and still rolling over faster than
 // roll_reflex_rate (body gyro), the low wing beats fast down / slow up, the high wing slow
 // down / fast up; otherwise, and with the reflex off, the command stays the network's.
@@ -344,6 +401,12 @@ TEST(FlapUnitController, BadParamsAreRefused) {
   p = FlapControllerParams();
   p.attitude_filter_time = -0.02;
   EXPECT_NE(validateFlapControllerParams(p).find("attitude_filter_time"), std::string::npos);
+  p = FlapControllerParams();
+  p.velocity_gain = std::nan("");
+  EXPECT_NE(validateFlapControllerParams(p).find("velocity_gain"), std::string::npos);
+  p = FlapControllerParams();
+  p.velocity_tilt_limit = 0.6;
+  EXPECT_NE(validateFlapControllerParams(p).find("velocity_tilt_limit"), std::string::npos);
   EXPECT_THROW(FlapUnitController(FlapControllerParams(), {1.0, 2.0}), std::invalid_argument);
 }
 
@@ -395,6 +458,8 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   spec.params.pitch_reflex_fast_rate = 66.0;
   spec.params.pitch_reflex_slow_rate = 33.0;
   spec.params.attitude_filter_time = 0.1 + 0.05;
+  spec.params.velocity_gain = 0.1 + 0.2;
+  spec.params.velocity_tilt_limit = 0.04;
   spec.weights = kWeights;
   spec.weights[0] = 0.1 + 0.2;  // not exactly representable in short decimal
   const std::string text = controllerToYaml(spec, "line one\nline two", {{"seed", "7"}});
@@ -417,11 +482,14 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_EQ(back.params.pitch_reflex_fast_rate, 66.0);
   EXPECT_EQ(back.params.pitch_reflex_slow_rate, 33.0);
   EXPECT_EQ(back.params.attitude_filter_time, 0.1 + 0.05);
+  EXPECT_EQ(back.params.velocity_gain, 0.1 + 0.2);
+  EXPECT_EQ(back.params.velocity_tilt_limit, 0.04);
   // without the reflexes their keys are not written
   const std::string plain = controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights});
   EXPECT_EQ(plain.find("roll_reflex"), std::string::npos);
   EXPECT_EQ(plain.find("pitch_reflex"), std::string::npos);
   EXPECT_EQ(plain.find("attitude_filter"), std::string::npos);
+  EXPECT_EQ(plain.find("velocity_"), std::string::npos);
 
   try {
     controllerFromYaml("flap_unit_controller: {hidden: 2, weights: [1, 2, 3]}", "short.yaml");

@@ -150,7 +150,23 @@ struct FlapControllerParams {
   /// every unit's input at once through the joint encoders, and the chain's reflexes act on
   /// thresholds it crosses (README, flight in real air).
   double attitude_filter_time = 0.0;  // s
+  /// Ground-speed damping (an extension, set by hand, not evolved; 0: off). Levelled, a
+  /// flier keeps any horizontal speed it picks up: the chain's air damping is weak (a tenth
+  /// of a degree of mean pitch carried the 12-unit chain 21 m in a minute), and no attitude
+  /// input can tell it moves. With the root's velocity sensed (FlapSensing::velocity, from
+  /// odometry's twist through ROS), every unit's network and the chain pitch term see the
+  /// world's up tilted against the horizontal velocity v by min(velocity_gain |v|,
+  /// velocity_tilt_limit) rad: holding "level" then tilts the flier back, its thrust brakes
+  /// the speed (the velocity loop of a multirotor cascade, README, flight in real air).
+  double velocity_gain = 0.0;         // rad per m/s
+  double velocity_tilt_limit = 0.05;  // rad
 };
+
+/// The up direction a controller with ground-speed damping levels the units to: the world's
+/// up tilted away from the root's horizontal velocity (`velocity`, in the root's axes as
+/// odometry reports it; `root` the root's sensed orientation) by min(velocity_gain |v_h|,
+/// velocity_tilt_limit). The world's up if velocity_gain is 0.
+Vec3 levelledUp(const FlapControllerParams& params, const Quat& root, const Vec3& velocity);
 
 /// The factor unit `unit` of `units` scales its downstroke rates by under the chain pitch
 /// term, for a mean pitch input `pitch` (world_up . body_forward); 1 for a single unit or

@@ -141,6 +141,7 @@ struct EpisodeSample {
   double time = 0.0;
   double height = 0.0;             // root body z
   double upright = 0.0;            // root body z axis . world z (1 = level)
+  Pose root;                       // the root link's pose
   std::vector<double> downstroke;  // commanded rates, FlapUnitLayout wing order
 };
 

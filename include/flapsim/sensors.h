@@ -90,6 +90,9 @@ struct FlapSensing {
   /// Not a measurement but the task: the altitude to hold (m, the root link frame's); none:
   /// climb.
   std::optional<double> setpoint;
+  /// m/s: the root link's velocity in its own axes (odometry's twist, a ground-speed
+  /// sensor); none: not sensed.
+  std::optional<Vec3> velocity;
 
   FlapSensing() = default;
   /// Orientations only (rates zero, altitude 0): enough for the paper's network.

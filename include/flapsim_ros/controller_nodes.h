@@ -80,6 +80,8 @@ class AnnControllerNode {
   std::optional<flapsim::FlapSensing> senseImu(const ros::Time& stamp, size_t c);
   /// What sense() waits for, for the messages.
   std::string missing(size_t c) const;
+  /// The network reads the altimeter or the ground speed: odom's pose z, its twist.
+  bool needsOdom() const;
   void subscribe();
   flapsim::WingCommand command(const flapsim::FlapSensing& sensed, const ros::Time& stamp) const;
   void onTimer(const ros::TimerEvent& event);

@@ -125,6 +125,11 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
     ROS_WARN_STREAM("ann_controller: the attitude filter of "
                     << params_.weights_file << " is not applied to tf's exact attitude");
   }
+  if (params_.attitude_source == AttitudeSource::kTf && spec_.params.velocity_gain > 0.0) {
+    ROS_WARN_STREAM("ann_controller: the ground-speed damping of "
+                    << params_.weights_file
+                    << " is not applied with tf's attitude (it reads odom's twist)");
+  }
   if (params_.attitude_source == AttitudeSource::kImu) subscribe();
   pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
   if (params_.lockstep)
@@ -153,7 +158,7 @@ void AnnControllerNode::subscribe() {
     const std::string base = ros::names::append(simulator_ns_, creatures_[c]);
     Readings& r = readings_[c];  // readings_ is not resized after this
     subscribers_.push_back(keepLatest(nh_, base + "/imu", mutex_, r.imu));
-    if (spec_.params.altitude_input) {
+    if (needsOdom()) {
       subscribers_.push_back(keepLatest(nh_, base + "/odom", mutex_, r.odom));
     }
     if (layout_.units() > 1) {
@@ -196,7 +201,7 @@ std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time&
   auto fresh = [&](const auto& msg) {
     return msg && (stamp.isZero() || msg->header.stamp == stamp);
   };
-  const bool need_odom = spec_.params.altitude_input, need_joints = layout_.units() > 1;
+  const bool need_odom = needsOdom(), need_joints = layout_.units() > 1;
   if (!fresh(r.imu) || (need_odom && !fresh(r.odom)) || (need_joints && !fresh(r.joints))) {
     return std::nullopt;
   }
@@ -220,9 +225,15 @@ std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time&
   if (need_odom && params_.altitude_noise > 0.0) {
     altitude += params_.altitude_noise * normal_(altimeter_rng_);
   }
-  return flapsim::unitSensing(*r.model, r.bodies,
-                              filters_[c].updateAt(fromMsg(*r.imu), r.imu->header.stamp.toNSec()),
-                              q, qd, altitude);
+  flapsim::FlapSensing s = flapsim::unitSensing(
+      *r.model, r.bodies, filters_[c].updateAt(fromMsg(*r.imu), r.imu->header.stamp.toNSec()), q,
+      qd, altitude);
+  if (need_odom) s.velocity = fromMsg(r.odom->twist.twist).linear;  // in the root's axes
+  return s;
+}
+
+bool AnnControllerNode::needsOdom() const {
+  return spec_.params.altitude_input || spec_.params.velocity_gain > 0.0;
 }
 
 std::string AnnControllerNode::missing(size_t c) const {
@@ -230,8 +241,8 @@ std::string AnnControllerNode::missing(size_t c) const {
     return "transform " + params_.world_frame + " -> " + frames_[c].front() + " (or another unit)";
   }
   return "reading of " + ros::names::append(simulator_ns_, creatures_[c]) + "/imu" +
-         (spec_.params.altitude_input ? ", odom" : "") +
-         (layout_.units() > 1 ? ", joint_states" : "") + " or its robot_description";
+         (needsOdom() ? ", odom" : "") + (layout_.units() > 1 ? ", joint_states" : "") +
+         " or its robot_description";
 }
 
 flapsim::WingCommand AnnControllerNode::command(const flapsim::FlapSensing& sensed,

@@ -173,6 +173,12 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
   if (!(p.attitude_filter_time >= 0.0 && p.attitude_filter_time <= 10.0)) {
     return "attitude_filter_time must be in [0, 10] s";
   }
+  if (!(p.velocity_gain >= 0.0 && p.velocity_gain <= 10.0)) {
+    return "velocity_gain must be in [0, 10] rad per m/s";
+  }
+  if (!(p.velocity_tilt_limit >= 0.0 && p.velocity_tilt_limit <= 0.5)) {
+    return "velocity_tilt_limit must be in [0, 0.5] rad";
+  }
   for (const auto& [name, rate] :
        {std::pair<const char*, double>{"roll_reflex_fast_rate", p.roll_reflex_fast_rate},
         {"roll_reflex_slow_rate", p.roll_reflex_slow_rate},
@@ -218,6 +224,15 @@ bool applyPitchReflex(const FlapControllerParams& p, int unit, int units, double
     w->upstroke_rate = low ? p.pitch_reflex_slow_rate : p.pitch_reflex_fast_rate;
   }
   return true;
+}
+
+Vec3 levelledUp(const FlapControllerParams& p, const Quat& root, const Vec3& velocity) {
+  Vec3 horizontal = root * velocity;
+  horizontal.z() = 0.0;
+  const double speed = horizontal.norm();
+  if (p.velocity_gain == 0.0 || !(speed > 0.0)) return Vec3::UnitZ();
+  const double tilt = std::min(p.velocity_gain * speed, p.velocity_tilt_limit);
+  return std::cos(tilt) * Vec3::UnitZ() - std::sin(tilt) / speed * horizontal;
 }
 
 double chainPitchScale(const FlapControllerParams& p, int unit, int units, double pitch) {
@@ -366,11 +381,20 @@ FlapUnitLayout flapUnitLayout(const CreatureModel& model) {
 
 std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed) const {
   const FlapControllerParams& p = unit_.params();
-  const std::vector<Quat>& bodies = sensed.orientations;
-  if (sensed.rates.size() != bodies.size()) {
+  if (sensed.rates.size() != sensed.orientations.size()) {
     throw std::invalid_argument("ann controller: " + std::to_string(sensed.rates.size()) +
-                                " rates for " + std::to_string(bodies.size()) + " units");
+                                " rates for " + std::to_string(sensed.orientations.size()) +
+                                " units");
   }
+  // Ground-speed damping: the units level to an up tilted against the velocity, i.e. see
+  // themselves turned by the rotation that takes that up to the world's.
+  std::vector<Quat> tilted;
+  if (p.velocity_gain > 0.0 && sensed.velocity && !sensed.orientations.empty()) {
+    const Vec3 up = levelledUp(p, sensed.orientations[0], *sensed.velocity);
+    const Quat turn = Quat::FromTwoVectors(up, Vec3::UnitZ());
+    for (const Quat& q : sensed.orientations) tilted.push_back((turn * q).normalized());
+  }
+  const std::vector<Quat>& bodies = tilted.empty() ? sensed.orientations : tilted;
   const double altitude = altitudeInput(p, sensed.altitude, sensed.setpoint);
   const int units = static_cast<int>(bodies.size());
   double pitch = 0.0;

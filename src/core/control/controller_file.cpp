@@ -56,6 +56,10 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   if (p.attitude_filter_time != 0.0) {
     e << YAML::Key << "attitude_filter_time" << YAML::Value << p.attitude_filter_time;
   }
+  if (p.velocity_gain != 0.0) {
+    e << YAML::Key << "velocity_gain" << YAML::Value << p.velocity_gain;
+    e << YAML::Key << "velocity_tilt_limit" << YAML::Value << p.velocity_tilt_limit;
+  }
   e << YAML::Key << "weights" << YAML::Value << YAML::Flow << spec.weights;
   e << YAML::EndMap;
   if (!metadata.empty()) {
@@ -101,6 +105,8 @@ const std::vector<std::string> kKeys = {"network",
                                         "pitch_reflex_fast_rate",
                                         "pitch_reflex_slow_rate",
                                         "attitude_filter_time",
+                                        "velocity_gain",
+                                        "velocity_tilt_limit",
                                         "weights"};
 
 ControllerSpec readController(const YAML::Node& c,
@@ -171,6 +177,8 @@ ControllerSpec readController(const YAML::Node& c,
   get("pitch_reflex_fast_rate", p.pitch_reflex_fast_rate);
   get("pitch_reflex_slow_rate", p.pitch_reflex_slow_rate);
   get("attitude_filter_time", p.attitude_filter_time);
+  get("velocity_gain", p.velocity_gain);
+  get("velocity_tilt_limit", p.velocity_tilt_limit);
   if (!c["weights"]) throw fail("no 'weights'");
   get("weights", spec.weights);
   return spec;

@@ -161,7 +161,7 @@ namespace {
 
 // The units as the controller senses them (flapsim/sensors.h): the root's IMU with the
 // episode's noise through the controller's attitude filter, exact joint encoders, the
-// altimeter with its noise.
+// altimeter with its noise, the root's exact velocity (odometry's twist).
 FlapSensing sense(const World& world, const std::string& name, const CreatureModel& model,
                   const std::vector<int>& bodies, const EpisodeParams& p, Rng& rng,
                   AttitudeFilter& filter, double control_period) {
@@ -172,7 +172,12 @@ FlapSensing sense(const World& world, const std::string& name, const CreatureMod
       control_period);
   double altitude = state.link_poses[0].position.z();
   if (p.altitude_noise > 0.0) altitude += p.altitude_noise * rng.normal();
-  return unitSensing(model, bodies, imu, state.joint_positions, state.joint_velocities, altitude);
+  FlapSensing s =
+      unitSensing(model, bodies, imu, state.joint_positions, state.joint_velocities, altitude);
+  // As odometry's twist reports it: in the root's axes.
+  const Quat to_body = state.link_poses[0].orientation.conjugate();
+  s.velocity = to_body * state.link_twists[0].linear;
+  return s;
 }
 
 // The gusts of `start` due at sample `s` (the step of their time), applied to the world.
@@ -298,6 +303,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
       sample.time = t;
       sample.height = root.position.z();
       sample.upright = result.final_upright;
+      sample.root = root;
       for (const auto& c : commands) sample.downstroke.push_back(c.downstroke_rate);
       result.trace.push_back(std::move(sample));
     }

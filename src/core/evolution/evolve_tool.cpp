@@ -66,7 +66,8 @@ void seedFromWeightsFile(EvolveOptions& o) {
         Setting{"roll_reflex_bank", nullptr, got.roll_reflex_bank, want.roll_reflex_bank},
         Setting{"pitch_reflex_angle", nullptr, got.pitch_reflex_angle, want.pitch_reflex_angle},
         Setting{"attitude_filter_time", nullptr, got.attitude_filter_time,
-                want.attitude_filter_time}}) {
+                want.attitude_filter_time},
+        Setting{"velocity_gain", nullptr, got.velocity_gain, want.velocity_gain}}) {
     if (s.file != s.evolution) {
       std::ostringstream m;
       m << "--init: " << o.init_path << ": its " << s.key << " is " << s.file
