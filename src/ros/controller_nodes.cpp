@@ -137,20 +137,23 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   for (const std::string& k : params_.unknown_keys) {
     ROS_WARN_STREAM("ann_controller: ignoring unknown parameter '" << pnh_.resolveName(k) << "'");
   }
-  ROS_INFO_STREAM("ann_controller: "
-                  << params_.pairs << " unit(s) of '" << params_.creature << "' at " << params_.rate
-                  << " Hz, weights " << params_.weights_file << ", attitude from "
-                  << (params_.attitude_source == AttitudeSource::kImu
-                          ? subscribers_.front().getTopic()
-                          : std::string("tf"))
-                  << (params_.attitude_source == AttitudeSource::kImu &&
-                              spec_.params.attitude_filter_time > 0.0
-                          ? " through an attitude filter of " +
-                                std::to_string(spec_.params.attitude_filter_time) + " s"
-                          : std::string())
-                  << (params_.altitude ? ", holding " + std::to_string(*params_.altitude) + " m"
-                                       : std::string(", climbing"))
-                  << (params_.lockstep ? ", lockstep" : ""));
+  ROS_INFO_STREAM(
+      "ann_controller: "
+      << params_.pairs << " unit(s) of '" << params_.creature << "' at " << params_.rate
+      << " Hz, weights " << params_.weights_file << ", attitude from "
+      << (params_.attitude_source == AttitudeSource::kImu ? subscribers_.front().getTopic()
+                                                          : std::string("tf"))
+      << (params_.attitude_source == AttitudeSource::kImu && spec_.params.attitude_filter_time > 0.0
+              ? " through an attitude filter of " +
+                    std::to_string(spec_.params.attitude_filter_time) + " s"
+              : std::string())
+      << (params_.attitude_source == AttitudeSource::kImu && spec_.params.velocity_gain > 0.0
+              ? ", ground-speed damping " + std::to_string(spec_.params.velocity_gain) +
+                    " rad per m/s from odom"
+              : std::string())
+      << (params_.altitude ? ", holding " + std::to_string(*params_.altitude) + " m"
+                           : std::string(", climbing"))
+      << (params_.lockstep ? ", lockstep" : ""));
 }
 
 void AnnControllerNode::subscribe() {
