@@ -151,9 +151,9 @@ struct FlapControllerParams {
   /// thresholds it crosses (README, flight in real air).
   double attitude_filter_time = 0.0;  // s
   /// Ground-speed damping (an extension, set by hand, not evolved; 0: off). Levelled, a
-  /// flier keeps any horizontal speed it picks up: the chain's air damping is weak (a tenth
-  /// of a degree of mean pitch carried the 12-unit chain 21 m in a minute), and no attitude
-  /// input can tell it moves. With the root's velocity sensed (FlapSensing::velocity, from
+  /// flier keeps any horizontal speed it picks up: the chain's air damping is weak (0.16 deg
+  /// of mean pitch carried the 12-unit chain 21 m in a minute), and no attitude input can
+  /// tell it moves. With the root's velocity sensed (FlapSensing::velocity, from
   /// odometry's twist through ROS), every unit's network and the chain pitch term see the
   /// world's up tilted against the horizontal velocity v by min(velocity_gain |v|,
   /// velocity_tilt_limit) rad: holding "level" then tilts the flier back, its thrust brakes
