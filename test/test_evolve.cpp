@@ -654,47 +654,27 @@ TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
     EXPECT_NE(std::string(e.what()).find("max_downstroke_rate is 65"), std::string::npos)
         << e.what();
   }
-  // The chain pitch reflex is set by hand too.
-  spec.params.pitch_reflex_angle = 0.2;
-  const std::string pitched = ::testing::TempDir() + "afc_1_altitude_pitch_reflex.yaml";
-  writeTextFile(pitched, controllerToYaml(spec));
-  try {
-    resolveEvolveOptions({"--init", pitched, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
-                         resume);
-    FAIL() << "expected an error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "--init: " + pitched +
-                                         ": its pitch_reflex_angle is 0.2, the evolution's 0 (set "
-                                         "by hand, not evolved: seed from a file without it)");
-  }
-  // And the attitude filter.
-  spec.params.pitch_reflex_angle = 0.0;
-  spec.params.attitude_filter_time = 0.2;
-  const std::string filtered = ::testing::TempDir() + "afc_1_altitude_attitude_filter.yaml";
-  writeTextFile(filtered, controllerToYaml(spec));
-  try {
-    resolveEvolveOptions({"--init", filtered, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
-                         resume);
-    FAIL() << "expected an error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "--init: " + filtered +
-                                         ": its attitude_filter_time is 0.2, the evolution's 0 "
-                                         "(set by hand, not evolved: seed from a file without it)");
-  }
-  // And the ground-speed damping.
-  spec.params.attitude_filter_time = 0.0;
-  spec.params.velocity_gain = 0.2;
-  const std::string damped = ::testing::TempDir() + "afc_1_altitude_velocity_gain.yaml";
-  writeTextFile(damped, controllerToYaml(spec));
-  try {
-    resolveEvolveOptions({"--init", damped, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
-                         resume);
-    FAIL() << "expected an error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()), "--init: " + damped +
-                                         ": its velocity_gain is 0.2, the evolution's 0 (set by "
-                                         "hand, not evolved: seed from a file without it)");
-  }
+  // The settings set by hand, not evolved, are refused by key: the chain pitch reflex, the
+  // attitude filter and the ground-speed damping, each alone in a file otherwise matching.
+  const ControllerSpec matched = spec;
+  auto handSet = [&](const std::string& key, double FlapControllerParams::*setting) {
+    ControllerSpec with = matched;
+    with.params.*setting = 0.2;
+    const std::string path = ::testing::TempDir() + "afc_1_altitude_" + key + ".yaml";
+    writeTextFile(path, controllerToYaml(with));
+    try {
+      resolveEvolveOptions({"--init", path, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
+                           resume);
+      ADD_FAILURE() << key << ": expected an error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), "--init: " + path + ": its " + key +
+                                           " is 0.2, the evolution's 0 (set by hand, not "
+                                           "evolved: seed from a file without it)");
+    }
+  };
+  handSet("pitch_reflex_angle", &FlapControllerParams::pitch_reflex_angle);
+  handSet("attitude_filter_time", &FlapControllerParams::attitude_filter_time);
+  handSet("velocity_gain", &FlapControllerParams::velocity_gain);
 }
 
 }  // namespace
