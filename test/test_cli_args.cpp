@@ -124,10 +124,14 @@ TEST(ToolTables, FlightCheckRefusesANumberWithTrailingText) {
   EXPECT_EQ(refusal(flightCheckCli(o), {"--duration", "1e9"}),
             "--duration: 1e9 is not in (0, 10000]");
   EXPECT_EQ(refusal(flightCheckCli(o), {"--weights"}), "--weights needs a value (FILE)");
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--velocity-noise", "-0.1"}),
+            "--velocity-noise: -0.1 is not in [0, 1000]");
   flightCheckCli(o).parse({"--weights", "w.yaml", "--pairs", "4", "--step-size", "0.0005"});
   EXPECT_EQ(o.weights, "w.yaml");
   EXPECT_EQ(o.pairs, 4);
   EXPECT_EQ(o.params.step_size, 0.0005);
+  flightCheckCli(o).parse({"--velocity-noise", "0.05"});
+  EXPECT_EQ(o.params.velocity_noise, 0.05);
 }
 
 TEST(ToolTables, SweepAndMakeCreatureRefuseBadValuesByFlag) {

@@ -580,6 +580,34 @@ TEST(EvolvedController, TheGroundSpeedDampingHoldsTheChainsLevelStartWithin3mWhe
   EXPECT_GT(levelled.lateral_drift, 10.0);
 }
 
+// The same level start with the ground-speed sensor's noise (flight_check --velocity-noise 0.1:
+// 0.1 m/s per axis, drawn afresh each control period, 0.02 s): the lean is capped at the file's
+// 0.01 rad, which 0.05 m/s of noise already reaches, so the noise tilts the level the units hold
+// by up to that cap at random. Measured: 4.58 m (0.05 m/s: 4.96 m; 0.2 m/s: 4.50 m), against
+// 2.56 m read exactly and 21.4 m without the damping. A negative noise is refused by name.
+TEST(EvolvedController, TheGroundSpeedDampingThroughANoisySensorHoldsTheLevelStartWithin6m) {
+  const ControllerSpec spec =
+      loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
+  FlightCheckParams p = tableHolding5m(60.0);
+  p.starts = 1;
+  p.max_roll = p.max_pitch = 0.0;
+  p.velocity_noise = -0.1;
+  EXPECT_THROW(flightCheckEpisodes(p), InputError);
+  EpisodeParams e = flightCheckEpisodes(tableHolding5m(60.0));
+  e.velocity_noise = -0.1;
+  EXPECT_EQ(validateEpisodeParams(e), "velocity_noise must be in [0, 1000] m/s");
+  p.velocity_noise = 0.1;
+  e = flightCheckEpisodes(p);
+  const EpisodeStart level = episodeStarts(e).at(0);
+  ASSERT_EQ(level.roll, 0.0);
+  const EpisodeResult noisy = flyNetwork(creature(12), spec, e, level);
+  std::printf("12 units, level start, 60 s, 0.1 m/s of ground-speed noise: drift %.2f m\n",
+              noisy.lateral_drift);
+  EXPECT_FALSE(noisy.flipped);
+  EXPECT_LT(noisy.lateral_drift, 6.0);
+  EXPECT_GT(noisy.lateral_drift, 3.0);  // the exact sensor's 2.56 m: the noise reached it
+}
+
 // A gust acts from its drawn time on: the flight is the still one, bit for bit, up to the
 // sample it starts at, and another after it (the roll torque of 0.05 N m for 0.5 s, and the
 // 1 N push on a drawn wing for 0.2 s).

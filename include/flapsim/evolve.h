@@ -62,9 +62,12 @@ struct EpisodeParams {
   double min_wind = 0.0;
   double max_wind = 0.0;
   /// The controller's sensors (flapsim/sensors.h): the root's IMU (seeded noise per
-  /// episode), exact joint encoders, and the altimeter's noise (m).
+  /// episode), exact joint encoders, the altimeter's noise (m) and the ground-speed sensor's.
   ImuNoise imu_noise;
   double altitude_noise = 0.0;
+  /// m/s: the ground-speed sensor's noise (FlapSensing::velocity, each of its axes), read
+  /// only by a controller with ground-speed damping.
+  double velocity_noise = 0.0;
   /// Gusts, each once per episode at a time uniform in [gust_window_start,
   /// gust_window_end] x duration (drawn apart): a roll torque of gust_torque N m about the
   /// root body's x axis (as it points then), its sign drawn, for gust_torque_duration s; and

@@ -37,6 +37,7 @@ struct FlightCheckParams {
   double gust_time = 0.5;       // s: how long each gust acts
   double noise = 0.0;           // the IMU's noise: orientation (rad) and angular velocity (rad/s)
   double altitude_noise = 0.0;  // m: the altimeter's
+  double velocity_noise = 0.0;  // m/s: the ground-speed sensor's
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
 

@@ -106,7 +106,7 @@ class AnnControllerNode {
   // Per creature, used by sense() only: the attitude filter of the weights file (restarted
   // when the stamps go back, as after a reset).
   std::vector<flapsim::AttitudeFilter> filters_;
-  std::mt19937_64 altimeter_rng_;  // the altimeter's noise, seeded from ~noise_seed
+  std::mt19937_64 altimeter_rng_;  // the altimeter's and ground speed's noise, from ~noise_seed
   std::normal_distribution<double> normal_;
   std::atomic<bool> started_{false};
 };

@@ -81,7 +81,8 @@ struct AnnControllerParams : LockstepParams {
   AttitudeSource attitude_source = AttitudeSource::kImu;
   std::optional<double> altitude;  // m: the root link frame's height to hold; unset: climb
   double altitude_noise = 0.0;     // m: the altimeter's standard deviation (imu source)
-  int noise_seed = 0;              // seeds the altimeter's noise (a run repeats exactly)
+  double velocity_noise = 0.0;     // m/s: the ground-speed sensor's, per axis (imu source)
+  int noise_seed = 0;              // seeds the altimeter's and ground speed's noise
   std::string world_frame = "world";
   double rate = 0.0;  // Hz (sim time); 0: 1 / control_period of the weights file
   // Lockstep (LockstepParams; tests, exact replays): read the unit bodies at t from tf.
@@ -94,7 +95,8 @@ struct AnnControllerParams : LockstepParams {
 };
 
 /// Private namespace of ann_controller. Keys: weights (required), creature,
-/// pairs, attitude_source (imu or tf), altitude, altitude_noise, noise_seed, world_frame,
+/// pairs, attitude_source (imu or tf), altitude, altitude_noise, velocity_noise, noise_seed,
+/// world_frame,
 /// rate, lockstep, lockstep_duration,
 /// lockstep_wait_for_start, lockstep_creatures, step_service, step_size, wait_timeout.
 /// Throws ParamError naming the bad key.

@@ -128,6 +128,10 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   if (!(p.altitude_noise >= 0.0 && p.altitude_noise <= 1e3)) {
     failParam(d.key("altitude_noise"), "must be in [0, 1000]");
   }
+  p.velocity_noise = d.number("velocity_noise", p.velocity_noise);
+  if (!(p.velocity_noise >= 0.0 && p.velocity_noise <= 1e3)) {
+    failParam(d.key("velocity_noise"), "must be in [0, 1000]");
+  }
   p.noise_seed = d.integer("noise_seed", p.noise_seed);
   p.world_frame = d.string("world_frame", p.world_frame);
   p.rate = d.number("rate", p.rate);

@@ -130,6 +130,14 @@ TEST(AnnControllerParams, AttitudeSourceAndAltitudeAreReadOrRefusedByName) {
   const std::string nan = refusal("altitude", XmlRpc::XmlRpcValue(std::nan("")));
   EXPECT_NE(nan.find("altitude"), std::string::npos) << nan;
   EXPECT_NE(nan.find("must be finite"), std::string::npos) << nan;
+  // The ground-speed sensor's noise (m/s per axis): 0 unless given, refused below 0 by name.
+  EXPECT_EQ(p.velocity_noise, 0.0);
+  p = parseAnnControllerParams(
+      yamlish({{"weights", w}, {"velocity_noise", XmlRpc::XmlRpcValue(0.05)}}), "afc");
+  EXPECT_EQ(p.velocity_noise, 0.05);
+  const std::string negative = refusal("velocity_noise", XmlRpc::XmlRpcValue(-0.1));
+  EXPECT_NE(negative.find("velocity_noise"), std::string::npos) << negative;
+  EXPECT_NE(negative.find("must be in [0, 1000]"), std::string::npos) << negative;
 }
 
 // A flock in one lockstep: lockstep_creatures, a list of non-empty names, with lockstep

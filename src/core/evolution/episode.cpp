@@ -33,6 +33,7 @@ std::string validateDisturbances(const EpisodeParams& p) {
   if (!imu.empty()) return "imu_noise: " + imu;
   for (const std::string& err :
        {range("altitude_noise", p.altitude_noise, 0.0, 1e3, " m"),
+        range("velocity_noise", p.velocity_noise, 0.0, 1e3, " m/s"),
         range("gust_torque", p.gust_torque, -kMaxTorque, kMaxTorque, " N m"),
         range("gust_force", p.gust_force, -kMaxForce, kMaxForce, " N"),
         range("gust_torque_duration", p.gust_torque_duration, 1e-9, kMaxEpisodeDuration, " s"),
@@ -161,7 +162,7 @@ namespace {
 
 // The units as the controller senses them (flapsim/sensors.h): the root's IMU with the
 // episode's noise through the controller's attitude filter, exact joint encoders, the
-// altimeter with its noise, the root's exact velocity (odometry's twist).
+// altimeter with its noise, the root's velocity (odometry's twist) with its noise.
 FlapSensing sense(const World& world, const std::string& name, const CreatureModel& model,
                   const std::vector<int>& bodies, const EpisodeParams& p, Rng& rng,
                   AttitudeFilter& filter, double control_period) {
@@ -177,6 +178,9 @@ FlapSensing sense(const World& world, const std::string& name, const CreatureMod
   // As odometry's twist reports it: in the root's axes.
   const Quat to_body = state.link_poses[0].orientation.conjugate();
   s.velocity = to_body * state.link_twists[0].linear;
+  if (p.velocity_noise > 0.0) {
+    for (int a = 0; a < 3; ++a) (*s.velocity)[a] += p.velocity_noise * rng.normal();
+  }
   return s;
 }
 

@@ -26,6 +26,7 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.gust_torque_duration = episode.gust_force_duration = p.gust_time;
   episode.imu_noise.orientation = episode.imu_noise.angular_velocity = p.noise;
   episode.altitude_noise = p.altitude_noise;
+  episode.velocity_noise = p.velocity_noise;
   episode.altitude_hold = p.altitude.has_value();
   if (p.altitude) episode.min_altitude = episode.max_altitude = *p.altitude;
   const std::string err = validateEpisodeParams(episode);
@@ -83,6 +84,8 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .real("--noise", "RAD", &p.noise, {0, 1e3},
             "IMU noise: orientation RAD rad, angular velocity RAD rad/s")
       .real("--altitude-noise", "M", &p.altitude_noise, {0, 1e3}, "altimeter noise, m")
+      .real("--velocity-noise", "V", &p.velocity_noise, {0, 1e3},
+            "ground-speed sensor noise, m/s per axis (read with ground-speed damping)")
       .custom(
           "--altitude", {"M"},
           [&p](const std::vector<std::string>& v) {
