@@ -103,6 +103,15 @@ struct AnnControllerParams : LockstepParams {
 AnnControllerParams parseAnnControllerParams(const XmlRpc::XmlRpcValue& ns,
                                              const std::string& default_creature);
 
+/// Empty if ann_controller's parameters suit the network `network` of their weights file, else
+/// the reason naming the parameter (`altitude_key`, `attitude_source_key`: their resolved
+/// names): ~attitude_source tf for a network that reads the gyro's rates (tf has none), and
+/// ~altitude for a network without an altitude input (it could only climb).
+std::string annControllerMismatch(const AnnControllerParams& params,
+                                  const flapsim::FlapControllerParams& network,
+                                  const std::string& attitude_source_key,
+                                  const std::string& altitude_key);
+
 /// The message for one set of strokes in FlapUnitLayout order (joint names
 /// given, so only the unit wings are driven).
 flapsim::WingCommand annCommandMsg(const flapsim::FlapUnitLayout& layout,

@@ -103,11 +103,9 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
       layout_(flapsim::flapUnitLayout(params_.pairs)),
       listener_(buffer_, nh),
       altimeter_rng_(static_cast<std::uint64_t>(params_.noise_seed)) {
-  if (params_.attitude_source == AttitudeSource::kTf && spec_.params.rate_inputs) {
-    throw ParamError("parameter '" + pnh_.resolveName("attitude_source") +
-                     "': tf has no angular velocities, and the network of " + params_.weights_file +
-                     " takes the gyro's rates: use imu");
-  }
+  const std::string mismatch = annControllerMismatch(
+      params_, spec_.params, pnh_.resolveName("attitude_source"), pnh_.resolveName("altitude"));
+  if (!mismatch.empty()) throw ParamError(mismatch);
   controller_ = std::make_unique<flapsim::AnnWingController>(
       flapsim::FlapUnitController(spec_.params, spec_.weights));
   if (params_.rate <= 0.0) params_.rate = 1.0 / spec_.params.control_period;

@@ -167,6 +167,23 @@ void readLockstepParams(const ParamReader& d, LockstepParams& p) {
   atLeast(d, "wait_timeout", p.wait_timeout, 0.0, true);
 }
 
+std::string annControllerMismatch(const AnnControllerParams& params,
+                                  const flapsim::FlapControllerParams& network,
+                                  const std::string& attitude_source_key,
+                                  const std::string& altitude_key) {
+  if (params.attitude_source == AttitudeSource::kTf && network.rate_inputs) {
+    return "parameter '" + attitude_source_key +
+           "': tf has no angular velocities, and the network of " + params.weights_file +
+           " takes the gyro's rates: use imu";
+  }
+  if (params.altitude && !network.altitude_input) {
+    return "parameter '" + altitude_key + "': the network of " + params.weights_file +
+           " has no altitude input and cannot hold a height (it climbs): leave it unset, or fly "
+           "one that has (config/afc_1_altitude_weights.yaml, config/afc_12_altitude_weights.yaml)";
+  }
+  return "";
+}
+
 flapsim::WingCommand annCommandMsg(const flapsim::FlapUnitLayout& layout,
                                    const std::vector<flapsim::StrokeCommand>& strokes) {
   return toMsg(WingCommandRequest{layout.wing_joints, strokes});
