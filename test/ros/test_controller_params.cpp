@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "flapsim/controller_file.h"
+#include "flapsim/ann.h"
 #include "flapsim_ros/controller_params.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/hover_controller_node.h"
@@ -141,32 +141,29 @@ TEST(AnnControllerParams, AttitudeSourceAndAltitudeAreReadOrRefusedByName) {
   EXPECT_NE(negative.find("must be in [0, 1000]"), std::string::npos) << negative;
 }
 
-// ~altitude asks a network without an altitude input (config/afc_1_weights.yaml) to hold a
-// height it cannot (it would climb, its log saying "holding"), and ~attitude_source tf gives a
-// network that reads the gyro (config/afc_1_altitude_weights.yaml) no rates: both refused,
-// naming the parameter and the file; the matching pairs pass.
+// ~altitude asks a network without an altitude input (the paper's, as config/afc_1_weights.yaml)
+// to hold a height it cannot (it would climb, its log saying "holding"), and ~attitude_source tf
+// gives a network that reads the gyro (the extended one, as config/afc_1_altitude_weights.yaml)
+// no rates: both refused, naming the parameter and the file; the matching pairs pass.
 TEST(AnnControllerParams, AParameterTheWeightsFileCannotHonourIsRefusedByName) {
-  const std::string paper = std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_weights.yaml";
-  const std::string altitude =
-      std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_altitude_weights.yaml";
-  auto mismatch = [](const std::string& file, const char* key, const XmlRpc::XmlRpcValue& value) {
+  const flapsim::FlapControllerParams paper;  // neither rate nor altitude inputs
+  flapsim::FlapControllerParams extended;
+  extended.rate_inputs = extended.altitude_input = true;
+  auto mismatch = [](const flapsim::FlapControllerParams& network, const char* key,
+                     const XmlRpc::XmlRpcValue& value) {
     const AnnControllerParams p = parseAnnControllerParams(
-        yamlish({{"weights", XmlRpc::XmlRpcValue(file)}, {key, value}}), "afc");
-    return annControllerMismatch(p, flapsim::loadControllerYaml(file).params,
-                                 "/afc/ann_controller/attitude_source",
+        yamlish({{"weights", XmlRpc::XmlRpcValue("w.yaml")}, {key, value}}), "afc");
+    return annControllerMismatch(p, network, "/afc/ann_controller/attitude_source",
                                  "/afc/ann_controller/altitude");
   };
-  const std::string hold = mismatch(paper, "altitude", XmlRpc::XmlRpcValue(4.0));
-  EXPECT_EQ(hold, "parameter '/afc/ann_controller/altitude': the network of " + paper +
-                      " has no altitude input and cannot hold a height (it climbs): leave it "
-                      "unset, or fly one that has (config/afc_1_altitude_weights.yaml, "
-                      "config/afc_12_altitude_weights.yaml)");
-  EXPECT_EQ(mismatch(altitude, "altitude", XmlRpc::XmlRpcValue(4.0)), "");
-  const std::string tf = mismatch(altitude, "attitude_source", XmlRpc::XmlRpcValue("tf"));
-  EXPECT_EQ(tf,
-            "parameter '/afc/ann_controller/attitude_source': tf has no angular velocities, "
-            "and the network of " +
-                altitude + " takes the gyro's rates: use imu");
+  EXPECT_EQ(mismatch(paper, "altitude", XmlRpc::XmlRpcValue(4.0)),
+            "parameter '/afc/ann_controller/altitude': the network of w.yaml has no altitude "
+            "input and cannot hold a height (it climbs): leave it unset, or fly one that has "
+            "(config/afc_1_altitude_weights.yaml, config/afc_12_altitude_weights.yaml)");
+  EXPECT_EQ(mismatch(extended, "altitude", XmlRpc::XmlRpcValue(4.0)), "");
+  EXPECT_EQ(mismatch(extended, "attitude_source", XmlRpc::XmlRpcValue("tf")),
+            "parameter '/afc/ann_controller/attitude_source': tf has no angular velocities, and "
+            "the network of w.yaml takes the gyro's rates: use imu");
   EXPECT_EQ(mismatch(paper, "attitude_source", XmlRpc::XmlRpcValue("tf")), "");
 }
 
