@@ -57,6 +57,14 @@ void atLeast(const ParamReader& d, const std::string& key, double value, double 
   }
 }
 
+void inRange(const ParamReader& d, const std::string& key, double value, double lo, double hi) {
+  if (!(value >= lo && value <= hi)) {
+    std::ostringstream msg;
+    msg << "must be in [" << lo << ", " << hi << "]";
+    failParam(d.key(key), msg.str());
+  }
+}
+
 }  // namespace
 
 std::string namespaceBasename(const std::string& ns) {
@@ -125,13 +133,9 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
     }
   }
   p.altitude_noise = d.number("altitude_noise", p.altitude_noise);
-  if (!(p.altitude_noise >= 0.0 && p.altitude_noise <= 1e3)) {
-    failParam(d.key("altitude_noise"), "must be in [0, 1000]");
-  }
+  inRange(d, "altitude_noise", p.altitude_noise, 0.0, 1e3);
   p.velocity_noise = d.number("velocity_noise", p.velocity_noise);
-  if (!(p.velocity_noise >= 0.0 && p.velocity_noise <= 1e3)) {
-    failParam(d.key("velocity_noise"), "must be in [0, 1000]");
-  }
+  inRange(d, "velocity_noise", p.velocity_noise, 0.0, 1e3);
   p.noise_seed = d.integer("noise_seed", p.noise_seed);
   p.world_frame = d.string("world_frame", p.world_frame);
   p.rate = d.number("rate", p.rate);
