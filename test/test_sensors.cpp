@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include "flapsim/ann.h"
@@ -75,6 +76,22 @@ TEST(ImuReading, OrientationNoiseIsARotationVectorInTheBodysAxes) {
 // A steady turn at 0.5 rad/s read exactly: the filter's gyro carries its estimate along, so it
 // stays on the reading; blind to the gyro (angular velocity zero) it is a low-pass of the angle,
 // which trails a ramp by rate x time constant (0.1 rad).
+// The ground-speed sensor adds noise x the standard normals drawn for x, y, z in that order,
+// and draws none when exact (so an exact sensor leaves a seeded run's other draws alone).
+TEST(GroundSpeedReading, AddsDeviationTimesNormalsInAxisOrderAndDrawsNoneWhenExact) {
+  const std::vector<double> normals = {1.0, -2.0, 0.5};
+  int drawn = 0;
+  const std::function<double()> normal = [&] { return normals.at(drawn++); };
+  const Vec3 v(0.3, -0.1, 0.05);
+  EXPECT_EQ(groundSpeedReading(v, 0.0, normal), v);
+  EXPECT_EQ(drawn, 0);
+  const Vec3 noisy = groundSpeedReading(v, 0.1, normal);
+  EXPECT_EQ(drawn, 3);
+  EXPECT_DOUBLE_EQ(noisy.x(), 0.3 + 0.1);
+  EXPECT_DOUBLE_EQ(noisy.y(), -0.1 - 0.2);
+  EXPECT_DOUBLE_EQ(noisy.z(), 0.05 + 0.05);
+}
+
 TEST(AttitudeFilter, FollowsASteadyTurnWhereALowPassTrailsByRateTimesTimeConstant) {
   const double rate = 0.5, tau = 0.2, dt = 0.02;
   const Vec3 axis = Vec3(0.3, -0.4, 0.866).normalized();

@@ -47,6 +47,11 @@ struct ImuReading {
 ImuReading imuReading(const CreatureState& state, const Vec3& acceleration, const Vec3& gravity,
                       const ImuNoise& noise, const std::function<double()>& normal);
 
+/// The ground-speed sensor (odometry's twist): `velocity` (m/s, the root's, in its own axes)
+/// plus `noise` (m/s) per axis, the standard normals drawn from `normal` for x, y, z in turn
+/// (noise 0 draws nothing). Episodes and ann_controller read the root's speed through it.
+Vec3 groundSpeedReading(const Vec3& velocity, double noise, const std::function<double()>& normal);
+
 /// A complementary attitude filter on the root IMU's orientation (an extension; the paper's
 /// controller reads the exact attitude). Each update turns the estimate by the gyro over the
 /// interval (the mean of the previous and this reading's angular velocity, times dt), then

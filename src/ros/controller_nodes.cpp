@@ -229,12 +229,10 @@ std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time&
   flapsim::FlapSensing s = flapsim::unitSensing(
       *r.model, r.bodies, filters_[c].updateAt(fromMsg(*r.imu), r.imu->header.stamp.toNSec()), q,
       qd, altitude);
-  if (need_odom) {
-    s.velocity = fromMsg(r.odom->twist.twist).linear;  // in the root's axes
-    if (params_.velocity_noise > 0.0) {
-      for (int a = 0; a < 3; ++a)
-        (*s.velocity)[a] += params_.velocity_noise * normal_(altimeter_rng_);
-    }
+  if (need_odom) {  // odometry's twist is in the root's axes
+    s.velocity =
+        flapsim::groundSpeedReading(fromMsg(r.odom->twist.twist).linear, params_.velocity_noise,
+                                    [this] { return normal_(altimeter_rng_); });
   }
   return s;
 }

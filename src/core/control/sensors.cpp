@@ -19,6 +19,14 @@ std::string validateImuNoise(const ImuNoise& n) {
   return "";
 }
 
+Vec3 groundSpeedReading(const Vec3& velocity, double noise, const std::function<double()>& normal) {
+  Vec3 v = velocity;
+  if (noise > 0.0) {
+    for (int a = 0; a < 3; ++a) v[a] += noise * normal();
+  }
+  return v;
+}
+
 ImuReading imuReading(const CreatureState& state, const Vec3& acceleration, const Vec3& gravity,
                       const ImuNoise& noise, const std::function<double()>& normal) {
   ImuReading r;

@@ -177,10 +177,7 @@ FlapSensing sense(const World& world, const std::string& name, const CreatureMod
       unitSensing(model, bodies, imu, state.joint_positions, state.joint_velocities, altitude);
   // As odometry's twist reports it: in the root's axes.
   const Quat to_body = state.link_poses[0].orientation.conjugate();
-  s.velocity = to_body * state.link_twists[0].linear;
-  if (p.velocity_noise > 0.0) {
-    for (int a = 0; a < 3; ++a) (*s.velocity)[a] += p.velocity_noise * rng.normal();
-  }
+  s.velocity = groundSpeedReading(to_body * state.link_twists[0].linear, p.velocity_noise, normal);
   return s;
 }
 
