@@ -492,6 +492,15 @@ FlightCheckParams tableHolding5m(double duration) {
   return p;
 }
 
+// The level start (roll and pitch 0) holding 5 m for 60 s: flight_check --roll 0 --pitch 0
+// --starts 1 --altitude 5.
+FlightCheckParams levelStartHolding5m() {
+  FlightCheckParams p = tableHolding5m(60.0);
+  p.starts = 1;
+  p.max_roll = p.max_pitch = 0.0;
+  return p;
+}
+
 // One episode of `creature` under the network of `spec`, at its control period.
 EpisodeResult flyNetwork(const CreatureModelPtr& creature, const ControllerSpec& spec,
                          const EpisodeParams& e, const EpisodeStart& start) {
@@ -568,10 +577,7 @@ TEST(EvolvedController, TheGroundSpeedDampingHoldsTheChainsLevelStartWithin3mWhe
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
   ASSERT_GT(spec.params.velocity_gain, 0.0);
-  FlightCheckParams p = tableHolding5m(60.0);
-  p.starts = 1;
-  p.max_roll = p.max_pitch = 0.0;
-  const EpisodeParams e = flightCheckEpisodes(p);
+  const EpisodeParams e = flightCheckEpisodes(levelStartHolding5m());
   const CreatureModelPtr chain = creature(12);
   const EpisodeStart level = episodeStarts(e).at(0);  // roll and pitch 0; the setpoint
   ASSERT_EQ(level.roll, 0.0);
@@ -595,9 +601,7 @@ TEST(EvolvedController, TheGroundSpeedDampingHoldsTheChainsLevelStartWithin3mWhe
 TEST(EvolvedController, TheGroundSpeedDampingThroughANoisySensorHoldsTheLevelStartWithin6m) {
   const ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
-  FlightCheckParams p = tableHolding5m(60.0);
-  p.starts = 1;
-  p.max_roll = p.max_pitch = 0.0;
+  FlightCheckParams p = levelStartHolding5m();
   p.velocity_noise = -0.1;
   EXPECT_THROW(flightCheckEpisodes(p), InputError);
   EpisodeParams e = flightCheckEpisodes(tableHolding5m(60.0));
