@@ -47,14 +47,17 @@ SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid) 
     const AeroBody& a = aero[i];
     if (!a.has_added_mass) continue;
     const LinkMotion& b = motions_[a.link];
+    // The fluid carried along moves with the plate relative to the fluid at large: its
+    // momentum is that of the relative velocity, the same seen from any uniformly moving frame.
     Vec6 v;
-    v << b.angular_velocity, b.velocity;
+    v << b.angular_velocity, b.velocity - fluid_velocity_;
     addFluidMomentum(s, fluid.addedMass(i, tree.rotations()[a.link], density_), b.com, v);
   }
   return s;
 }
 
-void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density) {
+void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density,
+                            const Vec3& fluid_velocity) {
   external_force_.setZero();
   external_moment_.setZero();
   drag_impulse_.setZero();
@@ -62,6 +65,7 @@ void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added
   const bool carried = carried_valid_ && carried_density_ == added_mass_density;
   carried_valid_ = false;
   density_ = added_mass_density;
+  fluid_velocity_ = fluid_velocity;
   if (model_.fixed_base) return;
   if (carried) {
     start_ = carried_;
@@ -86,15 +90,33 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
     return;
   }
   // What the momentum must be: the start plus the external impulses (gravity has no moment
-  // about the centre of mass).
+  // about the centre of mass). The angular part first about O, the point where the centre of
+  // mass was at the start, moving with the fluid (at rest in the fluid's frame, where the
+  // impulses' moments about it are all that change it).
   const Vec3 linear =
       start_.linear + dt * (start_.mass * gravity + external_force_) + drag_impulse_.tail<3>();
   Vec6 air;
   air << external_moment_, external_force_;
-  const Vec3 angular = start_.angular + dt * momentAbout(air, origin_, start_.com) +
-                       momentAbout(drag_impulse_, origin_, start_.com);
+  const Vec3 angular_about_o = start_.angular + dt * momentAbout(air, origin_, start_.com) +
+                               momentAbout(drag_impulse_, origin_, start_.com);
   const SystemMomentum now = measure(body, fluid);
-  const RigidCorrection c = momentumCorrection(now, linear, angular);
+  // About the centre of mass at the end, which has moved from O by d = dt (v1 - U) in the
+  // fluid's frame: L_c = L_O - d x P', with P' the momentum in that frame, M (v1 - U) + P_f, so
+  // L_c = L_O - d x P_f (Kirchhoff's -v x P, the Munk moment of the added mass). P_f and v1
+  // are those after the correction: a second pass takes them from the first's.
+  const Vec3 fluid_linear = now.linear - now.body_linear;
+  RigidCorrection c = momentumCorrection(now, linear, angular_about_o);
+  Vec3 angular = angular_about_o;
+  if (!now.fluid.isZero(0.0)) {
+    for (int pass = 0; pass < 2; ++pass) {
+      Vec6 twist;
+      twist << c.angular_velocity, c.velocity;
+      const Vec3 p_f = fluid_linear + (now.fluid * twist).tail<3>();
+      const Vec3 d = dt * (now.body_linear / now.mass + c.velocity - fluid_velocity_);
+      angular = angular_about_o - d.cross(p_f);
+      c = momentumCorrection(now, linear, angular);
+    }
+  }
   // The centre of mass moves with the bodies' new momentum.
   const Vec3 body_velocity = now.body_linear / now.mass + c.velocity;
   const Vec3 shift = start_.com + dt * body_velocity - now.com;
@@ -117,12 +139,12 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
                   toBt(Vec3(to_world.transpose() * w)), toBt(Vec3(to_world.transpose() * v)));
   }
   body.framesFromTree(tree);
-  // The momentum is now the target, about the shifted centre of mass: the next step starts
-  // from it instead of measuring it again.
+  // The momentum is now the target, about the shifted centre of mass (a translation changes
+  // no momentum about the centre): the next step starts from it instead of measuring it again.
   carried_.mass = now.mass;
   carried_.com = now.com + shift;
   carried_.linear = linear;
-  carried_.angular = angular - shift.cross(linear);
+  carried_.angular = angular;
   carried_valid_ = true;
   carried_density_ = density_;
 }

@@ -23,9 +23,14 @@ class MomentumBalance {
   explicit MomentumBalance(const CreatureModel& m) : model_(m) {}
 
   // The start of a (sub)step (frames of its start): the momentum of the tree and of the fluid
-  // its plates carry at `added_mass_density` (0: none), carried over from the last corrected
-  // step or measured; no impulse yet.
-  void begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density);
+  // its plates carry at `added_mass_density` (0: none) in a fluid moving at `fluid_velocity`
+  // (world frame; the fluid's momentum is that of each plate's velocity relative to it),
+  // carried over from the last corrected step or measured; no impulse yet. A step whose fluid
+  // velocity differs from the last one's keeps the carried momentum: the fluid's momentum is
+  // then measured against the new velocity at the end, which gives the bodies the added
+  // mass's share of the flow's acceleration, A dU (flapsim/fluid_stage.h adds rho V dU).
+  void begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density,
+             const Vec3& fluid_velocity);
   // A wrench about the COM `com` of a link (frames of the step's start) acting all step.
   void addExternal(const Vec3& com, const Wrench& wrench);
   // The implicit drag's impulse over the step [moment about the root COM of the step's start;
@@ -59,6 +64,7 @@ class MomentumBalance {
   bool carried_valid_ = false;
   double carried_density_ = 0.0;
   double density_ = 0.0;  // of the added mass in this step
+  Vec3 fluid_velocity_ = Vec3::Zero();  // the fluid's, in this step
   Vec3 origin_ = Vec3::Zero();
   Vec3 external_force_ = Vec3::Zero();
   Vec3 external_moment_ = Vec3::Zero();
