@@ -134,6 +134,49 @@ TEST(ToolTables, FlightCheckRefusesANumberWithTrailingText) {
   EXPECT_EQ(o.params.velocity_noise, 0.05);
 }
 
+// flight_check --hover used to fly the same flight to the bit with and without --noise,
+// --seed, --starts or the gusts. Every flag of the table, given with a value it accepts, is
+// either flown by the mode or refused by name.
+TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
+  auto refused = [](bool hover) {
+    std::vector<std::string> names;
+    FlightCheckOptions table_fields;
+    const CliParser table = flightCheckCli(table_fields);
+    for (const CliFlag& flag : table.flags()) {
+      const std::string& name = flag.names[0];
+      if (name == "--hover") continue;
+      std::vector<std::string> args;
+      if (hover) args.push_back("--hover");
+      args.push_back(name);
+      for (size_t i = 0; i < flag.metavars.size(); ++i) {
+        const std::string& metavar = flag.metavars[i];
+        args.push_back(name == "--gust-link"   ? "wing"
+                       : metavar == "FILE"     ? "f.yaml"
+                       : name == "--step-size" ? "0.001"
+                                               : "1");
+      }
+      FlightCheckOptions o;
+      CliParser cli = flightCheckCli(o);  // the flags `seen` points to
+      const std::vector<CliSeen> seen = cli.parse(args);
+      const std::string why = flightCheckUnusedFlag(o, seen);
+      if (why.empty()) continue;
+      EXPECT_EQ(why.rfind(name + " ", 0), 0u) << why;  // it names the flag
+      names.push_back(name);
+    }
+    return names;
+  };
+  EXPECT_EQ(refused(true),
+            std::vector<std::string>({"--weights", "--pairs", "--starts", "--seed", "--threads",
+                                      "--gust-torque", "--gust-force", "--gust-link", "--gust-time",
+                                      "--noise", "--altitude-noise", "--velocity-noise"}));
+  EXPECT_EQ(refused(false), std::vector<std::string>({"--gains", "--write-gains"}));
+  FlightCheckOptions o;
+  CliParser cli = flightCheckCli(o);
+  EXPECT_EQ(flightCheckUnusedFlag(o, cli.parse({"--hover", "--noise", "0.1"})),
+            "--noise has no effect with --hover (one flight of the hover controller: no "
+            "network, no held-out starts, gusts or sensor noise)");
+}
+
 TEST(ToolTables, SweepAndMakeCreatureRefuseBadValuesByFlag) {
   SweepParams p;
   std::string out;

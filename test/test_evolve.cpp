@@ -417,7 +417,12 @@ TEST(EvolvedController, ThePitchTermFliesTheTwelveUnitChainWhereTheNetworkAloneS
 // (80 rad/s) the unsprung chain flies all 8 too (measured), so the limits are set here. The
 // flights are chaotic: a start is won or lost on a rounding difference, so only the ordering is
 // claimed.
-TEST(EvolvedController, LinkSpringsFlyTheSixUnitChainThatTwistsWithoutThem) {
+// Measured again once the physics no longer depended on the observer (the angular momentum
+// carried across a step had taken Bullet's error in the centre's displacement crossed with the
+// momentum): the unsprung chain flies all 8 as well, so the springs' advantage was the
+// artefact's. Held here: the six-unit chain under the paper's rate limit flies every start with
+// or without them.
+TEST(EvolvedController, TheSixUnitChainFliesEveryStartWithOrWithoutLinkSprings) {
   ControllerSpec spec = chainController(6);
   spec.params.max_downstroke_rate = 60.0;
   spec.params.pitch_max_downstroke_rate = 75.0;
@@ -431,7 +436,7 @@ TEST(EvolvedController, LinkSpringsFlyTheSixUnitChainThatTwistsWithoutThem) {
   std::printf("6 units, 8 starts, paper's rate limit: %d flown with springs, %d without\n",
               sprung_flown, free_flown);
   EXPECT_EQ(sprung_flown, 8);
-  EXPECT_LT(free_flown, sprung_flown);
+  EXPECT_EQ(free_flown, 8);
 }
 
 // Why roll joints: with wave 1's pitch joints (springs of 0.5 N m/rad, rigid in roll) the
@@ -543,7 +548,10 @@ TEST(EvolvedController, ThePitchReflexKeepsTheChainAtItsAltitudeInAWindThatSinks
 // chain's lowest is higher in 14, and 0.631 against 0.533 at worst). The first seconds, where the
 // tilted starts right themselves, are left out: there the start, not the noise, sets the lowest
 // up-component.
-TEST(EvolvedController, TheAttitudeFilterKeepsTheChainSteadierUnderNoiseThanReadRaw) {
+// On the physics that no longer depends on the observer the raw reading rocks the chain far less
+// (0.698 against the filter's 0.717): the filter's large advantage was measured on the artefact;
+// held here: neither rocks it below 0.65, and the filter not lower than the raw reading.
+TEST(EvolvedController, TheChainUnderNoiseStaysAbove065FilteredOrRaw) {
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
   ASSERT_GT(spec.params.attitude_filter_time, 0.0);
@@ -564,8 +572,8 @@ TEST(EvolvedController, TheAttitudeFilterKeepsTheChainSteadierUnderNoiseThanRead
   std::printf(
       "12 units, 0.1 rad noise, starts 13 and 15, 10-20 s: lowest up %.3f filtered, %.3f raw\n",
       filtered, raw);
-  EXPECT_GT(filtered, 0.7);
-  EXPECT_LT(raw, 0.6);
+  EXPECT_GT(raw, 0.65);
+  EXPECT_GE(filtered, raw);
 }
 
 // The 12-unit chain from a level start in still air holding 5 m for 60 s at 1 ms
@@ -573,7 +581,11 @@ TEST(EvolvedController, TheAttitudeFilterKeepsTheChainSteadierUnderNoiseThanRead
 // picks up along its length and ends 21.4 m from where it rose (measured; a tenth of a degree
 // of mean pitch drives it); with the file's ground-speed damping (odometry's velocity leaning
 // the up it levels to), 2.56 m.
-TEST(EvolvedController, TheGroundSpeedDampingHoldsTheChainsLevelStartWithin3mWhereItDrifts) {
+// On the physics that no longer depends on the observer the chain levelled by attitude alone
+// drifts 0.34 m (the 21.4 m were the artefact's: the spurious angular momentum tilted it), with
+// the damping 1.40 m: the damping is no longer needed for this start, and held here is that the
+// level start stays within 3 m either way.
+TEST(EvolvedController, TheChainsLevelStartStaysWithin3mWithOrWithoutGroundSpeedDamping) {
   ControllerSpec spec =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_12_altitude_weights.yaml");
   ASSERT_GT(spec.params.velocity_gain, 0.0);
@@ -589,8 +601,9 @@ TEST(EvolvedController, TheGroundSpeedDampingHoldsTheChainsLevelStartWithin3mWhe
       "12 units, level start, 60 s: drift %.2f m with ground-speed damping, %.2f m without\n",
       damped.lateral_drift, levelled.lateral_drift);
   EXPECT_FALSE(damped.flipped);
+  EXPECT_FALSE(levelled.flipped);
   EXPECT_LT(damped.lateral_drift, 3.0);
-  EXPECT_GT(levelled.lateral_drift, 10.0);
+  EXPECT_LT(levelled.lateral_drift, 3.0);
 }
 
 // The same level start with the ground-speed sensor's noise (flight_check --velocity-noise 0.1:

@@ -77,6 +77,12 @@ struct FlightCheckOptions {
 /// flight_check's flags (flapsim/cli_args.h), over `options`.
 CliParser flightCheckCli(FlightCheckOptions& options);
 
+/// Empty if every flag `seen` (flightCheckCli's parse) changes what the mode of `options` flies;
+/// else a message naming the first that would be ignored: the network's flags (--weights,
+/// --starts, --seed, the gusts, the noises, ...) with --hover, the hover's gains without it.
+std::string flightCheckUnusedFlag(const FlightCheckOptions& options,
+                                  const std::vector<CliSeen>& seen);
+
 /// The table flight_check prints: a line per start (start attitude and wind, flipped, lowest
 /// up-component, final and lowest height, time upright, altitude error rms after 10 s, lateral
 /// drift, mean bank, the motors' mean positive power in W and W/kg and net power, pass or FAIL)

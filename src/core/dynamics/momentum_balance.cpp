@@ -57,7 +57,7 @@ SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid) 
 }
 
 void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density,
-                            const Vec3& fluid_velocity) {
+                            const Vec3& fluid_velocity, bool velocity_products) {
   external_force_.setZero();
   external_moment_.setZero();
   drag_impulse_.setZero();
@@ -66,6 +66,7 @@ void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added
   carried_valid_ = false;
   density_ = added_mass_density;
   fluid_velocity_ = fluid_velocity;
+  velocity_products_ = velocity_products;
   if (model_.fixed_base) return;
   if (carried) {
     start_ = carried_;
@@ -102,12 +103,13 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
   const SystemMomentum now = measure(body, fluid);
   // About the centre of mass at the end, which has moved from O by d = dt (v1 - U) in the
   // fluid's frame: L_c = L_O - d x P', with P' the momentum in that frame, M (v1 - U) + P_f, so
-  // L_c = L_O - d x P_f (Kirchhoff's -v x P, the Munk moment of the added mass). P_f and v1
-  // are those after the correction: a second pass takes them from the first's.
+  // L_c = L_O - d x P_f (Kirchhoff's -v x P, the Munk moment of the added mass; only with the
+  // velocity products, else L_c = L_O). P_f and v1 are those after the correction: a second
+  // pass takes them from the first's.
   const Vec3 fluid_linear = now.linear - now.body_linear;
   RigidCorrection c = momentumCorrection(now, linear, angular_about_o);
   Vec3 angular = angular_about_o;
-  if (!now.fluid.isZero(0.0)) {
+  if (velocity_products_ && !now.fluid.isZero(0.0)) {
     for (int pass = 0; pass < 2; ++pass) {
       Vec6 twist;
       twist << c.angular_velocity, c.velocity;

@@ -29,8 +29,10 @@ class MomentumBalance {
   // velocity differs from the last one's keeps the carried momentum: the fluid's momentum is
   // then measured against the new velocity at the end, which gives the bodies the added
   // mass's share of the flow's acceleration, A dU (flapsim/fluid_stage.h adds rho V dU).
+  // `velocity_products`: carry the angular momentum with the added mass's Munk term
+  // (AirParams::added_mass_velocity_products).
   void begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density,
-             const Vec3& fluid_velocity);
+             const Vec3& fluid_velocity, bool velocity_products);
   // A wrench about the COM `com` of a link (frames of the step's start) acting all step.
   void addExternal(const Vec3& com, const Wrench& wrench);
   // The implicit drag's impulse over the step [moment about the root COM of the step's start;
@@ -63,8 +65,9 @@ class MomentumBalance {
   Carried carried_;  // of the end of the last corrected step
   bool carried_valid_ = false;
   double carried_density_ = 0.0;
-  double density_ = 0.0;  // of the added mass in this step
+  double density_ = 0.0;                // of the added mass in this step
   Vec3 fluid_velocity_ = Vec3::Zero();  // the fluid's, in this step
+  bool velocity_products_ = false;
   Vec3 origin_ = Vec3::Zero();
   Vec3 external_force_ = Vec3::Zero();
   Vec3 external_moment_ = Vec3::Zero();

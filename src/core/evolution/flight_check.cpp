@@ -51,41 +51,63 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
   return runs;
 }
 
+namespace {
+
+// Tags of the flags that only one of flight_check's modes flies with.
+const char* const kNetworkOnly = "network";
+const char* const kHoverOnly = "hover";
+
+}  // namespace
+
 CliParser flightCheckCli(FlightCheckOptions& o) {
   FlightCheckParams& p = o.params;
   CliParser t("usage: flight_check --weights FILE [options]");
   t.text("--weights", "FILE", &o.weights, "controller weights YAML (evolve's output; required)")
+      .tag(kNetworkOnly)
       .integer("--pairs", "N", &o.pairs, {1, 1000}, "the creature: make_creature --pairs N, or")
+      .tag(kNetworkOnly)
       .text("--urdf", "FILE", &o.urdf, "a creature of flap units from a URDF file")
       .integer("--starts", "N", &p.starts, {1, kMaxEpisodes}, "held-out starts")
+      .tag(kNetworkOnly)
       .seed("--seed", "S", &p.seed, "their seed (it also draws headings, gust times, wings)")
+      .tag(kNetworkOnly)
       .real("--roll", "R", &p.max_roll, {0, M_PI}, "start roll uniform in +-R rad")
       .real("--pitch", "P", &p.max_pitch, {0, M_PI}, "start pitch uniform in +-P rad")
       .real("--duration", "T", &p.duration, {0, kMaxEpisodeDuration, true}, "s")
       .real("--step-size", "DT", &p.step_size, {1e-6, 0.1}, "s")
       .integer("--threads", "N", &p.threads, {1, 256},
                "parallel flights; results do not depend on it")
+      .tag(kNetworkOnly)
       .flag("--hover", &o.hover, true,
             "fly the hover creature (make_creature --layout hover, or --urdf) under its "
             "controller instead, started --roll, --pitch tilted (0 unless given)")
       .text("--gains", "FILE", &o.gains,
             "--hover: the controller's gains file (evolve --preset hover's; default: by hand)")
+      .tag(kHoverOnly)
       .text("--write-gains", "FILE", &o.write_gains, "--hover: write the gains flown to FILE")
+      .tag(kHoverOnly)
       .real("--wind", "SPEED", &p.wind, {0, 1e3},
             "steady wind from t = 0, m/s, from a heading drawn per start (--hover: along +y)")
       .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
             "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
+      .tag(kNetworkOnly)
       .real("--gust-force", "N", &p.gust_force, {-1e6, 1e6},
             "a vertical push (> 0: up) on --gust-link at a time drawn per start")
+      .tag(kNetworkOnly)
       .text("--gust-link", "LINK", &p.gust_link,
             "the link pushed (default: a wing drawn per start, up or down)")
+      .tag(kNetworkOnly)
       .real("--gust-time", "S", &p.gust_time, {0, kMaxEpisodeDuration, true},
             "how long each gust acts, s")
+      .tag(kNetworkOnly)
       .real("--noise", "RAD", &p.noise, {0, 1e3},
             "IMU noise: orientation RAD rad, angular velocity RAD rad/s")
+      .tag(kNetworkOnly)
       .real("--altitude-noise", "M", &p.altitude_noise, {0, 1e3}, "altimeter noise, m")
+      .tag(kNetworkOnly)
       .real("--velocity-noise", "V", &p.velocity_noise, {0, 1e3},
             "ground-speed sensor noise, m/s per axis (read with ground-speed damping)")
+      .tag(kNetworkOnly)
       .custom(
           "--altitude", {"M"},
           [&p](const std::vector<std::string>& v) {
@@ -94,6 +116,21 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
           [&p] { return p.altitude ? formatCliNumber(*p.altitude) : std::string("climb"); },
           "hold M m (the root link frame's height); default: climb (--hover: 3)");
   return t;
+}
+
+std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector<CliSeen>& seen) {
+  for (const CliSeen& given : seen) {
+    const std::string& name = given.flag->names[0];
+    if (o.hover && given.flag->tag == kNetworkOnly) {
+      return name +
+             " has no effect with --hover (one flight of the hover controller: no network, "
+             "no held-out starts, gusts or sensor noise)";
+    }
+    if (!o.hover && given.flag->tag == kHoverOnly) {
+      return name + " is for --hover only (the network's flights have no hover gains)";
+    }
+  }
+  return "";
 }
 
 std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<FlightCheckRun>& runs,

@@ -64,4 +64,13 @@ Mat6 normalInertia(const std::vector<NormalMass>& masses, double scale) {
   return out;
 }
 
+Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega,
+                               const Vec3& velocity) {
+  Vec6 nu;
+  nu << omega, velocity;
+  const Vec6 h = factorTimes(added, nu);
+  const Vec3 angular = h.head<3>(), linear = h.tail<3>();
+  return Wrench{-omega.cross(linear), -(omega.cross(angular) + velocity.cross(linear))};
+}
+
 }  // namespace flapsim

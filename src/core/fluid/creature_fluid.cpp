@@ -64,6 +64,13 @@ CreatureFluid::CreatureFluid(const CreatureModel& m, const AirParams& air) {
   buildBatch();
 }
 
+Vec3 CreatureFluid::flowAcceleration(const Vec3& velocity, double step) {
+  const Vec3 change = flow_known_ ? Vec3(velocity - flow_) : Vec3::Zero();
+  flow_ = velocity;
+  flow_known_ = true;
+  return change / step;
+}
+
 void CreatureFluid::resurface(const CreatureModel& m, const AirParams& air) {
   for (AeroBody& a : bodies_) setSurface(a, m, air);
   buildBatch();

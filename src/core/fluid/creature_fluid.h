@@ -71,6 +71,12 @@ class CreatureFluid {
   // rotation or the density changed since it last was (the end of a step's momentum has the
   // next step's rotations).
   const SpatialFactor& addedMass(size_t i, const Mat3& rotation, double density);
+  // The fluid's acceleration over a (sub)step of `step` whose fluid velocity is `velocity`
+  // (world frame): its change since the last (sub)step over `step` (zero for the first one, or
+  // after forgetFlow()), and remembers it.
+  Vec3 flowAcceleration(const Vec3& velocity, double step);
+  // After a state set from outside a step: no change of the fluid's velocity is pending.
+  void forgetFlow() { flow_known_ = false; }
 
  private:
   friend class AirStage;
@@ -78,6 +84,8 @@ class CreatureFluid {
 
   std::vector<AeroBody> bodies_;
   bool active_ = false;
+  Vec3 flow_ = Vec3::Zero();  // the fluid's velocity in the last (sub)step
+  bool flow_known_ = false;
   // The pressure law on all the aero bodies at once (those it holds), and the fluid stage's
   // scratch: per aero body, its kinematics and its wrench from the batch.
   PressureBatch pressure_;

@@ -20,6 +20,7 @@ void CreatureSim::settle() {
   body.settle();
   servos.forget();
   momentum.forget();
+  fluid.forgetFlow();
 }
 
 namespace {
@@ -47,7 +48,8 @@ void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s) {
 void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) {
   const WorldParams& p = c.params;
   // position: the frames of the start are those the last (sub)step ended with
-  s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0, p.air.wind);
+  s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0, p.air.wind,
+                   p.air.added_mass_velocity_products);
   s.servos.begin(s.body.multiBody());
   s.power.beginSubStep(*r.model, s.body.multiBody());
   applyDrives(*r.model, r.drives, s.servos, s.body.multiBody(), h);  // actuation

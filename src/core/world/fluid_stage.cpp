@@ -4,6 +4,7 @@
 
 #include "dynamics/bullet_body.h"
 #include "dynamics/momentum_balance.h"
+#include "fluid/added_mass.h"
 #include "fluid/buoyancy.h"
 #include "fluid/pressure.h"
 
@@ -43,6 +44,12 @@ void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& mo
   }
   batch = batch && !record_cells_;
   if (batch) fluid.pressure_.run(fluid.kinematics_, air, fluid.batch_wrench_);
+  // Buoyancy is the pressure gradient of the fluid at rest under gravity; a fluid whose
+  // velocity changed since the last (sub)step accelerated, and its pressure gradient pushes
+  // the displaced volume with it: -rho V (g - dU/dt), the Froude-Krylov force. (The added
+  // mass's share, A dU/dt, comes from its momentum, measured relative to the fluid:
+  // dynamics/momentum_balance.h.)
+  const Vec3 fluid_gravity = params.gravity - fluid.flowAcceleration(air.wind, step);
   for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
     AeroBody& a = fluid.bodies_[i];
     const int k = a.link;
@@ -52,11 +59,18 @@ void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& mo
                    ? fluid.batch_wrench_[i]
                    : modelOf(a).bodyWrench(kin, a.surface, air,
                                            record_cells_ ? &a.last.cell_forces : nullptr);
-    if (air.buoyancy) w += buoyancyLaw(FluidInput{kin, a.surface, air, params.gravity}, nullptr);
+    if (air.buoyancy) w += buoyancyLaw(FluidInput{kin, a.surface, air, fluid_gravity}, nullptr);
     a.last.com = kin.com;
     a.last.wrench = w;
     momentum.addExternal(kin.com, w);
-    if (a.has_added_mass) fluid.addedMass(i, rotation, air.density);
+    if (a.has_added_mass) {
+      // The added mass's velocity products act on the body but are internal to body and
+      // fluid: not in the momentum balance's external impulses.
+      const SpatialFactor& added = fluid.addedMass(i, rotation, air.density);
+      if (air.density > 0.0 && air.added_mass_velocity_products) {
+        w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind);
+      }
+    }
     const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, body.reach(k), step);
     // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
     // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
