@@ -4,6 +4,7 @@
 //   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json] [--step S] [--turn-substep S]
 //                 [--check T] [--reference-step S]
 //   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
+//   flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]
 //
 // --step S, --turn-substep S: the world's step and turn substep, s (WorldParams' 1 ms and
 // 0.5 ms by default; either form). --check T: instead of timing,
@@ -29,6 +30,7 @@
 #include <vector>
 
 #include "bench_common.h"
+#include "flapsim/energy_audit.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
 #include "fluid/surface.h"
@@ -226,6 +228,50 @@ void check(const Scenario& s, const WorldParams& p, double seconds, double refer
               why.empty() ? "" : ")");
 }
 
+// --energy: the energy audit (flapsim/energy_audit.h) of the flap unit, afc_4 and the hover
+// creature (or the --urdf creature) in vacuum, air and water at 1, 0.5 and 0.25 ms; in air and
+// water with the added mass's velocity products if `velocity_products`.
+int energyTable(const std::string& urdf, double seconds, bool velocity_products) {
+  std::vector<std::string> files = {"flap_unit.urdf", "afc_4.urdf", "hover_1.urdf"};
+  if (!urdf.empty()) files = {urdf};
+  std::printf(
+      "| creature | medium | step | motor work (positive) | air work | damping work | "
+      "kinetic | potential | spring | fluid kinetic | residual |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& file : files) {
+    const flapsim::CreatureModelPtr model =
+        flapsim::loadCreatureModel(urdf.empty() ? urdfPath(file) : file);
+    for (const char* medium : {"vacuum", "air", "water"}) {
+      for (double dt : {0.001, 0.0005, 0.00025}) {
+        flapsim::EnergyAuditParams p;
+        p.seconds = seconds;
+        p.world.step_size = dt;
+        if (std::string(medium) == "vacuum") p.world.air.enabled = false;
+        if (std::string(medium) == "water") {
+          p.world.air = flapsim::waterParams();
+          p.stroke = flapsim::StrokeCommand{3.0, 1.0, 0.6};
+        }
+        p.world.air.added_mass_velocity_products = velocity_products;
+        const flapsim::EnergyAuditResult r = flapsim::auditEnergy(model, p);
+        std::printf(
+            "| %s | %s | %g ms | %+.4f J (%.4f) | %+.4f | %+.4f | %+.4f | %+.4f | %+.4f | %+.4f "
+            "| %+.3f %% |\n",
+            model->name.c_str(), medium, dt * 1e3, r.end.motor_work - r.start.motor_work,
+            r.positive_motor_work, r.end.air_work - r.start.air_work,
+            r.end.damping_work - r.start.damping_work, r.end.kinetic - r.start.kinetic,
+            r.end.potential - r.start.potential, r.end.spring - r.start.spring,
+            r.end.fluid_kinetic - r.start.fluid_kinetic, 100.0 * r.relativeResidual());
+      }
+    }
+  }
+  std::printf(
+      "(%g s from 20 m, rolled 0.05 rad, every wing 60/10 rad/s and 0.6 rad; in water "
+      "3/1 rad/s; residual: the works less the change of the energies, as a share of the "
+      "motors' positive work; added mass's velocity products %s)\n",
+      seconds, velocity_products ? "on" : "off");
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -233,7 +279,7 @@ int main(int argc, char** argv) {
   double seconds = 2.0;
   std::string only, urdf;
   double height = 50.0, skip = 0.0;
-  bool json = false, ground = true;
+  bool json = false, ground = true, energy = false, velocity_products = false;
   double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
   double turn_substep = WorldParams().turn_substep;
   for (int i = 1; i < argc; ++i) {
@@ -248,6 +294,10 @@ int main(int argc, char** argv) {
       cpuTimeClock() = true;
     } else if (a == "--json") {
       json = true;
+    } else if (a == "--energy") {
+      energy = true;
+    } else if (a == "--velocity-products") {
+      velocity_products = true;
     } else if (a == "--urdf" && i + 1 < argc) {
       urdf = argv[++i];
     } else if (a == "--height" && i + 1 < argc) {
@@ -279,7 +329,8 @@ int main(int argc, char** argv) {
           "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
           "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
           "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
-          "[--runs N] [--seconds S]\n");
+          "[--runs N] [--seconds S]\n"
+          "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n");
       return 2;
     }
   }
@@ -290,6 +341,14 @@ int main(int argc, char** argv) {
   if (!flapsim::validateWorldParams(at_step).empty()) {
     std::fprintf(stderr, "flapsim_bench: %s\n", flapsim::validateWorldParams(at_step).c_str());
     return 2;
+  }
+  if (energy) {
+    try {
+      return energyTable(urdf, seconds, velocity_products);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+      return 1;
+    }
   }
   if (check_seconds > 0.0) {
     try {

@@ -39,15 +39,15 @@ struct AirParams {
   /// <aero link="..." added_mass="true|false"/>.
   bool added_mass = true;
   /// Kirchhoff's velocity products of the added mass: on each plate the wrench
-  /// -(nu x* A nu) of its motion nu relative to the fluid (the Munk moment -v x A v among
-  /// them), and the creature's angular momentum carried with the same term. With them the
-  /// bodies and the fluid they carry keep their kinetic energy (a flapping flap unit in an
-  /// ideal fluid: residual 0.03 % of the motor's positive work at 0.25 ms in water, shrinking
-  /// with the step; without them the water's and the bodies' kinetic energy grow by 100 times
-  /// the motor's work in 1 s). Off by default: the shipped controllers were evolved without
-  /// them and do not fly with them (afc_1 turns over within a second); on, a controller must
-  /// be evolved under them. Either way a creature moving with a uniform fluid flies as the
-  /// same creature at rest.
+  /// -(A b + nu x* A nu) of its motion nu relative to the fluid (the Munk moment -v x A v among
+  /// them; b: the part of its acceleration the implicit solve leaves out), and the creature's
+  /// angular momentum carried with the same term. With them the bodies and the fluid they carry
+  /// keep their energy: the audit (flapsim_bench --energy) closes within 0.5 % of the motors'
+  /// positive work in air and water at 1 ms; without them it misses by 1-4 % in air and
+  /// 20-40 % in water at any step. Off by default: the shipped controllers were evolved without
+  /// them and do not fly with them (afc_1 turns over within a second); on, a controller must be
+  /// evolved under them. Either way a creature moving with a uniform fluid flies as the same
+  /// creature at rest.
   bool added_mass_velocity_products = false;
   int subdivisions_u = 4;  // cells per face along its first edge
   int subdivisions_v = 4;  // ... and along its second edge

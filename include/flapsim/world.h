@@ -98,6 +98,28 @@ struct CreaturePower {
   double meanPositivePower() const;
 };
 
+/// The energy audit of a creature (World::setEnergyAudit, World::energy), in the frame of the
+/// fluid (velocities relative to the world's wind, which must stay steady for the balance):
+/// the energies of its state, and the works done on it since it was spawned or the world
+/// reset, the air's and the damping's counted only while the audit is on. Balance:
+/// motor_work + air_work + damping_work = change of total(), up to residual() (the step's
+/// error, and what no term counts: joint limits, contacts, friction, external wrenches).
+struct CreatureEnergy {
+  double kinetic = 0.0;        // J, of the bodies
+  double potential = 0.0;      // J, in gravity, -m g . x over the links (0 at the origin)
+  double spring = 0.0;         // J, of the <spring> joints (their stiffness as the step uses it)
+  double fluid_kinetic = 0.0;  // J, of the fluid the plates carry: 1/2 nu^T A nu per plate
+  double motor_work = 0.0;     // J, World::power's net work
+  double air_work = 0.0;       // J, of the air's forces (pressure, buoyancy, implicit drag)
+  double damping_work = 0.0;   // J, of the passive joints' damping (<= 0)
+  double total() const { return kinetic + potential + spring + fluid_kinetic; }
+  /// The works since `start` less the change of total() since it.
+  double residual(const CreatureEnergy& start) const {
+    return (motor_work - start.motor_work) + (air_work - start.air_work) +
+           (damping_work - start.damping_work) - (total() - start.total());
+  }
+};
+
 /// A state to put a creature in (World::setState), world frame. The pose and twist are those
 /// of one link's frame (CreatureState's convention: the twist is the velocity of the link
 /// frame's origin); the rest of the creature follows through its joints.
@@ -237,6 +259,10 @@ class World {
 
   /// Records per-cell forces for aeroForces() (costs time; off by default).
   void setRecordCellForces(bool on);
+  /// Counts the air's and the damping's work for energy() (costs time; off by default).
+  void setEnergyAudit(bool on);
+  /// The energy audit of a creature (see CreatureEnergy).
+  CreatureEnergy energy(const std::string& creature) const;
   /// Air wrenches applied in the last step, one entry per aero link.
   std::vector<LinkAero> aeroForces(const std::string& creature) const;
 

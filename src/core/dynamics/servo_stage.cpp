@@ -164,9 +164,11 @@ Vec6 ServoStage::solveWithFluid(const btMultiBody& mb, const LinkFrames& frames,
   solver_.solve(links_, model_->fixed_base, demands_, loads_, tree, solution_);
   // The implicit drag's impulse over the step, -step D (v1 - v0) on each aero body.
   Vec6 drag_impulse = Vec6::Zero();
+  drag_impulse_.assign(aero.size(), Vec6::Zero());
   for (size_t i = 0; i < aero.size(); ++i) {
     if (aero[i].drag_zero) continue;
-    drag_impulse -= drag_[i] * (change_[i] + solution_.link_velocity_change[aero[i].link]);
+    drag_impulse_[i] = -drag_[i] * (change_[i] + solution_.link_velocity_change[aero[i].link]);
+    drag_impulse += drag_impulse_[i];
   }
   return drag_impulse;
 }
@@ -179,6 +181,7 @@ Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, TreeDynamics* 
     demands_[k].velocity_change = target_[k] - jointVel(mb, static_cast<int>(k) - 1);
     any = true;
   }
+  drag_impulse_.clear();
   if (!any && !fluid.active()) {
     solution_.impulse.assign(demands_.size(), 0.0);
     solution_.saturated.assign(demands_.size(), false);

@@ -62,6 +62,11 @@ class ServoStage {
 
   // Of the last solve: impulses all zero if no servo acted.
   const ServoSolution& solution() const { return solution_; }
+  // The implicit drag's impulse on aero body i (CreatureFluid's order) in the last solve
+  // [moment about the root COM of the step's start; force], world axes (zero without one).
+  Vec6 dragImpulse(size_t i) const {
+    return i < drag_impulse_.size() ? drag_impulse_[i] : Vec6::Zero();
+  }
   bool saturated(size_t link) const {
     return link < solution_.saturated.size() && solution_.saturated[link];
   }
@@ -108,6 +113,7 @@ class ServoStage {
   // velocity in this step.
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> drag_impulse_;  // per aero body
 };
 
 // Joint damping is applied as an explicit torque -d qdot, stable while d dt stays well

@@ -64,13 +64,15 @@ Mat6 normalInertia(const std::vector<NormalMass>& masses, double scale) {
   return out;
 }
 
-Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega,
-                               const Vec3& velocity) {
+Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity,
+                               const Vec6& bias) {
   Vec6 nu;
   nu << omega, velocity;
   const Vec6 h = factorTimes(added, nu);
+  const Vec6 b = factorTimes(added, bias);
   const Vec3 angular = h.head<3>(), linear = h.tail<3>();
-  return Wrench{-omega.cross(linear), -(omega.cross(angular) + velocity.cross(linear))};
+  return Wrench{-omega.cross(linear) - b.tail<3>(),
+                -(omega.cross(angular) + velocity.cross(linear)) - b.head<3>()};
 }
 
 }  // namespace flapsim

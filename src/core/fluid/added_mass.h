@@ -43,15 +43,17 @@ struct NormalMass {
 void appendPlateAddedMass(std::vector<NormalMass>& masses, const Vec3& size, const Pose& origin,
                           int nu, int nv);
 
-/// What the fluid carried by a body does to it beyond resisting its acceleration: with its
-/// added mass A (spatial, about the body's COM, world axes; factored) and its motion
-/// nu = [omega; v] relative to the fluid (v of the COM), the momentum h = A nu, the wrench
-/// -(nu x* h) = -[omega x h_angular + v x h_linear; omega x h_linear] about the COM (world
-/// frame): Kirchhoff's velocity products, the Munk moment -v x h_linear among them. With the
-/// implicit -A dnu/dt (the servo stage) it is the force of the fluid's own equations, under
-/// which body and fluid keep their kinetic energy; it is internal to body and fluid (their
-/// momentum counts h). Zero for a body moving along its plates' normals without turning.
-Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity);
+/// What the fluid carried by a body does to it beyond resisting the velocity change the servo
+/// stage solves it for: with its added mass A (spatial, about the body's COM, world axes;
+/// factored), its motion nu = [omega; v] relative to the fluid (v of the COM) and momentum
+/// h = A nu, the wrench -(A bias + nu x* h) about the COM (world frame), nu x* h =
+/// [omega x h_angular + v x h_linear; omega x h_linear]: Kirchhoff's velocity products (the Munk
+/// moment -v x h_linear among them), and A times `bias`, the part of the body's spatial
+/// acceleration at its COM that the solved velocity change leaves out (world/fluid_stage.cpp).
+/// With the solve's -A dnu it is the force of the fluid's own equations, under which body and
+/// fluid keep their kinetic energy; it is internal to body and fluid (their momentum counts h).
+Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity,
+                               const Vec6& bias);
 
 /// Sum of w f f^T over `masses` (times `scale`, e.g. the density), about the body's COM in
 /// body axes: constant for a rigid body.

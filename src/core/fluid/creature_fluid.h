@@ -64,6 +64,8 @@ class CreatureFluid {
   void resurface(const CreatureModel& m, const AirParams& air);
 
   const std::vector<AeroBody>& bodies() const { return bodies_; }
+  // Per aero body, its kinematics at the start of the last (sub)step's fluid stage.
+  const std::vector<BodyKinematics>& kinematics() const { return kinematics_; }
   // Whether this (sub)step's aero bodies carry implicit fluid matrices (added mass or drag).
   bool active() const { return active_; }
   // The added mass of aero body i at `density` in world axes (`rotation`: its link's, to
@@ -84,6 +86,8 @@ class CreatureFluid {
 
   std::vector<AeroBody> bodies_;
   bool active_ = false;
+  // Scratch of the added mass's velocity products (world/fluid_stage.cpp), per link.
+  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> link_velocity_, link_bias_;
   Vec3 flow_ = Vec3::Zero();  // the fluid's velocity in the last (sub)step
   bool flow_known_ = false;
   // The pressure law on all the aero bodies at once (those it holds), and the fluid stage's

@@ -13,6 +13,7 @@
 #include "dynamics/servo_stage.h"
 #include "flapsim/world.h"
 #include "fluid/creature_fluid.h"
+#include "world/energy_meter.h"
 #include "world/joint_drives.h"
 #include "world/power.h"
 
@@ -54,6 +55,7 @@ class CreatureSim {
   MomentumBalance momentum;  // the momentum carried from step to step
   BodySnapshot before;       // the state before the current step (the watchdog's)
   PowerMeter power;          // the work of its motors since it was built
+  EnergyMeter energy;        // the air's and damping's work while the audit is on
 
   // After the multibody's state was set from outside a step: what comes next depends on
   // the new state alone, as for a body just built.

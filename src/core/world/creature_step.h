@@ -37,6 +37,7 @@ namespace flapsim {
 struct StepContext {
   const WorldParams& params;
   const AirStage& air;
+  bool energy_audit = false;  // the energy meter counts (World::setEnergyAudit)
 };
 
 // One step of a creature; `number` is the world's step count after it (for the watchdog's

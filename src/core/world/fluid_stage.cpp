@@ -29,8 +29,45 @@ const AirModel& AirStage::modelOf(const AeroBody& a) const {
   return a.model.empty() ? *default_model_ : *named_models_.at(a.model);
 }
 
-void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& momentum,
-                     const WorldParams& params, double step) const {
+namespace {
+
+// The spatial motion cross product a x b at one point: [w_a x w_b; w_a x v_b + v_a x w_b].
+Vec6 crossMotion(const Vec6& a, const Vec6& b) {
+  Vec6 out;
+  out << a.head<3>().cross(b.head<3>()),
+      a.head<3>().cross(b.tail<3>()) + a.tail<3>().cross(b.head<3>());
+  return out;
+}
+
+// Per link, its spatial velocity relative to the fluid at the fixed point `origin` (the root's
+// COM at the step's start) and the bias b of its spatial acceleration there: the part that a
+// velocity change composed from the root's COM and the joints' rates (the servo stage's, with
+// the subspaces of the step's start) leaves out. The root's: [0; -w x v] (the COM moves off
+// the fixed point); each child's: its parent's plus v_parent x v_child (the joint's subspace
+// turns with the parent: Featherstone's c = v x S qdot).
+void accelerationBias(const CreatureModel& m, const LinkFrames& frames, const Vec3& origin,
+                      const Vec3& wind, std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& velocity,
+                      std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& bias) {
+  const size_t n = m.links.size();
+  velocity.resize(n);
+  bias.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    const BodyKinematics kin = frames.kinematics(static_cast<int>(k));
+    const Vec3 w = kin.angular_velocity;
+    velocity[k] << w, kin.linear_velocity - wind + w.cross(origin - kin.com);
+    if (k == 0) {
+      bias[0] << Vec3::Zero(), -w.cross(kin.linear_velocity - wind);
+      continue;
+    }
+    const int parent = m.joints[m.links[k].parent_joint].parent_link;
+    bias[k] = bias[parent] + crossMotion(velocity[parent], velocity[k]);
+  }
+}
+
+}  // namespace
+
+void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
+                     MomentumBalance& momentum, const WorldParams& params, double step) const {
   fluid.active_ = false;
   if (!params.air.enabled) return;
   btMultiBody& mb = body.multiBody();
@@ -50,6 +87,7 @@ void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& mo
   // mass's share, A dU/dt, comes from its momentum, measured relative to the fluid:
   // dynamics/momentum_balance.h.)
   const Vec3 fluid_gravity = params.gravity - fluid.flowAcceleration(air.wind, step);
+  fluid.link_bias_.clear();  // this (sub)step's, once a plate needs it
   for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
     AeroBody& a = fluid.bodies_[i];
     const int k = a.link;
@@ -68,7 +106,15 @@ void AirStage::apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& mo
       // fluid: not in the momentum balance's external impulses.
       const SpatialFactor& added = fluid.addedMass(i, rotation, air.density);
       if (air.density > 0.0 && air.added_mass_velocity_products) {
-        w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind);
+        if (fluid.link_bias_.empty()) {
+          accelerationBias(model, body.frames(), fromBt(body.frames().local_origin[0]), air.wind,
+                           fluid.link_velocity_, fluid.link_bias_);
+        }
+        // The bias at the link's COM, where the added mass's factor is.
+        Vec6 bias = fluid.link_bias_[k];
+        bias.tail<3>() += bias.head<3>().cross(kin.com - fromBt(body.frames().local_origin[0]));
+        w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind,
+                                     bias);
       }
     }
     const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, body.reach(k), step);

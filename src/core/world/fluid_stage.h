@@ -29,8 +29,8 @@ class AirStage {
   // every aero body of `body` (frames of the step's start) and to the momentum balance,
   // records it in the aero body's `last`, and sets this step's implicit part. Without air,
   // none of it (the fluid is inactive).
-  void apply(BulletBody& body, CreatureFluid& fluid, MomentumBalance& momentum,
-             const WorldParams& params, double step) const;
+  void apply(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
+             MomentumBalance& momentum, const WorldParams& params, double step) const;
 
  private:
   const AirModel& modelOf(const AeroBody& a) const;

@@ -31,6 +31,7 @@ void PowerMeter::reset(size_t joints) {
   before_ = energy_;
   step_work_.assign(joints, 0.0);
   start_.assign(joints, 0.0);
+  start_velocity_.assign(joints, 0.0);
   time_ = 0.0;
   last_step_ = 0.0;
 }
@@ -42,7 +43,9 @@ void PowerMeter::beginStep() {
 
 void PowerMeter::beginSubStep(const CreatureModel& m, const btMultiBody& mb) {
   for (size_t j = 0; j < m.joints.size(); ++j) {
-    if (m.joints[j].movable()) start_[j] = mb.getJointPos(m.joints[j].child_link - 1);
+    if (!m.joints[j].movable()) continue;
+    start_[j] = mb.getJointPos(m.joints[j].child_link - 1);
+    start_velocity_[j] = mb.getJointVel(m.joints[j].child_link - 1);
   }
 }
 
@@ -71,8 +74,14 @@ void PowerMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive
     const size_t k = static_cast<size_t>(joint.child_link);
     if (!joint.movable() || k >= impulse.size() || impulse[k] == 0.0) continue;
     if (!motorAt(m, drives, j)) continue;
+    // Over the trapezoid of the joint's velocities: what the impulse gives the bodies' kinetic
+    // energy (a servo that meets its target within the (sub)step changes the velocity at
+    // once, and the position then moves by step x the end velocity; counted so, a wing's
+    // reversal in vacuum drew 13 % more work at 1 ms than its bodies took up). A saturated
+    // servo's joint moves by that trapezoid itself (ServoStage::integrateSaturated).
+    const int link = static_cast<int>(k) - 1;
     const double work =
-        motorWork(impulse[k], h, mb.getJointPos(static_cast<int>(k) - 1) - start_[j]);
+        motorWork(impulse[k], h, 0.5 * h * (start_velocity_[j] + mb.getJointVel(link)));
     energy_[j].add(work);
     step_work_[j] += work;
   }

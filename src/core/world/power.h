@@ -34,9 +34,10 @@ class PowerMeter {
 
  private:
   std::vector<JointEnergy> energy_;
-  std::vector<JointEnergy> before_;  // energy_ at the start of the step
-  std::vector<double> step_work_;    // per joint, in the current step
-  std::vector<double> start_;        // per joint, its position at the start of the substep
+  std::vector<JointEnergy> before_;     // energy_ at the start of the step
+  std::vector<double> step_work_;       // per joint, in the current step
+  std::vector<double> start_;           // per joint, its position at the start of the substep
+  std::vector<double> start_velocity_;  // ... and its velocity
   double time_ = 0.0;
   double last_step_ = 0.0;
 };

@@ -102,7 +102,7 @@ class World::Impl {
   void step(int steps) {
     const size_t n = sims_.size();
     const size_t threads = std::min<size_t>(static_cast<size_t>(params_.threads), n);
-    const StepContext context{params_, air_};
+    const StepContext context{params_, air_, energy_audit_};
     auto run = [this, steps, &context](size_t first, size_t last) {
       for (int s = 0; s < steps; ++s) {
         const std::uint64_t number = time_steps_ + static_cast<std::uint64_t>(s) + 1;
@@ -157,6 +157,18 @@ class World::Impl {
     for (auto& s : sims_) s->body.world().setGravity(toBt(gravity));
   }
   void setRecordCells(bool on) { air_.setRecordCells(on); }
+  void setEnergyAudit(bool on) { energy_audit_ = on; }
+
+  CreatureEnergy energy(const std::string& creature) const {
+    const size_t c = index(creature);
+    const CreatureSim& s = *sims_[c];
+    CreatureEnergy e;
+    stateEnergies(*records_[c].model, s.body, s.fluid, s.servos, params_.air, params_.gravity, e);
+    e.motor_work = s.power.report(records_[c].model->totalMass()).totalWork();
+    e.air_work = s.energy.airWork();
+    e.damping_work = s.energy.dampingWork();
+    return e;
+  }
 
   std::vector<LinkAero> aeroForces(const std::string& creature) const {
     std::vector<LinkAero> out;
@@ -291,6 +303,7 @@ class World::Impl {
 
   WorldParams params_;
   AirStage air_;
+  bool energy_audit_ = false;  // setEnergyAudit
   std::vector<CreatureRecord> records_;
   std::vector<std::unique_ptr<CreatureSim>> sims_;
   std::uint64_t time_steps_ = 0;
@@ -482,6 +495,8 @@ Pose World::rootPose(const std::string& creature) const { return state(creature)
 Twist World::rootTwist(const std::string& creature) const { return state(creature).link_twists[0]; }
 
 void World::setRecordCellForces(bool on) { impl_->setRecordCells(on); }
+void World::setEnergyAudit(bool on) { impl_->setEnergyAudit(on); }
+CreatureEnergy World::energy(const std::string& creature) const { return impl_->energy(creature); }
 
 std::vector<LinkAero> World::aeroForces(const std::string& creature) const {
   return impl_->aeroForces(creature);

@@ -1,0 +1,76 @@
+#include "world/energy_meter.h"
+
+#include "dynamics/bullet_body.h"
+#include "dynamics/servo_stage.h"
+#include "fluid/creature_fluid.h"
+
+namespace flapsim {
+
+void EnergyMeter::beginSubStep(const BulletBody& body) {
+  const btMultiBody& mb = body.multiBody();
+  start_velocity_.resize(static_cast<size_t>(mb.getNumLinks()));
+  for (int l = 0; l < mb.getNumLinks(); ++l) start_velocity_[l] = mb.getJointVel(l);
+  origin_ = fromBt(body.frames().local_origin[0]);
+}
+
+void EnergyMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
+                             const BulletBody& body, const CreatureFluid& fluid,
+                             const ServoStage& servos, bool air, const Vec3& wind, double h) {
+  const btMultiBody& mb = body.multiBody();
+  if (air) {
+    const std::vector<AeroBody>& aero = fluid.bodies();
+    for (size_t i = 0; i < aero.size(); ++i) {
+      const BodyKinematics& start = fluid.kinematics()[i];
+      const BodyKinematics end = body.frames().kinematics(aero[i].link);
+      // The impulse over the (sub)step about the link's COM at the start: the explicit wrench
+      // held over it, and the implicit drag's (about the root COM) moved there.
+      const Vec6 drag = servos.dragImpulse(i);
+      const Vec3 force = h * aero[i].last.wrench.force + drag.tail<3>();
+      const Vec3 moment = h * aero[i].last.wrench.torque + momentAbout(drag, origin_, start.com);
+      const Vec3 v = 0.5 * (start.linear_velocity + end.linear_velocity) - wind;
+      const Vec3 w = 0.5 * (start.angular_velocity + end.angular_velocity);
+      air_work_ += force.dot(v) + moment.dot(w);
+    }
+  }
+  for (size_t ji = 0; ji < m.joints.size(); ++ji) {
+    // Damping acts on passive joints only (world/joint_drives.h).
+    if (!m.joints[ji].movable() || drives[ji].mode != JointDrive::Mode::kPassive) continue;
+    const double d = servos.damping(ji);
+    if (d <= 0.0) continue;
+    const int l = m.joints[ji].child_link - 1;
+    const double q0 = start_velocity_[l], q1 = mb.getJointVel(l);
+    damping_work_ -= h * d * q0 * 0.5 * (q0 + q1);
+  }
+}
+
+void stateEnergies(const CreatureModel& m, const BulletBody& body, const CreatureFluid& fluid,
+                   const ServoStage& servos, const AirParams& air, const Vec3& gravity,
+                   CreatureEnergy& out) {
+  const LinkFrames& frames = body.frames();
+  out.kinetic = out.potential = out.spring = out.fluid_kinetic = 0.0;
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    const LinkModel& l = m.links[k];
+    const BodyKinematics kin = frames.kinematics(static_cast<int>(k));
+    const Vec3 w = kin.body_angular_velocity;
+    out.kinetic += 0.5 * l.mass * (kin.linear_velocity - air.wind).squaredNorm() +
+                   0.5 * w.dot(l.inertia.cwiseProduct(w));
+    out.potential -= l.mass * gravity.dot(kin.com);
+  }
+  const btMultiBody& mb = body.multiBody();
+  for (size_t ji = 0; ji < m.joints.size(); ++ji) {
+    const JointModel& j = m.joints[ji];
+    if (!j.movable() || servos.stiffness(ji) <= 0.0) continue;
+    const double q = mb.getJointPos(j.child_link - 1) - j.reference;
+    out.spring += 0.5 * servos.stiffness(ji) * q * q;
+  }
+  if (!air.enabled || air.density <= 0.0) return;
+  for (const AeroBody& a : fluid.bodies()) {
+    if (!a.has_added_mass) continue;
+    const BodyKinematics kin = frames.kinematics(a.link);
+    Vec6 nu;
+    nu << kin.body_angular_velocity, kin.rotation.transpose() * (kin.linear_velocity - air.wind);
+    out.fluid_kinetic += 0.5 * air.density * nu.dot(a.added_mass * nu);
+  }
+}
+
+}  // namespace flapsim

@@ -1,0 +1,48 @@
+// The energy audit of a creature (World::setEnergyAudit, World::energy): the work of the air
+// and of the joints' damping, summed over the (sub)steps while the audit is on, and the
+// energies of its state. Works are taken by the trapezoid of each (sub)step's start and end
+// velocities, which is what the step's velocity change makes of a force held over it; the
+// energies are those of the fluid's frame (velocities relative to the wind). Private to
+// flapsim_core.
+#pragma once
+
+#include <BulletDynamics/Featherstone/btMultiBody.h>
+
+#include <vector>
+
+#include "dynamics/spatial.h"
+#include "flapsim/world.h"
+#include "world/joint_drives.h"
+
+namespace flapsim {
+
+class BulletBody;
+class CreatureFluid;
+class ServoStage;
+
+class EnergyMeter {
+ public:
+  // Before a (sub)step: the joint velocities and the root COM it starts from.
+  void beginSubStep(const BulletBody& body);
+  // After it (`air`: the fluid stage ran): the air's work on every aero body (its explicit
+  // wrench and the implicit drag's impulse) and the damping's on every passive joint.
+  void endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
+                  const BulletBody& body, const CreatureFluid& fluid, const ServoStage& servos,
+                  bool air, const Vec3& wind, double h);
+  double airWork() const { return air_work_; }
+  double dampingWork() const { return damping_work_; }
+
+ private:
+  double air_work_ = 0.0;
+  double damping_work_ = 0.0;
+  std::vector<double> start_velocity_;  // per Bullet link
+  Vec3 origin_ = Vec3::Zero();          // the root COM at the start of the (sub)step
+};
+
+// The energies of a creature's state (CreatureEnergy's kinetic, potential, spring and fluid
+// kinetic parts), in the frame of a fluid moving at `air.wind`.
+void stateEnergies(const CreatureModel& m, const BulletBody& body, const CreatureFluid& fluid,
+                   const ServoStage& servos, const AirParams& air, const Vec3& gravity,
+                   CreatureEnergy& out);
+
+}  // namespace flapsim
