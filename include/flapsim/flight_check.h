@@ -38,6 +38,7 @@ struct FlightCheckParams {
   double noise = 0.0;           // the IMU's noise: orientation (rad) and angular velocity (rad/s)
   double altitude_noise = 0.0;  // m: the altimeter's
   double velocity_noise = 0.0;  // m/s: the ground-speed sensor's
+  bool velocity_products = false;  // the air's AirParams::added_mass_velocity_products
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
 

@@ -30,6 +30,8 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.wind = d.vec3("wind", air.wind);
   air.buoyancy = d.boolean("buoyancy", air.buoyancy);
   air.added_mass = d.boolean("added_mass", air.added_mass);
+  air.added_mass_velocity_products =
+      d.boolean("added_mass_velocity_products", air.added_mass_velocity_products);
   air.enabled = d.boolean("enabled", air.enabled);
   air.model = d.string("model", air.model);
   if (!flapsim::makeAirModel(air.model)) {

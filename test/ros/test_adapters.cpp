@@ -103,6 +103,7 @@ world_frame: map
 ground: false
 threads: 2
 air: {density: 1000, wind: [1, 2.5, -3], subdivisions: [2, 3], buoyancy: false,
+      added_mass_velocity_products: true,
       model: quasi_steady, quasi_steady: {lift_mean: 0.3, drag_phase: -9}}
 markers: {scale: 0.1, per_cell: true}
 something_else: 1
@@ -130,6 +131,7 @@ creatures:
   EXPECT_EQ(p.world.air.subdivisions_u, 2);
   EXPECT_EQ(p.world.air.subdivisions_v, 3);
   EXPECT_FALSE(p.world.air.buoyancy);
+  EXPECT_TRUE(p.world.air.added_mass_velocity_products);
   EXPECT_EQ(p.world.threads, 2);
   EXPECT_EQ(p.world.air.model, "quasi_steady");
   EXPECT_EQ(p.world.air.quasi_steady.lift_mean, 0.3);

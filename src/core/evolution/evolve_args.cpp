@@ -217,6 +217,12 @@ void controllerFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .text("--air-model", "M", &p.episode.world.air.model, "air model of the episodes",
             airModelNames())
+      .tag(kSpec)
+      .custom("--velocity-products", {"B"},
+              onOff("--velocity-products", &p.episode.world.air.added_mass_velocity_products),
+              showOnOff(&p.episode.world.air.added_mass_velocity_products),
+              "the added mass's velocity products in the episodes' air "
+              "(AirParams::added_mass_velocity_products)")
       .tag(kSpec);
 }
 

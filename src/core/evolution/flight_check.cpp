@@ -27,6 +27,7 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.imu_noise.orientation = episode.imu_noise.angular_velocity = p.noise;
   episode.altitude_noise = p.altitude_noise;
   episode.velocity_noise = p.velocity_noise;
+  episode.world.air.added_mass_velocity_products = p.velocity_products;
   episode.altitude_hold = p.altitude.has_value();
   if (p.altitude) episode.min_altitude = episode.max_altitude = *p.altitude;
   const std::string err = validateEpisodeParams(episode);
@@ -108,6 +109,9 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .real("--velocity-noise", "V", &p.velocity_noise, {0, 1e3},
             "ground-speed sensor noise, m/s per axis (read with ground-speed damping)")
       .tag(kNetworkOnly)
+      .flag("--velocity-products", &p.velocity_products, true,
+            "fly with the added mass's velocity products (AirParams::"
+            "added_mass_velocity_products; off by default)")
       .custom(
           "--altitude", {"M"},
           [&p](const std::vector<std::string>& v) {
@@ -215,6 +219,7 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
   p.duration = o.params.duration;
   p.world.step_size = o.params.step_size;
   p.world.air.wind = Vec3(0.0, o.params.wind, 0.0);
+  p.world.air.added_mass_velocity_products = o.params.velocity_products;
   p.start_roll = o.params.max_roll;
   p.start_pitch = o.params.max_pitch;
   const HoverFlightResult r = flyHover(model, controller, p);
