@@ -62,6 +62,21 @@ void addFactorMatrix(const SpatialFactor& f, const Vec3& offset, Mat6& out);
 /// The matrix of `f` times `v`.
 Vec6 factorTimes(const SpatialFactor& f, const Vec6& v);
 
+/// Spatial cross products at one point ([angular; linear]): of a motion `v` with a motion `m`,
+/// [w_v x w_m; w_v x v_m + v_v x w_m], and with a force `f`, [w x n_f + v x f_f; w x f_f].
+inline Vec6 crossMotion(const Vec6& v, const Vec6& m) {
+  Vec6 out;
+  out << v.head<3>().cross(m.head<3>()),
+      v.head<3>().cross(m.tail<3>()) + v.tail<3>().cross(m.head<3>());
+  return out;
+}
+inline Vec6 crossForce(const Vec6& v, const Vec6& f) {
+  Vec6 out;
+  out << v.head<3>().cross(f.head<3>()) + v.tail<3>().cross(f.tail<3>()),
+      v.head<3>().cross(f.tail<3>());
+  return out;
+}
+
 /// The moment about `point` of a spatial impulse [moment about `origin`; force].
 inline Vec3 momentAbout(const Vec6& impulse, const Vec3& origin, const Vec3& point) {
   return impulse.head<3>() + (origin - point).cross(impulse.tail<3>());

@@ -8,21 +8,6 @@ namespace flapsim {
 
 namespace {
 
-// Spatial cross products ([angular; linear]): of a motion with a motion, and with a force.
-Vec6 crossMotion(const Vec6& v, const Vec6& m) {
-  Vec6 out;
-  out << v.head<3>().cross(m.head<3>()),
-      v.head<3>().cross(m.tail<3>()) + v.tail<3>().cross(m.head<3>());
-  return out;
-}
-
-Vec6 crossForce(const Vec6& v, const Vec6& f) {
-  Vec6 out;
-  out << v.head<3>().cross(f.head<3>()) + v.tail<3>().cross(f.tail<3>()),
-      v.head<3>().cross(f.tail<3>());
-  return out;
-}
-
 // A force and a torque (world frame, at a body's COM `com`) as a spatial force about the
 // base's COM.
 Vec6 spatialForce(const btVector3& force, const btVector3& torque, const Vec3& com) {

@@ -68,11 +68,8 @@ Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega, co
                                const Vec6& bias) {
   Vec6 nu;
   nu << omega, velocity;
-  const Vec6 h = factorTimes(added, nu);
-  const Vec6 b = factorTimes(added, bias);
-  const Vec3 angular = h.head<3>(), linear = h.tail<3>();
-  return Wrench{-omega.cross(linear) - b.tail<3>(),
-                -(omega.cross(angular) + velocity.cross(linear)) - b.head<3>()};
+  const Vec6 f = -(crossForce(nu, factorTimes(added, nu)) + factorTimes(added, bias));
+  return Wrench{f.tail<3>(), f.head<3>()};
 }
 
 }  // namespace flapsim

@@ -31,14 +31,6 @@ const AirModel& AirStage::modelOf(const AeroBody& a) const {
 
 namespace {
 
-// The spatial motion cross product a x b at one point: [w_a x w_b; w_a x v_b + v_a x w_b].
-Vec6 crossMotion(const Vec6& a, const Vec6& b) {
-  Vec6 out;
-  out << a.head<3>().cross(b.head<3>()),
-      a.head<3>().cross(b.tail<3>()) + a.tail<3>().cross(b.head<3>());
-  return out;
-}
-
 // Per link, its spatial velocity relative to the fluid at the fixed point `origin` (the root's
 // COM at the step's start) and the bias b of its spatial acceleration there: the part that a
 // velocity change composed from the root's COM and the joints' rates (the servo stage's, with
