@@ -177,6 +177,58 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
             "network, no held-out starts, gusts or sensor noise)");
 }
 
+// make_creature --layout hover wrote the same file with and without --pairs 3 (and every other
+// chain flag), the chain ignored the hover's motor flags, and a single unit its link flags;
+// sweep ignored --cd without the pressure model. Each flag of the two tables, given with a value
+// it accepts, is used by the creature or sweep it asks for, or refused by name.
+TEST(ToolTables, MakeCreatureAndSweepRefuseEveryFlagTheirModeWouldIgnore) {
+  auto refused = [](const std::vector<std::string>& mode) {
+    std::vector<std::string> names;
+    MakeCreatureOptions table_fields;
+    const CliParser table = makeCreatureCli(table_fields);
+    for (const CliFlag& flag : table.flags()) {
+      const std::string& name = flag.names[0];
+      if (name == "--layout" || name == "--pairs") continue;
+      std::vector<std::string> args = mode;
+      args.push_back(name);
+      for (const std::string& metavar : flag.metavars) {
+        args.push_back(metavar == "roll|pitch" ? "pitch" : metavar == "FILE" ? "f.urdf" : "0.5");
+      }
+      MakeCreatureOptions o;
+      CliParser cli = makeCreatureCli(o);  // the flags `seen` points to
+      const std::vector<CliSeen> seen = cli.parse(args);
+      const std::string why = makeCreatureUnusedFlag(o, seen);
+      if (why.empty()) continue;
+      EXPECT_EQ(why.rfind(name + " ", 0), 0u) << why;
+      names.push_back(name);
+    }
+    return names;
+  };
+  EXPECT_EQ(refused({"--layout", "hover"}),
+            std::vector<std::string>({"--feathering", "--body-mass", "--wing-mass", "--wing-effort",
+                                      "--com-drop", "--link-axis", "--link-stiffness"}));
+  EXPECT_EQ(refused({"--pairs", "3"}),
+            std::vector<std::string>(
+                {"--stall-torque", "--no-load-speed", "--max-power", "--hinge-stiffness"}));
+  EXPECT_EQ(refused({"--pairs", "1"}),
+            std::vector<std::string>({"--link-axis", "--link-stiffness", "--stall-torque",
+                                      "--no-load-speed", "--max-power", "--hinge-stiffness"}));
+  MakeCreatureOptions o;
+  CliParser cli = makeCreatureCli(o);
+  EXPECT_EQ(makeCreatureUnusedFlag(o, cli.parse({"--layout", "hover", "--pairs", "3"})),
+            "--pairs has no effect with --layout hover (it builds the chain of flap units)");
+
+  SweepParams p;
+  std::string out;
+  CliParser sweep = sweepCli(p, out);
+  EXPECT_EQ(sweepUnusedFlag(p, sweep.parse({"--models", "quasi_steady", "--cd", "1"})),
+            "--cd has no effect without the pressure model in --models (it sets that model's "
+            "drag coefficients)");
+  SweepParams q;
+  CliParser both = sweepCli(q, out);
+  EXPECT_EQ(sweepUnusedFlag(q, both.parse({"--models", "pressure,quasi_steady", "--cd", "1"})), "");
+}
+
 TEST(ToolTables, SweepAndMakeCreatureRefuseBadValuesByFlag) {
   SweepParams p;
   std::string out;

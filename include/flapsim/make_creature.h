@@ -136,4 +136,10 @@ std::function<void(const std::vector<std::string>&)> linkAxisSetter(LinkAxis* fi
 /// make_creature's flags (flapsim/cli_args.h) over `options`.
 CliParser makeCreatureCli(MakeCreatureOptions& options);
 
+/// Empty if every flag `seen` (makeCreatureCli's parse) changes the creature `options` build;
+/// else a message naming the first that would be ignored: the chain's flags with --layout
+/// hover, the hover's without it, the joints between units' on a single unit.
+std::string makeCreatureUnusedFlag(const MakeCreatureOptions& options,
+                                   const std::vector<CliSeen>& seen);
+
 }  // namespace flapsim

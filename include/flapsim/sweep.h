@@ -51,4 +51,8 @@ std::string sweepGnuplotScript(const SweepParams& params, const std::vector<Swee
 /// The sweep tool's flags (flapsim/cli_args.h) over `params` and `out_dir`.
 CliParser sweepCli(SweepParams& params, std::string& out_dir);
 
+/// Empty if every flag `seen` (sweepCli's parse) changes the sweep; else a message naming the
+/// first that would be ignored (--cd without the pressure model).
+std::string sweepUnusedFlag(const SweepParams& params, const std::vector<CliSeen>& seen);
+
 }  // namespace flapsim

@@ -5,12 +5,16 @@
 #include <string>
 
 #include "flapsim/text_file.h"
+#include "flapsim/types.h"
 
 int main(int argc, char** argv) {
   flapsim::MakeCreatureOptions o;
   flapsim::CliParser cli = flapsim::makeCreatureCli(o);
   try {
-    cli.parse(std::vector<std::string>(argv + 1, argv + argc));
+    const std::vector<flapsim::CliSeen> seen =
+        cli.parse(std::vector<std::string>(argv + 1, argv + argc));
+    const std::string unused = flapsim::makeCreatureUnusedFlag(o, seen);
+    if (!unused.empty()) throw flapsim::InputError(unused);
   } catch (const std::exception& e) {
     std::cerr << "make_creature: " << e.what() << "\n";
     return 2;

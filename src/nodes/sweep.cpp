@@ -10,13 +10,17 @@
 #include <string>
 
 #include "flapsim/text_file.h"
+#include "flapsim/types.h"
 
 int main(int argc, char** argv) {
   flapsim::SweepParams p;
   std::string out_dir = "out/sweep";
   flapsim::CliParser cli = flapsim::sweepCli(p, out_dir);
   try {
-    cli.parse(std::vector<std::string>(argv + 1, argv + argc));
+    const std::vector<flapsim::CliSeen> seen =
+        cli.parse(std::vector<std::string>(argv + 1, argv + argc));
+    const std::string unused = flapsim::sweepUnusedFlag(p, seen);
+    if (!unused.empty()) throw flapsim::InputError(unused);
   } catch (const std::exception& e) {
     std::cerr << "sweep: " << e.what() << "\n" << cli.usage();
     return 2;

@@ -1,5 +1,6 @@
 #include "flapsim/sweep.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -109,6 +110,17 @@ std::string sweepGnuplotScript(const SweepParams& p, const std::vector<SweepRow>
   }
   gp << "\n";
   return gp.str();
+}
+
+std::string sweepUnusedFlag(const SweepParams& p, const std::vector<CliSeen>& seen) {
+  const bool pressure = std::find(p.models.begin(), p.models.end(), "pressure") != p.models.end();
+  for (const CliSeen& given : seen) {
+    if (given.flag->names[0] == "--cd" && !pressure) {
+      return "--cd has no effect without the pressure model in --models (it sets that "
+             "model's drag coefficients)";
+    }
+  }
+  return "";
 }
 
 CliParser sweepCli(SweepParams& p, std::string& out_dir) {

@@ -211,17 +211,30 @@ std::function<void(const std::vector<std::string>&)> linkAxisSetter(LinkAxis* fi
   };
 }
 
+namespace {
+
+// Tags of the flags that only some creatures are built with.
+const char* const kChainOnly = "chain";
+const char* const kLinksOnly = "links";  // a chain of two or more units
+const char* const kHoverOnly = "hover";
+
+}  // namespace
+
 CliParser makeCreatureCli(MakeCreatureOptions& o) {
   FlapUnitParams& p = o.params;
   CliParser t("usage: make_creature [options]", kMakeCreatureNotes);
   t.integer("--pairs,-n", "N", &o.pairs, {1, 1000}, "flap units")
+      .tag(kChainOnly)
       .text("--layout", "chain|hover", &o.layout, "a chain of flap units or the hover creature",
             {"chain", "hover"})
       .text("--name", "NAME", &o.name, "robot name")
       .shows([&o] { return o.name.empty() ? (o.layout == "hover" ? "hover" : "afc") : o.name; })
       .flag("--feathering", &p.feathering, true, "wings on pitch joints")
+      .tag(kChainOnly)
       .real("--body-mass", "KG", &p.body_mass, {0, 1e6, true}, "unit body mass")
+      .tag(kChainOnly)
       .real("--wing-mass", "KG", &p.wing_mass, {0, 1e6, true}, "wing mass")
+      .tag(kChainOnly)
       .custom(
           "--wing-effort", {"NM"},
           [&p](const std::vector<std::string>& v) {
@@ -229,21 +242,48 @@ CliParser makeCreatureCli(MakeCreatureOptions& o) {
           },
           [&o] { return formatCliNumber(wingEffort(o.params, o.pairs)); },
           "hinge motors' torque limit")
+      .tag(kChainOnly)
       .real("--com-drop", "M", &p.body_com_drop, {0, 1}, "centre of mass below the hinges")
+      .tag(kChainOnly)
       .custom(
           "--link-axis", {"roll|pitch"}, linkAxisSetter(&p.link_axis),
           [&p] { return toString(p.link_axis); }, "axis of the joints between units")
+      .tag(kLinksOnly)
       .real("--link-stiffness", "NM_PER_RAD", &p.link_stiffness, {0, 1e6},
             "spring on the joints between units")
+      .tag(kLinksOnly)
       .real("--stall-torque", "NM", &o.hover.stall_torque, {0, 1e6, true},
             "hover: the stroke motors' stall torque")
+      .tag(kHoverOnly)
       .real("--no-load-speed", "RAD_PER_S", &o.hover.no_load_speed, {0, 1e6},
             "hover: their no-load speed (0: no speed line)")
+      .tag(kHoverOnly)
       .real("--max-power", "W", &o.hover.max_power, {0, 1e6}, "hover: their power limit (0: none)")
+      .tag(kHoverOnly)
       .real("--hinge-stiffness", "NM_PER_RAD", &o.hover.hinge_stiffness, {0, 1e6},
             "hover: the parallel spring at each stroke hinge (0: none)")
+      .tag(kHoverOnly)
       .text("--output,-o", "FILE", &o.output, "output file (empty: stdout)");
   return t;
+}
+
+std::string makeCreatureUnusedFlag(const MakeCreatureOptions& o, const std::vector<CliSeen>& seen) {
+  const bool hover = o.layout == "hover";
+  for (const CliSeen& given : seen) {
+    const std::string& name = given.flag->names[0];
+    const std::string& tag = given.flag->tag;
+    if (hover && (tag == kChainOnly || tag == kLinksOnly)) {
+      return name + " has no effect with --layout hover (it builds the chain of flap units)";
+    }
+    if (!hover && tag == kHoverOnly) {
+      return name + " is for --layout hover only (the hover creature's stroke motors)";
+    }
+    if (!hover && tag == kLinksOnly && o.pairs < 2) {
+      return name + " has no effect on a single unit (it sets the joints between units; " +
+             "give --pairs 2 or more)";
+    }
+  }
+  return "";
 }
 
 std::string makeCreatureOutput(const MakeCreatureOptions& o) {
