@@ -62,4 +62,8 @@ class CreatureSim {
   void settle();
 };
 
+// The energy audit of creature `m` in `sim` (World::energy).
+CreatureEnergy creatureEnergy(const CreatureModel& m, const CreatureSim& sim,
+                              const WorldParams& params);
+
 }  // namespace flapsim

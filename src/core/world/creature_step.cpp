@@ -16,6 +16,16 @@ CreatureSim::CreatureSim(const CreatureModel& m, const Pose& pose, const Twist& 
   });
 }
 
+CreatureEnergy creatureEnergy(const CreatureModel& m, const CreatureSim& s,
+                              const WorldParams& params) {
+  CreatureEnergy e;
+  stateEnergies(m, s.body, s.fluid, s.servos, params.air, params.gravity, e);
+  e.motor_work = s.power.report(m.totalMass()).totalWork();
+  e.air_work = s.energy.airWork();
+  e.damping_work = s.energy.dampingWork();
+  return e;
+}
+
 void CreatureSim::settle() {
   body.settle();
   servos.forget();

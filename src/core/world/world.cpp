@@ -161,13 +161,7 @@ class World::Impl {
 
   CreatureEnergy energy(const std::string& creature) const {
     const size_t c = index(creature);
-    const CreatureSim& s = *sims_[c];
-    CreatureEnergy e;
-    stateEnergies(*records_[c].model, s.body, s.fluid, s.servos, params_.air, params_.gravity, e);
-    e.motor_work = s.power.report(records_[c].model->totalMass()).totalWork();
-    e.air_work = s.energy.airWork();
-    e.damping_work = s.energy.dampingWork();
-    return e;
+    return creatureEnergy(*records_[c].model, *sims_[c], params_);
   }
 
   std::vector<LinkAero> aeroForces(const std::string& creature) const {
