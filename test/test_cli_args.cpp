@@ -169,12 +169,33 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
             std::vector<std::string>({"--weights", "--pairs", "--starts", "--seed", "--threads",
                                       "--gust-torque", "--gust-force", "--gust-link", "--gust-time",
                                       "--noise", "--altitude-noise", "--velocity-noise"}));
-  EXPECT_EQ(refused(false), std::vector<std::string>({"--gains", "--write-gains"}));
+  // Without a gust (the walk gives one flag at a time), its link and duration do nothing.
+  EXPECT_EQ(refused(false),
+            std::vector<std::string>({"--gains", "--write-gains", "--gust-link", "--gust-time"}));
   FlightCheckOptions o;
   CliParser cli = flightCheckCli(o);
   EXPECT_EQ(flightCheckUnusedFlag(o, cli.parse({"--hover", "--noise", "0.1"})),
             "--noise has no effect with --hover (one flight of the hover controller: no "
             "network, no held-out starts, gusts or sensor noise)");
+  FlightCheckOptions g;
+  CliParser gust = flightCheckCli(g);
+  EXPECT_EQ(flightCheckUnusedFlag(
+                g, gust.parse({"--gust-force", "1", "--gust-link", "wing", "--gust-time", "0.2"})),
+            "");
+  // The sensors' noises hang on the controller flown.
+  FlapControllerParams plain, altimeter, damped;
+  altimeter.altitude_input = true;
+  damped.velocity_gain = 0.2;
+  FlightCheckOptions n;
+  CliParser noisy = flightCheckCli(n);
+  const std::vector<CliSeen> seen =
+      noisy.parse({"--altitude-noise", "0.1", "--velocity-noise", "0.1"});
+  EXPECT_EQ(flightCheckUnusedSensorFlag(plain, seen),
+            "--altitude-noise has no effect: the controller's network reads no altimeter");
+  EXPECT_EQ(flightCheckUnusedSensorFlag(altimeter, seen),
+            "--velocity-noise has no effect: the controller has no ground-speed damping");
+  altimeter.velocity_gain = 0.2;
+  EXPECT_EQ(flightCheckUnusedSensorFlag(altimeter, seen), "");
 }
 
 // make_creature --layout hover wrote the same file with and without --pairs 3 (and every other
@@ -295,6 +316,22 @@ TEST(ToolTables, EvolveFlagsKeepTheirMeaningAndRefuseByFlag) {
   EXPECT_EQ(refused({"--farm-timeout", "0"}), "--farm-timeout: 0 is not in (0, 1e+06]");
   EXPECT_EQ(refused({"--air-model", "vacuum"}),
             "--air-model: 'vacuum' is not one of pressure, quasi_steady");
+  // Flags that did nothing where another left them without effect (the robust preset has
+  // gusts, altitude hold and the altitude input; the paper's has none of them).
+  EXPECT_EQ(
+      refused({"--settle", "3"}),
+      "--settle: has no effect but with --preset hover (the flap network's fitness has none)");
+  EXPECT_EQ(refused({"--preset", "paper", "--gust-link", "wing"}),
+            "--gust-link: has no effect without --gust-force");
+  EXPECT_EQ(refused({"--preset", "paper", "--gust-torque-time", "0.3"}),
+            "--gust-torque-time: has no effect without --gust-torque");
+  EXPECT_EQ(refused({"--altitude", "2", "3", "--altitude-hold", "off"}),
+            "--altitude: has no effect without --altitude-hold on");
+  EXPECT_EQ(refused({"--altitude-input", "off", "--altitude-noise", "0.1"}),
+            "--altitude-noise: has no effect without an altitude input (--altitude-input on)");
+  EXPECT_EQ(refused({"--gust-link", "wing", "--gust-force-time", "0.3", "--altitude", "2", "3",
+                     "--altitude-input", "on", "--altitude-noise", "0.1"}),
+            "");
 }
 
 }  // namespace

@@ -84,6 +84,11 @@ CliParser flightCheckCli(FlightCheckOptions& options);
 std::string flightCheckUnusedFlag(const FlightCheckOptions& options,
                                   const std::vector<CliSeen>& seen);
 
+/// The same for the flags whose effect hangs on the controller flown: the altimeter's noise
+/// without an altitude input, the ground-speed sensor's without ground-speed damping.
+std::string flightCheckUnusedSensorFlag(const FlapControllerParams& controller,
+                                        const std::vector<CliSeen>& seen);
+
 /// The table flight_check prints: a line per start (start attitude and wind, flipped, lowest
 /// up-component, final and lowest height, time upright, altitude error rms after 10 s, lateral
 /// drift, mean bank, the motors' mean positive power in W and W/kg and net power, pass or FAIL)

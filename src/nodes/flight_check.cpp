@@ -14,9 +14,9 @@
 int main(int argc, char** argv) {
   flapsim::FlightCheckOptions o;
   flapsim::CliParser cli = flapsim::flightCheckCli(o);
+  std::vector<flapsim::CliSeen> seen;
   try {
-    const std::vector<flapsim::CliSeen> seen =
-        cli.parse(std::vector<std::string>(argv + 1, argv + argc));
+    seen = cli.parse(std::vector<std::string>(argv + 1, argv + argc));
     if (cli.help()) {
       std::cout << cli.usage();
       return 0;
@@ -49,6 +49,11 @@ int main(int argc, char** argv) {
       return ok ? 0 : 1;
     }
     const flapsim::ControllerSpec spec = flapsim::loadControllerYaml(o.weights);
+    const std::string unused = flapsim::flightCheckUnusedSensorFlag(spec.params, seen);
+    if (!unused.empty()) {
+      std::cerr << "flight_check: " << unused << "\n";
+      return 2;
+    }
     const flapsim::CreatureModelPtr model =
         o.urdf.empty()
             ? flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(o.pairs, "afc"),

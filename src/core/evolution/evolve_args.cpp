@@ -295,6 +295,27 @@ void checkHoverFlags(const std::vector<CliSeen>& seen) {
   }
 }
 
+// A flap network's evolution: the flags whose effect hangs on another's (a gust's duration
+// or link without the gust, the altitude setpoints and the altimeter's noise without altitude
+// hold or input, the settling time that only the hover preset's fitness counts after) are
+// refused by name when that other leaves them without effect.
+void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen) {
+  const EpisodeParams& e = p.episode;
+  for (const CliSeen& s : seen) {
+    const std::string& name = s.flag->names.front();
+    std::string why;
+    if (name == "--gust-link" && e.gust_force == 0.0) why = "without --gust-force";
+    if (name == "--gust-force-time" && e.gust_force == 0.0) why = "without --gust-force";
+    if (name == "--gust-torque-time" && e.gust_torque == 0.0) why = "without --gust-torque";
+    if (name == "--altitude" && !e.altitude_hold) why = "without --altitude-hold on";
+    if (name == "--altitude-noise" && !p.controller.altitude_input) {
+      why = "without an altitude input (--altitude-input on)";
+    }
+    if (name == "--settle") why = "but with --preset hover (the flap network's fitness has none)";
+    if (!why.empty()) throw InputError(name + ": has no effect " + why);
+  }
+}
+
 }  // namespace
 
 EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads) {
@@ -305,7 +326,11 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads)
   o.spec_args = {"--preset", o.preset};
   CliParser table = evolveTable(o);
   const std::vector<CliSeen> seen = table.parse(args, /*skip_remaps=*/true);
-  if (o.preset == "hover") checkHoverFlags(seen);
+  if (o.preset == "hover") {
+    checkHoverFlags(seen);
+  } else {
+    checkDependentFlags(o.params, seen);
+  }
   for (const CliSeen& s : seen) {
     if (s.flag->tag != kSpec) continue;
     o.spec_args.push_back(s.flag->names.front());
@@ -352,7 +377,11 @@ void checkSpecArgs(const std::vector<std::string>& spec_args) {
     }
   }
   const std::vector<CliSeen> seen = table.parse(spec_args);
-  if (o.preset == "hover") checkHoverFlags(seen);
+  if (o.preset == "hover") {
+    checkHoverFlags(seen);
+  } else {
+    checkDependentFlags(o.params, seen);
+  }
 }
 
 EvaluationSpec evaluationSpecFromArgs(const std::vector<std::string>& spec_args) {

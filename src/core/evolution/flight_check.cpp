@@ -133,6 +133,28 @@ std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector
     if (!o.hover && given.flag->tag == kHoverOnly) {
       return name + " is for --hover only (the network's flights have no hover gains)";
     }
+    if (o.hover) continue;
+    const FlightCheckParams& p = o.params;
+    if (name == "--gust-link" && p.gust_force == 0.0) {
+      return name + " has no effect without --gust-force";
+    }
+    if (name == "--gust-time" && p.gust_force == 0.0 && p.gust_torque == 0.0) {
+      return name + " has no effect without --gust-force or --gust-torque";
+    }
+  }
+  return "";
+}
+
+std::string flightCheckUnusedSensorFlag(const FlapControllerParams& controller,
+                                        const std::vector<CliSeen>& seen) {
+  for (const CliSeen& given : seen) {
+    const std::string& name = given.flag->names[0];
+    if (name == "--altitude-noise" && !controller.altitude_input) {
+      return name + " has no effect: the controller's network reads no altimeter";
+    }
+    if (name == "--velocity-noise" && controller.velocity_gain <= 0.0) {
+      return name + " has no effect: the controller has no ground-speed damping";
+    }
   }
   return "";
 }
