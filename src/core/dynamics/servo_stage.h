@@ -62,6 +62,8 @@ class ServoStage {
 
   // Of the last solve: impulses all zero if no servo acted.
   const ServoSolution& solution() const { return solution_; }
+  // The velocity of Bullet link `link`'s joint at begin(): the (sub)step's start.
+  double startVelocity(int link) const { return start_joint_velocity_[link]; }
   // The implicit drag's impulse on aero body i (CreatureFluid's order) in the last solve
   // [moment about the root COM of the step's start; force], world axes (zero without one).
   Vec6 dragImpulse(size_t i) const {

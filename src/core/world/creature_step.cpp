@@ -61,15 +61,14 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0, p.air.wind,
                    p.air.added_mass_velocity_products);
   s.servos.begin(s.body.multiBody());
-  s.power.beginSubStep(*r.model, s.body.multiBody());
   if (c.energy_audit) s.energy.beginSubStep(s.body);
   applyDrives(*r.model, r.drives, s.servos, s.body.multiBody(), h);  // actuation
   c.air.apply(*r.model, s.body, s.fluid, s.momentum, p, h);          // fluid
   applyWrenches(r.wrenches, s);                                      // external
   s.body.world().step(h);  // dynamics (the servo stage acts inside)
-  s.servos.integrateSaturated(s.body.multiBody(), s.body.hasContacts(), h);            // integrate
-  s.momentum.end(s.body, s.fluid, p.gravity, h);                                       // momentum
-  s.power.endSubStep(*r.model, r.drives, s.body.multiBody(), s.servos.solution(), h);  // power
+  s.servos.integrateSaturated(s.body.multiBody(), s.body.hasContacts(), h);  // integrate
+  s.momentum.end(s.body, s.fluid, p.gravity, h);                             // momentum
+  s.power.endSubStep(*r.model, r.drives, s.body.multiBody(), s.servos, h);   // power
   if (c.energy_audit) {
     s.energy.endSubStep(*r.model, r.drives, s.body, s.fluid, s.servos, p.air.enabled, p.air.wind,
                         h);

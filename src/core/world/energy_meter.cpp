@@ -7,9 +7,6 @@
 namespace flapsim {
 
 void EnergyMeter::beginSubStep(const BulletBody& body) {
-  const btMultiBody& mb = body.multiBody();
-  start_velocity_.resize(static_cast<size_t>(mb.getNumLinks()));
-  for (int l = 0; l < mb.getNumLinks(); ++l) start_velocity_[l] = mb.getJointVel(l);
   origin_ = fromBt(body.frames().local_origin[0]);
 }
 
@@ -38,7 +35,7 @@ void EnergyMeter::endSubStep(const CreatureModel& m, const std::vector<JointDriv
     const double d = servos.damping(ji);
     if (d <= 0.0) continue;
     const int l = m.joints[ji].child_link - 1;
-    const double q0 = start_velocity_[l], q1 = mb.getJointVel(l);
+    const double q0 = servos.startVelocity(l), q1 = mb.getJointVel(l);
     damping_work_ -= h * d * q0 * 0.5 * (q0 + q1);
   }
 }

@@ -22,7 +22,8 @@ class ServoStage;
 
 class EnergyMeter {
  public:
-  // Before a (sub)step: the joint velocities and the root COM it starts from.
+  // Before a (sub)step: the root COM it starts from (the joints' velocities then are the
+  // servo stage's, ServoStage::startVelocity).
   void beginSubStep(const BulletBody& body);
   // After it (`air`: the fluid stage ran): the air's work on every aero body (its explicit
   // wrench and the implicit drag's impulse) and the damping's on every passive joint.
@@ -35,8 +36,7 @@ class EnergyMeter {
  private:
   double air_work_ = 0.0;
   double damping_work_ = 0.0;
-  std::vector<double> start_velocity_;  // per Bullet link
-  Vec3 origin_ = Vec3::Zero();          // the root COM at the start of the (sub)step
+  Vec3 origin_ = Vec3::Zero();  // the root COM at the start of the (sub)step
 };
 
 // The energies of a creature's state (CreatureEnergy's kinetic, potential, spring and fluid

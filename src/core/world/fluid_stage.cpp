@@ -98,13 +98,14 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
       // fluid: not in the momentum balance's external impulses.
       const SpatialFactor& added = fluid.addedMass(i, rotation, air.density);
       if (air.density > 0.0 && air.added_mass_velocity_products) {
+        const Vec3 origin = fromBt(body.frames().local_origin[0]);
         if (fluid.link_bias_.empty()) {
-          accelerationBias(model, body.frames(), fromBt(body.frames().local_origin[0]), air.wind,
-                           fluid.link_velocity_, fluid.link_bias_);
+          accelerationBias(model, body.frames(), origin, air.wind, fluid.link_velocity_,
+                           fluid.link_bias_);
         }
         // The bias at the link's COM, where the added mass's factor is.
         Vec6 bias = fluid.link_bias_[k];
-        bias.tail<3>() += bias.head<3>().cross(kin.com - fromBt(body.frames().local_origin[0]));
+        bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
         w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind,
                                      bias);
       }

@@ -30,8 +30,6 @@ void PowerMeter::reset(size_t joints) {
   energy_.assign(joints, JointEnergy());
   before_ = energy_;
   step_work_.assign(joints, 0.0);
-  start_.assign(joints, 0.0);
-  start_velocity_.assign(joints, 0.0);
   time_ = 0.0;
   last_step_ = 0.0;
 }
@@ -39,14 +37,6 @@ void PowerMeter::reset(size_t joints) {
 void PowerMeter::beginStep() {
   before_ = energy_;
   std::fill(step_work_.begin(), step_work_.end(), 0.0);
-}
-
-void PowerMeter::beginSubStep(const CreatureModel& m, const btMultiBody& mb) {
-  for (size_t j = 0; j < m.joints.size(); ++j) {
-    if (!m.joints[j].movable()) continue;
-    start_[j] = mb.getJointPos(m.joints[j].child_link - 1);
-    start_velocity_[j] = mb.getJointVel(m.joints[j].child_link - 1);
-  }
 }
 
 namespace {
@@ -67,8 +57,8 @@ bool motorAt(const CreatureModel& m, const std::vector<JointDrive>& drives, size
 }  // namespace
 
 void PowerMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
-                            const btMultiBody& mb, const ServoSolution& servos, double h) {
-  const std::vector<double>& impulse = servos.impulse;
+                            const btMultiBody& mb, const ServoStage& servos, double h) {
+  const std::vector<double>& impulse = servos.solution().impulse;
   for (size_t j = 0; j < m.joints.size(); ++j) {
     const JointModel& joint = m.joints[j];
     const size_t k = static_cast<size_t>(joint.child_link);
@@ -81,7 +71,7 @@ void PowerMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive
     // servo's joint moves by that trapezoid itself (ServoStage::integrateSaturated).
     const int link = static_cast<int>(k) - 1;
     const double work =
-        motorWork(impulse[k], h, 0.5 * h * (start_velocity_[j] + mb.getJointVel(link)));
+        motorWork(impulse[k], h, 0.5 * h * (servos.startVelocity(link) + mb.getJointVel(link)));
     energy_[j].add(work);
     step_work_[j] += work;
   }
