@@ -22,8 +22,10 @@ its own name, on a private X server) has drawn it: the movie shows that stretch 
 whatever real-time factor it ran at. It neither pauses nor unpauses the simulation.
 """
 import argparse
+import math
 import os
 import shutil
+import stat
 import subprocess
 import sys
 import time
@@ -39,6 +41,58 @@ import flapsim_views as views
 import start_when_listening as starter
 
 TOPICS = "/clock|/tf|/flapsim/(aero|creature|view)_markers"
+MAX_PIXELS = 8192  # a side of --size
+MAX_NUMBER = 1e6  # --speed, --rate, --duration, --distance, --timeout
+
+
+def size_value(text):
+    """--size: WIDTHxHEIGHT, each in [16, MAX_PIXELS]."""
+    m = re.fullmatch(r"(\d{1,9})x(\d{1,9})", text)
+    if not m:
+        raise argparse.ArgumentTypeError(f"'{text}' is not WIDTHxHEIGHT (e.g. 640x480)")
+    width, height = int(m[1]), int(m[2])
+    if not (16 <= width <= MAX_PIXELS and 16 <= height <= MAX_PIXELS):
+        raise argparse.ArgumentTypeError(
+            f"'{text}': width and height must be in [16, {MAX_PIXELS}] pixels")
+    return f"{width}x{height}"
+
+
+def positive(text):
+    """A finite number in (0, MAX_NUMBER]."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not (math.isfinite(v) and 0 < v <= MAX_NUMBER):
+        raise argparse.ArgumentTypeError(f"'{text}' is not in (0, 1e6]")
+    return v
+
+
+def integer(low, high):
+    def value(text):
+        try:
+            v = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"'{text}' is not an integer") from None
+        if not low <= v <= high:
+            raise argparse.ArgumentTypeError(f"'{text}' is not in [{low}, {high}]")
+        return v
+    return value
+
+
+def regular_file_problem(path):
+    """Why `path` cannot be read as a bag (None if it can): a regular file only, opened without
+    blocking and checked on the descriptor, so a FIFO or a device is refused without a read."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError as e:
+        return f"cannot read {path}: {e.strerror}"
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return f"{path}: not a regular file"
+    finally:
+        os.close(fd)
+    return None
 
 
 def main(argv):
@@ -47,17 +101,24 @@ def main(argv):
     parser.add_argument("--bag")
     parser.add_argument("--attach", action="store_true",
                         help="film the running simulation of ROS_MASTER_URI")
-    parser.add_argument("--port", type=int, help="--attach to the master at localhost:PORT")
-    parser.add_argument("--duration", type=float, help="with --attach: s of sim time to film")
+    parser.add_argument("--port", type=integer(1, 65535),
+                        help="--attach to the master at localhost:PORT")
+    parser.add_argument("--duration", type=positive, help="with --attach: s of sim time to film")
     parser.add_argument("--out", required=True)
-    parser.add_argument("--size", default="640x480")
-    parser.add_argument("--speed", type=float, default=1.0, help="sim seconds per movie second")
-    parser.add_argument("--rate", type=float, default=0.5, help="playback rate while filming")
-    parser.add_argument("--fps", type=int, default=25)
-    parser.add_argument("--distance", type=float, help="orbit camera distance (m)")
+    parser.add_argument("--size", type=size_value, default="640x480",
+                        help=f"WIDTHxHEIGHT, each in [16, {MAX_PIXELS}]")
+    parser.add_argument("--speed", type=positive, default=1.0,
+                        help="sim seconds per movie second")
+    parser.add_argument("--rate", type=positive, default=0.5, help="playback rate while filming")
+    parser.add_argument("--fps", type=integer(1, 240), default=25)
+    parser.add_argument("--distance", type=positive, help="orbit camera distance (m)")
     parser.add_argument("--gif", help="also an animated GIF")
-    parser.add_argument("--timeout", type=float, default=600.0, help="wall seconds at most")
+    parser.add_argument("--timeout", type=positive, default=600.0, help="wall seconds at most")
     args = parser.parse_args(argv)
+    if args.bag is not None:
+        problem = regular_file_problem(args.bag)
+        if problem:
+            parser.error(f"argument --bag: {problem}")
     if args.attach or args.port:
         if not args.duration or args.duration <= 0:
             parser.error("--attach needs --duration (s of sim time)")
