@@ -252,9 +252,12 @@ TEST(Geometry, CylindersAndSpheresAreShapesMeshesAreListedByLinkAndKind) {
   ASSERT_EQ(m->links[1].rounds.size(), 1u);  // no collision: its visual sphere
   EXPECT_EQ(m->links[1].rounds[0].kind, flapsim::RoundShape::Kind::kSphere);
   EXPECT_EQ(m->links[1].rounds[0].radius, 0.3);
-  EXPECT_EQ(flapsim::ignoredGeometry(*m),
-            (std::vector<std::string>{"link 'a': collision mesh ignored (no contact, no air): "
-                                      "only boxes, cylinders and spheres are simulated"}));
+  EXPECT_EQ(
+      flapsim::geometryNotes(*m),
+      (std::vector<std::string>{
+          "link 'a': collision mesh ignored (no contact, no air): "
+          "only boxes, cylinders and spheres are simulated",
+          "link 'b' has no <collision>: its <visual> shapes are simulated (contact and air)"}));
   // The lowest point: the sphere's bottom with b 1 m up, the cylinder's cap with a turned
   // 90 degrees about x (the cylinder then lies along y, its side 0.1 below its axis).
   const flapsim::Pose up{flapsim::Vec3(0, 0, 1), flapsim::Quat::Identity()};
@@ -262,7 +265,7 @@ TEST(Geometry, CylindersAndSpheresAreShapesMeshesAreListedByLinkAndKind) {
   const flapsim::Pose turned{flapsim::Vec3::Zero(),
                              flapsim::Quat(Eigen::AngleAxisd(M_PI / 2, flapsim::Vec3::UnitX()))};
   EXPECT_NEAR(flapsim::lowestBoxPoint(*m, {turned, up}), -0.1, 1e-12);
-  EXPECT_TRUE(flapsim::ignoredGeometry(
+  EXPECT_TRUE(flapsim::geometryNotes(
                   *flapsim::loadCreatureModel(std::string(FLAPSIM_SOURCE_DIR) + "/urdf/afc_4.urdf"))
                   .empty());
 }
@@ -278,6 +281,62 @@ TEST(ModelErrors, BadRoundShapesNameTheLink) {
   expectError(head + R"(<cylinder radius="0.1" length="nan"/>)" + tail, {"link 'ball'", "length"});
   expectError(head + R"(<cylinder radius="-1" length="0.1"/>)" + tail, {"link 'ball'", "radius"});
   expectError(head + R"(<cylinder radius="0.1" length="2000"/>)" + tail, {"link 'ball'", "length"});
+}
+
+// An element urdfdom cannot read is dropped by it with a message on the console and the rest
+// parsed: refused instead, naming the link and the element, so no spawned creature differs
+// from its file.
+TEST(ModelErrors, ElementsTheUrdfParserDropsAreRefusedNamingTheLink) {
+  const std::string head = R"(<robot name="r"><link name="wing"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+      <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision><collision><geometry>)";
+  const std::string tail = "</geometry></collision></link></robot>";
+  expectError(head + "<sphere/>" + tail, {"collision element for Link [wing]", "radius"});
+  expectError(head + R"(<cylinder radius="0.1"/>)" + tail,
+              {"collision element for Link [wing]", "length"});
+  expectError(head + R"(<mesh filename="w.stl" scale="a b c"/>)" + tail,
+              {"collision element for Link [wing]", "scale"});
+  const std::string visual = R"(<robot name="r"><link name="body"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
+      <visual><geometry><sphere/></geometry></visual></link></robot>)";
+  expectError(visual, {"visual element for Link [body]"});
+}
+
+// A link of kMaxShapesPerLink boxes is read; one more is refused naming the link, the count
+// and the limit. Likewise the pairs of boxes overlapping at odd angles.
+TEST(ModelErrors, ShapesPerLinkAndTurnedOverlapsBeyondTheirLimitsAreRefused) {
+  auto link = [](int boxes, double turn) {
+    std::string xml = R"(<robot name="r"><link name="pile"><inertial><mass value="1"/>
+      <inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>)";
+    for (int k = 0; k < boxes; ++k) {
+      xml += "<collision><origin xyz=\"" + std::to_string(0.01 * k) + " 0 0\" rpy=\"0 0 " +
+             std::to_string(turn * k) + "\"/><geometry><box size=\"0.1 0.1 0.1\"/></geometry>" +
+             "</collision>";
+    }
+    return xml + "</link></robot>";
+  };
+  EXPECT_EQ(parseCreatureModel(link(kMaxShapesPerLink, 0.0))->links[0].boxes.size(),
+            static_cast<size_t>(kMaxShapesPerLink));
+  expectError(link(kMaxShapesPerLink + 1, 0.0),
+              {"link 'pile' has 257 shapes", "over the limit of 256 per link"});
+  // 10 cm cubes 1 cm apart, each turned 0.1 rad more about z: a pair counts when their
+  // bounds, 0.05 (|cos t| + |sin t|) either side of each centre, share length along x.
+  auto pairs = [](int boxes) {
+    int n = 0;
+    for (int i = 0; i < boxes; ++i) {
+      for (int j = i + 1; j < boxes; ++j) {
+        const double wi = 0.05 * (std::abs(std::cos(0.1 * i)) + std::abs(std::sin(0.1 * i)));
+        const double wj = 0.05 * (std::abs(std::cos(0.1 * j)) + std::abs(std::sin(0.1 * j)));
+        n += 0.01 * (j - i) < wi + wj - 1e-9;
+      }
+    }
+    return n;
+  };
+  ASSERT_LE(pairs(24), kMaxTurnedOverlaps);
+  ASSERT_GT(pairs(32), kMaxTurnedOverlaps);
+  EXPECT_EQ(parseCreatureModel(link(24, 0.1))->links[0].boxes.size(), 24u);
+  expectError(link(32, 0.1), {"link 'pile': " + std::to_string(pairs(32)) + " pairs",
+                              "over the limit of 256 per link"});
 }
 
 TEST(ModelErrors, NameTheCulprit) {

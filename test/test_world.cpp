@@ -66,6 +66,37 @@ TEST(World, TerminalSpeedScalesWithDragCoefficient) {
   EXPECT_NEAR(v[0] / v[1], std::sqrt(2.0 / 1.15), 1e-3);
 }
 
+// A drag coefficient changed in flight updates the surfaces in place (their cells are not
+// rebuilt): the flight goes on as in a world that had it from the start, to the bit, and a
+// link with its own <aero drag_coefficient> keeps that.
+TEST(World, DragChangedInFlightActsAsIfSetFromTheStart) {
+  std::string own = readUrdfFile(test::sourcePath("urdf/plate.urdf"));
+  const Quat tilt(Eigen::AngleAxisd(0.3, Vec3::UnitX()));
+  own.replace(own.find(R"(subdivisions="4 4")"), 18, R"(subdivisions="4 4" drag_coefficient="3")");
+  const auto own_model = parseCreatureModel(own, "own.urdf");
+  WorldParams p = openSky();
+  p.air.drag_coefficient = 1.15;
+  World changed(p);
+  p.air.drag_coefficient = 2.0;
+  World from_start(p);
+  for (World* w : {&changed, &from_start}) {
+    w->spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 100, tilt));
+    w->spawn("own", own_model, at(1, 0, 100, tilt));
+  }
+  changed.setAirParams(p.air);
+  for (int k = 0; k < 4; ++k) {
+    changed.step(250);
+    from_start.step(250);
+    EXPECT_TRUE(bitIdentical(changed.state("plate"), from_start.state("plate"))) << k;
+    EXPECT_TRUE(bitIdentical(changed.state("own"), from_start.state("own"))) << k;
+  }
+  // And the coefficient acted: a plate at 1.15 falls faster.
+  World kept(openSky());
+  kept.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 100, tilt));
+  kept.step(1000);
+  EXPECT_LT(kept.rootPose("plate").position.z(), changed.rootPose("plate").position.z() - 0.1);
+}
+
 TEST(World, LevelPlateFallsStraightDown) {
   World w(openSky());
   w.spawn("plate", loadUrdf("plate.urdf"), at(0.5, -0.25, 50));

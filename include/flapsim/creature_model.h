@@ -47,8 +47,10 @@ struct LinkModel {
   Vec3 inertia = Vec3::Zero();     // principal moments about the COM, link axes
   std::vector<Box> boxes;          // collision boxes (visual ones if it has no collision)
   std::vector<RoundShape> rounds;  // collision cylinders and spheres (likewise)
-  /// The link's shapes that are not simulated, e.g. "collision mesh" (see ignoredGeometry).
+  /// The link's shapes that are not simulated, e.g. "collision mesh" (see geometryNotes).
   std::vector<std::string> ignored_shapes;
+  /// Whether its shapes come from its <visual> elements (it has no <collision>).
+  bool shapes_from_visuals = false;
   AeroSettings aero;
   int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
 
@@ -118,9 +120,10 @@ using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
                                     const std::string& source = "<string>");
 
-/// One line per shape the model ignores (LinkModel::ignored_shapes), naming the link and the
-/// shape; empty if every shape is simulated. (The simulator node warns these at a spawn.)
-std::vector<std::string> ignoredGeometry(const CreatureModel& model);
+/// One line per link whose visual shapes are simulated for want of a <collision>, and per shape
+/// the model ignores (LinkModel::ignored_shapes), naming the link and the shape; empty if the
+/// collision shapes are simulated, all of them. (The simulator node says these at a spawn.)
+std::vector<std::string> geometryNotes(const CreatureModel& model);
 
 /// Largest URDF file read (bytes): 16 MiB, far beyond any creature's description.
 constexpr std::size_t kMaxUrdfFileBytes = 16u << 20;
@@ -128,6 +131,12 @@ constexpr std::size_t kMaxUrdfFileBytes = 16u << 20;
 /// Largest magnitudes a URDF may give (beyond them a model is refused, naming the value): a
 /// length or coordinate (m), a mass (kg), a moment of inertia (kg m^2).
 constexpr double kMaxUrdfLength = 1e3;
+/// Most <collision> (or <visual>) elements of a link: its air surface and union volume are
+/// built in at most O(k^2 log k) of them (box_union, surface), bounded by this.
+constexpr int kMaxShapesPerLink = 256;
+/// Most pairs of a link's boxes that overlap at angles other than multiples of 90 degrees: the
+/// union volume measures each along 128 x 128 lines (box_union), so this bounds that work.
+constexpr int kMaxTurnedOverlaps = 256;
 constexpr double kMaxUrdfMass = 1e6;
 constexpr double kMaxUrdfInertia = 1e6;
 

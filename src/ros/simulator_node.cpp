@@ -147,7 +147,7 @@ std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std
   publishCreatureMarkers();
   publishStaticTransforms();
   std::vector<std::string> notes = flapsim::cappedJointValues(*model, params_.world.step_size);
-  for (const std::string& line : flapsim::ignoredGeometry(*model)) notes.push_back(line);
+  for (const std::string& line : flapsim::geometryNotes(*model)) notes.push_back(line);
   for (std::string& line : notes) {
     line = "creature '" + name + "', " + line;
     ROS_WARN_STREAM("flapsim: " << line);

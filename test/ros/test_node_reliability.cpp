@@ -256,6 +256,67 @@ TEST_F(NodeGuards, AUrdfXmlOverTheFileLimitIsRefusedByName) {
   EXPECT_FALSE(g.response.success);  // nothing was spawned
 }
 
+// A link of 1,000 boxes is refused by the limit on shapes per link (it froze the node for
+// hours: the union volume cost n^4), an element urdfdom drops is refused naming the link, a
+// link simulated from its <visual> says so in the reply; the world keeps its creatures.
+TEST_F(NodeGuards, ShapeLimitsAndDroppedElementsAreRefusedByName) {
+  const std::string inertial =
+      R"(<inertial><mass value="0.1"/><inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0")"
+      R"( izz="1e-3"/></inertial>)";
+  std::string pile = "<robot name='pile'><link name='heap'>" + inertial;
+  for (int k = 0; k < 1000; ++k) {
+    pile += "<collision><origin xyz='" + std::to_string(0.013 * (k % 37)) + " " +
+            std::to_string(0.017 * (k % 23)) + " " + std::to_string(0.011 * (k % 19)) +
+            "'/><geometry><box size='0.05 0.04 0.03'/></geometry></collision>";
+  }
+  pile += "</link></robot>";
+  flapsim::SpawnCreature s;
+  s.request.name = "pile";
+  s.request.urdf_xml = pile;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  EXPECT_FALSE(s.response.success);
+  EXPECT_EQ(s.response.status_message,
+            "spawn request 'pile': link 'heap' has 1000 shapes (<collision> or <visual>), over the "
+            "limit of 256 per link");
+  s.request.name = "dropped";
+  s.request.urdf_xml = "<robot name='d'><link name='wing'>" + inertial +
+                       "<collision><geometry><box size='0.1 0.1 0.1'/></geometry></collision>"
+                       "<collision><geometry><sphere/></geometry></collision></link></robot>";
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  EXPECT_FALSE(s.response.success);
+  EXPECT_NE(s.response.status_message.find(
+                "the URDF parser dropped an element it could not read: Sphere shape must have a "
+                "radius attribute; Could not parse collision element for Link [wing]"),
+            std::string::npos)
+      << s.response.status_message;
+  for (const char* name : {"pile", "dropped"}) {
+    flapsim::GetState g;
+    g.request.name = name;
+    ASSERT_TRUE(ros::service::call("/flapsim/get_state", g));
+    EXPECT_FALSE(g.response.success) << name;  // nothing was spawned
+  }
+  s.request.name = "seen";
+  s.request.urdf_xml = "<robot name='v'><link name='shell'>" + inertial +
+                       "<visual><geometry><box size='0.1 0.1 0.1'/></geometry></visual>"
+                       "</link></robot>";
+  s.request.initial_pose.position.x = 40;
+  s.request.initial_pose.position.z = 5;
+  s.request.initial_pose.orientation.w = 1;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  EXPECT_TRUE(s.response.success);
+  EXPECT_EQ(s.response.status_message,
+            "spawned 'seen': 1 links, 0 wing joints; creature 'seen', link 'shell' has no "
+            "<collision>: its <visual> shapes are simulated (contact and air)");
+  flapsim::DeleteCreature d;
+  d.request.name = "seen";
+  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  EXPECT_TRUE(d.response.success);
+  flapsim::GetState g;
+  g.request.name = "low";
+  ASSERT_TRUE(ros::service::call("/flapsim/get_state", g));
+  EXPECT_TRUE(g.response.success);
+}
+
 // Smaller items of issue 27: set_state to z = -0.5 threw a creature to 4.2 m without a word;
 // dynamic_reconfigure's clamps (density 1e9 -> 1e5) were logged by no one.
 TEST_F(NodeGuards, ASetStateBelowTheGroundAndAClampedReconfigureAreSaid) {

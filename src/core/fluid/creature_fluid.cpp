@@ -71,8 +71,15 @@ Vec3 CreatureFluid::flowAcceleration(const Vec3& velocity, double step) {
   return change / step;
 }
 
-void CreatureFluid::resurface(const CreatureModel& m, const AirParams& air) {
-  for (AeroBody& a : bodies_) setSurface(a, m, air);
+void CreatureFluid::resurface(const CreatureModel& m, const AirParams& air, bool geometry_changed) {
+  for (AeroBody& a : bodies_) {
+    const std::optional<double>& own = m.links[a.link].aero.drag_coefficient;
+    if (geometry_changed) {
+      setSurface(a, m, air);
+    } else {
+      a.surface.drag_coefficient = own ? *own : air.drag_coefficient;
+    }
+  }
   buildBatch();
 }
 

@@ -60,8 +60,9 @@ Mat6 linkAddedMass(const LinkModel& l, const AirParams& air);
 class CreatureFluid {
  public:
   CreatureFluid(const CreatureModel& m, const AirParams& air);
-  // Rebuilds the surfaces for new air parameters, keeping the rest.
-  void resurface(const CreatureModel& m, const AirParams& air);
+  // Rebuilds the surfaces for new air parameters, keeping the rest: all of them when the
+  // subdivisions or added mass changed, else only the drag coefficients (O(cells)).
+  void resurface(const CreatureModel& m, const AirParams& air, bool geometry_changed = true);
 
   const std::vector<AeroBody>& bodies() const { return bodies_; }
   // Per aero body, its kinematics at the start of the last (sub)step's fluid stage.

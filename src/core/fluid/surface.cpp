@@ -252,21 +252,40 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
   for (const Box& box : boxes) largest = std::max(largest, box.size.maxCoeff());
   for (const RoundShape& r : rounds) largest = std::max(largest, 2.0 * r.radius + r.length);
   const double tolerance = 1e-6 * largest;
-  // Whether a cell centre of box `box` (or round shape `round`) lies in another shape.
-  auto hiddenFrom = [&](size_t box, size_t round) {
-    return [&, box, round](const Vec3& centre) {
-      for (size_t j = 0; j < boxes.size(); ++j) {
-        if (j != box && insideBox(boxes[j], centre, tolerance)) return true;
-      }
-      for (size_t j = 0; j < rounds.size(); ++j) {
-        if (j != round && insideRound(rounds[j], centre, tolerance)) return true;
+  // The shapes (boxes, then round shapes) whose bounds touch each shape's: only they can hide
+  // its cells.
+  std::vector<Eigen::AlignedBox3d> bounds;
+  for (const Box& box : boxes) {
+    const Vec3 half = box.origin.orientation.toRotationMatrix().cwiseAbs() * (0.5 * box.size);
+    bounds.emplace_back(box.origin.position - half, box.origin.position + half);
+  }
+  for (const RoundShape& r : rounds) {
+    const Vec3 half =
+        r.kind == RoundShape::Kind::kSphere
+            ? Vec3::Constant(r.radius)
+            : Vec3(r.origin.orientation.toRotationMatrix().col(2).cwiseAbs() * (0.5 * r.length) +
+                   Vec3::Constant(r.radius));
+    bounds.emplace_back(r.origin.position - half, r.origin.position + half);
+  }
+  std::vector<std::vector<size_t>> near(bounds.size());
+  for (const auto& [a, b] : overlappingBounds(bounds, -2.0 * tolerance)) {
+    near[a].push_back(b);
+    near[b].push_back(a);
+  }
+  // Whether a cell centre of shape `shape` lies in another shape.
+  auto hiddenFrom = [&](size_t shape) {
+    return [&, shape](const Vec3& centre) {
+      for (const size_t j : near[shape]) {
+        if (j < boxes.size() ? insideBox(boxes[j], centre, tolerance)
+                             : insideRound(rounds[j - boxes.size()], centre, tolerance)) {
+          return true;
+        }
       }
       return false;
     };
   };
-  const size_t none = boxes.size() + rounds.size();
   for (size_t i = 0; i < boxes.size(); ++i) {
-    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, true, hiddenFrom(i, none));
+    addBoxFaces(surface, boxes[i].size, boxes[i].origin, nu, nv, span, true, hiddenFrom(i));
   }
   const BoxUnion u = unionOfBoxes(boxes);
   surface.volume = u.volume;
@@ -275,9 +294,9 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
   for (size_t i = 0; i < rounds.size(); ++i) {
     const RoundShape& r = rounds[i];
     if (r.kind == RoundShape::Kind::kSphere) {
-      addSphereFaces(surface, r, around, around / 2, span, hiddenFrom(none, i));
+      addSphereFaces(surface, r, around, around / 2, span, hiddenFrom(boxes.size() + i));
     } else {
-      addCylinderFaces(surface, r, around, std::max(1, nv), span, hiddenFrom(none, i));
+      addCylinderFaces(surface, r, around, std::max(1, nv), span, hiddenFrom(boxes.size() + i));
     }
     // Overlaps with other shapes are counted twice (see buildSurface's comment).
     const double v = roundVolume(r), total = surface.volume + v;

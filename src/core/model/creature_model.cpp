@@ -12,6 +12,7 @@
 #include <queue>
 
 #include "flapsim/text_file.h"
+#include "fluid/box_union.h"
 #include "model/annotations.h"
 #include "model/model_error.h"
 
@@ -48,11 +49,14 @@ class CapturingHandler : public console_bridge::OutputHandler {
       if (!text_.empty()) text_ += "; ";
       text_ += text;
     }
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) errors_ = true;
   }
   const std::string& text() const { return text_; }
+  bool errors() const { return errors_; }
 
  private:
   std::string text_;
+  bool errors_ = false;
 };
 
 std::mutex& parserMutex() {
@@ -113,6 +117,7 @@ void addShapes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
   for (const auto& c : link->collision_array) add(c->geometry, c->origin, "collision");
   if (!out.hasShapes()) {
     for (const auto& v : link->visual_array) add(v->geometry, v->origin, "visual");
+    out.shapes_from_visuals = out.hasShapes();
   }
 }
 
@@ -120,6 +125,7 @@ void addShapes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
 urdf::ModelInterfaceSharedPtr parseUrdf(const std::string& urdf_xml, const std::string& source) {
   urdf::ModelInterfaceSharedPtr urdf;
   std::string urdf_messages;
+  bool errors = false;
   {
     std::lock_guard<std::mutex> lock(parserMutex());
     CapturingHandler handler;
@@ -131,10 +137,15 @@ urdf::ModelInterfaceSharedPtr parseUrdf(const std::string& urdf_xml, const std::
     }
     console_bridge::restorePreviousOutputHandler();
     urdf_messages = handler.text();
+    errors = handler.errors();
   }
   if (!urdf) {
     fail(source, "invalid URDF" + (urdf_messages.empty() ? std::string() : ": " + urdf_messages));
   }
+  // urdfdom drops an element it cannot read (a <sphere/> without a radius, a <mesh> scale of
+  // NaN) and goes on: the creature would differ from its file.
+  if (errors)
+    fail(source, "the URDF parser dropped an element it could not read: " + urdf_messages);
   return urdf;
 }
 
@@ -162,11 +173,23 @@ LinkModel readLink(const urdf::LinkConstSharedPtr& l, const std::string& source)
       lm.inertia.minCoeff() <= 0.0) {
     fail(source, where + ": inertia must be finite and positive");
   }
+  const size_t shapes = std::max(l->collision_array.size(), l->visual_array.size());
+  if (shapes > static_cast<size_t>(kMaxShapesPerLink)) {
+    fail(source, where + " has " + std::to_string(shapes) + " shapes (<collision> or <visual>)" +
+                     ", over the limit of " + std::to_string(kMaxShapesPerLink) + " per link");
+  }
   addShapes(l, lm);
   for (const Box& b : lm.boxes) {
     if (!finite(b.size) || b.size.minCoeff() <= 0.0) {
       fail(source, where + ": box size must be positive");
     }
+  }
+  const size_t turned = turnedOverlaps(lm.boxes);
+  if (turned > static_cast<size_t>(kMaxTurnedOverlaps)) {
+    fail(source, where + ": " + std::to_string(turned) +
+                     " pairs of its boxes overlap at angles other than 90 degrees, over the limit"
+                     " of " +
+                     std::to_string(kMaxTurnedOverlaps) + " per link");
   }
   for (const RoundShape& r : lm.rounds) {
     const bool cylinder = r.kind == RoundShape::Kind::kCylinder;
@@ -338,9 +361,13 @@ double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_
   return lowest;
 }
 
-std::vector<std::string> ignoredGeometry(const CreatureModel& model) {
+std::vector<std::string> geometryNotes(const CreatureModel& model) {
   std::vector<std::string> lines;
   for (const LinkModel& link : model.links) {
+    if (link.shapes_from_visuals) {
+      lines.push_back("link '" + link.name +
+                      "' has no <collision>: its <visual> shapes are simulated (contact and air)");
+    }
     for (const std::string& shape : link.ignored_shapes) {
       lines.push_back(
           "link '" + link.name + "': " + shape +

@@ -137,17 +137,15 @@ class World::Impl {
 
   // ---- air -----------------------------------------------------------------------
   void setAirParams(const AirParams& air) {
-    const bool surfaces_changed = air.added_mass != params_.air.added_mass ||
-                                  air.subdivisions_u != params_.air.subdivisions_u ||
-                                  air.subdivisions_v != params_.air.subdivisions_v ||
-                                  air.drag_coefficient != params_.air.drag_coefficient;
+    const bool geometry = air.added_mass != params_.air.added_mass ||
+                          air.subdivisions_u != params_.air.subdivisions_u ||
+                          air.subdivisions_v != params_.air.subdivisions_v;
+    const bool drag = air.drag_coefficient != params_.air.drag_coefficient;
     if (air.model != params_.air.model) air_.setDefaultModel(makeAirModel(air.model));
     params_.air = air;
-    if (surfaces_changed) {
-      // Rebuild the aero surfaces of every creature, keeping its motion state.
-      for (size_t i = 0; i < records_.size(); ++i)
-        sims_[i]->fluid.resurface(*records_[i].model, air);
-    }
+    // The aero surfaces of every creature, keeping its motion state.
+    for (size_t i = 0; i < records_.size() && (geometry || drag); ++i)
+      sims_[i]->fluid.resurface(*records_[i].model, air, geometry);
   }
 
   void setAirModel(AirModelPtr model) { air_.setDefaultModel(std::move(model)); }
