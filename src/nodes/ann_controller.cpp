@@ -6,15 +6,12 @@
 #include <exception>
 
 #include "flapsim_ros/controller_nodes.h"
+#include "flapsim_ros/node_main.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "ann_controller");
-  ros::NodeHandle nh, pnh("~");
-  try {
-    flapsim_ros::AnnControllerNode node(nh, pnh);
+  return flapsim_ros::runNode("ann_controller", [] {
+    flapsim_ros::AnnControllerNode node(ros::NodeHandle(), ros::NodeHandle("~"));
     return node.run() ? 0 : 1;
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("ann_controller: " << e.what());
-    return 1;
-  }
+  });
 }

@@ -4,18 +4,14 @@
 
 #include <exception>
 
+#include "flapsim_ros/node_main.h"
 #include "flapsim_ros/simulator_node.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "flapsim");
-  ros::NodeHandle nh;
-  ros::NodeHandle pnh("~");
-  try {
-    flapsim_ros::SimulatorNode node(nh, pnh);
+  return flapsim_ros::runNode("flapsim", [] {
+    flapsim_ros::SimulatorNode node(ros::NodeHandle(), ros::NodeHandle("~"));
     node.run();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("flapsim: " << e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -5,16 +5,13 @@
 #include <exception>
 
 #include "flapsim_ros/episode_farm.h"
+#include "flapsim_ros/node_main.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "flapsim_worker");
-  ros::NodeHandle nh, pnh("~");
-  try {
-    flapsim_ros::EpisodeWorkerNode node(nh, pnh);
+  return flapsim_ros::runNode("flapsim_worker", [] {
+    flapsim_ros::EpisodeWorkerNode node(ros::NodeHandle(), ros::NodeHandle("~"));
     node.run();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("flapsim_worker: " << e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -3,14 +3,12 @@
 #include <ros/ros.h>
 
 #include "flapsim_ros/hover_controller_node.h"
+#include "flapsim_ros/node_main.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "hover_controller");
-  try {
+  return flapsim_ros::runNode("hover_controller", [] {
     flapsim_ros::HoverControllerNode node(ros::NodeHandle(), ros::NodeHandle("~"));
     return node.run() ? 0 : 1;
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("hover_controller: " << e.what());
-    return 1;
-  }
+  });
 }

@@ -6,16 +6,13 @@
 #include <exception>
 
 #include "flapsim_ros/controller_nodes.h"
+#include "flapsim_ros/node_main.h"
 
 int main(int argc, char** argv) {
   ros::init(argc, argv, "stroke_controller");
-  ros::NodeHandle nh, pnh("~");
-  try {
-    flapsim_ros::StrokeControllerNode node(nh, pnh);
+  return flapsim_ros::runNode("stroke_controller", [] {
+    flapsim_ros::StrokeControllerNode node(ros::NodeHandle(), ros::NodeHandle("~"));
     ros::spin();
-  } catch (const std::exception& e) {
-    ROS_FATAL_STREAM("stroke_controller: " << e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }
