@@ -104,4 +104,11 @@ std::string validateCreatureName(const std::string& name);
 /// `urdf_xml` of creatures that name a `urdf_param` (resolved relative to `pnh`).
 NodeParams loadNodeParams(const ros::NodeHandle& pnh);
 
+/// Sim time a subscriber of the state topics (/clock, /tf, odom, imu, joint_states, power) may
+/// fall behind before its oldest messages are dropped: at rtf 0 and in lockstep the node runs
+/// ahead of a recorder, which used to lose messages from a 10-message queue.
+constexpr double kPublishQueueSeconds = 10.0;
+/// Those topics' queue: kPublishQueueSeconds of messages at publish_rate, in [10, 10,000].
+int publishQueueSize(const NodeParams& p);
+
 }  // namespace flapsim_ros

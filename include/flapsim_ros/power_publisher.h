@@ -22,7 +22,9 @@ flapsim::MotorPower powerMsg(const flapsim::CreatureModel& model,
 
 class PowerPublisher {
  public:
-  PowerPublisher(ros::NodeHandle& nh, const std::string& creature, flapsim::CreatureModelPtr model);
+  /// `queue`: the topic's publisher queue (messages).
+  PowerPublisher(ros::NodeHandle& nh, const std::string& creature, flapsim::CreatureModelPtr model,
+                 int queue);
   /// Publishes the means since the last call if anyone listens; the window restarts either way.
   void publish(const flapsim::CreaturePower& power, const ros::Time& stamp);
   void shutdown() { pub_.shutdown(); }

@@ -44,7 +44,8 @@ class TfPublisher {
   /// stamped as given.
   using Builder = std::function<tf2_msgs::TFMessage(const ros::Time&)>;
 
-  TfPublisher(ros::NodeHandle nh, Builder current);
+  /// `queue`: /tf's publisher queue (messages).
+  TfPublisher(ros::NodeHandle nh, Builder current, int queue);
 
   /// Whether anyone subscribes to /tf (else building transforms is wasted).
   bool wanted() const { return tf_.getNumSubscribers() > 0; }

@@ -311,4 +311,8 @@ NodeParams loadNodeParams(const ros::NodeHandle& pnh) {
   return p;
 }
 
+int publishQueueSize(const NodeParams& p) {
+  return static_cast<int>(std::clamp(std::ceil(p.publish_rate * kPublishQueueSeconds), 10.0, 1e4));
+}
+
 }  // namespace flapsim_ros

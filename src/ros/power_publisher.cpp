@@ -34,8 +34,9 @@ flapsim::MotorPower powerMsg(const flapsim::CreatureModel& model,
 }
 
 PowerPublisher::PowerPublisher(ros::NodeHandle& nh, const std::string& creature,
-                               flapsim::CreatureModelPtr model)
-    : pub_(nh.advertise<flapsim::MotorPower>(creature + "/power", 10)), model_(std::move(model)) {}
+                               flapsim::CreatureModelPtr model, int queue)
+    : pub_(nh.advertise<flapsim::MotorPower>(creature + "/power", queue)),
+      model_(std::move(model)) {}
 
 void PowerPublisher::publish(const flapsim::CreaturePower& power, const ros::Time& stamp) {
   if (pub_.getNumSubscribers() > 0) pub_.publish(powerMsg(*model_, last_, power, stamp));

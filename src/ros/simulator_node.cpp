@@ -54,8 +54,10 @@ SimulatorNode::SimulatorNode(const ros::NodeHandle& nh, const ros::NodeHandle& p
 
   // A new subscriber gets the current step's message at once: a paused world is seen.
   clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>(
-      "/clock", 10, [this](const ros::SingleSubscriberPublisher& p) { p.publish(clockMsg()); });
-  tf_ = std::make_unique<TfPublisher>(nh_, [this](const ros::Time& t) { return tfMsg(t); });
+      "/clock", publishQueueSize(params_),
+      [this](const ros::SingleSubscriberPublisher& p) { p.publish(clockMsg()); });
+  tf_ = std::make_unique<TfPublisher>(
+      nh_, [this](const ros::Time& t) { return tfMsg(t); }, publishQueueSize(params_));
   marker_pub_ = pnh_.advertise<visualization_msgs::MarkerArray>(
       "aero_markers", 2, [this](const ros::SingleSubscriberPublisher& p) {
         if (params_.markers.enabled) p.publish(aeroMarkerArray(now()));
@@ -163,24 +165,25 @@ void SimulatorNode::advertiseCreature(Creature& c, const std::string& urdf_xml) 
   c.description.publish(text);
   // A new subscriber gets the current step at once, as of /clock (a paused world is seen).
   // By name: a callback queued before a delete runs after it.
+  const int queue = publishQueueSize(params_);  // a recorder may lag (kPublishQueueSeconds)
   c.joint_states = c.nh.advertise<sensor_msgs::JointState>(
-      name + "/joint_states", 10, [this, name](const ros::SingleSubscriberPublisher& p) {
+      name + "/joint_states", queue, [this, name](const ros::SingleSubscriberPublisher& p) {
         if (const Creature* c = find(name)) {
           p.publish(jointStateMsg(*c->model, world_.state(name), now()));
         }
       });
   c.odom = c.nh.advertise<nav_msgs::Odometry>(
-      name + "/odom", 10, [this, name](const ros::SingleSubscriberPublisher& p) {
+      name + "/odom", queue, [this, name](const ros::SingleSubscriberPublisher& p) {
         if (const Creature* c = find(name)) {
           p.publish(odometryMsg(name, *c->model, world_.state(name), now(), params_.world_frame));
         }
       });
-  c.imu = c.nh.advertise<sensor_msgs::Imu>(name + "/imu", 10,
+  c.imu = c.nh.advertise<sensor_msgs::Imu>(name + "/imu", queue,
                                            [this, name](const ros::SingleSubscriberPublisher& p) {
                                              if (const Creature* c = find(name))
                                                p.publish(imuMsgOf(*c, world_.state(name), now()));
                                            });
-  c.power = std::make_unique<PowerPublisher>(c.nh, name, c.model);
+  c.power = std::make_unique<PowerPublisher>(c.nh, name, c.model, queue);
   c.wing_command = c.nh.subscribe<flapsim::WingCommand>(
       name + "/wing_command", 10,
       [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });

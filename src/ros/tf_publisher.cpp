@@ -62,9 +62,10 @@ std::vector<geometry_msgs::TransformStamped> fixedTransforms(const std::string& 
   return out;
 }
 
-TfPublisher::TfPublisher(ros::NodeHandle nh, Builder current) : current_(std::move(current)) {
+TfPublisher::TfPublisher(ros::NodeHandle nh, Builder current, int queue)
+    : current_(std::move(current)) {
   ros::AdvertiseOptions ops = ros::AdvertiseOptions::create<tf2_msgs::TFMessage>(
-      "/tf", 100, [this](const ros::SingleSubscriberPublisher& p) { onConnect(p); },
+      "/tf", queue, [this](const ros::SingleSubscriberPublisher& p) { onConnect(p); },
       ros::SubscriberStatusCallback(), ros::VoidConstPtr(), &connect_queue_);
   tf_ = nh.advertise(ops);
   tf_static_ = nh.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
