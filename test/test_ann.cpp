@@ -541,6 +541,9 @@ TEST(ControllerYaml, EveryKeyIsReadAndTheControlPeriodIsBounded) {
             "controller YAML w.yaml: 'output_activation' must be sigmoid");
   EXPECT_EQ(yamlError("control_perod: 0.01, "),
             "controller YAML w.yaml: unknown key 'control_perod'");
+  // A key given twice (hidden: 4, hidden: 5 was read as 4).
+  EXPECT_EQ(yamlError("hidden: 4, hidden: 5, "),
+            "controller YAML w.yaml: key 'hidden' given twice");
   EXPECT_EQ(
       yamlError("inputs: [world_up.body_forward, world_up.body_left], outputs: "
                 "[right_downstroke_rate, left_downstroke_rate], output_activation: sigmoid, "),

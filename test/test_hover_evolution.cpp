@@ -133,6 +133,9 @@ TEST(HoverGains, AFileReadsBackBitForBitAndBadOnesAreRefusedByKey) {
   for (const HoverParamField& f : hoverParamFields()) EXPECT_EQ(back.*f.member, p.*f.member);
   EXPECT_EQ(message([] { hoverGainsFromYaml("height_gain: 4\nheigth_gain: 3\n", "f.yaml"); }),
             "f.yaml: unknown key 'heigth_gain'");
+  // A key given twice: yaml-cpp keeps both, a lookup would find the first.
+  EXPECT_EQ(message([] { hoverGainsFromYaml("roll_gain: 1\nroll_gain: 2\n", "f.yaml"); }),
+            "f.yaml: key 'roll_gain' given twice");
   EXPECT_EQ(message([] { hoverGainsFromYaml("roll_gain: .nan\n", "f.yaml"); }),
             "f.yaml: 'roll_gain' is not finite");
   EXPECT_EQ(message([] { hoverGainsFromYaml("roll_gain: fast\n", "f.yaml"); }),

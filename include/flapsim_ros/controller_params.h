@@ -25,7 +25,6 @@ struct StrokeControllerParams {
   double reread_period = 0.5;  // s (wall) between re-reads of the parameters
   // One entry per wing pair (left and right wing get the same stroke).
   std::vector<flapsim::StrokeCommand> strokes;
-  std::vector<std::string> unknown_keys;  // keys of the namespace this node does not read
 };
 
 /// Private namespace of stroke_controller. Keys (all optional):
@@ -91,7 +90,6 @@ struct AnnControllerParams : LockstepParams {
   // together, each with the network on its `pairs` units (a flock in one lockstep); empty:
   // {creature}.
   std::vector<std::string> lockstep_creatures;
-  std::vector<std::string> unknown_keys;  // keys of the namespace this node does not read
 };
 
 /// Private namespace of ann_controller. Keys: weights (required), creature,

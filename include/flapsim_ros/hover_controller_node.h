@@ -29,15 +29,14 @@ struct HoverControllerNodeParams : LockstepParams {
   std::string creature;  // for messages: the namespace's (the creature's) name
   double rate = 100.0;   // Hz of sim time
   flapsim::HoverControllerParams controller;
-  std::vector<std::string> unknown_keys;
 };
 
 /// Private namespace of hover_controller. Keys (all optional): creature (default
-/// `default_creature`), rate (100), the controller's: altitude (3) and every other field of
-/// flapsim::HoverControllerParams by its name (flapsim::hoverParamFields: the gains file
-/// flapsim/hover_gains.h, loaded by hover.launch with rosparam), and lockstep, lockstep_duration,
-/// step_service, step_size, wait_timeout (LockstepParams). Throws ParamError naming the bad
-/// key.
+/// `default_creature`), rate (100), gains_file (a gains YAML, flapsim/hover_gains.h, read as
+/// flight_check --gains reads it: hover.launch passes it), the controller's: altitude (3) and
+/// every other field of flapsim::HoverControllerParams by its name (each overrides the file's),
+/// and lockstep, lockstep_duration, step_service, step_size, wait_timeout (LockstepParams).
+/// Throws ParamError naming the bad key, an unknown (misspelt) key included.
 HoverControllerNodeParams parseHoverControllerParams(const XmlRpc::XmlRpcValue& ns,
                                                      const std::string& default_creature);
 

@@ -54,10 +54,6 @@ StrokeControllerNode::StrokeControllerNode(const ros::NodeHandle& nh, const ros:
                                    [this](const ros::TimerEvent&) { publish(); });
   reread_timer_ = nh_.createWallTimer(ros::WallDuration(params_.reread_period),
                                       [this](const ros::WallTimerEvent&) { reread(); });
-  for (const std::string& k : params_.unknown_keys) {
-    ROS_WARN_STREAM("stroke_controller: ignoring unknown parameter '" << pnh_.resolveName(k)
-                                                                      << "'");
-  }
   ROS_INFO_STREAM("stroke_controller: " << params_.pairs << " wing pair(s) of '" << params_.creature
                                         << "' on " << pub_.getTopic());
 }
@@ -132,9 +128,6 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
   pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
   if (params_.lockstep)
     start_srv_ = pnh_.advertiseService("start", &AnnControllerNode::onStart, this);
-  for (const std::string& k : params_.unknown_keys) {
-    ROS_WARN_STREAM("ann_controller: ignoring unknown parameter '" << pnh_.resolveName(k) << "'");
-  }
   ROS_INFO_STREAM(
       "ann_controller: "
       << params_.pairs << " unit(s) of '" << params_.creature << "' at " << params_.rate

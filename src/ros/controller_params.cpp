@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "flapsim/ann.h"
 #include "flapsim_ros/conversions.h"
 
 namespace flapsim_ros {
@@ -103,7 +104,7 @@ StrokeControllerParams parseStrokeControllerParams(const XmlRpcValue& ns,
     if (!err.empty()) throw ParamError("wing pair " + std::to_string(i) + ": " + err);
     p.strokes.push_back(c);
   }
-  p.unknown_keys = d.unknownKeys();
+  d.rejectUnknown();  // as a weights or gains file refuses a key it does not read
   return p;
 }
 
@@ -139,7 +140,12 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   p.noise_seed = d.integer("noise_seed", p.noise_seed);
   p.world_frame = d.string("world_frame", p.world_frame);
   p.rate = d.number("rate", p.rate);
-  atLeast(d, "rate", p.rate, 0.0, false);
+  if (p.rate != 0.0 &&
+      !(p.rate >= 1.0 / flapsim::kMaxControlPeriod && p.rate <= 1.0 / flapsim::kMinControlPeriod)) {
+    failParam(d.key("rate"),
+              "must be 0 (the weights file's control period) or in [0.1, 1000] Hz, as a control "
+              "period in [0.001, 10] s");
+  }
   readLockstepParams(d, p);
   p.lockstep_wait_for_start = d.boolean("lockstep_wait_for_start", p.lockstep_wait_for_start);
   if (d.has("lockstep_creatures")) {
@@ -154,7 +160,7 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
       }
     }
   }
-  p.unknown_keys = d.unknownKeys();
+  d.rejectUnknown();  // as a weights or gains file refuses a key it does not read
   return p;
 }
 

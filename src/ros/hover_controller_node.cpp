@@ -1,6 +1,7 @@
 #include "flapsim_ros/hover_controller_node.h"
 
 #include "flapsim/WingCommand.h"
+#include "flapsim/hover_gains.h"
 #include "flapsim_ros/controller_params.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/lockstep_client.h"
@@ -23,12 +24,22 @@ HoverControllerNodeParams parseHoverControllerParams(const XmlRpc::XmlRpcValue& 
   if (!(p.rate > 0.0)) failParam(d.key("rate"), "must be > 0");
   readLockstepParams(d, p);
   flapsim::HoverControllerParams& c = p.controller;
+  // The gains file through the reader flight_check and evolve use (unknown and repeated keys
+  // refused by name); a gain also given as a parameter overrides the file's.
+  const std::string gains_file = d.string("gains_file", "");
+  if (!gains_file.empty()) {
+    try {
+      c = flapsim::loadHoverGainsYaml(gains_file);
+    } catch (const std::exception& e) {
+      failParam(d.key("gains_file"), e.what());
+    }
+  }
   for (const flapsim::HoverParamField& f : flapsim::hoverParamFields()) {
     c.*f.member = d.number(f.name, c.*f.member);
   }
   const std::string bad = flapsim::validateHoverControllerParams(c);
   if (!bad.empty()) failParam(d.key(""), bad);
-  p.unknown_keys = d.unknownKeys();
+  d.rejectUnknown();  // as a weights or gains file refuses a key it does not read
   return p;
 }
 
@@ -67,9 +78,6 @@ HoverControllerNode::HoverControllerNode(const ros::NodeHandle& nh, const ros::N
         if (!params_.lockstep) onState();
       });
   pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
-  for (const std::string& k : params_.unknown_keys) {
-    ROS_WARN_STREAM("hover_controller: ignoring unknown parameter '" << pnh_.resolveName(k) << "'");
-  }
   ROS_INFO_STREAM("hover_controller: '" << c << "' at " << params_.controller.altitude << " m, "
                                         << params_.rate << " Hz"
                                         << (params_.lockstep ? ", lockstep" : ""));

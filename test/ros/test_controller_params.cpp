@@ -2,8 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <string>
 
 #include "flapsim/ann.h"
+#include "flapsim/hover_gains.h"
 #include "flapsim_ros/controller_params.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/hover_controller_node.h"
@@ -227,26 +230,93 @@ TEST(AnnControllerParams, MessageNamesTheUnitWings) {
   EXPECT_EQ(msg.amplitude[0], 1.2);
 }
 
-// The controllers read their namespace with the simulator's reader: a misspelt key is named
-// (the node warns about it) instead of silently ignored, and a wrong type names its key.
-TEST(ControllerParams, MisspeltKeysAreNamedAndTypesChecked) {
-  const StrokeControllerParams s = parseStrokeControllerParams(
-      yamlish({{"amplitud", XmlRpc::XmlRpcValue(0.5)}, {"rate", XmlRpc::XmlRpcValue(20)}}), "c");
-  EXPECT_EQ(s.unknown_keys, std::vector<std::string>{"amplitud"});
-  EXPECT_EQ(s.strokes[0].amplitude, 0.8);  // the default: the misspelt key did not set it
-  const AnnControllerParams a =
-      parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w.yaml")},
-                                        {"lock_step", XmlRpc::XmlRpcValue(true)}}),
-                               "c");
-  EXPECT_EQ(a.unknown_keys, std::vector<std::string>{"lock_step"});
-  try {
+// The controllers read their namespace with the simulator's reader: a misspelt key is refused
+// by name, as the weights and gains files refuse theirs (it used to be warned and the default
+// flown), and a wrong type names its key.
+TEST(ControllerParams, MisspeltKeysAreRefusedByNameAndTypesChecked) {
+  auto refusal = [](auto parse) {
+    try {
+      parse();
+    } catch (const ParamError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal([] {
+              parseStrokeControllerParams(yamlish({{"amplitud", XmlRpc::XmlRpcValue(0.5)},
+                                                   {"rate", XmlRpc::XmlRpcValue(20)}}),
+                                          "c");
+            }),
+            "parameter 'amplitud': unknown parameter (misspelt?)");
+  EXPECT_EQ(refusal([] {
+              parseAnnControllerParams(yamlish({{"weights", XmlRpc::XmlRpcValue("w.yaml")},
+                                                {"lock_step", XmlRpc::XmlRpcValue(true)}}),
+                                       "c");
+            }),
+            "parameter 'lock_step': unknown parameter (misspelt?)");
+  EXPECT_EQ(
+      refusal([] {
+        parseHoverControllerParams(yamlish({{"heigth_gain", XmlRpc::XmlRpcValue(3.0)}}), "hover");
+      }),
+      "parameter 'heigth_gain': unknown parameter (misspelt?)");
+  const std::string typed = refusal([] {
     parseAnnControllerParams(
         yamlish({{"weights", XmlRpc::XmlRpcValue("w.yaml")}, {"lockstep", XmlRpc::XmlRpcValue(1)}}),
         "c");
-    ADD_FAILURE() << "lockstep: 1 accepted";
+  });
+  EXPECT_NE(typed.find("'lockstep': must be true or false"), std::string::npos) << typed;
+}
+
+// ann_controller's ~rate is bounded as the weights file's control period is ([0.001, 10] s):
+// 1e-9 Hz never commanded the creature, 1e9 Hz flooded it; 0 takes the file's period.
+TEST(ControllerParams, AnnRateIsBoundedAsTheControlPeriod) {
+  auto rate = [](double hz) {
+    return yamlish({{"weights", XmlRpc::XmlRpcValue("w.yaml")}, {"rate", XmlRpc::XmlRpcValue(hz)}});
+  };
+  for (double hz : {0.0, 0.1, 50.0, 1000.0}) {
+    EXPECT_EQ(parseAnnControllerParams(rate(hz), "c").rate, hz);
+  }
+  for (double hz : {1e-9, 0.0999, 1000.1, 1e9, -50.0}) {
+    try {
+      parseAnnControllerParams(rate(hz), "c");
+      ADD_FAILURE() << hz << " Hz accepted";
+    } catch (const ParamError& e) {
+      EXPECT_NE(std::string(e.what()).find("'rate': must be 0 (the weights file's control period) "
+                                           "or in [0.1, 1000] Hz"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+// hover_controller reads ~gains_file with the reader flight_check --gains uses: the same file
+// gives the same gains, a key given twice or misspelt in it is refused naming the file and the
+// key, and a gain given as a parameter overrides the file's.
+TEST(HoverControllerParams, AGainsFileIsReadAsFlightCheckReadsIt) {
+  flapsim::HoverControllerParams written;
+  for (const flapsim::HoverParamField& f : flapsim::hoverParamFields()) {
+    written.*f.member *= 1.25;  // not the defaults
+  }
+  const std::string path = ::testing::TempDir() + "hover_gains.yaml";
+  std::ofstream(path) << flapsim::hoverGainsToYaml(written, "test gains", {});
+  const flapsim::HoverControllerParams file = flapsim::loadHoverGainsYaml(path);
+  const HoverControllerNodeParams p = parseHoverControllerParams(
+      yamlish({{"gains_file", XmlRpc::XmlRpcValue(path)}, {"altitude", XmlRpc::XmlRpcValue(4.5)}}),
+      "hover");
+  for (const flapsim::HoverParamField& f : flapsim::hoverParamFields()) {
+    if (std::string(f.name) == "altitude") continue;
+    EXPECT_EQ(p.controller.*f.member, file.*f.member) << f.name;
+    EXPECT_EQ(p.controller.*f.member, written.*f.member) << f.name;
+  }
+  EXPECT_EQ(p.controller.altitude, 4.5);
+  const std::string twice = ::testing::TempDir() + "twice_gains.yaml";
+  std::ofstream(twice) << "roll_gain: 1\nroll_gain: 2\n";
+  try {
+    parseHoverControllerParams(yamlish({{"gains_file", XmlRpc::XmlRpcValue(twice)}}), "hover");
+    ADD_FAILURE() << "a key given twice was read";
   } catch (const ParamError& e) {
-    EXPECT_NE(std::string(e.what()).find("'lockstep': must be true or false"), std::string::npos)
-        << e.what();
+    EXPECT_EQ(std::string(e.what()),
+              "parameter 'gains_file': " + twice + ": key 'roll_gain' given twice");
   }
 }
 
@@ -288,7 +358,6 @@ TEST(HoverControllerParams, LockstepKeysAsAnnController) {
   EXPECT_EQ(p.step_size, 0.0005);
   EXPECT_EQ(p.step_service, "/flapsim/step");
   EXPECT_EQ(p.controller.altitude, 2.5);
-  EXPECT_TRUE(p.unknown_keys.empty());
   try {
     parseHoverControllerParams(yamlish({{"step_size", XmlRpc::XmlRpcValue(0.0)}}), "hover");
     ADD_FAILURE() << "step_size 0 was taken";
@@ -310,7 +379,6 @@ TEST(HoverControllerParams, EveryGainOfTheGainsFileIsAParameter) {
   for (const flapsim::HoverParamField& f : flapsim::hoverParamFields()) {
     EXPECT_EQ(p.controller.*f.member, 1.5 * (hand.*f.member)) << f.name;
   }
-  EXPECT_TRUE(p.unknown_keys.empty());
   ns["max_roll_share"] = XmlRpc::XmlRpcValue(1.5);
   try {
     parseHoverControllerParams(ns, "hover");

@@ -10,6 +10,7 @@
 
 #include "flapsim/cli_args.h"
 #include "flapsim/text_file.h"
+#include "io/yaml_keys.h"
 
 namespace flapsim {
 
@@ -111,12 +112,8 @@ const std::vector<std::string> kKeys = {"network",
 
 ControllerSpec readController(const YAML::Node& c,
                               const std::function<std::runtime_error(const std::string&)>& fail) {
-  for (const auto& kv : c) {
-    const std::string key = kv.first.as<std::string>();
-    if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end()) {
-      throw fail("unknown key " + quoteValue(key));
-    }
-  }
+  const std::string bad = badYamlKey(c, kKeys);
+  if (!bad.empty()) throw fail(bad);
   ControllerSpec spec;
   FlapControllerParams& p = spec.params;
   auto get = [&](const char* key, auto& value) {
@@ -195,6 +192,8 @@ ControllerSpec controllerFromYaml(const std::string& text, const std::string& so
     const YAML::Node root = YAML::Load(text);
     const YAML::Node c = root.IsMap() ? root["flap_unit_controller"] : YAML::Node();
     if (!c || !c.IsMap()) throw fail("no map 'flap_unit_controller'");
+    const std::string bad = badYamlKey(root, {"flap_unit_controller", "evolution"});
+    if (!bad.empty()) throw fail(bad);
     spec = readController(c, fail);
   } catch (const YAML::Exception& e) {
     throw fail(e.what());

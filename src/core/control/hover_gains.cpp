@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "flapsim/text_file.h"
+#include "io/yaml_keys.h"
 
 namespace flapsim {
 
@@ -46,6 +47,10 @@ HoverControllerParams hoverGainsFromYaml(const std::string& text, const std::str
     throw InputError(source + ": not YAML: " + e.what());
   }
   if (!root.IsMap()) throw InputError(source + ": not a map of hover controller gains");
+  std::vector<std::string> known;
+  for (const HoverParamField& f : hoverParamFields()) known.push_back(f.name);
+  const std::string bad = badYamlKey(root, known);
+  if (!bad.empty()) throw InputError(source + ": " + bad);
   HoverControllerParams p;
   for (const auto& kv : root) {
     const std::string key = kv.first.Scalar();
