@@ -88,6 +88,39 @@ TEST(CliParser, BadValuesAreRefusedNamingTheFlag) {
   EXPECT_EQ(f.n, 3);  // nothing stored from a refused value
 }
 
+// The campaign's edges: a trailing comma ("0.001,0.0005," was taken as two items while
+// "0.001,,0.0005" was refused), an empty text ("evolve --out ''" failed in the filesystem
+// without naming the flag), a flag given twice (the last silently won).
+TEST(CliParser, TrailingCommasEmptyTextsAndRepeatedFlagsAreRefusedByName) {
+  Fields f;
+  EXPECT_EQ(refusal(table(f), {"--list", "1,2,"}), "--list: '' is not a number");
+  EXPECT_EQ(refusal(table(f), {"--list", ",1"}), "--list: '' is not a number");
+  EXPECT_EQ(refusal(table(f), {"--list", ""}), "--list: an empty list");
+  EXPECT_EQ(refusal(table(f), {"--name", ""}), "--name: an empty value");
+  EXPECT_EQ(refusal(table(f), {"--x", "0.2", "--x", "0.3"}),
+            "--x is given twice (or under another of its names)");
+  EXPECT_EQ(refusal(table(f), {"--n", "2", "-n", "3"}),
+            "-n is given twice (or under another of its names)");
+  EXPECT_EQ(refusal(table(f), {"--on", "--on"}),
+            "--on is given twice (or under another of its names)");
+  Fields later;
+  table(later).parse({"--x", "0.2", "--x", "0.3"}, false, /*later_wins=*/true);
+  EXPECT_EQ(later.x, 0.3);
+  // Through evolve's table: the flags the issue named.
+  auto evolveRefusal = [](const std::vector<std::string>& args) {
+    try {
+      parseEvolveArgs(args);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(evolveRefusal({"--out", ""}), "--out: an empty value");
+  EXPECT_EQ(evolveRefusal({"--step-sizes", "0.001,0.0005,"}), "--step-sizes: '' is not a number");
+  EXPECT_EQ(evolveRefusal({"--seed", "1", "--seed", "2"}),
+            "--seed is given twice (or under another of its names)");
+}
+
 TEST(CliParser, AHugeValueIsQuotedShort) {
   Fields f;
   const std::string huge(16 << 20, '7');

@@ -86,8 +86,11 @@ class CliParser {
 
   /// Parses `args` (without the program name) into the fields. "--help" and "-h" set help();
   /// roslaunch's `name:=value` arguments are skipped if `skip_remaps`. Throws InputError
-  /// naming the flag: unknown, a value missing, not a number, out of range.
-  std::vector<CliSeen> parse(const std::vector<std::string>& args, bool skip_remaps = false);
+  /// naming the flag: unknown, a value missing, not a number, out of range, an empty item of a
+  /// list ("a,,b", "a,b,"), or given twice (unless `later_wins`: a resumed run's flags followed
+  /// by the command line's).
+  std::vector<CliSeen> parse(const std::vector<std::string>& args, bool skip_remaps = false,
+                             bool later_wins = false);
   bool help() const { return help_; }
   /// The usage text: synopsis, one line per flag with its default as the fields hold it now,
   /// then the notes.

@@ -40,7 +40,10 @@ constexpr std::size_t kMaxSpecBytes = 16384;
 /// `name:=value` arguments are skipped) from one table (flapsim/cli_args.h): every value
 /// has a range. `threads` is the default of --threads. Throws InputError naming the bad
 /// flag or value.
-EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads = 1);
+/// `later_wins`: a flag given again overrides the earlier one (a resumed run's flags followed
+/// by the command line's); otherwise a repeated flag is refused by name.
+EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads = 1,
+                              bool later_wins = false);
 
 /// The usage text (--help), generated from the table: the defaults shown are those of the
 /// preset and flags in `args` (robust for none), so of what runs.

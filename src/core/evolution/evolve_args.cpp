@@ -318,23 +318,31 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
 
 }  // namespace
 
-EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads) {
+EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads, bool later_wins) {
   EvolveOptions o;
   o.preset = presetOf(args);
   o.params = presetParams(o.preset);
   o.params.ga.threads = threads;
   o.spec_args = {"--preset", o.preset};
   CliParser table = evolveTable(o);
-  const std::vector<CliSeen> seen = table.parse(args, /*skip_remaps=*/true);
+  const std::vector<CliSeen> seen = table.parse(args, /*skip_remaps=*/true, later_wins);
   if (o.preset == "hover") {
     checkHoverFlags(seen);
   } else {
     checkDependentFlags(o.params, seen);
   }
+  std::vector<const CliSeen*> spec;  // each flag once, with its last values
   for (const CliSeen& s : seen) {
     if (s.flag->tag != kSpec) continue;
-    o.spec_args.push_back(s.flag->names.front());
-    o.spec_args.insert(o.spec_args.end(), s.values.begin(), s.values.end());
+    auto same = std::find_if(spec.begin(), spec.end(), [&](auto* x) { return x->flag == s.flag; });
+    if (same == spec.end())
+      spec.push_back(&s);
+    else
+      *same = &s;
+  }
+  for (const CliSeen* s : spec) {
+    o.spec_args.push_back(s->flag->names.front());
+    o.spec_args.insert(o.spec_args.end(), s->values.begin(), s->values.end());
   }
   o.help = table.help();
   if (o.weights_path.empty()) {

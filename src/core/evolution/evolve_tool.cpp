@@ -97,7 +97,7 @@ EvolveOptions resolveEvolveOptions(const std::vector<std::string>& args, int thr
   std::vector<std::string> all = c.args;
   all.insert(all.end(), {"--out", o.resume_dir});
   all.insert(all.end(), args.begin(), args.end());
-  o = parseEvolveArgs(all, threads);
+  o = parseEvolveArgs(all, threads, /*later_wins=*/true);
   resume = std::move(c);
   return o;
 }

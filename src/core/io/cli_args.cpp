@@ -22,17 +22,21 @@ std::vector<std::string> splitNames(const std::string& names) {
   return out;
 }
 
+// Every comma separates two items: "a,,b" and "a,b," have an empty item, which the item's
+// parser refuses by name.
 std::vector<std::string> splitList(const std::string& flag, const std::string& value,
                                    int max_items) {
+  if (value.empty()) throw InputError(flag + ": an empty list");
   std::vector<std::string> items;
-  std::istringstream in(value);
-  for (std::string item; std::getline(in, item, ',');) {
+  for (size_t from = 0;;) {
     if (static_cast<int>(items.size()) >= max_items) {
       throw InputError(flag + ": more than " + std::to_string(max_items) + " items");
     }
-    items.push_back(item);
+    const size_t comma = value.find(',', from);
+    items.push_back(value.substr(from, comma == std::string::npos ? comma : comma - from));
+    if (comma == std::string::npos) break;
+    from = comma + 1;
   }
-  if (items.empty()) throw InputError(flag + ": an empty list");
   return items;
 }
 
@@ -52,6 +56,7 @@ std::string joinList(const std::vector<T>& items) {
 
 std::string checkedText(const std::string& flag, const std::string& value,
                         const std::vector<std::string>& choices) {
+  if (value.empty()) throw InputError(flag + ": an empty value");
   if (value.size() > kMaxTextValue) {
     throw InputError(flag + ": " + std::to_string(value.size()) +
                      " characters, over the limit of " + std::to_string(kMaxTextValue));
@@ -255,7 +260,8 @@ const CliFlag* CliParser::find(const std::string& name) const {
   return nullptr;
 }
 
-std::vector<CliSeen> CliParser::parse(const std::vector<std::string>& args, bool skip_remaps) {
+std::vector<CliSeen> CliParser::parse(const std::vector<std::string>& args, bool skip_remaps,
+                                      bool later_wins) {
   std::vector<CliSeen> seen;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
@@ -266,6 +272,11 @@ std::vector<CliSeen> CliParser::parse(const std::vector<std::string>& args, bool
     }
     const CliFlag* f = find(a);
     if (f == nullptr) throw InputError("unknown option " + quoteValue(a) + " (see --help)");
+    for (const CliSeen& before : seen) {
+      if (before.flag == f && !later_wins) {
+        throw InputError(a + " is given twice (or under another of its names)");
+      }
+    }
     CliSeen s{f, {}};
     for (const std::string& metavar : f->metavars) {
       // A value never starts with "--": that is the next flag, and this one's value is missing.
