@@ -442,5 +442,28 @@ TEST(WingCommands, AJointNamedTwiceIsRefused) {
             "stroke rates must be at most 1e5 rad/s");
 }
 
+// A feather angle for a wing without a feather joint was ignored silently: refused by name,
+// the wing's command kept; a wing with one (hover_1's) takes it.
+TEST(WingCommands, AFeatherAngleForAWingThatCannotFeatherIsRefused) {
+  World w;
+  w.spawn("c", loadUrdf("flap_unit.urdf"), at(0, 0, 1));
+  w.spawn("h", loadUrdf("hover_1.urdf"), at(2, 0, 1));
+  StrokeCommand feathered{20, 20, 0.5};
+  feathered.feather = 0.3;
+  for (const char* joint : {"unit0_wing_left_joint", "unit0_wing_right_joint"}) {
+    try {
+      w.setWingCommands("c", {joint}, {feathered});
+      ADD_FAILURE() << joint << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), std::string("creature 'c': joint '") + joint +
+                                           "': a feather angle for a wing without a feather "
+                                           "joint (<wing feather_joint=...>)");
+    }
+    EXPECT_EQ(w.wingCommand("c", joint).downstroke_rate, 0.0);
+  }
+  w.setWingCommands("h", {"wing_left_joint"}, {feathered});
+  EXPECT_EQ(w.wingCommand("h", "wing_left_joint").feather, 0.3);
+}
+
 }  // namespace
 }  // namespace flapsim

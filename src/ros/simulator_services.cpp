@@ -10,7 +10,18 @@
 namespace flapsim_ros {
 namespace {
 
-constexpr double kGroundTolerance = 1e-3;  // m below the ground before set_state says so
+constexpr double kGroundTolerance = 1e-3;  // m below the ground before a reply says so
+
+// How far a creature's collision shapes reach below the ground, if they do ("" if not).
+std::string belowGround(const flapsim::CreatureModel& model, const flapsim::CreatureState& state,
+                        bool ground) {
+  const double lowest = flapsim::lowestBoxPoint(model, state.link_poses);
+  if (!ground || lowest >= -kGroundTolerance) return "";
+  std::ostringstream below;
+  below << "its collision shapes reach " << -lowest
+        << " m below the ground (z = 0): the contact will push it out";
+  return below.str();
+}
 
 }  // namespace
 
@@ -165,6 +176,11 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
                          " links, " + std::to_string(c->model->wing_joints.size()) + " wing joints";
     ROS_INFO_STREAM("flapsim: " << res.status_message);  // the lines below were warned
     for (const std::string& line : capped) res.status_message += "; " + line;
+    const std::string below = belowGround(*c->model, world_.state(req.name), params_.world.ground);
+    if (!below.empty()) {  // spawned as asked, as set_state does
+      res.status_message += "; " + below;
+      warnThrottled("spawn/below_ground", req.name, "spawn: " + res.status_message);
+    }
     publishDiagnostics();
   } catch (const std::bad_alloc&) {
     res.success = false;
@@ -210,7 +226,9 @@ SimulatorNode::ReferenceFrame SimulatorNode::referenceFrame(const std::string& n
     link = name;
   }
   const Creature* c = find(owner);
-  const int k = !c ? -1 : link.empty() ? 0 : c->model->findLink(link);
+  // 'fu/' and 'fu::' name no link (they were taken as fu's root).
+  const bool no_link = at != std::string::npos && link.empty();
+  const int k = !c || no_link ? -1 : link.empty() ? 0 : c->model->findLink(link);
   if (k < 0) {
     throw flapsim::InputError("unknown reference_frame '" + name + "' (give '' or '" +
                               params_.world_frame + "', a creature, '<creature>/<link>' or a " +
@@ -271,13 +289,9 @@ bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetStat
     }
     world_.setState(req.name, r);
     res.status_message = "set the state of '" + req.name + "' at t = " + formatTime(now()) + " s";
-    const double lowest = flapsim::lowestBoxPoint(*c->model, world_.state(req.name).link_poses);
-    if (params_.world.ground && lowest < -kGroundTolerance) {
-      std::ostringstream below;
-      below << "; its collision shapes reach " << -lowest
-            << " m below the ground (z = 0): the contact "
-            << "will push it out";
-      res.status_message += below.str();
+    const std::string below = belowGround(*c->model, world_.state(req.name), params_.world.ground);
+    if (!below.empty()) {
+      res.status_message += "; " + below;
       warnThrottled("set_state/below_ground", req.name, "set_state: " + res.status_message);
     }
     published_step_ = UINT64_MAX;

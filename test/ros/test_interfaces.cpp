@@ -129,6 +129,8 @@ TEST_F(Interfaces, SetStateInAnotherCreaturesLinkFrame) {
            {"plate", "is a link of 'plate' itself"},
            {"plate/plate", "is a link of 'plate' itself"},
            {"fu/tail", "unknown reference_frame 'fu/tail'"},
+           {"fu/", "unknown reference_frame 'fu/'"},    // no link: not fu's root
+           {"fu::", "unknown reference_frame 'fu::'"},  // likewise
            {"ghost", "unknown reference_frame 'ghost'"}}) {
     r.reference_frame = frame;
     const auto refused = setState(r);

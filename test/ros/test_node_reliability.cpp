@@ -340,8 +340,18 @@ TEST_F(NodeGuards, ASetStateBelowTheGroundAndAClampedReconfigureAreSaid) {
   st.request.pose.position.z = 0.5;  // above it: nothing to say
   ASSERT_TRUE(ros::service::call("/flapsim/set_state", st));
   EXPECT_EQ(st.response.status_message.find("below the ground"), std::string::npos);
+  EXPECT_EQ(spawn.response.status_message.find("below the ground"), std::string::npos);
   flapsim::DeleteCreature del;
   del.request.name = "sunk";
+  ASSERT_TRUE(ros::service::call("/flapsim/delete", del));
+  // A spawn below the ground is done as asked and said, as set_state is (it was silent).
+  spawn.request.initial_pose.position.z = -0.3;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", spawn));
+  EXPECT_TRUE(spawn.response.success);
+  EXPECT_NE(spawn.response.status_message.find(
+                "; its collision shapes reach 0.301 m below the ground (z = 0)"),
+            std::string::npos)
+      << spawn.response.status_message;
   ASSERT_TRUE(ros::service::call("/flapsim/delete", del));
 
   dynamic_reconfigure::Reconfigure r;

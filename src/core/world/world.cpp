@@ -381,46 +381,6 @@ void World::setAirModel(AirModelPtr model) {
   impl_->setAirModel(std::move(model));
 }
 
-std::vector<int> checkWingCommands(const CreatureModel& model,
-                                   const std::vector<std::string>& joints,
-                                   const std::vector<StrokeCommand>& commands) {
-  std::vector<int> targets;
-  if (joints.empty()) {
-    targets = model.wing_joints;
-  } else {
-    for (const std::string& name : joints) {
-      const int j = model.findJoint(name);
-      if (j < 0) throw InputError("no joint '" + name + "'");
-      if (!model.joints[j].wing) throw InputError("joint '" + name + "' is not a wing joint");
-      if (std::find(targets.begin(), targets.end(), j) != targets.end()) {
-        throw InputError("joint '" + name + "' is named twice");
-      }
-      targets.push_back(j);
-    }
-  }
-  if (targets.size() != commands.size()) {
-    throw InputError(std::to_string(commands.size()) + " commands for " +
-                     std::to_string(targets.size()) + " wing joints");
-  }
-  for (size_t i = 0; i < commands.size(); ++i) {
-    const JointModel& j = model.joints[targets[i]];
-    const std::string err = validateStroke(commands[i]);
-    if (!err.empty()) throw InputError("joint '" + j.name + "': " + err);
-    // The stroke turns where the wing reaches offset -+ amplitude: beyond a limit the wing
-    // would rest on its stop with the motor pushing, and never turn.
-    const double amplitude = commands[i].amplitude, offset = commands[i].offset;
-    if (j.limited && j.lower < j.upper &&
-        (offset + amplitude >= j.upper || offset - amplitude <= j.lower)) {
-      std::ostringstream msg;
-      msg << "joint '" << j.name << "': amplitude " << amplitude;
-      if (offset != 0.0) msg << " about offset " << offset;
-      msg << " rad does not fit inside its limits [" << j.lower << ", " << j.upper << "]";
-      throw InputError(msg.str());
-    }
-  }
-  return targets;
-}
-
 void World::setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
                             const std::vector<StrokeCommand>& commands) {
   const CreatureModelPtr& model = impl_->model(creature);
