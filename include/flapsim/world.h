@@ -224,6 +224,9 @@ class World {
   /// Raw joint-velocity target on a movable joint (replaces a stroke there).
   void setJointVelocityTarget(const std::string& creature, const std::string& joint,
                               double velocity);
+  /// Holds a movable joint at its present angle with its motor (within its effort), until
+  /// another command: a servo towards that angle, which a load does not make creep.
+  void holdJoint(const std::string& creature, const std::string& joint);
   /// Stops driving a joint: it becomes passive.
   void clearJointCommand(const std::string& creature, const std::string& joint);
   /// Current stroke command of a wing joint (zero if none).

@@ -270,7 +270,7 @@ void SimulatorNode::applyTimeouts() {
     for (int j : c->model->wing_joints) {
       const std::string& joint = c->model->joints[j].name;
       if (hold) {
-        world_.setJointVelocityTarget(c->name, joint, 0.0);
+        world_.holdJoint(c->name, joint);
       } else {
         world_.clearJointCommand(c->name, joint);
       }

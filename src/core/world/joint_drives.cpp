@@ -34,6 +34,9 @@ void driveJoint(const JointModel& j, size_t ji, JointDrive& d, ServoStage& servo
     case JointDrive::Mode::kVelocity:
       motorDemand(j, ji, servos, mb, d.velocity, dt);
       break;
+    case JointDrive::Mode::kHold:
+      motorDemand(j, ji, servos, mb, (d.position - mb.getJointPos(link)) / kHoldTime, dt);
+      break;
     case JointDrive::Mode::kPassive:
       // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
       if (j.friction > 0.0) servos.demand(j.child_link, 0.0, j.friction, dt);

@@ -20,11 +20,16 @@ constexpr double kFeatherTime = 0.005;
 
 // How a movable joint is driven this step.
 struct JointDrive {
-  enum class Mode { kPassive, kStroke, kVelocity };
+  enum class Mode { kPassive, kStroke, kVelocity, kHold };
   Mode mode = Mode::kPassive;
   StrokeGenerator stroke;
   double velocity = 0.0;
+  double position = 0.0;  // kHold: the angle held, approached with the time constant kHoldTime
 };
+
+// A held joint's servo asks for (held angle - angle) / kHoldTime: a load that a velocity target
+// of zero let creep (contacts act after the servo) leaves an offset of creep x kHoldTime.
+constexpr double kHoldTime = 0.01;  // s
 
 // A wing reversing in the next step of the multibody `mb`: whether a stroke reaches its turning
 // point within the step or a stroke's servo was saturated in the last one (the stretch in which a

@@ -197,6 +197,17 @@ class World::Impl {
     d.velocity = velocity;
   }
 
+  void hold(const std::string& creature, const std::string& joint) {
+    const size_t c = index(creature);
+    const int j = jointIndex(c, joint);
+    if (!records_[c].model->joints[j].movable()) {
+      throw InputError("joint '" + joint + "' of creature '" + creature + "' is fixed");
+    }
+    JointDrive& d = records_[c].drives[j];
+    d.mode = JointDrive::Mode::kHold;
+    d.position = readState(*records_[c].model, *sims_[c]).joint_positions[j];
+  }
+
   void clearDrive(const std::string& creature, const std::string& joint) {
     const size_t c = index(creature);
     records_[c].drives[jointIndex(c, joint)] = JointDrive();
@@ -396,6 +407,10 @@ void World::setWingCommands(const std::string& creature, const std::vector<std::
 void World::setJointVelocityTarget(const std::string& creature, const std::string& joint,
                                    double velocity) {
   impl_->setVelocityTarget(creature, joint, velocity);
+}
+
+void World::holdJoint(const std::string& creature, const std::string& joint) {
+  impl_->hold(creature, joint);
 }
 
 void World::clearJointCommand(const std::string& creature, const std::string& joint) {
