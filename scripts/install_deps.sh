@@ -18,7 +18,7 @@ PACKAGES=(
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   # simulator node: Python message classes, so rostopic/rosservice/rosbag can show them
   python3-std-srvs python3-geometry-msgs python3-sensor-msgs python3-nav-msgs python3-tf2-msgs
-  python3-visualization-msgs
+  python3-visualization-msgs python3-diagnostic-msgs
   # physics, robot description, configuration
   libbullet-dev libeigen3-dev liburdfdom-dev libtinyxml2-dev libconsole-bridge-dev
   libyaml-cpp-dev
