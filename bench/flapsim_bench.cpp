@@ -324,14 +324,15 @@ int main(int argc, char** argv) {
       }
       ++i;
     } else {
+      const bool help = a == "--help" || a == "-h";  // asked for: on stdout, exit 0
       std::fprintf(
-          stderr,
+          help ? stdout : stderr,
           "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
           "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
           "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
           "[--runs N] [--seconds S]\n"
           "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n");
-      return 2;
+      return help ? 0 : 2;
     }
   }
   WorldParams at_step;

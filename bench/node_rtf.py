@@ -12,13 +12,13 @@ Prints figures; never fails on time.
 """
 import argparse
 import os
-import socket
 import subprocess
 import sys
 import tempfile
 import time
 
 import rospy
+from private_master import PrivateMaster
 from rosgraph_msgs.msg import Clock
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -28,12 +28,6 @@ if os.path.basename(ROOT) == "lib":
     PREFIX = os.path.dirname(ROOT)
 else:
     PREFIX = os.path.join(ROOT, "build", "devel")
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def sim_time(timeout=10.0):
@@ -63,22 +57,10 @@ creatures:
     pose: {{xyz: [0, 0, 1000], rpy: [0, 0, 0]}}
     wing_command: {{downstroke_rate: 30, upstroke_rate: 10, amplitude: 0.8}}
 """)
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}")
-    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
-    log = open(os.path.join(tmp, "log.txt"), "w")
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log, stderr=log)
-    node = None
+    master = PrivateMaster(os.path.join(tmp, "log.txt"))
     try:
-        for _ in range(100):
-            try:
-                with socket.create_connection(("127.0.0.1", port), timeout=0.2):
-                    break
-            except OSError:
-                time.sleep(0.1)
-        subprocess.run(["rosparam", "load", params, "/flapsim"], env=env, check=True)
-        node = subprocess.Popen([os.path.join(args.devel, "lib", "flapsim", "flapsim_node")],
-                                env=env, stdout=log, stderr=log)
+        master.run(["rosparam", "load", params, "/flapsim"])
+        master.start([os.path.join(args.devel, "lib", "flapsim", "flapsim_node")])
         rospy.init_node("node_rtf", anonymous=True, disable_signals=True)
         if args.subscribe:
             for t in ["/tf", "/c/odom", "/c/joint_states"]:
@@ -94,13 +76,7 @@ creatures:
               f"sim {s1 - s0:.2f} s in {w1 - w0:.2f} s wall -> real-time factor "
               f"{node_rtf:.1f}", flush=True)
     finally:
-        for p in (node, core):
-            if p:
-                p.terminate()
-                try:
-                    p.wait(timeout=10)
-                except subprocess.TimeoutExpired:
-                    p.kill()
+        master.stop()
     # The core alone, same creature, same simulated stretch [s0, s1].
     out = subprocess.run([os.path.join(args.devel, "lib", "flapsim", "flapsim_bench"), "--urdf",
                           urdf, "--height", "1000", "--no-ground", "--skip", f"{s0:.3f}",

@@ -16,9 +16,7 @@ import argparse
 import math
 import os
 import random
-import socket
 import statistics
-import subprocess
 import sys
 import tempfile
 import threading
@@ -26,6 +24,7 @@ import time
 
 import rospy
 from flapsim.srv import DeleteCreature, GetPhysics, SpawnCreature
+from private_master import PrivateMaster
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 if os.path.basename(ROOT) == "lib":
@@ -60,12 +59,6 @@ def layouts():
             ("256 turned, overlapping", link(turned)), ("1000 boxes (refused)", link(big))]
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -73,23 +66,11 @@ def main():
     ap.add_argument("--devel", default=PREFIX)
     args = ap.parse_args()
     tmp = tempfile.mkdtemp(prefix="flapsim_spawn_")
-    port = free_port()
-    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}")
-    os.environ["ROS_MASTER_URI"] = env["ROS_MASTER_URI"]
-    log = open(os.path.join(tmp, "log.txt"), "w")
-    core = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdout=log, stderr=log)
-    node = None
+    master = PrivateMaster(os.path.join(tmp, "log.txt"))
     try:
-        for _ in range(100):
-            try:
-                with socket.create_connection(("127.0.0.1", port), timeout=0.2):
-                    break
-            except OSError:
-                time.sleep(0.1)
-        subprocess.run(["rosparam", "set", "/flapsim/paused", "true"], env=env, check=True)
-        subprocess.run(["rosparam", "set", "/flapsim/ground", "false"], env=env, check=True)
-        node = subprocess.Popen([os.path.join(args.devel, "lib", "flapsim", "flapsim_node")],
-                                env=env, stdout=log, stderr=log)
+        master.run(["rosparam", "set", "/flapsim/paused", "true"])
+        master.run(["rosparam", "set", "/flapsim/ground", "false"])
+        master.start([os.path.join(args.devel, "lib", "flapsim", "flapsim_node")])
         rospy.init_node("spawn_latency", anonymous=True, disable_signals=True)
         rospy.wait_for_service("/flapsim/get_physics", timeout=30)
         spawn = rospy.ServiceProxy("/flapsim/spawn", SpawnCreature, persistent=True)
@@ -121,13 +102,7 @@ def main():
         print(f"get_physics meanwhile: {len(waits)} calls, median "
               f"{1e3 * statistics.median(waits):.2f} ms, longest {1e3 * max(waits):.1f} ms")
     finally:
-        for p in (node, core):
-            if p:
-                p.terminate()
-                try:
-                    p.wait(timeout=10)
-                except subprocess.TimeoutExpired:
-                    p.kill()
+        master.stop()
     return 0
 
 
