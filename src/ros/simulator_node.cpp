@@ -17,8 +17,7 @@ constexpr double kMaxPacingLag = 0.25;  // s (wall) behind schedule before pacin
 constexpr double kPausedPoll = 0.1;     // s (wall) longest callback wait (shutdown is seen)
 constexpr double kRunSlice = 0.05;      // s (wall) of stepping between callback rounds
 // Steps between checks of the wall time and shutdown: at most this many, and as many as take
-// about kSliceTarget of wall time (one, for a creature whose step is slow: a long chain on
-// the ground).
+// about kSliceTarget of wall time (one, for a slow step: a long chain on the ground).
 constexpr std::uint64_t kSliceSteps = 10;
 constexpr double kSliceTarget = 0.01;       // s (wall)
 constexpr double kDiagnosticsPeriod = 1.0;  // s (wall) between unchanged diagnostics
@@ -163,14 +162,13 @@ void SimulatorNode::advertiseCreature(Creature& c, const std::string& urdf_xml) 
   std_msgs::String text;
   text.data = urdf_xml;
   c.description.publish(text);
-  // A new subscriber gets the current step at once, as of /clock (a paused world is seen).
-  // By name: a callback queued before a delete runs after it.
-  const int queue = publishQueueSize(params_);  // a recorder may lag (kPublishQueueSeconds)
+  // A new subscriber gets the current step at once (a paused world is seen); by name: a
+  // callback queued before a delete runs after it. A recorder may lag: publishQueueSize.
+  const int queue = publishQueueSize(params_);
   c.joint_states = c.nh.advertise<sensor_msgs::JointState>(
       name + "/joint_states", queue, [this, name](const ros::SingleSubscriberPublisher& p) {
-        if (const Creature* c = find(name)) {
+        if (const Creature* c = find(name))
           p.publish(jointStateMsg(*c->model, world_.state(name), now()));
-        }
       });
   c.odom = c.nh.advertise<nav_msgs::Odometry>(
       name + "/odom", queue, [this, name](const ros::SingleSubscriberPublisher& p) {
@@ -183,7 +181,9 @@ void SimulatorNode::advertiseCreature(Creature& c, const std::string& urdf_xml) 
                                              if (const Creature* c = find(name))
                                                p.publish(imuMsgOf(*c, world_.state(name), now()));
                                            });
-  c.power = std::make_unique<PowerPublisher>(c.nh, name, c.model, queue);
+  c.power = std::make_unique<PowerPublisher>(c.nh, name, c.model, queue, [this, name] {
+    return std::make_pair(find(name) ? world_.power(name) : flapsim::CreaturePower(), now());
+  });
   c.wing_command = c.nh.subscribe<flapsim::WingCommand>(
       name + "/wing_command", 10,
       [this, name](const flapsim::WingCommand::ConstPtr& msg) { onWingCommand(name, msg); });

@@ -231,7 +231,8 @@ TEST_F(Interfaces, SetPhysicsChangesGravityAndTheAirAndTheConfigFollows) {
 }
 
 // With use_sim_time (as every launch file sets it), `rostopic echo -n1` of /clock, of a
-// creature's odom and imu, answers while the node is paused, with the current sim time.
+// creature's odom, imu, joint_states and power, answers while the node is paused, with the
+// current sim time (power hung).
 TEST_F(Interfaces, RostopicEchoAnswersWhilePaused) {
   bool sim_time = false;
   ASSERT_TRUE(ros::param::get("/use_sim_time", sim_time) && sim_time);
@@ -241,7 +242,8 @@ TEST_F(Interfaces, RostopicEchoAnswersWhilePaused) {
   // Three times each: whether rospy's own /clock subscriber (which shares the connection)
   // takes the one message a new connection gets varies from run to run.
   for (int i = 0; i < 3; ++i) {
-    for (const char* topic : {"/clock", "/plate/odom", "/plate/imu", "/fu/joint_states"}) {
+    for (const char* topic :
+         {"/clock", "/plate/odom", "/plate/imu", "/fu/joint_states", "/fu/power"}) {
       const std::string out = firstMessageOf(topic);
       EXPECT_TRUE(std::regex_search(out, at_t)) << topic << " at " << t << ":\n" << out;
     }
