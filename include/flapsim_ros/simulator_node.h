@@ -175,6 +175,7 @@ class SimulatorNode {
   void applyConfig(const flapsim::FlapsimConfig& config);
   /// What runs, as a dynamic_reconfigure config.
   flapsim::FlapsimConfig runningConfig() const;
+  flapsim::FlapsimConfig launch_config_;  // what ran at start-up: flapsim/reset restores it
 
   NodeParams params_;
   ros::CallbackQueue queue_;

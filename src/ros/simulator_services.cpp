@@ -1,7 +1,9 @@
 // The simulator node's services and topic callbacks (SimulatorNode, continued): they run on
 // the node's queue between steps.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 #include "flapsim_ros/reconfigure_bounds.h"
 #include "flapsim_ros/simulator_node.h"
@@ -9,6 +11,9 @@
 
 namespace flapsim_ros {
 namespace {
+
+// A vector's components, to tie to a config's x, y and z.
+std::tuple<double, double, double> xyz(const geometry_msgs::Vector3& v) { return {v.x, v.y, v.z}; }
 
 constexpr double kGroundTolerance = 1e-3;  // m below the ground before a reply says so
 
@@ -60,6 +65,7 @@ void SimulatorNode::advertiseServices() {
       pnh_.advertiseService("clear_wrenches", &SimulatorNode::onClearWrenches, this));
   services_.push_back(pnh_.advertiseService("get_physics", &SimulatorNode::onGetPhysics, this));
   services_.push_back(pnh_.advertiseService("set_physics", &SimulatorNode::onSetPhysics, this));
+  launch_config_ = runningConfig();  // what reset restores
 }
 
 void SimulatorNode::onWingCommand(const std::string& creature,
@@ -76,6 +82,12 @@ void SimulatorNode::onWingCommand(const std::string& creature,
 }
 
 bool SimulatorNode::onReset(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
+  try {
+    applyConfig(launch_config_);  // the physics the node started with
+  } catch (const flapsim::InputError& e) {
+    warnThrottled("reset", "", "reset keeps the running physics: " + std::string(e.what()));
+  }
+  reconfigure_->updateConfig(runningConfig());
   world_.reset();
   tf_->clear();  // time starts again: listeners that see it jump back clear their buffers
   for (const auto& c : creatures_) {
@@ -414,24 +426,32 @@ bool SimulatorNode::onGetPhysics(flapsim::GetPhysics::Request&,
 bool SimulatorNode::onSetPhysics(flapsim::SetPhysics::Request& req,
                                  flapsim::SetPhysics::Response& res) {
   return serve(res, "set_physics refused, nothing changed: ", "", [&] {
-    if (req.step_size != params_.world.step_size) {
+    static const std::vector<std::string> kFields = {
+        "real_time_factor", "publish_rate", "gravity", "air_density", "drag_coefficient", "wind"};
+    for (const std::string& f : req.fields) {
+      if (std::find(kFields.begin(), kFields.end(), f) == kFields.end()) {
+        throw flapsim::InputError("fields: '" + f + "' is not one of real_time_factor, " +
+                                  "publish_rate, gravity, air_density, drag_coefficient, wind");
+      }
+    }
+    auto named = [&](const char* f) {
+      return req.fields.empty() ||
+             std::find(req.fields.begin(), req.fields.end(), f) != req.fields.end();
+    };
+    if (req.fields.empty() && req.step_size != params_.world.step_size) {
       std::ostringstream what;
       what << "step_size " << req.step_size << " s: the step size cannot change while the node "
            << "runs (it is ~step_size, " << params_.world.step_size << " s); set_physics "
-           << "takes every field: start from flapsim/get_physics";
+           << "takes every field: start from flapsim/get_physics, or name the fields to change";
       throw flapsim::InputError(what.str());
     }
     flapsim::FlapsimConfig c = runningConfig();
-    c.real_time_factor = req.real_time_factor;
-    c.publish_rate = req.publish_rate;
-    c.gravity_x = req.gravity.x;
-    c.gravity_y = req.gravity.y;
-    c.gravity_z = req.gravity.z;
-    c.density = req.air_density;
-    c.drag_coefficient = req.drag_coefficient;
-    c.wind_x = req.wind.x;
-    c.wind_y = req.wind.y;
-    c.wind_z = req.wind.z;
+    if (named("real_time_factor")) c.real_time_factor = req.real_time_factor;
+    if (named("publish_rate")) c.publish_rate = req.publish_rate;
+    if (named("gravity")) std::tie(c.gravity_x, c.gravity_y, c.gravity_z) = xyz(req.gravity);
+    if (named("air_density")) c.density = req.air_density;
+    if (named("drag_coefficient")) c.drag_coefficient = req.drag_coefficient;
+    if (named("wind")) std::tie(c.wind_x, c.wind_y, c.wind_z) = xyz(req.wind);
     applyConfig(c);
     reconfigure_->updateConfig(runningConfig());  // dynparam get shows what runs
     res.status_message = "physics set at t = " + formatTime(now()) + " s";

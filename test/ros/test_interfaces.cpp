@@ -230,6 +230,44 @@ TEST_F(Interfaces, SetPhysicsChangesGravityAndTheAirAndTheConfigFollows) {
   EXPECT_EQ(getPhysics().gravity.z, -9.81);
 }
 
+// set_physics with `fields` changes only the fields named ({wind: {x: 1}} alone zeroed gravity
+// and density); an unknown field is refused; reset restores the physics of the start (it kept
+// the changed ones).
+TEST_F(Interfaces, SetPhysicsChangesOnlyTheNamedFieldsAndResetRestoresTheStart) {
+  const auto start = getPhysics();
+  flapsim::SetPhysics::Request r;
+  r.fields = {"wind"};
+  r.wind.x = 1.0;
+  ASSERT_TRUE(setPhysics(r).success);
+  const auto windy = getPhysics();
+  EXPECT_EQ(windy.wind.x, 1.0);
+  EXPECT_EQ(windy.gravity.z, start.gravity.z);
+  EXPECT_EQ(windy.air_density, start.air_density);
+  EXPECT_EQ(windy.drag_coefficient, start.drag_coefficient);
+  EXPECT_EQ(windy.publish_rate, start.publish_rate);
+  EXPECT_EQ(windy.real_time_factor, start.real_time_factor);
+  r.fields = {"wind", "gravitty"};
+  const auto refused = setPhysics(r);
+  EXPECT_FALSE(refused.success);
+  EXPECT_NE(refused.status_message.find("fields: 'gravitty' is not one of"), std::string::npos)
+      << refused.status_message;
+  r.fields = {"gravity", "air_density"};
+  r.gravity.z = -3.0;
+  r.air_density = 2.0;
+  ASSERT_TRUE(setPhysics(r).success);
+  EXPECT_EQ(getPhysics().gravity.z, -3.0);
+  EXPECT_EQ(getPhysics().wind.x, 1.0);  // kept
+  std_srvs::Empty reset;
+  ASSERT_TRUE(ros::service::call("/flapsim/reset", reset));
+  const auto after = getPhysics();
+  EXPECT_EQ(after.gravity.z, start.gravity.z);
+  EXPECT_EQ(after.air_density, start.air_density);
+  EXPECT_EQ(after.wind.x, start.wind.x);
+  double gravity_z = 0.0;
+  EXPECT_TRUE(ros::param::get("/flapsim/gravity_z", gravity_z));  // the config follows
+  EXPECT_EQ(gravity_z, start.gravity.z);
+}
+
 // With use_sim_time (as every launch file sets it), `rostopic echo -n1` of /clock, of a
 // creature's odom, imu, joint_states and power, answers while the node is paused, with the
 // current sim time (power hung).
