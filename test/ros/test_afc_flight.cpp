@@ -47,6 +47,12 @@ TEST(AfcFlight, StaysUprightAndClimbsUntilTheDuration) {
   pnh.getParam("duration", duration);
   pnh.getParam("min_climb", min_climb);
   pnh.getParam("wall_timeout", wall_timeout);
+  // ~lockstep_param: a controller's lockstep parameter that must be true (a launch's default).
+  std::string lockstep_param;
+  if (pnh.getParam("lockstep_param", lockstep_param)) {
+    bool lockstep = false;
+    EXPECT_TRUE(ros::param::get(lockstep_param, lockstep) && lockstep) << lockstep_param;
+  }
   std::vector<Flight> flights(topics.size());
   std::vector<ros::Subscriber> subs;
   for (size_t i = 0; i < topics.size(); ++i) {
