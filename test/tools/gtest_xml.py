@@ -14,3 +14,15 @@ def write_result(args, suite, case, problems):
         f.write(f'<?xml version="1.0"?>\n<testsuites><testsuite name="{suite}" tests="1" '
                 f'failures="{1 if problems else 0}"><testcase name="{case}" classname="{suite}">'
                 f'{body}</testcase></testsuite></testsuites>\n')
+
+
+def run_unittests(args, suite, case):
+    """Runs the calling module's unittest cases (argv: the program name only), writes their
+    failures as one gtest-style result if `args` asks for it, and exits 1 if any failed."""
+    import sys
+    import unittest
+    result = unittest.main(argv=args[:1], exit=False, verbosity=2).result
+    problems = [f"{test.id()}: {trace.strip().splitlines()[-1]}"
+                for test, trace in result.failures + result.errors]
+    write_result(args, suite, case, problems)
+    sys.exit(1 if problems else 0)

@@ -11,7 +11,7 @@ import subprocess
 import sys
 import unittest
 
-from gtest_xml import write_result
+from gtest_xml import run_unittests
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 DEVEL = sys.argv[1]
@@ -51,9 +51,4 @@ class MessageTypes(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv if not a.startswith("--gtest_output=")][:1]
-    result = unittest.main(argv=args, exit=False, verbosity=2).result
-    problems = [f"{test.id()}: {trace.strip().splitlines()[-1]}"
-                for test, trace in result.failures + result.errors]
-    write_result(sys.argv, "message_types", "EveryDocumentedTypeLoads", problems)
-    sys.exit(1 if problems else 0)
+    run_unittests(sys.argv, "message_types", "EveryDocumentedTypeLoads")

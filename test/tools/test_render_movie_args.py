@@ -12,7 +12,7 @@ import sys
 import tempfile
 import unittest
 
-from gtest_xml import write_result
+from gtest_xml import run_unittests
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 TOOL = os.path.join(ROOT, "scripts", "render_movie.py")
@@ -77,9 +77,4 @@ class RenderMovieArgs(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv if not a.startswith("--gtest_output=")]
-    result = unittest.main(argv=args, exit=False, verbosity=2).result
-    problems = [f"{test.id()}: {trace.strip().splitlines()[-1]}"
-                for test, trace in result.failures + result.errors]
-    write_result(sys.argv, "render_movie_args", "RefusesBadArguments", problems)
-    sys.exit(1 if problems else 0)
+    run_unittests(sys.argv, "render_movie_args", "RefusesBadArguments")

@@ -12,7 +12,7 @@ import sys
 import tempfile
 import unittest
 
-from gtest_xml import write_result
+from gtest_xml import run_unittests
 
 # (tool, its help flag, the start of its usage)
 TOOLS = [
@@ -67,9 +67,4 @@ class RosrunHelp(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv if not a.startswith("--gtest_output=")][:1]
-    result = unittest.main(argv=args, exit=False, verbosity=2).result
-    problems = [f"{test.id()}: {trace.strip().splitlines()[-1]}"
-                for test, trace in result.failures + result.errors]
-    write_result(sys.argv, "rosrun_help", "EveryToolAnswersHelp", problems)
-    sys.exit(1 if problems else 0)
+    run_unittests(sys.argv, "rosrun_help", "EveryToolAnswersHelp")
