@@ -75,7 +75,11 @@ class SimulatorNode {
     std::optional<WingCommandRequest> command;         // last valid one, re-applied after reset
     std::uint64_t command_step = 0;  // step count when `command` came (the timeout's start)
     bool command_lapsed = false;     // wing_command_timeout passed since: wings held or released
+    double command_lag = 0.0;  // s of sim time: how old the state its last command answered was
   };
+  /// A wing command answering a state (its stamp) older than this (s of sim time) is a
+  /// controller falling behind: warned, and shown on /diagnostics.
+  static constexpr double kCommandLagWarning = 0.1;
   /// A frame of flapsim/get_state, set_state or apply_wrench's `reference_frame`, in the world.
   struct ReferenceFrame {
     std::string name;      // "" (the world) or "<creature>/<link>"

@@ -296,31 +296,6 @@ void SimulatorNode::reportDivergences() {
   if (!frozen.empty()) publishDiagnostics();
 }
 
-void SimulatorNode::publishDiagnostics() {
-  diagnostics_wall_ = ros::WallTime::now();
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = now();
-  for (const auto& c : creatures_) {
-    diagnostic_msgs::DiagnosticStatus s;
-    s.name = "flapsim: " + c->name;
-    s.hardware_id = c->name;
-    const std::optional<flapsim::Divergence> d = world_.divergence(c->name);
-    if (d) {
-      s.level = diagnostic_msgs::DiagnosticStatus::ERROR;
-      s.message = "frozen: diverged at step " + std::to_string(d->step) + ": " + d->quantity;
-    } else if (c->command_lapsed) {
-      s.level = diagnostic_msgs::DiagnosticStatus::WARN;
-      s.message = "wing command timed out at t = " +
-                  formatTime(simTime(c->command_step + timeout_steps_, step_ns_)) + " s";
-    } else {
-      s.level = diagnostic_msgs::DiagnosticStatus::OK;
-      s.message = "running";
-    }
-    array.status.push_back(s);
-  }
-  diagnostics_pub_.publish(array);
-}
-
 sensor_msgs::Imu SimulatorNode::imuMsgOf(const Creature& c, const flapsim::CreatureState& s,
                                          const ros::Time& stamp) {
   const flapsim::ImuNoise noise{params_.imu.orientation_noise, params_.imu.angular_velocity_noise,

@@ -73,7 +73,22 @@ void SimulatorNode::onWingCommand(const std::string& creature,
   try {
     WingCommandRequest r = fromMsg(*msg);
     world_.setWingCommands(creature, r.joints, r.strokes);
-    if (Creature* c = find(creature)) commanded(*c, std::move(r));
+    Creature* c = find(creature);
+    if (!c) return;
+    commanded(*c, std::move(r));
+    // Controllers stamp a command with the state it answers: its age is their lag.
+    const double lag =
+        msg->header.stamp.isZero() ? 0.0 : std::max(0.0, (now() - msg->header.stamp).toSec());
+    const bool was_lagging = c->command_lag > kCommandLagWarning;
+    c->command_lag = lag;
+    if (lag > kCommandLagWarning) {
+      warnThrottled("wing_command/lag", creature,
+                    "creature '" + creature + "': its wing command answers a state " +
+                        formatTime(ros::Time(lag)) +
+                        " s of sim time old: its controller falls behind " +
+                        "(lower the real-time factor, or run it in lockstep)");
+    }
+    if (was_lagging != (lag > kCommandLagWarning)) publishDiagnostics();
   } catch (const flapsim::InputError& e) {
     warnThrottled("wing_command/" + WarningLimiter::kindOf(e.what()), creature,
                   "rejected wing command for '" + creature + "': " + e.what() +

@@ -317,6 +317,49 @@ TEST_F(NodeGuards, ShapeLimitsAndDroppedElementsAreRefusedByName) {
   EXPECT_TRUE(g.response.success);
 }
 
+// A controller that falls behind (its command answers a state 0.5 s of sim time old, by its
+// stamp) is named on /diagnostics and in the log; a timely command clears it (it was silent).
+TEST_F(NodeGuards, ALaggingControllerIsNamedOnDiagnostics) {
+  flapsim::SpawnCreature s;
+  s.request.name = "lagger";
+  s.request.urdf_file = std::string(FLAPSIM_SOURCE_DIR) + "/urdf/plate.urdf";
+  s.request.initial_pose.position.x = 60;
+  s.request.initial_pose.position.z = 0.0011;  // resting on the ground (max_speed is 2 m/s)
+  s.request.initial_pose.orientation.w = 1;
+  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s) && s.response.success);
+  ros::Publisher commands = nh_->advertise<flapsim::WingCommand>("/lagger/wing_command", 10);
+  ASSERT_TRUE(waitUntil([&] { return commands.getNumSubscribers() > 0; }));
+  const flapsim::Step stepped = step(1000);
+  const ros::Time now(stepped.response.sim_time);
+  // Whether lagger's latest status on /diagnostics says `text` (waited for).
+  auto status = [&](const std::string& text) {
+    return waitUntil([&] {
+      std::string latest;
+      for (const auto& a : diagnostics_.msgs) {
+        for (const auto& st : a->status) {
+          if (st.name == "flapsim: lagger") latest = st.message;
+        }
+      }
+      return latest.find(text) != std::string::npos;
+    });
+  };
+  flapsim::WingCommand late;  // a plate has no wings: the empty command is valid
+  late.header.stamp = now - ros::Duration(0.5);
+  commands.publish(late);
+  EXPECT_TRUE(status("wing commands lag: the last answered a state 0.5"));
+  EXPECT_TRUE(waitUntil([] {
+    return logged(rosgraph_msgs::Log::WARN,
+                  "creature 'lagger': its wing command answers a state 0.5") == 1;
+  }));
+  flapsim::WingCommand timely;
+  timely.header.stamp = now;
+  commands.publish(timely);
+  EXPECT_TRUE(status("running"));
+  flapsim::DeleteCreature d;
+  d.request.name = "lagger";
+  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+}
+
 // Smaller items of issue 27: set_state to z = -0.5 threw a creature to 4.2 m without a word;
 // dynamic_reconfigure's clamps (density 1e9 -> 1e5) were logged by no one.
 TEST_F(NodeGuards, ASetStateBelowTheGroundAndAClampedReconfigureAreSaid) {
