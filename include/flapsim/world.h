@@ -240,10 +240,11 @@ class World {
   /// position outside its limits, a moving fixed base) and changes nothing.
   void setState(const std::string& creature, const StateRequest& request);
   /// Applies `wrench` to a link of a creature from the next step on, for
-  /// round(duration / step_size) steps (at least one, duration at most kMaxWrenchDuration;
-  /// < 0: until cleared). The point moves with the link. Counted in the momentum balance
-  /// like the air. At most kMaxWrenches act on a creature at a time. Throws InputError naming
-  /// the culprit and changes nothing.
+  /// round(duration / step_size) steps (at least one: a duration shorter than a step, 0
+  /// included, acts for one step, as in gazebo_msgs/ApplyBodyWrench; at most
+  /// kMaxWrenchDuration; < 0: until cleared). The point moves with the link. Counted in the
+  /// momentum balance like the air. At most kMaxWrenches act on a creature at a time. Throws
+  /// InputError naming the culprit and changes nothing.
   void applyWrench(const std::string& creature, const ExternalWrench& wrench);
   /// Removes the external wrenches of a creature (empty: of every creature), and of one of
   /// its links only if `link` is given. Returns how many were removed.

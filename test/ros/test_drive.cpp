@@ -358,10 +358,6 @@ TEST_F(Drive, BadRequestsAreRefusedWithTheirCause) {
   x.wrench.force.y = std::nan("");
   a = applyWrench(x);
   expectRefused(a.success, a.status_message, "force");
-  x = w;
-  x.duration = ros::Duration(0.0001);
-  a = applyWrench(x);
-  expectRefused(a.success, a.status_message, "duration");
   auto c = clearWrenches("ghost");
   expectRefused(c.success, c.status_message, "ghost");
   c = clearWrenches("flap_unit", "tail");

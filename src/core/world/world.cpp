@@ -239,11 +239,9 @@ class World::Impl {
     CreatureRecord& r = records_[c];
     const int k = w.link.empty() ? 0 : r.model->findLink(w.link);
     if (k < 0) throw InputError("creature '" + creature + "' has no link '" + w.link + "'");
-    const double steps = w.duration < 0.0 ? -1.0 : std::round(w.duration / params_.step_size);
-    if (w.duration >= 0.0 && steps < 1.0) {
-      throw InputError("creature '" + creature + "': wrench duration " +
-                       std::to_string(w.duration) + " s is shorter than half a step");
-    }
+    // As gazebo_msgs/ApplyBodyWrench: shorter than a step (0 included) is one step.
+    const double steps =
+        w.duration < 0.0 ? -1.0 : std::max(1.0, std::round(w.duration / params_.step_size));
     if (r.wrenches.size() >= static_cast<size_t>(kMaxWrenches)) {
       throw InputError("creature '" + creature + "' has " + std::to_string(kMaxWrenches) +
                        " wrenches acting, the limit: clear some first");
