@@ -16,12 +16,6 @@ struct VolumeMoment {
   Vec3 moment = Vec3::Zero();
 };
 
-// The body-frame axis-aligned bounds of a box.
-Eigen::AlignedBox3d bounds(const Box& box) {
-  const Vec3 half = box.origin.orientation.toRotationMatrix().cwiseAbs() * (0.5 * box.size);
-  return Eigen::AlignedBox3d(box.origin.position - half, box.origin.position + half);
-}
-
 // Whether `m` only permutes axes and flips their signs.
 bool isSignedPermutation(const Eigen::Matrix3d& m) {
   for (int i = 0; i < 9; ++i) {
@@ -318,7 +312,7 @@ BoxGroups groupBoxes(const std::vector<Box>& boxes) {
   std::vector<Eigen::AlignedBox3d> box_bounds;
   double largest = 0.0;
   for (const Box& box : boxes) {
-    box_bounds.push_back(bounds(box));
+    box_bounds.push_back(boxBounds(box));
     largest = std::max(largest, box.size.maxCoeff());
   }
   g.pairs = overlappingBounds(box_bounds, 1e-12 * largest);
@@ -344,6 +338,11 @@ BoxGroups groupBoxes(const std::vector<Box>& boxes) {
 }
 
 }  // namespace
+
+Eigen::AlignedBox3d boxBounds(const Box& box) {
+  const Vec3 half = box.origin.orientation.toRotationMatrix().cwiseAbs() * (0.5 * box.size);
+  return Eigen::AlignedBox3d(box.origin.position - half, box.origin.position + half);
+}
 
 size_t turnedOverlaps(const std::vector<Box>& boxes) { return groupBoxes(boxes).turned_pairs; }
 

@@ -38,6 +38,9 @@ constexpr int kUnionLines = 128;
 /// union's work is 128^2 line-box tests for each (a link's are bounded by kMaxTurnedOverlaps).
 size_t turnedOverlaps(const std::vector<Box>& boxes);
 
+/// The body-frame axis-aligned bounds of a box.
+Eigen::AlignedBox3d boxBounds(const Box& box);
+
 /// The pairs (i < j) of `bounds` that share volume: overlap by more than `margin` along every
 /// axis. Sort and sweep along x: O(n log n + pairs whose x extents overlap).
 std::vector<std::pair<size_t, size_t>> overlappingBounds(

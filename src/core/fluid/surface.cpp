@@ -255,10 +255,7 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
   // The shapes (boxes, then round shapes) whose bounds touch each shape's: only they can hide
   // its cells.
   std::vector<Eigen::AlignedBox3d> bounds;
-  for (const Box& box : boxes) {
-    const Vec3 half = box.origin.orientation.toRotationMatrix().cwiseAbs() * (0.5 * box.size);
-    bounds.emplace_back(box.origin.position - half, box.origin.position + half);
-  }
+  for (const Box& box : boxes) bounds.push_back(boxBounds(box));
   for (const RoundShape& r : rounds) {
     const Vec3 half =
         r.kind == RoundShape::Kind::kSphere
