@@ -1,10 +1,16 @@
 #!/usr/bin/python3
-"""Checks the size rules of src/: no file over 500 lines, no function over 80 lines.
+"""Checks the size rules of the C++ (.cpp, .h, .hpp, .cc) in src/, include/, bench/ and test/:
+no file over 500 lines (800 in test/), no function and no lambda over 80 lines.
 
-A function is a brace block opened at namespace or class level by a line that ends a
-signature (`...) {`, `...) const {`, a constructor's initialiser list, ...); its length is
-from that line to its closing brace. Prints one line per violation and exits 1 if any;
-with --gtest_output=xml:FILE also writes a gtest-style result for catkin_test_results.
+The code is read with its comments, string, raw string and character literals and preprocessor
+lines blanked out, and its braces are matched. A brace opened at namespace or class level (the
+first after `namespace {` or a `public:` label included) whose head ends like a signature
+(`...)`, `...) const override`, `...) -> T`, a constructor's initialiser list) opens a function:
+its length is from the first line of its signature to its closing brace. A brace after a
+lambda's introducer (`[...]`, `[...](...)`, `[...](...) mutable -> T`) opens a lambda wherever it
+is (a function, an initialiser list, a table), measured from its `[` to its closing brace.
+Prints one line per violation and exits 1 if any; with --gtest_output=xml:FILE also writes a
+gtest-style result for catkin_test_results.
 """
 import os
 import re
@@ -12,71 +18,218 @@ import sys
 
 from gtest_xml import write_result
 
-MAX_FILE_LINES = 500
+MAX_FILE_LINES = {'src': 500, 'include': 500, 'bench': 500, 'test': 800}
 MAX_FUNCTION_LINES = 80
+CPP = ('.cpp', '.h', '.hpp', '.cc')
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..')
 
+RAW_PREFIX = re.compile(r'(?:^|\W)(?:u8|u|U|L)?R$')
+LABELS = re.compile(r'\s*((public|private|protected)\s*:(?!:)\s*)+')
+NAMESPACE = re.compile(r'\bnamespace\b|\bextern\s*"\s*"\s*$')
+CLASS = re.compile(r'\s*(template\s*<.*>\s*)?(\[\[.*\]\]\s*)?(typedef\s+)?'
+                   r'(class|struct|union|enum)\b', re.S)
+QUALIFIERS = (r'((const|volatile|mutable|constexpr|consteval|static|noexcept|override|final|'
+              r'&&?|throw\s*\(\s*\)|noexcept\s*\(\s*\)|__attribute__\s*\(\s*\)|'
+              r'\[\[[^\]]*\]\])\s*)*(->[^;{}]*)?$')
+SIGNATURE_END = re.compile(r'\(\s*\)\s*' + QUALIFIERS)
+INITIALISER_LIST = re.compile(r'\)\s*(noexcept\s*)?:(?!:)')
+LAMBDA_END = re.compile(r'\]\s*(<[^;{}]*>\s*)?(\(\s*\)\s*)?' + QUALIFIERS)
+NAME = re.compile(r'(operator\s*(\(\s*\)|\[\s*\]|[^\s\w(][^\s(]*|\w[\w\s:<>*&]*?)|'
+                  r'(\w+\s*(<[^()<>]*>)?\s*::\s*)*~?\w+)\s*(<[^()]*>)?\s*$')
 
-def strip(line):
-    line = re.sub(r'"(\\.|[^"\\])*"', '""', line)  # strings
-    line = re.sub(r"'(\\.|[^'\\])*'", "''", line)  # characters
-    return line.split('//')[0]
+
+def blank(text):
+    """`text` with comments, string, raw string and character literals and preprocessor lines
+    blanked out (a literal keeps its quotes); newlines are kept, so line numbers are too."""
+    out = []
+    i, n = 0, len(text)
+    line_start = True  # nothing but blanks since the last newline
+
+    def skip(start, end, keep_quotes=False):
+        gap = re.sub(r'[^\n]', ' ', text[start:end])
+        if keep_quotes:  # "..." and '...' stay "  " and '  ' (extern "C" is told by them)
+            gap = text[start] + gap[1:]
+            if end - start >= 2 and text[end - 1] == text[start]:
+                gap = gap[:-1] + text[start]
+        out.append(gap)
+        return end
+
+    while i < n:
+        c = text[i]
+        if c == '\n':
+            out.append(c)
+            i += 1
+            line_start = True
+            continue
+        if line_start and c == '#':  # a preprocessor line, continued by a trailing backslash
+            end = i
+            while True:
+                end = text.find('\n', end)
+                if end < 0:
+                    end = n
+                    break
+                if text[end - 1] != '\\':
+                    break
+                end += 1
+            i = skip(i, end)
+            continue
+        if not c.isspace():
+            line_start = False
+        if text.startswith('//', i):
+            end = text.find('\n', i)
+            i = skip(i, n if end < 0 else end)
+        elif text.startswith('/*', i):
+            end = text.find('*/', i + 2)
+            i = skip(i, n if end < 0 else end + 2)
+        elif c == '"' and RAW_PREFIX.search(text[max(0, i - 4):i]):
+            open_paren = text.find('(', i)
+            delimiter = ')' + text[i + 1:open_paren] + '"'
+            end = text.find(delimiter, open_paren)
+            i = skip(i, n if open_paren < 0 or end < 0 else end + len(delimiter), True)
+        elif c == '"' or (c == "'" and not re.search(r'(?<![\w])\d\w*$', text[max(0, i - 40):i])):
+            end = i + 1  # a string or a character literal (not a digit separator as in 1'000)
+            while end < n and text[end] not in (c, '\n'):
+                end += 2 if text[end] == '\\' else 1
+            i = skip(i, min(end + 1 if end < n and text[end] == c else end, n), True)
+        else:
+            out.append(c)
+            i += 1
+    return ''.join(out)
+
+
+def empty_parens(head):
+    """`head` with the inside of every balanced (...) blanked; an unclosed `(` (a call a lambda is
+    passed to) keeps what follows it. Positions are kept."""
+    chars = list(head)
+    opened = []
+    for i, c in enumerate(chars):
+        if c == '(':
+            opened.append(i)
+        elif c == ')' and opened:
+            start = opened.pop()
+            chars[start + 1:i] = ' ' * (i - start - 1)
+    return ''.join(chars)
+
+
+def lambda_start(flat):
+    """The index of the `[` of the lambda introducer `flat` (a head, parens emptied) ends with,
+    or None: a `[...]` after an identifier (other than return) is a subscript or an array."""
+    close = flat.rfind(']')
+    if close < 0 or not LAMBDA_END.match(flat, close):
+        return None
+    depth = 0
+    for i in range(close, -1, -1):
+        depth += {']': 1, '[': -1}.get(flat[i], 0)
+        if depth == 0:
+            break
+    else:
+        return None
+    before = flat[:i].rstrip()
+    word = re.search(r'\w+$', before)
+    if before.endswith((']', ')')) or (word and word.group() != 'return') or \
+            re.search(r'operator\s*$', before):
+        return None
+    return i
+
+
+def function_name(head, flat):
+    """The name of the function whose head (parens emptied: `flat`) opens a body, or None."""
+    init = INITIALISER_LIST.search(flat)
+    end = SIGNATURE_END.search(flat)
+    if init and re.search(r'(\(\s*\)|\{\})\s*$', flat):  # Foo() : a_(x), b_{y} {
+        params = flat.rfind('(', 0, init.start())
+    elif end:
+        params = end.start()
+    else:
+        return None
+    name = NAME.search(flat, 0, params)
+    if not name:
+        return '?'
+    if re.fullmatch(r'[A-Z][A-Z0-9_]*', name.group(1)):  # TEST(Suite, Name) and the like
+        close = flat.find(')', params)
+        return name.group(1) + re.sub(r'\s+', ' ', head[params:close + 1])
+    return name.group(1).strip()
+
+
+def classify(head, lines, in_scope):
+    """What a `{` after `head` opens: (kind, name, first line). Kinds: 'scope' (a namespace, a
+    class), 'function', 'lambda', 'init' (an initialiser at scope level) or 'block'."""
+    labels = LABELS.match(head) if in_scope else None
+    start = labels.end() if labels else 0
+    head = head[start:]
+    flat = empty_parens(head)
+    text_start = len(head) - len(head.lstrip())
+    first = lines[start + text_start] if text_start < len(head) else None
+    bracket = lambda_start(flat)
+    if bracket is not None:
+        return 'lambda', None, lines[start + bracket]
+    if in_scope and NAMESPACE.search(flat):
+        return 'scope', None, first
+    if in_scope:
+        name = function_name(head, flat)
+        if name:
+            return 'function', name, first
+    if CLASS.match(flat):
+        return 'scope', None, first
+    return ('init' if in_scope else 'block'), None, first
 
 
 def functions(lines):
-    """Yields (name, first line, last line) of every function body at namespace/class level."""
-    depth = 0
-    scopes = []  # per open brace: 'ns' (namespace, class, struct, enum, extern) or 'fn'
-    start = None
-    signature = ''
-    for number, raw in enumerate(lines, 1):
-        line = strip(raw)
-        stripped = line.strip()
-        for ch in line:
-            if ch == '{':
-                inside_function = 'fn' in scopes
-                if not inside_function:
-                    head = (signature + ' ' + stripped).strip()
-                    if re.search(r'\b(namespace|class|struct|enum|union)\b[^()]*\{', head) or \
-                            re.search(r'extern\s+"', raw) or head.rstrip().endswith('= {') or \
-                            re.search(r'=\s*\{', head) or not re.search(r'\)', head):
-                        scopes.append('ns')
-                    else:
-                        scopes.append('fn')
-                        name = [n for n in re.findall(r'([~\w:]+)\s*\(', head) if n != '__attribute__']
-                        start = (name[0] if name else '?', number)
-                else:
-                    scopes.append('in')
-            elif ch == '}':
-                if not scopes:
-                    continue
-                kind = scopes.pop()
-                if kind == 'fn' and start is not None:
-                    yield start[0], start[1], number
-                    start = None
-        if 'fn' not in scopes:
-            if stripped.endswith(';') or stripped.endswith('}') or stripped.startswith('#') or \
-                    stripped == '':
-                signature = ''
+    """Yields (what, first line, last line) of every function ('function NAME') and lambda
+    ('lambda' or 'lambda in NAME') body in the file of `lines`."""
+    text = blank('\n'.join(lines))
+    head, head_lines = [], []
+    frames = []  # per open brace: (kind, name, first line, its line, the head before it)
+    number = 1
+    for c in text:
+        if c == '{':
+            in_scope = not frames or frames[-1][0] == 'scope'
+            kind, name, first = classify(''.join(head), head_lines, in_scope)
+            frames.append((kind, name, first or number, number, head, head_lines))
+            head, head_lines = [], []
+        elif c == '}' and frames:
+            kind, name, first, opened, head, head_lines = frames.pop()
+            if kind == 'function':
+                yield f'function {name}', first, number
+            elif kind == 'lambda':
+                outer = [f[1] for f in frames if f[0] == 'function']
+                yield ('lambda in ' + outer[-1] if outer else 'lambda'), first, number
+            if kind in ('lambda', 'init'):  # the statement goes on: `= [] {...};`, `a_{x}, b_(y)`
+                head, head_lines = head + ['{', '}'], head_lines + [opened, number]
             else:
-                signature = (signature + ' ' + stripped)[-400:]
+                head, head_lines = [], []
+        elif c == ';':
+            head, head_lines = [], []
+        else:
+            head.append(c)
+            head_lines.append(number)
+        if c == '\n':
+            number += 1
+
+
+def file_problems(rel, lines, max_file_lines):
+    """The violations in the file `rel` of `lines`, which may have `max_file_lines`."""
+    problems = []
+    if len(lines) > max_file_lines:
+        problems.append(f'{rel}: {len(lines)} lines (at most {max_file_lines})')
+    for what, first, last in functions(lines):
+        if last - first + 1 > MAX_FUNCTION_LINES:
+            problems.append(f'{rel}:{first}: {what} has {last - first + 1} lines '
+                            f'(at most {MAX_FUNCTION_LINES})')
+    return problems
 
 
 def check(root):
     problems = []
-    for folder, _, files in os.walk(os.path.join(root, 'src')):
-        for f in sorted(files):
-            if not f.endswith(('.cpp', '.h')):
-                continue
-            path = os.path.join(folder, f)
-            rel = os.path.relpath(path, root)
-            lines = open(path, encoding='utf-8').read().split('\n')
-            if len(lines) - 1 > MAX_FILE_LINES:
-                problems.append(f'{rel}: {len(lines) - 1} lines (at most {MAX_FILE_LINES})')
-            for name, first, last in functions(lines):
-                if last - first + 1 > MAX_FUNCTION_LINES:
-                    problems.append(f'{rel}:{first}: function {name} has {last - first + 1} lines '
-                                    f'(at most {MAX_FUNCTION_LINES})')
+    for tree, max_file_lines in MAX_FILE_LINES.items():
+        for folder, dirs, files in os.walk(os.path.join(root, tree)):
+            dirs.sort()
+            for f in sorted(files):
+                if f.endswith(CPP):
+                    path = os.path.join(folder, f)
+                    with open(path, encoding='utf-8') as source:
+                        lines = source.read().splitlines()
+                    problems += file_problems(os.path.relpath(path, root), lines, max_file_lines)
     return problems
 
 

@@ -1,0 +1,144 @@
+#!/usr/bin/python3
+"""test/tools/code_size.py finds what it missed: the first function after `namespace {` and after
+a class's `public:`, a function defined in a class body, a lambda in a table or passed to a call,
+a function whose signature spans several lines; include/, bench/ and test/ are scanned (test
+files may have 800 lines). Each on a synthetic snippet one line over the limit (reported) and
+at it (not reported). With --gtest_output=xml:FILE also writes a gtest-style result for
+catkin_test_results.
+"""
+import os
+import shutil
+import sys
+import tempfile
+import unittest
+
+from code_size import MAX_FUNCTION_LINES, check, file_problems, functions
+from gtest_xml import run_unittests
+
+
+def body(lines):
+    """`lines` statements of a function's body."""
+    return [f"  x += {i};" for i in range(lines)]
+
+
+def function(length, signature=("void f(int x) {",), indent=""):
+    """A function of `length` lines from the first line of its `signature` to its `}`."""
+    lines = list(signature) + body(length - len(signature) - 1) + ["}"]
+    return [indent + line for line in lines]
+
+
+def lengths(lines):
+    """{what: length} of every function and lambda in `lines`."""
+    return {what: last - first + 1 for what, first, last in functions(lines)}
+
+
+class CodeSize(unittest.TestCase):
+    def assert_reported(self, make, what, rel="src/a.cpp", max_file_lines=500):
+        """The snippet make(length) is reported as `what` one line over the limit, not at it."""
+        over = file_problems(rel, make(MAX_FUNCTION_LINES + 1), max_file_lines)
+        self.assertEqual(len(over), 1, over)
+        self.assertIn(f"{what} has {MAX_FUNCTION_LINES + 1} lines", over[0])
+        self.assertEqual(file_problems(rel, make(MAX_FUNCTION_LINES), max_file_lines), [])
+
+    def test_the_first_function_after_an_anonymous_namespace_is_measured(self):
+        self.assert_reported(lambda n: ["namespace {"] + function(n) + ["}  // namespace"],
+                             "function f")
+
+    def test_the_first_function_after_a_named_namespace_is_measured(self):
+        self.assert_reported(
+            lambda n: ["#include <x>", "namespace flapsim {", "namespace detail {"] + function(n)
+            + ["}", "}"], "function f")
+
+    def test_functions_after_access_labels_and_in_class_bodies_are_measured(self):
+        for label in ("public:", "private:", "protected:"):
+            self.assert_reported(
+                lambda n: ["class X {", f" {label}"] + function(n, indent="  ") + ["};"],
+                "function f")
+        self.assert_reported(  # after a member and a label, in a struct in a namespace
+            lambda n: ["namespace {", "struct X : public Y {", "  int a_ = 0;", " private:"]
+            + function(n, ("void g() const override {",), "  ") + ["};", "}"], "function g")
+
+    def test_a_lambda_in_a_table_is_measured(self):
+        self.assert_reported(
+            lambda n: ["const std::map<std::string, std::function<void(int&)>> kTable = {",
+                       '    {"a", [](int& x) { x = 1; }},',
+                       '    {"b", [](int& x) {'] + body(n - 2) + ["     }},", "};"],
+            "lambda")
+
+    def test_a_lambda_in_a_function_is_measured_on_its_own(self):
+        def make(n):
+            return (["void f(std::vector<int>& v) {", "  std::sort(v.begin(), v.end(),",
+                     "            [&](int a,", "                int b) mutable -> bool {"]
+                    + body(n - 3) + ["            });", "}"])
+        for n in (MAX_FUNCTION_LINES, MAX_FUNCTION_LINES + 1):  # f is 3 lines longer
+            self.assertEqual(lengths(make(n)), {"lambda in f": n, "function f": n + 3})
+        over = file_problems("src/a.cpp", make(MAX_FUNCTION_LINES + 1), 500)
+        self.assertIn(f"src/a.cpp:3: lambda in f has {MAX_FUNCTION_LINES + 1} lines", over[0])
+
+    def test_a_function_is_measured_from_the_first_line_of_a_long_signature(self):
+        signature = ("template <typename T>", "std::map<std::string, double> Foo<T>::fit(",
+                     "    const std::vector<T>& samples,", "    const Options& options = {},",
+                     "    double tolerance = 1e-9) const {")
+        self.assert_reported(lambda n: function(n, signature), "function Foo<T>::fit")
+        for last in ("      c_{std::max(a, b)} {", "      c_(std::max(a, b)) {"):
+            constructor = ("Foo::Foo(int a, int b)", "    : a_{a},", "      b_(b),", last)
+            self.assert_reported(lambda n: function(n, constructor), "function Foo::Foo")
+
+    def test_gtest_cases_are_measured_by_their_names(self):
+        self.assert_reported(lambda n: function(n, ("TEST(Suite, LongCase) {",)),
+                             "function TEST(Suite, LongCase)", "test/test_a.cpp", 800)
+
+    def test_braces_in_comments_literals_and_preprocessor_lines_do_not_count(self):
+        noise = ['  const char* s = "{ \\" {";  // {', "  char c = '{';", "  int k = 1'000'000;",
+                 '  auto r = R"x(', "  { )\" {", '  )x";', "  /* {", "   { */ x += '}';",
+                 "#define OPEN {"]
+        make = lambda n: ["namespace {"] + function(n, ("void f() {",) + tuple(noise))
+        self.assert_reported(make, "function f")
+        self.assertEqual(lengths(make(MAX_FUNCTION_LINES))["function f"], MAX_FUNCTION_LINES)
+
+    def test_if_blocks_and_initialisers_are_not_functions(self):
+        lines = (["namespace {", "const int kN{3};", "int a[] = {1, 2};", "}",
+                  "extern \"C\" {", "enum class E : int { kA, kB };"]
+                 + function(5, ("int g() {", "  if (x) {", "  } else {", "  }")) + ["}"])
+        self.assertEqual(lengths(lines), {"function g": 5})
+
+
+class Trees(unittest.TestCase):
+    def setUp(self):
+        self.root = tempfile.mkdtemp(prefix="flapsim_code_size_")
+
+    def tearDown(self):
+        shutil.rmtree(self.root, ignore_errors=True)
+
+    def write(self, rel, lines):
+        path = os.path.join(self.root, rel)
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        with open(path, "w") as f:
+            f.write("\n".join(lines) + "\n")
+
+    def test_every_tree_and_cpp_extension_is_scanned_for_long_functions(self):
+        for rel in ("src/a/b.cpp", "include/x/y.h", "include/x/z.hpp", "bench/b.cc",
+                    "test/ros/test_t.cpp", "test/test_util.h"):
+            self.write(rel, function(MAX_FUNCTION_LINES + 1))
+            self.write(rel.replace(".", "_ok."), function(MAX_FUNCTION_LINES))
+        self.write("doc/d.cpp", function(MAX_FUNCTION_LINES + 1))  # not a tree of code
+        self.write("bench/b.py", ["x = 1"] * 900)
+        self.assertEqual(sorted(p.split(":")[0] for p in check(self.root)),
+                         ["bench/b.cc", "include/x/y.h", "include/x/z.hpp", "src/a/b.cpp",
+                          "test/ros/test_t.cpp", "test/test_util.h"])
+
+    def test_test_files_may_have_800_lines_and_the_others_500(self):
+        for tree, limit in (("test", 800), ("test/ros", 800), ("src", 500), ("include", 500),
+                            ("bench", 500)):
+            self.write(f"{tree}/over.cpp", ["int x;"] * (limit + 1))
+            self.write(f"{tree}/at.cpp", ["int x;"] * limit)
+        self.assertEqual(sorted(check(self.root)),
+                         ["bench/over.cpp: 501 lines (at most 500)",
+                          "include/over.cpp: 501 lines (at most 500)",
+                          "src/over.cpp: 501 lines (at most 500)",
+                          "test/over.cpp: 801 lines (at most 800)",
+                          "test/ros/over.cpp: 801 lines (at most 800)"])
+
+
+if __name__ == "__main__":
+    run_unittests(sys.argv, "code_size", "FindsEveryFunctionAndFile")
