@@ -19,6 +19,8 @@
 // The second form times one creature from a URDF, every wing stroking at 30/10 rad/s with
 // amplitude 0.8, from `height`, after `skip` simulated seconds: the scenario of
 // bench/node_rtf.py, so the node and the core are timed on the same stretch of flight.
+#include "flapsim_bench.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -30,10 +32,19 @@
 #include <vector>
 
 #include "bench_common.h"
-#include "flapsim/energy_audit.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
 #include "fluid/surface.h"
+
+namespace flapsim_bench {
+
+std::string urdfPath(const std::string& file) {
+  const std::string source = std::string(FLAPSIM_SOURCE_DIR) + "/urdf/" + file;
+  if (std::ifstream(source).good()) return source;
+  return std::string(FLAPSIM_SHARE_DIR) + "/urdf/" + file;
+}
+
+}  // namespace flapsim_bench
 
 namespace {
 
@@ -48,6 +59,7 @@ using flapsim::WorldParams;
 using flapsim_bench::benchSeconds;
 using flapsim_bench::cpuTimeClock;
 using flapsim_bench::median;
+using flapsim_bench::urdfPath;
 
 struct Scenario {
   std::string name;
@@ -67,13 +79,6 @@ int airCells(const flapsim::CreatureModel& model) {
         flapsim::linkAeroSurface(model, static_cast<int>(k), flapsim::AirParams()).cells.size());
   }
   return cells;
-}
-
-// The package's creatures: in the source tree it was built from, else where it is installed.
-std::string urdfPath(const std::string& file) {
-  const std::string source = std::string(FLAPSIM_SOURCE_DIR) + "/urdf/" + file;
-  if (std::ifstream(source).good()) return source;
-  return std::string(FLAPSIM_SHARE_DIR) + "/urdf/" + file;
 }
 
 Scenario flapper(const std::string& name, int pairs) {
@@ -228,53 +233,8 @@ void check(const Scenario& s, const WorldParams& p, double seconds, double refer
               why.empty() ? "" : ")");
 }
 
-// --energy: the energy audit (flapsim/energy_audit.h) of the flap unit, afc_4 and the hover
-// creature (or the --urdf creature) in vacuum, air and water at 1, 0.5 and 0.25 ms; in air and
-// water with the added mass's velocity products if `velocity_products`.
-int energyTable(const std::string& urdf, double seconds, bool velocity_products) {
-  std::vector<std::string> files = {"flap_unit.urdf", "afc_4.urdf", "hover_1.urdf"};
-  if (!urdf.empty()) files = {urdf};
-  std::printf(
-      "| creature | medium | step | motor work (positive) | air work | damping work | "
-      "kinetic | potential | spring | fluid kinetic | residual |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const std::string& file : files) {
-    const flapsim::CreatureModelPtr model =
-        flapsim::loadCreatureModel(urdf.empty() ? urdfPath(file) : file);
-    for (const char* medium : {"vacuum", "air", "water"}) {
-      for (double dt : {0.001, 0.0005, 0.00025}) {
-        flapsim::EnergyAuditParams p;
-        p.seconds = seconds;
-        p.world.step_size = dt;
-        if (std::string(medium) == "vacuum") p.world.air.enabled = false;
-        if (std::string(medium) == "water") {
-          p.world.air = flapsim::waterParams();
-          p.stroke = flapsim::StrokeCommand{3.0, 1.0, 0.6};
-        }
-        p.world.air.added_mass_velocity_products = velocity_products;
-        const flapsim::EnergyAuditResult r = flapsim::auditEnergy(model, p);
-        std::printf(
-            "| %s | %s | %g ms | %+.4f J (%.4f) | %+.4f | %+.4f | %+.4f | %+.4f | %+.4f | %+.4f "
-            "| %+.3f %% |\n",
-            model->name.c_str(), medium, dt * 1e3, r.end.motor_work - r.start.motor_work,
-            r.positive_motor_work, r.end.air_work - r.start.air_work,
-            r.end.damping_work - r.start.damping_work, r.end.kinetic - r.start.kinetic,
-            r.end.potential - r.start.potential, r.end.spring - r.start.spring,
-            r.end.fluid_kinetic - r.start.fluid_kinetic, 100.0 * r.relativeResidual());
-      }
-    }
-  }
-  std::printf(
-      "(%g s from 20 m, rolled 0.05 rad, every wing 60/10 rad/s and 0.6 rad; in water "
-      "3/1 rad/s; residual: the works less the change of the energies, as a share of the "
-      "motors' positive work; added mass's velocity products %s)\n",
-      seconds, velocity_products ? "on" : "off");
-  return 0;
-}
-
-}  // namespace
-
-int main(int argc, char** argv) {
+// The command line.
+struct Options {
   int runs = 5;
   double seconds = 2.0;
   std::string only, urdf;
@@ -282,37 +242,54 @@ int main(int argc, char** argv) {
   bool json = false, ground = true, energy = false, velocity_products = false;
   double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
   double turn_substep = WorldParams().turn_substep;
+};
+
+// The usage, on stdout for --help (exit 0), else on stderr (exit 2): the exit code.
+int usage(bool help) {
+  std::fprintf(
+      help ? stdout : stderr,
+      "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
+      "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
+      "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
+      "[--runs N] [--seconds S]\n"
+      "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n");
+  return help ? 0 : 2;
+}
+
+// Reads the command line into `o`: -1 to go on, else the exit code (a bad duration said on
+// stderr).
+int parseArgs(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--runs" && i + 1 < argc) {
-      runs = std::max(1, std::atoi(argv[++i]));
+      o.runs = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--seconds" && i + 1 < argc) {
-      seconds = std::atof(argv[++i]);
+      o.seconds = std::atof(argv[++i]);
     } else if (a == "--only" && i + 1 < argc) {
-      only = argv[++i];
+      o.only = argv[++i];
     } else if (a == "--cpu-time") {
       cpuTimeClock() = true;
     } else if (a == "--json") {
-      json = true;
+      o.json = true;
     } else if (a == "--energy") {
-      energy = true;
+      o.energy = true;
     } else if (a == "--velocity-products") {
-      velocity_products = true;
+      o.velocity_products = true;
     } else if (a == "--urdf" && i + 1 < argc) {
-      urdf = argv[++i];
+      o.urdf = argv[++i];
     } else if (a == "--height" && i + 1 < argc) {
-      height = std::atof(argv[++i]);
+      o.height = std::atof(argv[++i]);
     } else if (a == "--skip" && i + 1 < argc) {
-      skip = std::atof(argv[++i]);
+      o.skip = std::atof(argv[++i]);
     } else if (a == "--no-ground") {
-      ground = false;
+      o.ground = false;
     } else if ((a == "--step" || a == "--turn-substep" || a == "--check" ||
                 a == "--reference-step") &&
                i + 1 < argc) {
-      double* out = a == "--step"           ? &step
-                    : a == "--turn-substep" ? &turn_substep
-                    : a == "--check"        ? &check_seconds
-                                            : &reference_step;
+      double* out = a == "--step"           ? &o.step
+                    : a == "--turn-substep" ? &o.turn_substep
+                    : a == "--check"        ? &o.check_seconds
+                                            : &o.reference_step;
       // A turn substep of 0 is allowed: no substeps.
       const bool zero = a == "--turn-substep" && std::string(argv[i + 1]) == "0";
       if (zero) {
@@ -324,87 +301,73 @@ int main(int argc, char** argv) {
       }
       ++i;
     } else {
-      const bool help = a == "--help" || a == "-h";  // asked for: on stdout, exit 0
-      std::fprintf(
-          help ? stdout : stderr,
-          "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
-          "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
-          "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
-          "[--runs N] [--seconds S]\n"
-          "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n");
-      return help ? 0 : 2;
+      return usage(a == "--help" || a == "-h");  // asked for: on stdout, exit 0
     }
   }
-  WorldParams at_step;
-  at_step.step_size = step;
-  at_step.turn_substep = turn_substep;
-  at_step.ground = ground;
-  if (!flapsim::validateWorldParams(at_step).empty()) {
-    std::fprintf(stderr, "flapsim_bench: %s\n", flapsim::validateWorldParams(at_step).c_str());
-    return 2;
-  }
-  if (energy) {
-    try {
-      return energyTable(urdf, seconds, velocity_products);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
-      return 1;
-    }
-  }
-  if (check_seconds > 0.0) {
-    try {
-      for (const Scenario& s : urdf.empty() ? scenarios() : std::vector{fromUrdf(urdf, height)}) {
-        if (only.empty() || s.name == only || !urdf.empty()) {
-          check(s, at_step, check_seconds, reference_step);
-        }
+  return -1;
+}
+
+// --check: the probe of every scenario (--only's), or of the --urdf creature. The exit code.
+int checkScenarios(const Options& o, const WorldParams& at_step) {
+  try {
+    for (const Scenario& s :
+         o.urdf.empty() ? scenarios() : std::vector{fromUrdf(o.urdf, o.height)}) {
+      if (o.only.empty() || s.name == o.only || !o.urdf.empty()) {
+        check(s, at_step, o.check_seconds, o.reference_step);
       }
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
-      return 1;
     }
-    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+    return 1;
   }
-  const double dt = step;
-  const int steps = std::max(1, static_cast<int>(std::lround(seconds / dt)));
-  if (!urdf.empty()) {
-    Scenario s;
-    try {
-      s = fromUrdf(urdf, height);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
-      return 1;
-    }
-    WorldParams p = at_step;
-    std::vector<double> sps;
-    flapsim::CreaturePower power;
-    for (int r = 0; r < runs; ++r) {
-      sps.push_back(timeRun(s, true, steps, p, static_cast<int>(std::lround(skip / dt)), &power));
-    }
-    // The rate's line last, its real-time factor the last word (bench/node_rtf.py reads it).
-    std::printf("%s: motors %.3f W positive (%.0f W/kg), %.3f W net over its %g s\n",
-                s.name.c_str(), power.meanPositivePower(), power.meanPositivePower() / power.mass,
-                power.totalWork() / power.time, power.time);
-    std::printf(
-        "%s: %d bodies, %d air cells, %g s simulated after %g s: %.0f steps/s, real-time factor "
-        "%.1f\n",
-        s.name.c_str(), s.bodies, s.cells, steps * dt, skip, median(sps), median(sps) * dt);
-    return 0;
+  return 0;
+}
+
+// The second form: the --urdf creature's motor power and rate, after --skip s. The exit code.
+int timeUrdf(const Options& o, const WorldParams& at_step, int steps) {
+  const double dt = o.step;
+  Scenario s;
+  try {
+    s = fromUrdf(o.urdf, o.height);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+    return 1;
   }
-  if (!json) {
-    std::printf("flapsim_bench: %d runs of %g s simulated (%d steps of %g ms), medians\n", runs,
-                seconds, steps, dt * 1e3);
+  WorldParams p = at_step;
+  std::vector<double> sps;
+  flapsim::CreaturePower power;
+  for (int r = 0; r < o.runs; ++r) {
+    sps.push_back(timeRun(s, true, steps, p, static_cast<int>(std::lround(o.skip / dt)), &power));
+  }
+  // The rate's line last, its real-time factor the last word (bench/node_rtf.py reads it).
+  std::printf("%s: motors %.3f W positive (%.0f W/kg), %.3f W net over its %g s\n", s.name.c_str(),
+              power.meanPositivePower(), power.meanPositivePower() / power.mass,
+              power.totalWork() / power.time, power.time);
+  std::printf(
+      "%s: %d bodies, %d air cells, %g s simulated after %g s: %.0f steps/s, real-time factor "
+      "%.1f\n",
+      s.name.c_str(), s.bodies, s.cells, steps * dt, o.skip, median(sps), median(sps) * dt);
+  return 0;
+}
+
+// The table: each scenario (--only's) with and without air, and its motors' power.
+void timeScenarios(const Options& o, const WorldParams& at_step, int steps) {
+  const double dt = o.step;
+  if (!o.json) {
+    std::printf("flapsim_bench: %d runs of %g s simulated (%d steps of %g ms), medians\n", o.runs,
+                o.seconds, steps, dt * 1e3);
     std::printf("%-14s %7s %14s %10s %10s %12s %9s %8s\n", "creature", "bodies", "steps/s", "RTF",
                 "air share", "us/body/step", "P+ (W)", "W/kg");
   } else {
     std::printf("{\n  \"step_size\": %g,\n  \"runs\": %d,\n  \"steps\": %d,\n  \"creatures\": [\n",
-                dt, runs, steps);
+                dt, o.runs, steps);
   }
   bool first = true;
   for (const Scenario& s : scenarios()) {
-    if (!only.empty() && s.name != only) continue;
+    if (!o.only.empty() && s.name != o.only) continue;
     std::vector<double> with_air, without_air;
     flapsim::CreaturePower power;  // of the motors, in air (the same in every run)
-    for (int r = 0; r < runs; ++r) {
+    for (int r = 0; r < o.runs; ++r) {
       with_air.push_back(timeRun(s, true, steps, at_step, 0, &power));
       without_air.push_back(timeRun(s, false, steps, at_step));
     }
@@ -412,7 +375,7 @@ int main(int argc, char** argv) {
     const double sps = median(with_air);
     const double share = std::max(0.0, 1.0 - sps / median(without_air));
     const double per_body = 1e6 / (sps * s.bodies);  // flat when the cost is linear
-    if (json) {
+    if (o.json) {
       std::printf(
           "%s    {\"creature\": \"%s\", \"bodies\": %d, \"steps_per_second\": %.0f, "
           "\"real_time_factor\": %.2f, \"air_share\": %.3f, \"us_per_body_step\": %.3f, "
@@ -425,27 +388,30 @@ int main(int argc, char** argv) {
     }
     first = false;
   }
-  if (json) std::printf("\n  ]%s\n", only.empty() ? "," : "\n}");
-  if (!only.empty()) return 0;
+  if (o.json) std::printf("\n  ]%s\n", o.only.empty() ? "," : "\n}");
+}
 
-  // Finer air grid: the flap unit with 8 x 8 cells per face instead of the default.
+// Finer air grid: the flap unit with 8 x 8 cells per face instead of the default.
+void timeGrid(const Options& o, const WorldParams& at_step, int steps) {
   const Scenario unit = flapper("flap_unit", 1);
   std::vector<double> fine, coarse;
-  for (int r = 0; r < runs; ++r) {
+  for (int r = 0; r < o.runs; ++r) {
     WorldParams p = at_step;
     coarse.push_back(timeRun(unit, true, steps, p));
     p.air.subdivisions_u = p.air.subdivisions_v = 8;
     fine.push_back(timeRun(unit, true, steps, p));
   }
   const double grid_cost = median(coarse) / median(fine);
-  if (json) {
+  if (o.json) {
     std::printf("  \"grid_8x8_step_time_ratio\": %.3f,\n", grid_cost);
   } else {
     std::printf("grid: flap_unit step time x%.2f with 8x8 cells per face (vs %dx%d)\n", grid_cost,
                 WorldParams().air.subdivisions_u, WorldParams().air.subdivisions_v);
   }
+}
 
-  // A flock of 16 flap units in one world, on 1 and 2 threads.
+// A flock of 16 flap units in one world, on 1 and 2 threads.
+void timeFlock(const Options& o, const WorldParams& at_step, int steps) {
   CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "unit"));
   auto flock = [&](int threads, flapsim::CreatureState* last) {
     WorldParams p = at_step;
@@ -464,13 +430,13 @@ int main(int argc, char** argv) {
   };
   std::vector<double> one, two;
   flapsim::CreatureState s1, s2;
-  for (int r = 0; r < runs; ++r) {
+  for (int r = 0; r < o.runs; ++r) {
     one.push_back(flock(1, &s1));
     two.push_back(flock(2, &s2));
   }
   const bool same = s1.link_poses[0].position == s2.link_poses[0].position &&
                     s1.joint_positions == s2.joint_positions;
-  if (json) {
+  if (o.json) {
     std::printf(
         "  \"flock_16\": {\"steps_per_second_1_thread\": %.0f, \"steps_per_second_2_threads\": "
         "%.0f, \"speedup\": %.3f, \"identical\": %s},\n",
@@ -479,21 +445,53 @@ int main(int argc, char** argv) {
     std::printf("flock_16: %.0f steps/s on 1 thread, %.0f on 2 (x%.2f), results %s\n", median(one),
                 median(two), median(two) / median(one), same ? "identical" : "DIFFERENT");
   }
+}
 
-  // Memory: resident size before and after a 12-unit world ran.
+// Memory: resident size before and after a 12-unit world ran.
+void measureMemory(const Options& o, const WorldParams& at_step, int steps) {
   const double before = residentMb();
-  {
-    WorldParams p = at_step;
-    World w(p);
-    flapper("chain_12", 12).setup(w);
-    w.step(steps);
-    if (json) {
-      std::printf("  \"resident_mb_with_chain_12\": %.1f,\n  \"resident_mb_before\": %.1f\n}\n",
-                  residentMb(), before);
-    } else {
-      std::printf("memory: process %.1f MB resident with a 12-unit world (%.1f MB before it)\n",
-                  residentMb(), before);
+  WorldParams p = at_step;
+  World w(p);
+  flapper("chain_12", 12).setup(w);
+  w.step(steps);
+  if (o.json) {
+    std::printf("  \"resident_mb_with_chain_12\": %.1f,\n  \"resident_mb_before\": %.1f\n}\n",
+                residentMb(), before);
+  } else {
+    std::printf("memory: process %.1f MB resident with a 12-unit world (%.1f MB before it)\n",
+                residentMb(), before);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  const int parsed = parseArgs(argc, argv, o);
+  if (parsed >= 0) return parsed;
+  WorldParams at_step;
+  at_step.step_size = o.step;
+  at_step.turn_substep = o.turn_substep;
+  at_step.ground = o.ground;
+  if (!flapsim::validateWorldParams(at_step).empty()) {
+    std::fprintf(stderr, "flapsim_bench: %s\n", flapsim::validateWorldParams(at_step).c_str());
+    return 2;
+  }
+  if (o.energy) {
+    try {
+      return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+      return 1;
     }
   }
+  if (o.check_seconds > 0.0) return checkScenarios(o, at_step);
+  const int steps = std::max(1, static_cast<int>(std::lround(o.seconds / o.step)));
+  if (!o.urdf.empty()) return timeUrdf(o, at_step, steps);
+  timeScenarios(o, at_step, steps);
+  if (!o.only.empty()) return 0;
+  timeGrid(o, at_step, steps);
+  timeFlock(o, at_step, steps);
+  measureMemory(o, at_step, steps);
   return 0;
 }

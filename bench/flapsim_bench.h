@@ -1,0 +1,17 @@
+// What flapsim_bench's files share: where the package's creatures are, and the energy table
+// (bench/flapsim_bench_energy.cpp). For bench/flapsim_bench*.cpp only.
+#pragma once
+
+#include <string>
+
+namespace flapsim_bench {
+
+/// The package's creatures: in the source tree it was built from, else where it is installed.
+std::string urdfPath(const std::string& file);
+
+/// --energy: the energy audit (flapsim/energy_audit.h) of the flap unit, afc_4 and the hover
+/// creature (or the `urdf` creature) in vacuum, air and water at 1, 0.5 and 0.25 ms; in air and
+/// water with the added mass's velocity products if `velocity_products`. Returns the exit code.
+int energyTable(const std::string& urdf, double seconds, bool velocity_products);
+
+}  // namespace flapsim_bench
