@@ -61,6 +61,50 @@ class PushOracle : public flapsim::WingController {
   mutable long calls_ = 0;
 };
 
+// What the 54 counter patterns do for the start `s` (a push `up` or down, on the left wing
+// if `left_pushed`): how many keep it upright, and the best (the highest lowest up).
+struct Patterns {
+  int upright = 0, tried = 0;
+  double best_up = -2.0;
+  char best[128] = "";
+};
+
+Patterns tryPatterns(const flapsim::CreatureModelPtr& model, const AnnWingController& net,
+                     double period, const flapsim::EpisodeParams& run,
+                     const flapsim::EpisodeStart& s, const StrokeCommand& stroke, bool up,
+                     bool left_pushed) {
+  Patterns out;
+  for (double lead : {0.0, 0.1}) {
+    for (double tail : {0.0, 0.1, 0.3}) {
+      for (double slow_pushed : {10.0, 20.0, 27.0}) {
+        for (double slow_other : {10.0, 20.0, 27.0}) {
+          // The pushed wing: the air against the push; the other: the air along the
+          // counter-roll.
+          StrokeCommand pushed = stroke, other = stroke;
+          pushed.downstroke_rate = up ? slow_pushed : 65.0;
+          pushed.upstroke_rate = up ? 65.0 : slow_pushed;
+          other.downstroke_rate = up ? 65.0 : slow_other;
+          other.upstroke_rate = up ? slow_other : 65.0;
+          PushOracle oracle(net, period);
+          oracle.counter(s.force_time - lead, s.force_time + 0.2 + tail,
+                         left_pushed ? pushed : other, left_pushed ? other : pushed);
+          const flapsim::EpisodeResult r = flapsim::runEpisode(model, oracle, period, run, s);
+          ++out.tried;
+          out.upright += !r.flipped;
+          if (r.min_upright > out.best_up) {
+            out.best_up = r.min_upright;
+            std::snprintf(out.best, sizeof out.best,
+                          "%.1f s before to %.1f s after its start: pushed %g/%g, other %g/%g",
+                          lead, 0.2 + tail, pushed.downstroke_rate, pushed.upstroke_rate,
+                          other.downstroke_rate, other.upstroke_rate);
+          }
+        }
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,43 +152,14 @@ int main(int argc, char** argv) {
       net_flips += base.flipped;
       const bool up = s.force_sign * force > 0.0;
       const bool left_pushed = s.force_link.find("left") != std::string::npos;
-      int upright = 0, tried = 0;
-      double best_up = -2.0;
-      char best[128] = "";
-      for (double lead : {0.0, 0.1}) {
-        for (double tail : {0.0, 0.1, 0.3}) {
-          for (double slow_pushed : {10.0, 20.0, 27.0}) {
-            for (double slow_other : {10.0, 20.0, 27.0}) {
-              // The pushed wing: the air against the push; the other: the air along the
-              // counter-roll.
-              StrokeCommand pushed = stroke, other = stroke;
-              pushed.downstroke_rate = up ? slow_pushed : 65.0;
-              pushed.upstroke_rate = up ? 65.0 : slow_pushed;
-              other.downstroke_rate = up ? 65.0 : slow_other;
-              other.upstroke_rate = up ? slow_other : 65.0;
-              PushOracle oracle(net, period);
-              oracle.counter(s.force_time - lead, s.force_time + 0.2 + tail,
-                             left_pushed ? pushed : other, left_pushed ? other : pushed);
-              const flapsim::EpisodeResult r = flapsim::runEpisode(model, oracle, period, run, s);
-              ++tried;
-              upright += !r.flipped;
-              if (r.min_upright > best_up) {
-                best_up = r.min_upright;
-                std::snprintf(best, sizeof best,
-                              "%.1f s before to %.1f s after its start: pushed %g/%g, other %g/%g",
-                              lead, 0.2 + tail, pushed.downstroke_rate, pushed.upstroke_rate,
-                              other.downstroke_rate, other.upstroke_rate);
-              }
-            }
-          }
-        }
-      }
-      saved += upright > 0;
+      const Patterns p = tryPatterns(model, net, period, run, s, stroke, up, left_pushed);
+      saved += p.upright > 0;
       std::printf(
           "%2zu %-17s %-4s at %5.2f s | net alone: %-7s lowest up %6.3f | oracle: %2d/%d "
           "upright, best lowest up %.3f (%s)\n",
           i, s.force_link.c_str(), up ? "up" : "down", s.force_time,
-          base.flipped ? "flips" : "upright", base.min_upright, upright, tried, best_up, best);
+          base.flipped ? "flips" : "upright", base.min_upright, p.upright, p.tried, p.best_up,
+          p.best);
     }
     std::printf(
         "the network alone flips %d of %zu starts within %g s of the push; some oracle pattern "
