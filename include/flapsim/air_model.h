@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "flapsim/creature_model.h"
+#include "flapsim/turbulence.h"
 #include "flapsim/types.h"
 
 namespace flapsim {
@@ -31,6 +32,10 @@ struct AirParams {
   double density = 1.204;          // kg/m^3 (1000 for water)
   double drag_coefficient = 1.15;  // Cd of the paper's method
   Vec3 wind = Vec3::Zero();        // uniform wind, world frame, m/s
+  /// Dryden turbulence and a discrete gust on top of the steady wind (flapsim/turbulence.h),
+  /// sampled per creature at the start of each step; off by default.
+  TurbulenceParams turbulence;
+  DiscreteGust gust;
   bool buoyancy = true;
   /// The added mass of plate-like bodies moving along their normal (rho pi c^2 b / 4),
   /// treated implicitly (flapsim/fluid_inertia.h). On by default, in air and water: a flap

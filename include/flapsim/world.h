@@ -254,6 +254,10 @@ class World {
   /// Acceleration of the root link's centre of mass over the last step, world frame (zero
   /// before the first step after a spawn, reset or setState, and while frozen).
   Vec3 rootAcceleration(const std::string& creature) const;
+  /// The air's velocity at the creature's root COM now, world frame: the steady wind, the
+  /// discrete gust and the creature's realisation of the turbulence (AirParams), which its
+  /// next step feels uniformly over its links.
+  Vec3 airVelocity(const std::string& creature) const;
   /// The mechanical power and work of the creature's motors (see CreaturePower).
   CreaturePower power(const std::string& creature) const;
   /// Pose of the root link frame and the twist of the root link frame's origin (world frame;

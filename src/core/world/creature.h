@@ -11,6 +11,7 @@
 #include "dynamics/bullet_body.h"
 #include "dynamics/momentum_balance.h"
 #include "dynamics/servo_stage.h"
+#include "flapsim/turbulence.h"
 #include "flapsim/world.h"
 #include "fluid/creature_fluid.h"
 #include "world/energy_meter.h"
@@ -49,13 +50,14 @@ class CreatureSim {
   CreatureSim(const CreatureSim&) = delete;
   CreatureSim& operator=(const CreatureSim&) = delete;
 
-  BulletBody body;           // the multibody, its scene and the link frames
-  ServoStage servos;         // joint servos and the fluid's implicit part
-  CreatureFluid fluid;       // the aero bodies
-  MomentumBalance momentum;  // the momentum carried from step to step
-  BodySnapshot before;       // the state before the current step (the watchdog's)
-  PowerMeter power;          // the work of its motors since it was built
-  EnergyMeter energy;        // the air's and damping's work while the audit is on
+  BulletBody body;             // the multibody, its scene and the link frames
+  ServoStage servos;           // joint servos and the fluid's implicit part
+  CreatureFluid fluid;         // the aero bodies
+  MomentumBalance momentum;    // the momentum carried from step to step
+  BodySnapshot before;         // the state before the current step (the watchdog's)
+  PowerMeter power;            // the work of its motors since it was built
+  EnergyMeter energy;          // the air's and damping's work while the audit is on
+  TurbulenceField turbulence;  // its realisation of the air's turbulence (none if off)
 
   // After the multibody's state was set from outside a step: what comes next depends on
   // the new state alone, as for a body just built.

@@ -87,8 +87,19 @@ void countDown(std::vector<ActiveWrench>& wrenches) {
 
 }  // namespace
 
-void stepCreature(CreatureRecord& r, CreatureSim& s, const StepContext& c, std::uint64_t number) {
-  if (r.divergence) return;  // check
+Vec3 creatureAirVelocity(const CreatureSim& s, const AirParams& air, double time) {
+  Vec3 velocity = air.wind + gustVelocity(air.gust, time);
+  if (s.turbulence.active()) {
+    velocity += s.turbulence.velocity(s.body.frames().kinematics(0).com, time, air.wind);
+  }
+  return velocity;
+}
+
+namespace {
+
+// The step in an air of steady wind c.params.air.wind.
+void stepInSteadyAir(CreatureRecord& r, CreatureSim& s, const StepContext& c,
+                     std::uint64_t number) {
   s.before.take(s.body.multiBody());
   s.power.beginStep();
   const double dt = c.params.step_size, most = c.params.turn_substep;
@@ -122,6 +133,21 @@ void stepCreature(CreatureRecord& r, CreatureSim& s, const StepContext& c, std::
   s.momentum.forget();
   r.root_acceleration.setZero();
   r.divergence = Divergence{r.name, number, std::move(fault)};
+}
+
+}  // namespace
+
+void stepCreature(CreatureRecord& r, CreatureSim& s, const StepContext& c, std::uint64_t number) {
+  if (r.divergence) return;  // check
+  // air: a wind that is not steady is this step's uniform wind
+  const Vec3 air = creatureAirVelocity(s, c.params.air, c.time);
+  if (air == c.params.air.wind) {
+    stepInSteadyAir(r, s, c, number);
+    return;
+  }
+  WorldParams local = c.params;
+  local.air.wind = air;
+  stepInSteadyAir(r, s, StepContext{local, c.air, c.energy_audit, c.time}, number);
 }
 
 }  // namespace flapsim

@@ -2,6 +2,8 @@
 //
 //   check       a creature the watchdog froze is not stepped; the state before the step is
 //               kept (creature_step.cpp: stepCreature)
+//   air         the air's velocity at the root's COM (wind, gust, turbulence), uniform over
+//               the creature for the step (creatureAirVelocity)
 //   substeps    a step in which a wing reverses is cut at the turn into pieces of at most
 //               turn_substep (world/joint_drives.h: strokeTurn); each (sub)step runs:
 //     position      the link frames of the (sub)step's start: those the last one ended with
@@ -38,7 +40,12 @@ struct StepContext {
   const WorldParams& params;
   const AirStage& air;
   bool energy_audit = false;  // the energy meter counts (World::setEnergyAudit)
+  double time = 0.0;          // s, the step's start
 };
+
+// The air's velocity at the creature's root COM at `time`: the steady wind, the gust and the
+// creature's realisation of the turbulence (World::airVelocity).
+Vec3 creatureAirVelocity(const CreatureSim& sim, const AirParams& air, double time);
 
 // One step of a creature; `number` is the world's step count after it (for the watchdog's
 // verdict).

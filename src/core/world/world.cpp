@@ -102,10 +102,11 @@ class World::Impl {
   void step(int steps) {
     const size_t n = sims_.size();
     const size_t threads = std::min<size_t>(static_cast<size_t>(params_.threads), n);
-    const StepContext context{params_, air_, energy_audit_};
-    auto run = [this, steps, &context](size_t first, size_t last) {
+    auto run = [this, steps](size_t first, size_t last) {
       for (int s = 0; s < steps; ++s) {
         const std::uint64_t number = time_steps_ + static_cast<std::uint64_t>(s) + 1;
+        const double start = static_cast<double>(number - 1) * params_.step_size;
+        const StepContext context{params_, air_, energy_audit_, start};
         for (size_t i = first; i < last; ++i) stepCreature(records_[i], *sims_[i], context, number);
       }
     };
@@ -141,11 +142,17 @@ class World::Impl {
                           air.subdivisions_u != params_.air.subdivisions_u ||
                           air.subdivisions_v != params_.air.subdivisions_v;
     const bool drag = air.drag_coefficient != params_.air.drag_coefficient;
+    const TurbulenceParams& t = air.turbulence;
+    const TurbulenceParams& old = params_.air.turbulence;
+    const bool turbulence = t.wind_at_6m != old.wind_at_6m || t.height != old.height ||
+                            t.per_creature != old.per_creature || t.seed != old.seed;
     if (air.model != params_.air.model) air_.setDefaultModel(makeAirModel(air.model));
     params_.air = air;
     // The aero surfaces of every creature, keeping its motion state.
     for (size_t i = 0; i < records_.size() && (geometry || drag); ++i)
       sims_[i]->fluid.resurface(*records_[i].model, air, geometry);
+    for (size_t i = 0; i < records_.size() && turbulence; ++i)
+      sims_[i]->turbulence = turbulenceOf(records_[i].name);
   }
 
   void setAirModel(AirModelPtr model) { air_.setDefaultModel(std::move(model)); }
@@ -156,6 +163,11 @@ class World::Impl {
   }
   void setRecordCells(bool on) { air_.setRecordCells(on); }
   void setEnergyAudit(bool on) { energy_audit_ = on; }
+
+  Vec3 airVelocity(const std::string& creature) const {
+    return creatureAirVelocity(*sims_[index(creature)], params_.air, time());
+  }
+  double time() const { return static_cast<double>(time_steps_) * params_.step_size; }
 
   CreatureEnergy energy(const std::string& creature) const {
     const size_t c = index(creature);
@@ -285,7 +297,13 @@ class World::Impl {
 
  private:
   std::unique_ptr<CreatureSim> build(const CreatureRecord& r) const {
-    return std::make_unique<CreatureSim>(*r.model, r.pose, r.twist, params_);
+    auto sim = std::make_unique<CreatureSim>(*r.model, r.pose, r.twist, params_);
+    sim->turbulence = turbulenceOf(r.name);
+    return sim;
+  }
+  TurbulenceField turbulenceOf(const std::string& name) const {
+    const TurbulenceParams& t = params_.air.turbulence;
+    return TurbulenceField(t, turbulenceSeed(t, name));
   }
 
   size_t index(const std::string& name) const {
@@ -358,9 +376,7 @@ void World::step(int steps) {
   impl_->step(steps);
 }
 
-double World::time() const {
-  return static_cast<double>(impl_->stepCount()) * impl_->params().step_size;
-}
+double World::time() const { return impl_->time(); }
 std::uint64_t World::stepCount() const { return impl_->stepCount(); }
 const WorldParams& World::params() const { return impl_->params(); }
 
@@ -462,6 +478,7 @@ Twist World::rootTwist(const std::string& creature) const { return state(creatur
 void World::setRecordCellForces(bool on) { impl_->setRecordCells(on); }
 void World::setEnergyAudit(bool on) { impl_->setEnergyAudit(on); }
 CreatureEnergy World::energy(const std::string& creature) const { return impl_->energy(creature); }
+Vec3 World::airVelocity(const std::string& creature) const { return impl_->airVelocity(creature); }
 
 std::vector<LinkAero> World::aeroForces(const std::string& creature) const {
   return impl_->aeroForces(creature);

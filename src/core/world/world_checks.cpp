@@ -65,6 +65,10 @@ const Rule<AirParams> kAirRules[] = {
      "air wind must be finite, each component within +-1000 m/s"},
     {[](const AirParams& a) { return makeAirModel(a.model) != nullptr; }, nullptr,
      [](const AirParams& a) { return unknownAirModelMessage(a.model); }},
+    {[](const AirParams& a) { return checkTurbulence(a.turbulence).empty(); }, nullptr,
+     [](const AirParams& a) { return checkTurbulence(a.turbulence); }},
+    {[](const AirParams& a) { return checkGust(a.gust).empty(); }, nullptr,
+     [](const AirParams& a) { return checkGust(a.gust); }},
     {[](const AirParams& a) {
        const QuasiSteadyCoefficients& q = a.quasi_steady;
        for (double c : {q.lift_mean, q.lift_amplitude, q.lift_frequency, q.lift_phase, q.drag_mean,

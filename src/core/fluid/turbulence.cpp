@@ -1,0 +1,181 @@
+#include "flapsim/turbulence.h"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdlib>
+#include <functional>
+#include <iterator>
+#include <limits>
+#include <sstream>
+
+#include "flapsim/ga.h"
+
+namespace flapsim {
+
+double turbulenceLevelWind(const std::string& level) {
+  const double knot = 1852.0 / 3600.0;  // m/s
+  if (level == "none") return 0.0;
+  if (level == "light") return 15.0 * knot;
+  if (level == "moderate") return 30.0 * knot;
+  if (level == "severe") return 45.0 * knot;
+  throw InputError("turbulence level '" + level + "' is not one of none, light, moderate, severe");
+}
+
+DrydenScales drydenScales(double wind_at_6m, double height) {
+  const double feet = height / 0.3048;
+  const double denominator = 0.177 + 0.000823 * feet;
+  DrydenScales s;
+  const double sigma_w = 0.1 * wind_at_6m;
+  const double sigma_uv = sigma_w / std::pow(denominator, 0.4);
+  s.sigma = Vec3(sigma_uv, sigma_uv, sigma_w);
+  const double l_uv = height / std::pow(denominator, 1.2);
+  s.length = Vec3(l_uv, l_uv, height);
+  return s;
+}
+
+double drydenSpectrum(const DrydenScales& s, int axis, double omega) {
+  const double sigma2 = s.sigma[axis] * s.sigma[axis], l = s.length[axis];
+  const double x2 = l * omega * l * omega;
+  if (axis == 0) return sigma2 * 2.0 * l / M_PI / (1.0 + x2);
+  return sigma2 * l / M_PI * (1.0 + 3.0 * x2) / ((1.0 + x2) * (1.0 + x2));
+}
+
+double drydenVariance(const DrydenScales& s, int axis, double omega) {
+  const double sigma2 = s.sigma[axis] * s.sigma[axis];
+  if (std::isinf(omega)) return sigma2;
+  const double x = s.length[axis] * omega;
+  if (axis == 0) return sigma2 * 2.0 / M_PI * std::atan(x);
+  return sigma2 / M_PI * (2.0 * std::atan(x) - x / (1.0 + x * x));
+}
+
+std::string checkTurbulence(const TurbulenceParams& p) {
+  std::ostringstream out;
+  if (!(p.wind_at_6m >= 0.0 && p.wind_at_6m <= kMaxTurbulenceWind)) {
+    out << "air/turbulence/wind_at_6m must be in [0, " << kMaxTurbulenceWind << "] m/s, got "
+        << p.wind_at_6m;
+  } else if (!(p.height >= kMinTurbulenceHeight && p.height <= kMaxTurbulenceHeight)) {
+    out << "air/turbulence/height must be in [" << kMinTurbulenceHeight << ", "
+        << kMaxTurbulenceHeight << "] m (the model's low-altitude range, 10-1000 ft), got "
+        << p.height;
+  }
+  return out.str();
+}
+
+std::string checkGust(const DiscreteGust& g) {
+  for (int i = 0; i < 3; ++i) {
+    if (!(std::abs(g.velocity[i]) <= kMaxGustSpeed)) {
+      return "air/gust/velocity must be finite, each component within +-1000 m/s";
+    }
+  }
+  if (!(std::isfinite(g.start) && g.start >= 0.0)) return "air/gust/start must be >= 0 s";
+  if (!(std::isfinite(g.rise) && g.rise > 0.0 && g.rise <= 1e6)) {
+    return "air/gust/rise must be in (0, 1e6] s";
+  }
+  if (!(std::isfinite(g.hold) && g.hold <= 1e9)) {
+    return "air/gust/hold must be finite and at most 1e9 s (< 0: the gust stays)";
+  }
+  return "";
+}
+
+TurbulenceField::TurbulenceField(const TurbulenceParams& params, std::uint64_t realisation_seed) {
+  const std::string err = checkTurbulence(params);
+  if (!err.empty()) throw InputError(err);
+  if (params.wind_at_6m == 0.0) return;
+  scales_ = drydenScales(params.wind_at_6m, params.height);
+  spacing_ = scales_.length.minCoeff() / 500.0;
+  const double lowest = 0.01 / scales_.length.maxCoeff();
+  const double highest = 100.0 / scales_.length.minCoeff();
+  const int n = kTurbulenceModes;
+  // Band edges: 0, then n - 1 log-spaced edges from lowest to highest, then infinity.
+  const double ratio = std::pow(highest / lowest, 1.0 / (n - 2));
+  auto edge = [&](int j) {
+    if (j == 0) return 0.0;
+    if (j == n) return std::numeric_limits<double>::infinity();
+    return lowest * std::pow(ratio, j - 1);
+  };
+  Rng rng(realisation_seed);
+  omega_.resize(n);
+  cos_amplitude_.resize(n);
+  sin_amplitude_.resize(n);
+  for (int k = 0; k < n; ++k) {
+    // The mode's frequency, log-uniform within its band (the open bands as wide as the rest).
+    const double lo = k == 0 ? lowest / ratio : edge(k);
+    omega_[k] = lo * std::pow(ratio, rng.uniform());
+    for (int axis = 0; axis < 3; ++axis) {
+      const double variance =
+          drydenVariance(scales_, axis, edge(k + 1)) - drydenVariance(scales_, axis, edge(k));
+      const double amplitude = std::sqrt(2.0 * std::max(variance, 0.0));
+      const double phase = 2.0 * M_PI * rng.uniform();
+      cos_amplitude_[k][axis] = amplitude * std::cos(phase);
+      sin_amplitude_[k][axis] = -amplitude * std::sin(phase);
+    }
+  }
+}
+
+const std::vector<Vec3>& TurbulenceField::chunk(std::int64_t index) const {
+  auto found = chunks_.find(index);
+  if (found == chunks_.end()) {
+    if (chunks_.size() >= kChunksKept) {
+      // The chunk farthest from this one goes (it is made again, the same, if needed).
+      auto far =
+          std::abs(chunks_.begin()->first - index) > std::abs(chunks_.rbegin()->first - index)
+              ? chunks_.begin()
+              : std::prev(chunks_.end());
+      chunks_.erase(far);
+    }
+    // Each mode's angle at the chunk's first point, then turned point by point.
+    std::vector<Vec3> values(kChunk + 1, Vec3::Zero());
+    const double first = static_cast<double>(index) * kChunk * spacing_;
+    for (size_t k = 0; k < omega_.size(); ++k) {
+      const std::complex<double> turn = std::polar(1.0, omega_[k] * spacing_);
+      std::complex<double> phasor = std::polar(1.0, omega_[k] * first);
+      for (int j = 0; j <= kChunk; ++j, phasor *= turn) {
+        values[j] += cos_amplitude_[k] * phasor.real() + sin_amplitude_[k] * phasor.imag();
+      }
+    }
+    found = chunks_.emplace(index, std::move(values)).first;
+  }
+  return found->second;
+}
+
+Vec3 TurbulenceField::componentsAt(double xi) const {
+  if (!active()) return Vec3::Zero();
+  const double position = xi / spacing_;
+  const double cell = std::floor(position);
+  const auto point = static_cast<std::int64_t>(cell);
+  const std::int64_t index = point >= 0 ? point / kChunk : -((-point - 1) / kChunk) - 1;
+  const int j = static_cast<int>(point - index * kChunk);
+  const std::vector<Vec3>& values = chunk(index);
+  const double t = position - cell;
+  return values[j] + t * (values[j + 1] - values[j]);
+}
+
+Vec3 TurbulenceField::velocity(const Vec3& position, double time, const Vec3& wind) const {
+  if (!active()) return Vec3::Zero();
+  const Vec3 horizontal(wind.x(), wind.y(), 0.0);
+  const double speed = horizontal.norm();
+  const Vec3 along = speed > 0.0 ? Vec3(horizontal / speed) : Vec3::UnitX();
+  const Vec3 across = Vec3::UnitZ().cross(along);
+  const Vec3 c = componentsAt(along.dot(position) - speed * time);
+  return c.x() * along + c.y() * across + c.z() * Vec3::UnitZ();
+}
+
+std::uint64_t turbulenceSeed(const TurbulenceParams& params, const std::string& creature) {
+  if (!params.per_creature) return mixSeed(params.seed, 0x7475726275ULL);
+  std::uint64_t h = 1469598103934665603ULL;  // FNV-1a of the name
+  for (unsigned char c : creature) h = (h ^ c) * 1099511628211ULL;
+  return mixSeed(params.seed, 0x7475726275ULL, h);
+}
+
+Vec3 gustVelocity(const DiscreteGust& g, double time) {
+  if (g.velocity.isZero(0.0) || time < g.start) return Vec3::Zero();
+  const double tau = time - g.start;
+  if (tau < g.rise) return g.velocity * 0.5 * (1.0 - std::cos(M_PI * tau / g.rise));
+  if (g.hold < 0.0 || tau < g.rise + g.hold) return g.velocity;
+  const double fall = tau - g.rise - g.hold;
+  if (fall < g.rise) return g.velocity * 0.5 * (1.0 + std::cos(M_PI * fall / g.rise));
+  return Vec3::Zero();
+}
+
+}  // namespace flapsim
