@@ -165,6 +165,10 @@ TEST(ToolTables, FlightCheckRefusesANumberWithTrailingText) {
   EXPECT_EQ(o.params.step_size, 0.0005);
   flightCheckCli(o).parse({"--velocity-noise", "0.05"});
   EXPECT_EQ(o.params.velocity_noise, 0.05);
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--turbulence", "stormy"}),
+            "--turbulence: turbulence level 'stormy' is not one of none, light, moderate, severe");
+  flightCheckCli(o).parse({"--turbulence", "moderate"});
+  EXPECT_DOUBLE_EQ(o.params.turbulence, 30.0 * 1852.0 / 3600.0);
 }
 
 // flight_check --hover used to fly the same flight to the bit with and without --noise,
@@ -185,6 +189,7 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
         const std::string& metavar = flag.metavars[i];
         args.push_back(name == "--gust-link"   ? "wing"
                        : metavar == "FILE"     ? "f.yaml"
+                       : metavar == "LEVEL"    ? "light"
                        : name == "--step-size" ? "0.001"
                                                : "1");
       }

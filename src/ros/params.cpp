@@ -24,6 +24,44 @@ std::string typeName(const XmlRpcValue& v) { return paramTypeName(v); }
 
 using Dict = ParamReader;
 
+// air/turbulence: a named level or the wind at 6 m, the height, shared or per creature, seed.
+flapsim::TurbulenceParams parseTurbulence(const Dict& d) {
+  flapsim::TurbulenceParams t;
+  if (d.has("level") && d.has("wind_at_6m")) {
+    fail(d.key("level"), "give a level or wind_at_6m, not both");
+  }
+  if (d.has("level")) {
+    try {
+      t.wind_at_6m = flapsim::turbulenceLevelWind(d.string("level", ""));
+    } catch (const flapsim::InputError& e) {
+      fail(d.key("level"), e.what());
+    }
+  }
+  t.wind_at_6m = d.number("wind_at_6m", t.wind_at_6m);
+  t.height = d.number("height", t.height);
+  t.per_creature = d.boolean("per_creature", t.per_creature);
+  const int seed = d.integer("seed", 0);
+  if (seed < 0) fail(d.key("seed"), "must be >= 0");
+  t.seed = static_cast<std::uint64_t>(seed);
+  const std::string err = flapsim::checkTurbulence(t);
+  if (!err.empty()) fail(d.name(), err);
+  d.rejectUnknown();
+  return t;
+}
+
+// air/gust: the discrete 1-cosine gust.
+flapsim::DiscreteGust parseGust(const Dict& d) {
+  flapsim::DiscreteGust g;
+  g.velocity = d.vec3("velocity", g.velocity);
+  g.start = d.number("start", g.start);
+  g.rise = d.number("rise", g.rise);
+  g.hold = d.number("hold", g.hold);
+  const std::string err = flapsim::checkGust(g);
+  if (!err.empty()) fail(d.name(), err);
+  d.rejectUnknown();
+  return g;
+}
+
 flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.density = d.number("density", air.density);
   air.drag_coefficient = d.number("drag_coefficient", air.drag_coefficient);
@@ -50,6 +88,10 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
     c.drag_phase = q.number("drag_phase", c.drag_phase);
     q.rejectUnknown();
   }
+  if (d.has("turbulence")) {
+    air.turbulence = parseTurbulence(Dict(d.at("turbulence"), d.key("turbulence")));
+  }
+  if (d.has("gust")) air.gust = parseGust(Dict(d.at("gust"), d.key("gust")));
   if (d.has("subdivisions")) {
     std::vector<double> s = d.numbers("subdivisions");
     if (s.size() != 2 || s[0] != std::floor(s[0]) || s[1] != std::floor(s[1])) {

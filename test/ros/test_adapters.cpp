@@ -91,6 +91,9 @@ TEST(Params, ShippedConfigParsesToItsNumbers) {
   EXPECT_EQ(p.world.air.subdivisions_v, 4);
   EXPECT_EQ(p.markers.scale, 2.0);
   EXPECT_FALSE(p.markers.per_cell);
+  EXPECT_EQ(p.world.air.turbulence.wind_at_6m, 0.0);
+  EXPECT_EQ(p.world.air.turbulence.height, 5.0);
+  EXPECT_EQ(p.world.air.gust.velocity, Vec3::Zero());
 }
 
 TEST(Params, OverridesReachTheStructs) {
@@ -165,6 +168,30 @@ creatures:
   EXPECT_EQ(p.creatures[1].wing_command[0].feather, 0.0);
 }
 
+// A turbulence level sets the wind at 6 m (15, 30, 45 kt), and the gust its shape.
+TEST(Params, TurbulenceAndGustReachTheAir) {
+  const flapsim_ros::NodeParams p = flapsim_ros::parseNodeParams(yaml(R"(
+air: {turbulence: {level: moderate, height: 10, per_creature: true, seed: 7},
+      gust: {velocity: [0, 2, 0.5], start: 3, rise: 0.4, hold: 1}}
+)"));
+  const flapsim::TurbulenceParams& t = p.world.air.turbulence;
+  EXPECT_DOUBLE_EQ(t.wind_at_6m, 30.0 * 1852.0 / 3600.0);
+  EXPECT_EQ(t.height, 10.0);
+  EXPECT_TRUE(t.per_creature);
+  EXPECT_EQ(t.seed, 7u);
+  const flapsim::DiscreteGust& g = p.world.air.gust;
+  EXPECT_EQ(g.velocity, Vec3(0, 2, 0.5));
+  EXPECT_EQ(g.start, 3.0);
+  EXPECT_EQ(g.rise, 0.4);
+  EXPECT_EQ(g.hold, 1.0);
+  EXPECT_EQ(flapsim_ros::parseNodeParams(yaml("air: {turbulence: {wind_at_6m: 4.5}}"))
+                .world.air.turbulence.wind_at_6m,
+            4.5);
+  EXPECT_EQ(flapsim_ros::parseNodeParams(yaml("air: {turbulence: {level: none}}"))
+                .world.air.turbulence.wind_at_6m,
+            0.0);
+}
+
 TEST(Params, BadParametersAreNamed) {
   struct Case {
     std::string yaml, expect;
@@ -188,6 +215,15 @@ TEST(Params, BadParametersAreNamed) {
       {"air: 3", "'air': must be a dictionary"},
       {"air: {model: cfd}", "'air/model': unknown air model 'cfd'"},
       {"air: {quasi_steady: {lift_man: 1}}", "'air/quasi_steady/lift_man': unknown"},
+      {"air: {turbulence: {level: stormy}}", "'air/turbulence/level': turbulence level 'stormy'"},
+      {"air: {turbulence: {level: light, wind_at_6m: 3}}", "'air/turbulence/level': give a level"},
+      {"air: {turbulence: {level: light, height: 1}}", "air/turbulence/height must be in [3.048"},
+      {"air: {turbulence: {wind_at_6m: -1}}", "air/turbulence/wind_at_6m must be in [0, 100]"},
+      {"air: {turbulence: {seed: -2}}", "'air/turbulence/seed': must be >= 0"},
+      {"air: {turbulence: {levle: light}}", "'air/turbulence/levle': unknown"},
+      {"air: {gust: {velocity: [0, 1, 0], rise: 0}}", "air/gust/rise must be in (0, 1e6]"},
+      {"air: {gust: {velocity: [0, 1]}}", "'air/gust/velocity': must have 3 numbers"},
+      {"air: {gust: {velocity: [0, 1, 0], start: -1}}", "air/gust/start must be >= 0"},
       {"threads: 0", "threads must be in 1..256"},
       {"markers: {width: 0}", "'markers/width'"},
       {"imu: {angular_velocity_noise: -0.1}", "'imu/angular_velocity_noise': must be in"},

@@ -260,6 +260,9 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   WorldParams world_params = p.world;
   if (start.step_size > 0.0) world_params.step_size = start.step_size;
   world_params.air.wind += start.wind;
+  // A realisation of the turbulence per start.
+  world_params.air.turbulence.seed =
+      mixSeed(p.world.air.turbulence.seed, start.noise_seed, 0x7475726275ULL);
   const ControlLoop loop(control_period, world_params.step_size);
   const FlapUnitLayout layout = flapUnitLayout(*model);
   std::vector<int> bodies;

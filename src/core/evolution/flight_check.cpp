@@ -1,5 +1,6 @@
 #include "flapsim/flight_check.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -28,6 +29,9 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.altitude_noise = p.altitude_noise;
   episode.velocity_noise = p.velocity_noise;
   episode.world.air.added_mass_velocity_products = p.velocity_products;
+  episode.world.air.turbulence.wind_at_6m = p.turbulence;
+  episode.world.air.turbulence.height =
+      std::clamp(p.altitude.value_or(p.start_height), kMinTurbulenceHeight, kMaxTurbulenceHeight);
   episode.altitude_hold = p.altitude.has_value();
   if (p.altitude) episode.min_altitude = episode.max_altitude = *p.altitude;
   const std::string err = validateEpisodeParams(episode);
@@ -53,6 +57,14 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
 }
 
 namespace {
+
+// ", turbulence W20 7.72 m/s", or nothing without turbulence.
+std::string turbulenceNote(double wind_at_6m) {
+  if (wind_at_6m <= 0.0) return "";
+  char note[64];
+  std::snprintf(note, sizeof note, ", turbulence W20 %.2f m/s", wind_at_6m);
+  return note;
+}
 
 // Tags of the flags that only one of flight_check's modes flies with.
 const char* const kNetworkOnly = "network";
@@ -89,6 +101,18 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .tag(kHoverOnly)
       .real("--wind", "SPEED", &p.wind, {0, 1e3},
             "steady wind from t = 0, m/s, from a heading drawn per start (--hover: along +y)")
+      .custom(
+          "--turbulence", {"LEVEL"},
+          [&p](const std::vector<std::string>& v) {
+            try {
+              p.turbulence = turbulenceLevelWind(v[0]);
+            } catch (const InputError& e) {
+              throw InputError(std::string("--turbulence: ") + e.what());
+            }
+          },
+          [&p] { return formatCliNumber(p.turbulence) + " m/s at 6 m"; },
+          "Dryden turbulence (MIL-F-8785C): none, light, moderate or severe, frozen in the air "
+          "and carried by --wind, a realisation per start (--hover: seed 0)")
       .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
             "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
       .tag(kNetworkOnly)
@@ -194,8 +218,8 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
   std::snprintf(line, sizeof line, "%d of %zu starts passed (",
                 static_cast<int>(runs.size()) - failed, runs.size());
   out += line + o.weights;
-  std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s))\n", p.duration,
-                1000.0 * p.step_size, wing_pairs);
+  std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s)%s)\n", p.duration,
+                1000.0 * p.step_size, wing_pairs, turbulenceNote(p.turbulence).c_str());
   return out + line;
 }
 
@@ -242,6 +266,8 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
   p.world.step_size = o.params.step_size;
   p.world.air.wind = Vec3(0.0, o.params.wind, 0.0);
   p.world.air.added_mass_velocity_products = o.params.velocity_products;
+  p.world.air.turbulence.wind_at_6m = o.params.turbulence;
+  p.world.air.turbulence.height = std::clamp(altitude, kMinTurbulenceHeight, kMaxTurbulenceHeight);
   p.start_roll = o.params.max_roll;
   p.start_pitch = o.params.max_pitch;
   const HoverFlightResult r = flyHover(model, controller, p);
@@ -252,17 +278,17 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
   char line[1024];
   std::snprintf(
       line, sizeof line,
-      "hover at %g m, wind %g m/s, %g s at %g ms (figures after %g s), gains %s:\n"
+      "hover at %g m, wind %g m/s%s, %g s at %g ms (figures after %g s), gains %s:\n"
       "  height %.3f to %.3f m (rms %.4f m), lowest up-component %.4f, largest height range in a "
       "stroke %.1f mm, drift %.2f m, %.2f Hz\n"
       "  mechanical power of the motors: %.3f W positive (%.1f W/kg of its %.1f g), "
       "%.3f W net\n"
       "  figure of merit: ideal %.3f W (actuator disk of %.4f m^2) / %.3f W = %.2f\n%s\n",
-      altitude, o.params.wind, p.duration, 1000.0 * p.world.step_size, p.settle,
-      o.gains.empty() ? "by hand" : o.gains.c_str(), r.min_height, r.max_height, r.altitude_rms,
-      r.min_upright, 1000.0 * r.max_stroke_oscillation, r.drift.norm(), r.mean_frequency,
-      r.positive_power, r.specificPower(), 1000.0 * r.mass, r.net_power, ideal, disk,
-      r.positive_power, ideal / r.positive_power, ok ? "pass" : "FAIL");
+      altitude, o.params.wind, turbulenceNote(o.params.turbulence).c_str(), p.duration,
+      1000.0 * p.world.step_size, p.settle, o.gains.empty() ? "by hand" : o.gains.c_str(),
+      r.min_height, r.max_height, r.altitude_rms, r.min_upright, 1000.0 * r.max_stroke_oscillation,
+      r.drift.norm(), r.mean_frequency, r.positive_power, r.specificPower(), 1000.0 * r.mass,
+      r.net_power, ideal, disk, r.positive_power, ideal / r.positive_power, ok ? "pass" : "FAIL");
   return line;
 }
 
