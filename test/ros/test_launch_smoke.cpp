@@ -6,25 +6,56 @@
 // runs the sim.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
-#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_srvs/Empty.h>
 
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "flapsim/Step.h"
+#include "wait_for.h"
 
 namespace {
+
+using flapsim_test::waitFor;
 
 double member(XmlRpc::XmlRpcValue& v, const std::string& key, double def) {
   if (!v.hasMember(key)) return def;
   XmlRpc::XmlRpcValue& x = v[key];
   return x.getType() == XmlRpc::XmlRpcValue::TypeInt ? static_cast<int>(x) : static_cast<double>(x);
+}
+
+// Each creature's displacement from `first` to `at_end` (by odom topic) within the bounds of
+// ~checks.
+void expectDisplacements(ros::NodeHandle& pnh, std::map<std::string, nav_msgs::Odometry>& first,
+                         std::map<std::string, nav_msgs::Odometry>& at_end) {
+  XmlRpc::XmlRpcValue checks;
+  ASSERT_TRUE(pnh.getParam("checks", checks)) << "~checks is missing: a scenario must say what "
+                                                 "its creatures do";
+  ASSERT_EQ(checks.getType(), XmlRpc::XmlRpcValue::TypeArray) << "~checks must be a list";
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < checks.size(); ++i) {
+    const std::string t = checks[i]["topic"];
+    ASSERT_TRUE(at_end.count(t)) << t << " is not in odom_topics";
+    const auto& p0 = first[t].pose.pose.position;
+    const auto& p1 = at_end[t].pose.pose.position;
+    const double dz = p1.z - p0.z;
+    const double dx = p1.x - p0.x;
+    const double dxy = std::hypot(p1.x - p0.x, p1.y - p0.y);
+    testing::Test::RecordProperty(t + "_dx", std::to_string(dx));
+    testing::Test::RecordProperty(t + "_dz", std::to_string(dz));
+    testing::Test::RecordProperty(t + "_dxy", std::to_string(dxy));
+    EXPECT_GE(dz, member(checks[i], "min_dz", -inf)) << t;
+    EXPECT_LE(dz, member(checks[i], "max_dz", inf)) << t;
+    EXPECT_GE(dx, member(checks[i], "min_dx", -inf)) << t;
+    EXPECT_LE(dx, member(checks[i], "max_dx", inf)) << t;
+    EXPECT_GE(std::abs(dx), member(checks[i], "min_abs_dx", -inf)) << t;
+    EXPECT_GE(dxy, member(checks[i], "min_dxy", -inf)) << t;
+    EXPECT_LE(dxy, member(checks[i], "max_dxy", inf)) << t;
+  }
 }
 
 TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
@@ -44,14 +75,7 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
         }));
   }
   ASSERT_TRUE(ros::service::waitForService("/flapsim/step", ros::Duration(60)));
-  auto wait = [](const std::function<bool()>& done, double timeout) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(timeout);
-    while (ros::ok() && !done() && ros::WallTime::now() < deadline) {
-      ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.01));
-    }
-    return done();
-  };
-  ASSERT_TRUE(wait(
+  ASSERT_TRUE(waitFor(
       [&] {
         for (const auto& s : subs) {
           if (s.getNumPublishers() == 0) return false;
@@ -67,7 +91,7 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
   ASSERT_TRUE(ros::service::call("/flapsim/step", step));
   ASSERT_TRUE(step.response.success) << step.response.status_message << " (launch it paused)";
   EXPECT_EQ(step.response.sim_time, ros::Time(0));
-  ASSERT_TRUE(wait([&] { return first.size() == topics.size(); }, 10.0));
+  ASSERT_TRUE(waitFor([&] { return first.size() == topics.size(); }, 10.0));
   for (const auto& kv : first) EXPECT_EQ(kv.second.header.stamp, ros::Time(0)) << kv.first;
 
   // `duration` of sim time in one step request: exact, whatever the machine's speed
@@ -78,7 +102,7 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
   ASSERT_TRUE(step.response.success) << step.response.status_message;
   const ros::Time end = step.response.sim_time;
   EXPECT_NEAR(end.toSec(), duration, 1e-9);
-  ASSERT_TRUE(wait(
+  ASSERT_TRUE(waitFor(
       [&] {
         for (const std::string& t : topics) {
           if (!last.count(t) || last[t].header.stamp != end) return false;
@@ -92,34 +116,11 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
   // and it runs by itself when unpaused
   std_srvs::Empty e;
   ASSERT_TRUE(ros::service::call("/flapsim/unpause", e));
-  EXPECT_TRUE(wait([&] { return last[topics[0]].header.stamp > end; }, 30.0))
+  EXPECT_TRUE(waitFor([&] { return last[topics[0]].header.stamp > end; }, 30.0))
       << "no progress after flapsim/unpause";
   ros::service::call("/flapsim/pause", e);
 
-  XmlRpc::XmlRpcValue checks;
-  ASSERT_TRUE(pnh.getParam("checks", checks)) << "~checks is missing: a scenario must say what "
-                                                 "its creatures do";
-  ASSERT_EQ(checks.getType(), XmlRpc::XmlRpcValue::TypeArray) << "~checks must be a list";
-  const double inf = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < checks.size(); ++i) {
-    const std::string t = checks[i]["topic"];
-    ASSERT_TRUE(at_end.count(t)) << t << " is not in odom_topics";
-    const auto& p0 = first[t].pose.pose.position;
-    const auto& p1 = at_end[t].pose.pose.position;
-    const double dz = p1.z - p0.z;
-    const double dx = p1.x - p0.x;
-    const double dxy = std::hypot(p1.x - p0.x, p1.y - p0.y);
-    RecordProperty(t + "_dx", std::to_string(dx));
-    RecordProperty(t + "_dz", std::to_string(dz));
-    RecordProperty(t + "_dxy", std::to_string(dxy));
-    EXPECT_GE(dz, member(checks[i], "min_dz", -inf)) << t;
-    EXPECT_LE(dz, member(checks[i], "max_dz", inf)) << t;
-    EXPECT_GE(dx, member(checks[i], "min_dx", -inf)) << t;
-    EXPECT_LE(dx, member(checks[i], "max_dx", inf)) << t;
-    EXPECT_GE(std::abs(dx), member(checks[i], "min_abs_dx", -inf)) << t;
-    EXPECT_GE(dxy, member(checks[i], "min_dxy", -inf)) << t;
-    EXPECT_LE(dxy, member(checks[i], "max_dxy", inf)) << t;
-  }
+  ASSERT_NO_FATAL_FAILURE(expectDisplacements(pnh, first, at_end));
 }
 
 }  // namespace
