@@ -141,4 +141,4 @@ class Trees(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    run_unittests(sys.argv, "code_size", "FindsEveryFunctionAndFile")
+    run_unittests(sys.argv, "code_size_finder", "FindsEveryFunctionAndFile")
