@@ -166,7 +166,12 @@ TEST(ToolTables, FlightCheckRefusesANumberWithTrailingText) {
   flightCheckCli(o).parse({"--velocity-noise", "0.05"});
   EXPECT_EQ(o.params.velocity_noise, 0.05);
   EXPECT_EQ(refusal(flightCheckCli(o), {"--turbulence", "stormy"}),
-            "--turbulence: turbulence level 'stormy' is not one of none, light, moderate, severe");
+            "--turbulence: turbulence 'stormy' is not one of none, light, moderate, severe nor a "
+            "wind at 6 m in m/s");
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--turbulence", "-1"}),
+            "--turbulence: turbulence wind at 6 m '-1' is not in [0, 100] m/s");
+  flightCheckCli(o).parse({"--turbulence", "3.5"});
+  EXPECT_EQ(o.params.turbulence, 3.5);
   flightCheckCli(o).parse({"--turbulence", "moderate"});
   EXPECT_DOUBLE_EQ(o.params.turbulence, 30.0 * 1852.0 / 3600.0);
 }
@@ -205,8 +210,9 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
   };
   EXPECT_EQ(refused(true),
             std::vector<std::string>({"--weights", "--pairs", "--starts", "--seed", "--threads",
-                                      "--gust-torque", "--gust-force", "--gust-link", "--gust-time",
-                                      "--noise", "--altitude-noise", "--velocity-noise"}));
+                                      "--gyro-bias", "--real-air", "--gust-torque", "--gust-force",
+                                      "--gust-link", "--gust-time", "--noise", "--altitude-noise",
+                                      "--velocity-noise"}));
   // Without a gust (the walk gives one flag at a time), its link and duration do nothing.
   EXPECT_EQ(refused(false),
             std::vector<std::string>({"--gains", "--write-gains", "--gust-link", "--gust-time"}));
@@ -215,6 +221,15 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
   EXPECT_EQ(flightCheckUnusedFlag(o, cli.parse({"--hover", "--noise", "0.1"})),
             "--noise has no effect with --hover (one flight of the hover controller: no "
             "network, no held-out starts, gusts or sensor noise)");
+  // --real-air sets the wind, turbulence, gusts and sensors itself.
+  for (const char* set : {"--wind", "--turbulence", "--gust-torque", "--gust-force", "--gust-time",
+                          "--noise", "--altitude-noise", "--gyro-bias"}) {
+    FlightCheckOptions r;
+    CliParser real = flightCheckCli(r);
+    const std::string value = std::string(set) == "--turbulence" ? "light" : "1";
+    EXPECT_EQ(flightCheckUnusedFlag(r, real.parse({"--real-air", set, value})),
+              std::string(set) + " is set by --real-air (give one or the other)");
+  }
   FlightCheckOptions g;
   CliParser gust = flightCheckCli(g);
   EXPECT_EQ(flightCheckUnusedFlag(

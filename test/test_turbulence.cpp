@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "flapsim/evolve.h"
+#include "flapsim/flight_check.h"
+#include "flapsim/make_creature.h"
 #include "flapsim/spectrum.h"
 #include "flapsim/turbulence.h"
 #include "flapsim/world.h"
@@ -231,6 +234,67 @@ TEST(Turbulence, AFreePlateIsCarriedByTheGust) {
   EXPECT_LE(fastest, 2.0);
   EXPECT_LT(std::abs(w.rootTwist("plate").linear.x()) + std::abs(w.rootTwist("plate").linear.y()),
             1e-9);
+}
+
+// Episodes draw a gyro bias per start from a stream of their own (the other draws stay as
+// they were) and fly a realisation of the turbulence per start, the same on every run.
+TEST(RealAir, EpisodesDrawAGyroBiasAndATurbulencePerStart) {
+  EpisodeParams p;
+  p.episodes = 6;
+  p.max_wind = 1.0;
+  const std::vector<EpisodeStart> plain = episodeStarts(p);
+  p.gyro_bias = 0.02;
+  const std::vector<EpisodeStart> biased = episodeStarts(p);
+  double largest = 0.0;
+  for (size_t i = 0; i < plain.size(); ++i) {
+    EXPECT_EQ(plain[i].wind, biased[i].wind);
+    EXPECT_EQ(plain[i].roll, biased[i].roll);
+    EXPECT_EQ(plain[i].noise_seed, biased[i].noise_seed);
+    EXPECT_EQ(plain[i].gyro_bias, Vec3::Zero());
+    EXPECT_LE(biased[i].gyro_bias.norm(), 0.02);
+    largest = std::max(largest, biased[i].gyro_bias.norm());
+  }
+  EXPECT_GT(largest, 0.005);
+
+  const CreatureModelPtr unit = parseCreatureModel(makeCreatureUrdf(1, "afc"), "afc");
+  const OpenLoopWingController open(StrokeCommand{60.0, 10.0, 1.2});
+  p.duration = 2.0;
+  p.world.air.turbulence.wind_at_6m = turbulenceLevelWind("moderate");
+  auto height = [&](const EpisodeStart& s) {
+    return runEpisode(unit, open, 0.02, p, s).final_height;
+  };
+  const double first = height(biased[0]), second = height(biased[1]);
+  EXPECT_EQ(height(biased[0]), first);  // the same bits
+  p.world.air.turbulence.wind_at_6m = 0.0;
+  // The turbulence moved each flight, each by its own air.
+  const double calm_first = height(biased[0]), calm_second = height(biased[1]);
+  EXPECT_GT(std::abs(first - calm_first), 1e-3);
+  EXPECT_GT(std::abs(second - calm_second), 1e-3);
+  EXPECT_GT(std::abs((first - calm_first) - (second - calm_second)), 1e-3);
+}
+
+// The real-air impulses scale with the creature: afc_1 (23.0 g, 0.76 m across) gets a roll
+// torque of 0.5 x weight x half-span = 0.043 N m and a push of 4 x its weight = 0.90 N (the
+// hand-set 0.05 N m and 1 N of the robust preset); each unit of afc_4 the same push, and a
+// torque four times as large.
+TEST(RealAir, ImpulsesScaleWithTheCreature) {
+  const CreatureModelPtr unit = parseCreatureModel(makeCreatureUrdf(1, "afc"), "afc");
+  EXPECT_NEAR(unit->totalMass(), 0.023, 1e-9);
+  EXPECT_NEAR(creatureSpan(*unit), 0.76, 0.005);
+  const FlightCheckParams one = realAirParams(FlightCheckParams(), *unit);
+  EXPECT_NEAR(one.gust_torque, 0.5 * 0.023 * 9.81 * 0.5 * creatureSpan(*unit), 1e-12);
+  EXPECT_NEAR(one.gust_torque, 0.043, 0.001);
+  EXPECT_NEAR(one.gust_force, 4.0 * 0.023 * 9.81, 1e-12);
+  EXPECT_EQ(one.wind, 1.0);
+  EXPECT_EQ(one.turbulence, turbulenceLevelWind("light"));
+  EXPECT_EQ(one.noise, 0.05);
+  EXPECT_EQ(one.gyro_bias, 0.02);
+  EXPECT_EQ(one.altitude_noise, 0.05);
+  const CreatureModelPtr four = parseCreatureModel(makeCreatureUrdf(4, "afc"), "afc4");
+  const FlightCheckParams chain = realAirParams(FlightCheckParams(), *four);
+  EXPECT_NEAR(chain.gust_force, one.gust_force, 1e-9);
+  EXPECT_NEAR(chain.gust_torque / one.gust_torque, 4.0 * creatureSpan(*four) / creatureSpan(*unit),
+              1e-9);
 }
 
 }  // namespace

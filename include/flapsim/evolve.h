@@ -64,6 +64,9 @@ struct EpisodeParams {
   /// The controller's sensors (flapsim/sensors.h): the root's IMU (seeded noise per
   /// episode), exact joint encoders, the altimeter's noise (m) and the ground-speed sensor's.
   ImuNoise imu_noise;
+  /// rad/s: a constant bias of the gyro per episode, its size uniform in [0, gyro_bias], its
+  /// direction uniform (drawn from a stream of its own).
+  double gyro_bias = 0.0;
   double altitude_noise = 0.0;
   /// m/s: the ground-speed sensor's noise (FlapSensing::velocity, each of its axes), read
   /// only by a controller with ground-speed damping.
@@ -130,6 +133,7 @@ struct EpisodeStart {
   std::optional<double> altitude;  // m: the setpoint (altitude hold)
   double step_size = 0.0;          // s; 0: the world's
   std::uint64_t noise_seed = 0;
+  Vec3 gyro_bias = Vec3::Zero();  // rad/s, added to the gyro's reading
 };
 
 /// A start at `roll` and `pitch` (rad), everything else still.

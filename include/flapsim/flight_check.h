@@ -43,8 +43,22 @@ struct FlightCheckParams {
   /// height (its altitude setpoint, else its start height; at least 10 ft), a realisation
   /// per start.
   double turbulence = 0.0;
+  double gyro_bias = 0.0;  // rad/s: a constant bias per start, up to this, any direction
+  /// Real air, all at once (realAirParams): a steady 1 m/s wind, light turbulence, a roll
+  /// torque for 0.5 s and a push on a drawn wing for 0.2 s at drawn times, IMU noise, a gyro
+  /// bias and altimeter noise.
+  bool real_air = false;
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
+
+/// `p` with real air's settings for `model` (p.real_air): wind 1 m/s from a drawn heading,
+/// light turbulence, a roll torque of 0.5 x weight x half-span (the creature's, N m) for
+/// 0.5 s and a push of 4 x the weight of the pushed wing's unit (N) for 0.2 s at drawn times
+/// (afc_1: 0.043 N m and 0.90 N), IMU noise 0.05 rad and 0.05 rad/s, a gyro bias up to
+/// 0.02 rad/s, altimeter noise 0.05 m.
+FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model);
+/// The creature's span: the extent along y of its shapes, posed as spawned level (m).
+double creatureSpan(const CreatureModel& model);
 
 /// One start's flight: the episode's result (flipped, lowest up-component, heights, time
 /// upright, altitude rms after the settle time, lateral drift, mean bank, the motors' power)

@@ -43,6 +43,10 @@ constexpr int kTurbulenceModes = 512;           // Fourier modes per component
 /// 23.15 m/s (45 kt), "none" 0. Throws InputError naming the level otherwise.
 double turbulenceLevelWind(const std::string& level);
 
+/// W20 of a level named or given in m/s ("light", "7.5"): the tools' --turbulence. Throws
+/// InputError naming the text otherwise or outside [0, kMaxTurbulenceWind].
+double turbulenceWindFromText(const std::string& text);
+
 /// The model's intensities (m/s) and scale lengths (m) at a height.
 struct DrydenScales {
   Vec3 sigma = Vec3::Zero();   // u, v, w

@@ -33,6 +33,7 @@ std::string validateDisturbances(const EpisodeParams& p) {
   if (!imu.empty()) return "imu_noise: " + imu;
   for (const std::string& err :
        {range("altitude_noise", p.altitude_noise, 0.0, 1e3, " m"),
+        range("gyro_bias", p.gyro_bias, 0.0, 1e3, " rad/s"),
         range("velocity_noise", p.velocity_noise, 0.0, 1e3, " m/s"),
         range("gust_torque", p.gust_torque, -kMaxTorque, kMaxTorque, " N m"),
         range("gust_force", p.gust_force, -kMaxForce, kMaxForce, " N"),
@@ -155,6 +156,13 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureMo
     }
     if (p.altitude_hold) s.altitude = altitude;
   }
+  // Gyro biases from a fourth stream (the other draws stay as they were).
+  Rng bias(mixSeed(p.seed, 0xB1A5ULL));
+  for (EpisodeStart& s : starts) {
+    const double size = bias.uniform(0.0, p.gyro_bias);
+    const Vec3 direction(bias.normal(), bias.normal(), bias.normal());
+    s.gyro_bias = size * direction.normalized();
+  }
   return starts;
 }
 
@@ -164,13 +172,14 @@ namespace {
 // episode's noise through the controller's attitude filter, exact joint encoders, the
 // altimeter with its noise, the root's velocity (odometry's twist) with its noise.
 FlapSensing sense(const World& world, const std::string& name, const CreatureModel& model,
-                  const std::vector<int>& bodies, const EpisodeParams& p, Rng& rng,
-                  AttitudeFilter& filter, double control_period) {
+                  const std::vector<int>& bodies, const EpisodeParams& p, const Vec3& gyro_bias,
+                  Rng& rng, AttitudeFilter& filter, double control_period) {
   const CreatureState state = world.state(name);
   const std::function<double()> normal = [&rng] { return rng.normal(); };
-  const ImuReading imu = filter.update(
-      imuReading(state, world.rootAcceleration(name), world.params().gravity, p.imu_noise, normal),
-      control_period);
+  ImuReading raw =
+      imuReading(state, world.rootAcceleration(name), world.params().gravity, p.imu_noise, normal);
+  raw.angular_velocity += gyro_bias;
+  const ImuReading imu = filter.update(raw, control_period);
   double altitude = state.link_poses[0].position.z();
   if (p.altitude_noise > 0.0) altitude += p.altitude_noise * rng.normal();
   FlapSensing s =
@@ -260,9 +269,14 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   WorldParams world_params = p.world;
   if (start.step_size > 0.0) world_params.step_size = start.step_size;
   world_params.air.wind += start.wind;
-  // A realisation of the turbulence per start.
-  world_params.air.turbulence.seed =
-      mixSeed(p.world.air.turbulence.seed, start.noise_seed, 0x7475726275ULL);
+  // A realisation of the turbulence per start, its intensities and scales at the altitude
+  // held (else the start height; within the model's range).
+  TurbulenceParams& turbulence = world_params.air.turbulence;
+  turbulence.seed = mixSeed(p.world.air.turbulence.seed, start.noise_seed, 0x7475726275ULL);
+  if (turbulence.wind_at_6m > 0.0) {
+    turbulence.height = std::clamp(start.altitude.value_or(p.start_height), kMinTurbulenceHeight,
+                                   kMaxTurbulenceHeight);
+  }
   const ControlLoop loop(control_period, world_params.step_size);
   const FlapUnitLayout layout = flapUnitLayout(*model);
   std::vector<int> bodies;
@@ -286,7 +300,8 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   Tally tally;
   for (std::int64_t s = 0; s < samples; ++s) {
     applyGusts(world, name, *model, p, start, s, control_period);
-    FlapSensing sensed = sense(world, name, *model, bodies, p, noise, filter, control_period);
+    FlapSensing sensed =
+        sense(world, name, *model, bodies, p, start.gyro_bias, noise, filter, control_period);
     sensed.setpoint = start.altitude;
     const std::vector<StrokeCommand> commands = controller.commands(sensed);
     world.setWingCommands(name, layout.wing_joints, commands);

@@ -89,6 +89,22 @@ void disturbanceFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .real("--altitude-noise", "M", &e.altitude_noise, {0, 1e3}, "altimeter noise, m")
       .tag(kSpec)
+      .real("--gyro-bias", "B", &e.gyro_bias, {0, 1e3},
+            "a constant gyro bias per episode, up to B rad/s, any direction")
+      .tag(kSpec)
+      .custom(
+          "--turbulence", {"LEVEL"},
+          [&e](const std::vector<std::string>& v) {
+            try {
+              e.world.air.turbulence.wind_at_6m = turbulenceWindFromText(v[0]);
+            } catch (const InputError& error) {
+              throw InputError(std::string("--turbulence: ") + error.what());
+            }
+          },
+          [&e] { return formatCliNumber(e.world.air.turbulence.wind_at_6m) + " m/s at 6 m"; },
+          "Dryden turbulence (MIL-F-8785C): none, light, moderate, severe or the wind at 6 m "
+          "(m/s); a realisation per episode")
+      .tag(kSpec)
       .real("--gust-torque", "T", &e.gust_torque, {-kMaxTorque, kMaxTorque},
             "a roll torque of T N m at a random time, random sign (0: none)")
       .tag(kSpec)
@@ -284,7 +300,7 @@ const std::vector<std::string> kNotHoverFlags = {
     "--link-axis",      "--link-stiffness",  "--start-rate",
     "--gust",           "--gust-torque",     "--gust-torque-time",
     "--gust-force",     "--gust-force-time", "--gust-link",
-    "--altitude-noise", "--altitude-hold"};
+    "--altitude-noise", "--altitude-hold",   "--gyro-bias"};
 
 void checkHoverFlags(const std::vector<CliSeen>& seen) {
   for (const CliSeen& s : seen) {

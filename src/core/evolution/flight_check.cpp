@@ -4,8 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "flapsim/ann.h"
 #include "flapsim/ga.h"
 #include "flapsim/hover_gains.h"
+#include "flapsim/world.h"
 
 namespace flapsim {
 
@@ -25,13 +27,16 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.gust_force = p.gust_force;
   episode.gust_link = p.gust_link;
   episode.gust_torque_duration = episode.gust_force_duration = p.gust_time;
+  if (p.real_air) {
+    episode.gust_torque_duration = 0.5;
+    episode.gust_force_duration = 0.2;
+  }
   episode.imu_noise.orientation = episode.imu_noise.angular_velocity = p.noise;
   episode.altitude_noise = p.altitude_noise;
   episode.velocity_noise = p.velocity_noise;
   episode.world.air.added_mass_velocity_products = p.velocity_products;
   episode.world.air.turbulence.wind_at_6m = p.turbulence;
-  episode.world.air.turbulence.height =
-      std::clamp(p.altitude.value_or(p.start_height), kMinTurbulenceHeight, kMaxTurbulenceHeight);
+  episode.gyro_bias = p.gyro_bias;
   episode.altitude_hold = p.altitude.has_value();
   if (p.altitude) episode.min_altitude = episode.max_altitude = *p.altitude;
   const std::string err = validateEpisodeParams(episode);
@@ -39,10 +44,48 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   return episode;
 }
 
+double creatureSpan(const CreatureModel& model) {
+  WorldParams params;
+  params.ground = false;
+  params.air.enabled = false;
+  World world(params);
+  world.spawn("c", std::make_shared<CreatureModel>(model), Pose());
+  const CreatureState state = world.state("c");
+  double low = 0.0, high = 0.0;
+  for (size_t k = 0; k < model.links.size(); ++k) {
+    const Pose& link = state.link_poses[k];
+    for (const Box& box : model.links[k].boxes) {
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 local(corner & 1 ? 0.5 : -0.5, corner & 2 ? 0.5 : -0.5, corner & 4 ? 0.5 : -0.5);
+        const Vec3 at = link.position +
+                        link.orientation * (box.origin.position +
+                                            box.origin.orientation * local.cwiseProduct(box.size));
+        low = std::min(low, at.y());
+        high = std::max(high, at.y());
+      }
+    }
+  }
+  return high - low;
+}
+
+FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model) {
+  const double weight = model.totalMass() * 9.81;
+  const int units = flapUnitLayout(model).units();
+  p.wind = 1.0;
+  p.turbulence = turbulenceLevelWind("light");
+  p.gust_torque = 0.5 * weight * 0.5 * creatureSpan(model);
+  p.gust_force = 4.0 * weight / units;
+  p.noise = 0.05;
+  p.gyro_bias = 0.02;
+  p.altitude_noise = 0.05;
+  return p;
+}
+
 std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
-                                        const FlightCheckParams& p) {
-  if (p.threads < 1) throw InputError("flight check: threads must be >= 1");
+                                        const FlightCheckParams& given) {
+  if (given.threads < 1) throw InputError("flight check: threads must be >= 1");
+  const FlightCheckParams p = given.real_air ? realAirParams(given, *model) : given;
   const EpisodeParams episode = flightCheckEpisodes(p);
   // Roll uniform in +-max_roll (episodeStarts alternates the sign of |roll| in [0, max]).
   const std::vector<EpisodeStart> starts = episodeStarts(episode, model.get());
@@ -69,6 +112,57 @@ std::string turbulenceNote(double wind_at_6m) {
 // Tags of the flags that only one of flight_check's modes flies with.
 const char* const kNetworkOnly = "network";
 const char* const kHoverOnly = "hover";
+
+// The air's and the sensors' flags: wind, turbulence, gusts, noise, the real-air row.
+void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
+  t.real("--wind", "SPEED", &p.wind, {0, 1e3},
+         "steady wind from t = 0, m/s, from a heading drawn per start (--hover: along +y)")
+      .custom(
+          "--turbulence", {"LEVEL"},
+          [&p](const std::vector<std::string>& v) {
+            try {
+              p.turbulence = turbulenceWindFromText(v[0]);
+            } catch (const InputError& e) {
+              throw InputError(std::string("--turbulence: ") + e.what());
+            }
+          },
+          [&p] { return formatCliNumber(p.turbulence) + " m/s at 6 m"; },
+          "Dryden turbulence (MIL-F-8785C): none, light, moderate, severe or the wind at 6 m "
+          "(m/s), frozen in the air and carried by --wind, a realisation per start (--hover: "
+          "seed 0)")
+      .real("--gyro-bias", "B", &p.gyro_bias, {0, 1e3},
+            "a constant gyro bias per start, up to B rad/s, any direction")
+      .tag(kNetworkOnly)
+      .flag("--real-air", &p.real_air, true,
+            "real air, all at once: wind 1 m/s, light turbulence, a roll torque (0.5 x weight x "
+            "half-span) for 0.5 s and a push on a drawn wing (4 x its unit's weight) for 0.2 s "
+            "at drawn times, IMU noise 0.05, a gyro bias up to 0.02 rad/s, altimeter noise "
+            "0.05 m")
+      .tag(kNetworkOnly)
+      .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
+            "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
+      .tag(kNetworkOnly)
+      .real("--gust-force", "N", &p.gust_force, {-1e6, 1e6},
+            "a vertical push (> 0: up) on --gust-link at a time drawn per start")
+      .tag(kNetworkOnly)
+      .text("--gust-link", "LINK", &p.gust_link,
+            "the link pushed (default: a wing drawn per start, up or down)")
+      .tag(kNetworkOnly)
+      .real("--gust-time", "S", &p.gust_time, {0, kMaxEpisodeDuration, true},
+            "how long each gust acts, s")
+      .tag(kNetworkOnly)
+      .real("--noise", "RAD", &p.noise, {0, 1e3},
+            "IMU noise: orientation RAD rad, angular velocity RAD rad/s")
+      .tag(kNetworkOnly)
+      .real("--altitude-noise", "M", &p.altitude_noise, {0, 1e3}, "altimeter noise, m")
+      .tag(kNetworkOnly)
+      .real("--velocity-noise", "V", &p.velocity_noise, {0, 1e3},
+            "ground-speed sensor noise, m/s per axis (read with ground-speed damping)")
+      .tag(kNetworkOnly)
+      .flag("--velocity-products", &p.velocity_products, true,
+            "fly with the added mass's velocity products (AirParams::"
+            "added_mass_velocity_products; off by default)");
+}
 
 }  // namespace
 
@@ -98,51 +192,15 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
             "--hover: the controller's gains file (evolve --preset hover's; default: by hand)")
       .tag(kHoverOnly)
       .text("--write-gains", "FILE", &o.write_gains, "--hover: write the gains flown to FILE")
-      .tag(kHoverOnly)
-      .real("--wind", "SPEED", &p.wind, {0, 1e3},
-            "steady wind from t = 0, m/s, from a heading drawn per start (--hover: along +y)")
-      .custom(
-          "--turbulence", {"LEVEL"},
-          [&p](const std::vector<std::string>& v) {
-            try {
-              p.turbulence = turbulenceLevelWind(v[0]);
-            } catch (const InputError& e) {
-              throw InputError(std::string("--turbulence: ") + e.what());
-            }
-          },
-          [&p] { return formatCliNumber(p.turbulence) + " m/s at 6 m"; },
-          "Dryden turbulence (MIL-F-8785C): none, light, moderate or severe, frozen in the air "
-          "and carried by --wind, a realisation per start (--hover: seed 0)")
-      .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
-            "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
-      .tag(kNetworkOnly)
-      .real("--gust-force", "N", &p.gust_force, {-1e6, 1e6},
-            "a vertical push (> 0: up) on --gust-link at a time drawn per start")
-      .tag(kNetworkOnly)
-      .text("--gust-link", "LINK", &p.gust_link,
-            "the link pushed (default: a wing drawn per start, up or down)")
-      .tag(kNetworkOnly)
-      .real("--gust-time", "S", &p.gust_time, {0, kMaxEpisodeDuration, true},
-            "how long each gust acts, s")
-      .tag(kNetworkOnly)
-      .real("--noise", "RAD", &p.noise, {0, 1e3},
-            "IMU noise: orientation RAD rad, angular velocity RAD rad/s")
-      .tag(kNetworkOnly)
-      .real("--altitude-noise", "M", &p.altitude_noise, {0, 1e3}, "altimeter noise, m")
-      .tag(kNetworkOnly)
-      .real("--velocity-noise", "V", &p.velocity_noise, {0, 1e3},
-            "ground-speed sensor noise, m/s per axis (read with ground-speed damping)")
-      .tag(kNetworkOnly)
-      .flag("--velocity-products", &p.velocity_products, true,
-            "fly with the added mass's velocity products (AirParams::"
-            "added_mass_velocity_products; off by default)")
-      .custom(
-          "--altitude", {"M"},
-          [&p](const std::vector<std::string>& v) {
-            p.altitude = parseCliReal("--altitude", v[0], {-1e6, 1e6});
-          },
-          [&p] { return p.altitude ? formatCliNumber(*p.altitude) : std::string("climb"); },
-          "hold M m (the root link frame's height); default: climb (--hover: 3)");
+      .tag(kHoverOnly);
+  airAndSensorFlags(t, p);
+  t.custom(
+      "--altitude", {"M"},
+      [&p](const std::vector<std::string>& v) {
+        p.altitude = parseCliReal("--altitude", v[0], {-1e6, 1e6});
+      },
+      [&p] { return p.altitude ? formatCliNumber(*p.altitude) : std::string("climb"); },
+      "hold M m (the root link frame's height); default: climb (--hover: 3)");
   return t;
 }
 
@@ -159,6 +217,11 @@ std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector
     }
     if (o.hover) continue;
     const FlightCheckParams& p = o.params;
+    for (const char* set :
+         {"--wind", "--turbulence", "--gust-torque", "--gust-force", "--gust-link", "--gust-time",
+          "--noise", "--altitude-noise", "--gyro-bias"}) {
+      if (p.real_air && name == set) return name + " is set by --real-air (give one or the other)";
+    }
     if (name == "--gust-link" && p.gust_force == 0.0) {
       return name + " has no effect without --gust-force";
     }
@@ -219,7 +282,8 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
                 static_cast<int>(runs.size()) - failed, runs.size());
   out += line + o.weights;
   std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s)%s)\n", p.duration,
-                1000.0 * p.step_size, wing_pairs, turbulenceNote(p.turbulence).c_str());
+                1000.0 * p.step_size, wing_pairs,
+                p.real_air ? ", real air" : turbulenceNote(p.turbulence).c_str());
   return out + line;
 }
 

@@ -22,6 +22,23 @@ double turbulenceLevelWind(const std::string& level) {
   throw InputError("turbulence level '" + level + "' is not one of none, light, moderate, severe");
 }
 
+double turbulenceWindFromText(const std::string& text) {
+  char* end = nullptr;
+  const double number = std::strtod(text.c_str(), &end);
+  if (!text.empty() && end == text.c_str() + text.size()) {
+    if (!(number >= 0.0 && number <= kMaxTurbulenceWind)) {
+      throw InputError("turbulence wind at 6 m '" + text + "' is not in [0, 100] m/s");
+    }
+    return number;
+  }
+  try {
+    return turbulenceLevelWind(text);
+  } catch (const InputError&) {
+    throw InputError("turbulence '" + text +
+                     "' is not one of none, light, moderate, severe nor a wind at 6 m in m/s");
+  }
+}
+
 DrydenScales drydenScales(double wind_at_6m, double height) {
   const double feet = height / 0.3048;
   const double denominator = 0.177 + 0.000823 * feet;
