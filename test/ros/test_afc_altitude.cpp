@@ -1,7 +1,9 @@
 // afc.launch with altitude:=A holds it through ROS: the controller flies by the IMU (it
 // subscribes to <creature>/imu, the topic `~imu_topic`), and on `~odom_topic`, from `~settle`
 // s of sim time to `~duration`, the root stays within `~band` m of A and its up-component above
-// `~min_up`. Run with lockstep:=true: the flight is the same on every run.
+// `~min_up`. With `~torque` (N m) a roll torque about the creature's root x axis acts from
+// `~torque_time` for `~torque_duration` s of sim time (flapsim/apply_wrench). Run with
+// lockstep:=true: the flight is the same on every run.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -10,6 +12,7 @@
 #include <cmath>
 #include <string>
 
+#include "flapsim/ApplyWrench.h"
 #include "wait_for.h"
 
 namespace {
@@ -41,6 +44,12 @@ TEST(AfcAltitude, FliesByTheImuAndHoldsTheAltitudeUprightAfterSettling) {
   pnh.getParam("odom_topic", odom);
   pnh.getParam("imu_topic", imu);
   pnh.getParam("controller", controller);
+  double torque = 0.0, torque_time = 0.0, torque_duration = 0.5;
+  std::string creature = "afc";
+  pnh.getParam("torque", torque);
+  pnh.getParam("torque_time", torque_time);
+  pnh.getParam("torque_duration", torque_duration);
+  pnh.getParam("creature", creature);
 
   double last_t = 0.0, lowest_up = 1.0, low = 1e9, high = -1e9, sq = 0.0;
   int settled = 0;
@@ -56,7 +65,25 @@ TEST(AfcAltitude, FliesByTheImuAndHoldsTheAltitudeUprightAfterSettling) {
         sq += (z - altitude) * (z - altitude);
         ++settled;
       });
-  flapsim_test::waitFor([&] { return last_t >= duration; }, wall_timeout);
+  bool pushed = torque == 0.0;
+  flapsim_test::waitFor(
+      [&] {
+        if (!pushed && last_t >= torque_time) {
+          // The creature's axes at the time of the call: a roll torque.
+          flapsim::ApplyWrench a;
+          a.request.name = creature;
+          a.request.reference_frame = creature;
+          a.request.wrench.torque.x = torque;
+          a.request.duration = ros::Duration(torque_duration);
+          pushed = ros::service::call("/flapsim/apply_wrench", a) && a.response.success;
+          EXPECT_TRUE(pushed) << a.response.status_message;
+          std::printf("roll torque %.3f N m at t = %.2f s for %.2f s\n", torque, last_t,
+                      torque_duration);
+          pushed = true;
+        }
+        return last_t >= duration;
+      },
+      wall_timeout);
   ASSERT_GE(last_t, duration) << "the flight did not reach t = " << duration << " s on " << odom;
   const std::vector<std::string> readers = subscribersOf(imu);
   EXPECT_NE(std::find(readers.begin(), readers.end(), controller), readers.end())
