@@ -330,12 +330,15 @@ TEST(ToolTables, EvolveHelpShowsTheDefaultsOfThePresetThatRuns) {
   EXPECT_NE(robust.find("individuals (32)"), std::string::npos) << robust;
   EXPECT_NE(robust.find("generations after the initial one (100)"), std::string::npos);
   EXPECT_NE(robust.find("episode length, s (20)"), std::string::npos);
-  EXPECT_NE(robust.find("(0.001,0.0005)"), std::string::npos);
+  // auto: afc_1's accurate step sizes (flapsim/step_accuracy.h), found as the flags are read.
+  EXPECT_NE(robust.find("(0.002,0.001)"), std::string::npos);
   const std::string paper = evolveUsage({"--preset", "paper", "--population", "12"});
   EXPECT_NE(paper.find("individuals (12)"), std::string::npos) << paper;
   EXPECT_NE(paper.find("generations after the initial one (200)"), std::string::npos);
   EXPECT_NE(paper.find("episode length, s (30)"), std::string::npos);
-  EXPECT_NE(paper.find("step sizes drawn per episode, s, e.g. 0.001,0.0005 (0.001)"),
+  EXPECT_NE(paper.find("step sizes drawn per episode, s, e.g. 0.001,0.0005; auto: the "
+                       "creature's largest accurate step and its half (flapsim/step_accuracy.h) "
+                       "(0.001)"),
             std::string::npos);
   EXPECT_NE(evolveUsage({}, 6).find("results do not depend on it (6)"), std::string::npos);
 }

@@ -204,6 +204,9 @@ struct EvolveParams {
   GaParams ga;
   FlapControllerParams controller;
   EpisodeParams episode;  // episode.seed is set from ga.seed by evolveFlapController
+  /// Fly the episodes at the creature's accurate step sizes (evolutionStepSizes) instead of
+  /// episode.step_sizes; parseEvolveArgs finds them once and hands the numbers on.
+  bool auto_step_sizes = false;
 };
 
 /// The paper's settings (sec. IV.A): 10 individuals, elitism, rank selection,
@@ -217,7 +220,8 @@ EvolveParams paperPreset(int pairs = 1);
 /// 12 episodes of 20 s, each drawing its start roll and pitch (up to +-30 deg), start angular
 /// velocity (up to 1 rad/s per axis), a steady wind (0-2 m/s, any heading), a 0.05 N m roll
 /// torque and a 1 N push on a wing at drawn times, IMU noise (0.1 rad, 0.1 rad/s), altimeter
-/// noise (0.05 m), an altitude setpoint (2-8 m) and step size (1 or 0.5 ms); a sample scores
+/// noise (0.05 m), an altitude setpoint (2-8 m) and step size (1 or 0.5 ms; evolve's default
+/// is auto_step_sizes: afc_1 2 or 1 ms, the chains 1 or 0.5 ms); a sample scores
 /// -|height - setpoint| - (1 - up-component), a flip ends the episode at that score less 20 m.
 EvolveParams robustPreset(int pairs = 1);
 
@@ -270,6 +274,10 @@ int geneCount(const EvolveParams& params);
 /// The task spec of an evolution: episode.seed = evolutionEpisodeSeed(ga.seed).
 /// Throws std::invalid_argument for bad episode or controller parameters.
 EvaluationSpec evaluationSpec(const EvolveParams& params);
+/// The step sizes the episodes fly at: episode.step_sizes, or with auto_step_sizes the
+/// creature's accurate ones (flapsim/step_accuracy.h: accurateStepSizes, at the middle of the
+/// controller's downstroke rates).
+std::vector<double> evolutionStepSizes(const EvolveParams& params);
 
 /// Runs the GA on the flap-unit network of a `pairs`-unit creature (params.kind kHover: on
 /// the hover controller's gains, each episode runHoverEpisode, flapsim/hover_evolution.h); the

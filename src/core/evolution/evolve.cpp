@@ -14,6 +14,7 @@
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/hover_evolution.h"
 #include "flapsim/make_creature.h"
+#include "flapsim/step_accuracy.h"
 
 namespace flapsim {
 
@@ -61,7 +62,7 @@ EvolveParams robustPreset(int pairs) {
   e.altitude_hold = true;
   e.min_altitude = 2.0;
   e.max_altitude = 8.0;
-  e.step_sizes = {0.001, 0.0005};
+  e.step_sizes = {0.001, 0.0005};  // evolve's default: auto_step_sizes
   e.flip_penalty = 20.0;
   e.episodes = 12;
   return p;
@@ -74,6 +75,17 @@ int geneCount(const EvolveParams& params) {
                                            : FlapUnitController::weightCount(params.controller);
 }
 
+std::vector<double> evolutionStepSizes(const EvolveParams& params) {
+  if (!params.auto_step_sizes || params.kind == EvolveKind::kHover)
+    return params.episode.step_sizes;
+  const FlapControllerParams& c = params.controller;
+  const StrokeCommand stroke{0.5 * (c.min_downstroke_rate + c.max_downstroke_rate), c.upstroke_rate,
+                             c.amplitude};
+  const CreatureModelPtr model =
+      parseCreatureModel(makeCreatureUrdf(params.pairs, "afc", params.unit), "make_creature");
+  return accurateStepSizes(model, stroke, params.episode.world);
+}
+
 EvaluationSpec evaluationSpec(const EvolveParams& params) {
   EvaluationSpec spec;
   spec.kind = params.kind;
@@ -81,6 +93,7 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   spec.unit = params.unit;
   spec.controller = params.controller;
   spec.episode = params.episode;
+  spec.episode.step_sizes = evolutionStepSizes(params);
   spec.episode.seed = evolutionEpisodeSeed(params.ga.seed);
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);

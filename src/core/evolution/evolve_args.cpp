@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <sstream>
 #include <stdexcept>
 
 #include "flapsim/air_model.h"
@@ -73,6 +74,30 @@ std::function<void(const std::vector<std::string>&)> onOff(const std::string& fl
 
 std::function<std::string()> showOnOff(const bool* field) {
   return [field] { return std::string(*field ? "on" : "off"); };
+}
+
+// A list of step sizes, s.
+std::vector<double> parseStepSizes(const std::string& text) {
+  std::vector<double> out;
+  for (size_t start = 0;;) {
+    const size_t comma = text.find(',', start);
+    out.push_back(parseCliReal("--step-sizes", text.substr(start, comma - start), {1e-6, 0.1}));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (out.size() > static_cast<size_t>(kMaxStepSizes)) {
+    throw InputError("--step-sizes: more than " + std::to_string(kMaxStepSizes) + " step sizes");
+  }
+  return out;
+}
+
+// The step sizes flown (an empty list flies at the world's step size: that one).
+std::string stepSizesText(const EpisodeParams& e) {
+  std::string s = formatCliNumber(e.world.step_size);
+  for (size_t k = 0; k < e.step_sizes.size(); ++k) {
+    s = (k ? s + "," : "") + formatCliNumber(e.step_sizes[k]);
+  }
+  return s;
 }
 
 // Sensor noise, gusts and the altitude hold of the episodes.
@@ -172,16 +197,16 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
           "steady wind from t = 0, speed uniform in [LO, HI] m/s, any heading")
       .tag(kSpec);
   disturbanceFlags(t, o);
-  t.reals("--step-sizes", "LIST", &e.step_sizes, {1e-6, 0.1}, kMaxStepSizes,
-          "step sizes drawn per episode, s, e.g. 0.001,0.0005")
+  t.custom(
+       "--step-sizes", {"LIST"},
+       [&p, &e](const std::vector<std::string>& v) {
+         p.auto_step_sizes = v[0] == "auto";
+         if (!p.auto_step_sizes) e.step_sizes = parseStepSizes(v[0]);
+       },
+       [&p, &e] { return p.auto_step_sizes ? std::string("auto") : stepSizesText(e); },
+       "step sizes drawn per episode, s, e.g. 0.001,0.0005; auto: the creature's largest "
+       "accurate step and its half (flapsim/step_accuracy.h)")
       .tag(kSpec)
-      .shows([&e] {  // an empty list flies at the world's step size: show that one
-        std::string s = formatCliNumber(e.world.step_size);
-        for (size_t k = 0; k < e.step_sizes.size(); ++k) {
-          s = (k ? s + "," : "") + formatCliNumber(e.step_sizes[k]);
-        }
-        return s;
-      })
       .real("--flip-penalty", "P", &e.flip_penalty, {0, kMaxFlipPenalty},
             "a flip ends the episode, less P m (0: off)")
       .tag(kSpec)
@@ -284,9 +309,13 @@ std::string presetOf(const std::vector<std::string>& args) {
   return preset;
 }
 
+// The presets as evolve flies them: the robust one at the creature's accurate step sizes.
 EvolveParams presetParams(const std::string& preset) {
   if (preset == "paper") return paperPreset();
-  return preset == "hover" ? hoverPreset() : robustPreset();
+  if (preset == "hover") return hoverPreset();
+  EvolveParams p = robustPreset();
+  p.auto_step_sizes = true;
+  return p;
 }
 
 // The flags that mean nothing to the hover controller's evolution (the flap network's, the
@@ -359,6 +388,19 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   for (const CliSeen* s : spec) {
     o.spec_args.push_back(s->flag->names.front());
     o.spec_args.insert(o.spec_args.end(), s->values.begin(), s->values.end());
+  }
+  if (o.preset != "hover" && o.params.auto_step_sizes) {
+    // Found once here; the spec (the farm's workers, a resume) carries the numbers.
+    EvolveParams& p = o.params;
+    p.episode.step_sizes = evolutionStepSizes(p);
+    p.auto_step_sizes = false;
+    auto given = std::find(o.spec_args.begin(), o.spec_args.end(), "--step-sizes");
+    if (given == o.spec_args.end()) {
+      o.spec_args.push_back("--step-sizes");
+      o.spec_args.push_back(stepSizesText(p.episode));
+    } else {
+      *(given + 1) = stepSizesText(p.episode);
+    }
   }
   o.help = table.help();
   if (o.weights_path.empty()) {
