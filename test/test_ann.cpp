@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "flapsim/ann.h"
+#include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
 #include "flapsim/make_creature.h"
 
@@ -126,6 +127,51 @@ TEST(FlapUnitController, PhaseLockKeepsTheStrokePeriod) {
   p.phase_lock = true;
   p.min_downstroke_rate = 5.0;  // its downstroke (0.48 s) would not fit in the period
   EXPECT_NE(validateFlapControllerParams(p).find("phase_lock"), std::string::npos);
+}
+
+// Upstroke output: the mirror net's second output is each wing's upstroke rate, mapped onto
+// [upstroke_rate, max_upstroke_rate]; the left wing's is the net on the mirrored inputs, so a
+// level unit strokes both wings alike and a rolled one mirrors; the file keeps it.
+TEST(FlapUnitController, AnUpstrokeOutputSetsEachWingsUpstrokeAndMirrors) {
+  FlapControllerParams p;
+  p.network = FlapNetwork::kMirror;
+  p.upstroke_rate = 10.0;
+  p.max_upstroke_rate = 60.0;
+  EXPECT_EQ(flapOutputNames(p),
+            (std::vector<std::string>{"right_downstroke_rate", "right_upstroke_rate"}));
+  EXPECT_EQ(FlapUnitController::weightCount(p), 2 * 3 + 2 * 3);  // 2 hidden, 2 outputs
+  // Hidden h0 = tanh(5 up.left); downstroke = sigmoid(0), upstroke = sigmoid(-4 h0): rolled
+  // right (up.left > 0), the low right wing beats its upstroke slowly and the high left one
+  // fast (the left's net sees up.left mirrored).
+  const std::vector<double> w = {0, 5, 0, 0, 0, 0, 0, 0, 0, -4, 0, 0};
+  const FlapUnitController c(p, w);
+  const WingPairCommand level = c.command(Quat::Identity());
+  EXPECT_DOUBLE_EQ(level.right.upstroke_rate, 35.0);  // sigmoid(0): the middle of 10..60
+  EXPECT_DOUBLE_EQ(level.left.upstroke_rate, level.right.upstroke_rate);
+  EXPECT_DOUBLE_EQ(level.right.downstroke_rate, 40.0);
+  const WingPairCommand right_low = c.command(Quat(Eigen::AngleAxisd(0.2, Vec3::UnitX())));
+  const WingPairCommand left_low = c.command(Quat(Eigen::AngleAxisd(-0.2, Vec3::UnitX())));
+  EXPECT_GT(right_low.left.upstroke_rate, right_low.right.upstroke_rate + 20.0);
+  EXPECT_DOUBLE_EQ(right_low.left.upstroke_rate, left_low.right.upstroke_rate);
+  EXPECT_DOUBLE_EQ(right_low.right.upstroke_rate, left_low.left.upstroke_rate);
+  for (const WingPairCommand& x : {right_low, left_low}) {
+    for (const StrokeCommand& s : {x.left, x.right}) {
+      EXPECT_GE(s.upstroke_rate, 10.0);
+      EXPECT_LE(s.upstroke_rate, 60.0);
+    }
+  }
+  const ControllerSpec back =
+      controllerFromYaml(controllerToYaml(ControllerSpec{p, w}, "", {}), "round trip");
+  EXPECT_EQ(back.params.max_upstroke_rate, 60.0);
+  EXPECT_EQ(back.weights, w);
+  p.phase_lock = true;
+  EXPECT_NE(validateFlapControllerParams(p).find("phase_lock off"), std::string::npos);
+  p.phase_lock = false;
+  p.max_upstroke_rate = 5.0;
+  EXPECT_NE(validateFlapControllerParams(p).find("max_upstroke_rate"), std::string::npos);
+  p.max_upstroke_rate = 60.0;
+  p.network = FlapNetwork::kPaper;
+  EXPECT_NE(validateFlapControllerParams(p).find("network mirror"), std::string::npos);
 }
 
 // The chain pitch term: nose up (world_up . forward = sin 0.05 > 0) slows the nose unit and

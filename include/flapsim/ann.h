@@ -88,7 +88,13 @@ struct FlapControllerParams {
   double min_downstroke_rate = 20.0;  // rad/s
   double max_downstroke_rate = 60.0;  // rad/s
   double upstroke_rate = 10.0;        // rad/s
-  double amplitude = 1.2;             // rad (at 0.8 the unit rolls over within ~2 s)
+  /// Upstroke output (an extension; 0: off, the upstrokes are upstroke_rate or phase-locked).
+  /// The mirror network gets a second output per wing, its upstroke rate, mapped linearly
+  /// onto [upstroke_rate, max_upstroke_rate]: evolution finds what the hand-set roll reflex
+  /// does (a fast upstroke of the high wing and a slow one of the low wing push a roll back)
+  /// wherever it helps. Needs network mirror and phase_lock off.
+  double max_upstroke_rate = 0.0;  // rad/s
+  double amplitude = 1.2;          // rad (at 0.8 the unit rolls over within ~2 s)
   /// Stroke offset (an extension; 0 is the paper's): both wings' stroke turns at
   /// stroke_offset -+ amplitude (rad; > 0 raises it). Raised strokes are a dihedral: air from
   /// the side pushes the windward wing up and the leeward one down, which rolls the unit away
@@ -243,6 +249,8 @@ class FlapUnitController {
                           double altitude_input = 1.0) const;
   /// Downstroke rates {right, left} for raw inputs (flapNetworkInputs; for tests and plots).
   std::vector<double> rates(const std::vector<double>& inputs) const;
+  /// The strokes of both wings for raw inputs.
+  WingPairCommand strokes(const std::vector<double>& inputs) const;
 
   const FlapControllerParams& params() const { return params_; }
   const std::vector<double>& weights() const { return net_.parameters(); }

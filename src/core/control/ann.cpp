@@ -148,6 +148,13 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
     return "phase_lock needs min_downstroke_rate > 0, upstroke_rate > 0 and a downstroke at "
            "min_downstroke_rate shorter than the locked period";
   }
+  if (p.max_upstroke_rate != 0.0) {
+    if (!(p.max_upstroke_rate > p.upstroke_rate && p.max_upstroke_rate <= kMaxStrokeRate)) {
+      return "max_upstroke_rate must be 0 (off) or in (upstroke_rate, 1e5] rad/s";
+    }
+    if (p.network != FlapNetwork::kMirror) return "max_upstroke_rate needs network mirror";
+    if (p.phase_lock) return "max_upstroke_rate needs phase_lock off (the net sets the upstrokes)";
+  }
   if (!(p.pitch_gain >= 0.0 && p.pitch_gain <= kMaxPitchGain)) {
     return "pitch_gain must be in [0, 1000]";
   }
@@ -267,6 +274,9 @@ std::vector<std::string> flapInputNames(const FlapControllerParams& p) {
 }
 
 std::vector<std::string> flapOutputNames(const FlapControllerParams& p) {
+  if (p.network == FlapNetwork::kMirror && p.max_upstroke_rate > 0.0) {
+    return {"right_downstroke_rate", "right_upstroke_rate"};
+  }
   if (p.network == FlapNetwork::kMirror) return {"right_downstroke_rate"};
   return {"right_downstroke_rate", "left_downstroke_rate"};
 }
@@ -307,7 +317,7 @@ const FlapControllerParams& checked(const FlapControllerParams& p) {
 
 // The layer sizes of the net `p` describes.
 std::vector<int> netLayers(const FlapControllerParams& p) {
-  return {flapInputCount(p), p.hidden, p.network == FlapNetwork::kMirror ? 1 : 2};
+  return {flapInputCount(p), p.hidden, static_cast<int>(flapOutputNames(p).size())};
 }
 
 }  // namespace
@@ -323,24 +333,42 @@ int FlapUnitController::weightCount(const FlapControllerParams& params) {
   return FeedForwardNet::parameterCount(netLayers(checked(params)));
 }
 
-std::vector<double> FlapUnitController::rates(const std::vector<double>& inputs) const {
-  std::vector<double> y = net_.evaluate(inputs);
-  if (params_.network == FlapNetwork::kMirror) {
-    y.push_back(net_.evaluate(mirroredInputs(params_, inputs))[0]);  // the left wing
+WingPairCommand FlapUnitController::strokes(const std::vector<double>& inputs) const {
+  const FlapControllerParams& p = params_;
+  const std::vector<double> y = net_.evaluate(inputs);
+  // {right, left} x {downstroke, upstroke} outputs in 0..1 (upstroke: -1 if the net has none)
+  double down[2] = {y[0], 0.0}, up[2] = {-1.0, -1.0};
+  if (p.network == FlapNetwork::kMirror) {
+    const std::vector<double> left = net_.evaluate(mirroredInputs(p, inputs));
+    down[1] = left[0];
+    if (p.max_upstroke_rate > 0.0) up[0] = y[1], up[1] = left[1];
+  } else {
+    down[1] = y[1];
   }
-  const double span = params_.max_downstroke_rate - params_.min_downstroke_rate;
-  for (double& v : y) v = params_.min_downstroke_rate + span * v;
-  return y;
+  StrokeCommand wing[2];
+  for (int i = 0; i < 2; ++i) {
+    const double d =
+        p.min_downstroke_rate + (p.max_downstroke_rate - p.min_downstroke_rate) * down[i];
+    const double u = up[i] < 0.0
+                         ? upstrokeRate(p, d)
+                         : p.upstroke_rate + (p.max_upstroke_rate - p.upstroke_rate) * up[i];
+    wing[i] = StrokeCommand{d, u, p.amplitude};
+    wing[i].offset = p.stroke_offset;
+  }
+  WingPairCommand c;
+  c.right = wing[0];
+  c.left = wing[1];
+  return c;
+}
+
+std::vector<double> FlapUnitController::rates(const std::vector<double>& inputs) const {
+  const WingPairCommand c = strokes(inputs);
+  return {c.right.downstroke_rate, c.left.downstroke_rate};
 }
 
 WingPairCommand FlapUnitController::command(const Quat& body, const Vec3& rate,
                                             double altitude_input) const {
-  const std::vector<double> r = rates(flapNetworkInputs(params_, body, rate, altitude_input));
-  WingPairCommand c;
-  c.right = StrokeCommand{r[0], upstrokeRate(params_, r[0]), params_.amplitude};
-  c.left = StrokeCommand{r[1], upstrokeRate(params_, r[1]), params_.amplitude};
-  c.right.offset = c.left.offset = params_.stroke_offset;
-  return c;
+  return strokes(flapNetworkInputs(params_, body, rate, altitude_input));
 }
 
 // ---- Layout and wing controllers -------------------------------------------------------------
@@ -411,7 +439,7 @@ std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed
       for (StrokeCommand* s : {&c.left, &c.right}) {
         s->downstroke_rate = std::clamp(scale * s->downstroke_rate, p.min_downstroke_rate,
                                         p.pitch_max_downstroke_rate);
-        s->upstroke_rate = upstrokeRate(p, s->downstroke_rate);
+        if (p.max_upstroke_rate == 0.0) s->upstroke_rate = upstrokeRate(p, s->downstroke_rate);
       }
     }
     applyRollReflex(p, bodies[k], sensed.rates[k], c);

@@ -35,6 +35,9 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   e << YAML::Key << "min_downstroke_rate" << YAML::Value << p.min_downstroke_rate;
   e << YAML::Key << "max_downstroke_rate" << YAML::Value << p.max_downstroke_rate;
   e << YAML::Key << "upstroke_rate" << YAML::Value << p.upstroke_rate;
+  if (p.max_upstroke_rate != 0.0) {
+    e << YAML::Key << "max_upstroke_rate" << YAML::Value << p.max_upstroke_rate;
+  }
   e << YAML::Key << "amplitude" << YAML::Value << p.amplitude;
   if (p.stroke_offset != 0.0) e << YAML::Key << "stroke_offset" << YAML::Value << p.stroke_offset;
   e << YAML::Key << "control_period" << YAML::Value << p.control_period;
@@ -90,6 +93,7 @@ const std::vector<std::string> kKeys = {"network",
                                         "min_downstroke_rate",
                                         "max_downstroke_rate",
                                         "upstroke_rate",
+                                        "max_upstroke_rate",
                                         "amplitude",
                                         "stroke_offset",
                                         "control_period",
@@ -142,6 +146,7 @@ ControllerSpec readController(const YAML::Node& c,
   get("rate_scale", p.rate_scale);
   get("altitude_input", p.altitude_input);
   get("altitude_scale", p.altitude_scale);
+  get("max_upstroke_rate", p.max_upstroke_rate);
   // The lists of inputs and outputs are what the settings above make them: a file whose
   // lists disagree was edited by hand or written by another version.
   const std::pair<const char*, std::vector<std::string>> lists[] = {

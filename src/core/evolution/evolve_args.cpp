@@ -53,6 +53,10 @@ void specFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .real("--upstroke-rate", "R", &c.upstroke_rate, {0, kMaxStrokeRate}, "upstroke rate, rad/s")
       .tag(kSpec)
+      .real("--max-upstroke-rate", "R", &c.max_upstroke_rate, {0, kMaxStrokeRate},
+            "the network sets each upstroke, in [--upstroke-rate, R] rad/s (0: off; needs "
+            "--network mirror and --phase-lock off)")
+      .tag(kSpec)
       .real("--amplitude", "A", &c.amplitude, {0, kMaxStrokeAmplitude, true},
             "stroke amplitude, rad")
       .tag(kSpec)

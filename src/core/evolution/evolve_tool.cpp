@@ -60,6 +60,8 @@ void seedFromWeightsFile(EvolveOptions& o) {
         Setting{"max_downstroke_rate", "--max-rate", got.max_downstroke_rate,
                 want.max_downstroke_rate},
         Setting{"upstroke_rate", "--upstroke-rate", got.upstroke_rate, want.upstroke_rate},
+        Setting{"max_upstroke_rate", "--max-upstroke-rate", got.max_upstroke_rate,
+                want.max_upstroke_rate},
         Setting{"amplitude", "--amplitude", got.amplitude, want.amplitude},
         Setting{"stroke_offset", "--stroke-offset", got.stroke_offset, want.stroke_offset},
         Setting{"control_period", "--control-period", got.control_period, want.control_period},
