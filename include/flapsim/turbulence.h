@@ -46,6 +46,8 @@ double turbulenceLevelWind(const std::string& level);
 /// W20 of a level named or given in m/s ("light", "7.5"): the tools' --turbulence. Throws
 /// InputError naming the text otherwise or outside [0, kMaxTurbulenceWind].
 double turbulenceWindFromText(const std::string& text);
+/// The same for a tool's flag: an error names the flag first ("--turbulence: ...").
+double turbulenceWindFromFlag(const std::string& flag, const std::string& text);
 
 /// The model's intensities (m/s) and scale lengths (m) at a height.
 struct DrydenScales {

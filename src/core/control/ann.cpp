@@ -113,6 +113,21 @@ std::string toString(FlapNetwork network) {
   return network == FlapNetwork::kMirror ? "mirror" : "paper";
 }
 
+namespace {
+
+// The upstroke output's settings (max_upstroke_rate).
+std::string upstrokeOutputError(const FlapControllerParams& p) {
+  if (p.max_upstroke_rate == 0.0) return "";
+  if (!(p.max_upstroke_rate > p.upstroke_rate && p.max_upstroke_rate <= kMaxStrokeRate)) {
+    return "max_upstroke_rate must be 0 (off) or in (upstroke_rate, 1e5] rad/s";
+  }
+  if (p.network != FlapNetwork::kMirror) return "max_upstroke_rate needs network mirror";
+  if (p.phase_lock) return "max_upstroke_rate needs phase_lock off (the net sets the upstrokes)";
+  return "";
+}
+
+}  // namespace
+
 std::string validateFlapControllerParams(const FlapControllerParams& p) {
   if (p.hidden < 1 || p.hidden > kMaxHidden) {
     return "hidden must be in [1, " + std::to_string(kMaxHidden) + "]";
@@ -148,13 +163,8 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
     return "phase_lock needs min_downstroke_rate > 0, upstroke_rate > 0 and a downstroke at "
            "min_downstroke_rate shorter than the locked period";
   }
-  if (p.max_upstroke_rate != 0.0) {
-    if (!(p.max_upstroke_rate > p.upstroke_rate && p.max_upstroke_rate <= kMaxStrokeRate)) {
-      return "max_upstroke_rate must be 0 (off) or in (upstroke_rate, 1e5] rad/s";
-    }
-    if (p.network != FlapNetwork::kMirror) return "max_upstroke_rate needs network mirror";
-    if (p.phase_lock) return "max_upstroke_rate needs phase_lock off (the net sets the upstrokes)";
-  }
+  const std::string upstroke = upstrokeOutputError(p);
+  if (!upstroke.empty()) return upstroke;
   if (!(p.pitch_gain >= 0.0 && p.pitch_gain <= kMaxPitchGain)) {
     return "pitch_gain must be in [0, 1000]";
   }

@@ -124,11 +124,7 @@ void disturbanceFlags(CliParser& t, EvolveOptions& o) {
       .custom(
           "--turbulence", {"LEVEL"},
           [&e](const std::vector<std::string>& v) {
-            try {
-              e.world.air.turbulence.wind_at_6m = turbulenceWindFromText(v[0]);
-            } catch (const InputError& error) {
-              throw InputError(std::string("--turbulence: ") + error.what());
-            }
+            e.world.air.turbulence.wind_at_6m = turbulenceWindFromFlag("--turbulence", v[0]);
           },
           [&e] { return formatCliNumber(e.world.air.turbulence.wind_at_6m) + " m/s at 6 m"; },
           "Dryden turbulence (MIL-F-8785C): none, light, moderate, severe or the wind at 6 m "

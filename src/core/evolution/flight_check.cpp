@@ -120,11 +120,7 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
       .custom(
           "--turbulence", {"LEVEL"},
           [&p](const std::vector<std::string>& v) {
-            try {
-              p.turbulence = turbulenceWindFromText(v[0]);
-            } catch (const InputError& e) {
-              throw InputError(std::string("--turbulence: ") + e.what());
-            }
+            p.turbulence = turbulenceWindFromFlag("--turbulence", v[0]);
           },
           [&p] { return formatCliNumber(p.turbulence) + " m/s at 6 m"; },
           "Dryden turbulence (MIL-F-8785C): none, light, moderate, severe or the wind at 6 m "

@@ -39,6 +39,14 @@ double turbulenceWindFromText(const std::string& text) {
   }
 }
 
+double turbulenceWindFromFlag(const std::string& flag, const std::string& text) {
+  try {
+    return turbulenceWindFromText(text);
+  } catch (const InputError& e) {
+    throw InputError(flag + ": " + e.what());
+  }
+}
+
 DrydenScales drydenScales(double wind_at_6m, double height) {
   const double feet = height / 0.3048;
   const double denominator = 0.177 + 0.000823 * feet;
