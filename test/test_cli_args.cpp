@@ -117,6 +117,12 @@ TEST(CliParser, TrailingCommasEmptyTextsAndRepeatedFlagsAreRefusedByName) {
   };
   EXPECT_EQ(evolveRefusal({"--out", ""}), "--out: an empty value");
   EXPECT_EQ(evolveRefusal({"--step-sizes", "0.001,0.0005,"}), "--step-sizes: '' is not a number");
+  // The list parser of every reals flag (--step-sizes takes "auto" too).
+  EXPECT_EQ(evolveRefusal({"--step-sizes", ""}), "--step-sizes: an empty list");
+  EXPECT_EQ(evolveRefusal({"--step-sizes",
+                           "0.001,0.001,0.001,0.001,0.001,0.001,0.001,0.001,0.001,"
+                           "0.001,0.001,0.001,0.001,0.001,0.001,0.001,0.001"}),
+            "--step-sizes: more than 16 items");
   EXPECT_EQ(evolveRefusal({"--seed", "1", "--seed", "2"}),
             "--seed is given twice (or under another of its names)");
 }

@@ -111,6 +111,9 @@ class CliParser {
 /// "<flag>: '<value>' is not ..." or "<flag>: <value> is not in <range>".
 int parseCliInteger(const std::string& flag, const std::string& value, CliRange range);
 double parseCliReal(const std::string& flag, const std::string& value, CliRange range);
+/// A comma-separated list of 1..max_items numbers, each in `range` (the reals flag's parse).
+std::vector<double> parseCliReals(const std::string& flag, const std::string& value, CliRange range,
+                                  int max_items);
 /// A number as --help shows it (shortest round trip, at most 6 significant digits).
 std::string formatCliNumber(double x);
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <sstream>
 #include <stdexcept>
 
 #include "flapsim/air_model.h"
@@ -78,21 +77,6 @@ std::function<void(const std::vector<std::string>&)> onOff(const std::string& fl
 
 std::function<std::string()> showOnOff(const bool* field) {
   return [field] { return std::string(*field ? "on" : "off"); };
-}
-
-// A list of step sizes, s.
-std::vector<double> parseStepSizes(const std::string& text) {
-  std::vector<double> out;
-  for (size_t start = 0;;) {
-    const size_t comma = text.find(',', start);
-    out.push_back(parseCliReal("--step-sizes", text.substr(start, comma - start), {1e-6, 0.1}));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  if (out.size() > static_cast<size_t>(kMaxStepSizes)) {
-    throw InputError("--step-sizes: more than " + std::to_string(kMaxStepSizes) + " step sizes");
-  }
-  return out;
 }
 
 // The step sizes flown (an empty list flies at the world's step size: that one).
@@ -201,7 +185,9 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
        "--step-sizes", {"LIST"},
        [&p, &e](const std::vector<std::string>& v) {
          p.auto_step_sizes = v[0] == "auto";
-         if (!p.auto_step_sizes) e.step_sizes = parseStepSizes(v[0]);
+         if (!p.auto_step_sizes) {
+           e.step_sizes = parseCliReals("--step-sizes", v[0], {1e-6, 0.1}, kMaxStepSizes);
+         }
        },
        [&p, &e] { return p.auto_step_sizes ? std::string("auto") : stepSizesText(e); },
        "step sizes drawn per episode, s, e.g. 0.001,0.0005; auto: the creature's largest "

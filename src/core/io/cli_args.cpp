@@ -207,6 +207,15 @@ CliFlag listFlag(const std::string& names, const std::string& metavar, std::vect
 
 }  // namespace
 
+std::vector<double> parseCliReals(const std::string& flag, const std::string& value, CliRange range,
+                                  int max_items) {
+  std::vector<double> out;
+  for (const auto& item : splitList(flag, value, max_items)) {
+    out.push_back(parseCliReal(flag, item, range));
+  }
+  return out;
+}
+
 CliParser& CliParser::reals(const std::string& names, const std::string& metavar,
                             std::vector<double>* field, CliRange range, int max_items,
                             const std::string& help) {
