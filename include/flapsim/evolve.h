@@ -139,6 +139,12 @@ struct EpisodeStart {
 /// A start at `roll` and `pitch` (rad), everything else still.
 EpisodeStart attitudeStart(double roll, double pitch);
 
+/// The turbulence an episode from `start` flies in: `base` (the episodes' air) with a
+/// realisation of its own (its seed mixed with the start's noise seed) and, if it is on, its
+/// intensities and scales at `height` (within the model's range).
+TurbulenceParams episodeTurbulence(const TurbulenceParams& base, const EpisodeStart& start,
+                                   double height);
+
 /// The `episodes` start attitudes drawn from `params.seed` (deterministic). `model` names
 /// the wings a push may be drawn on (needed only with gust_force and no gust_link).
 std::vector<EpisodeStart> episodeStarts(const EpisodeParams& params,

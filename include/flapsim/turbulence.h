@@ -32,6 +32,11 @@ struct TurbulenceParams {
   /// mixed with the creature's name).
   bool per_creature = false;
   std::uint64_t seed = 0;
+  bool operator==(const TurbulenceParams& o) const {
+    return wind_at_6m == o.wind_at_6m && height == o.height && per_creature == o.per_creature &&
+           seed == o.seed;
+  }
+  bool operator!=(const TurbulenceParams& o) const { return !(*this == o); }
 };
 
 constexpr double kMinTurbulenceHeight = 3.048;  // m, 10 ft

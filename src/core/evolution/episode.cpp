@@ -97,6 +97,14 @@ std::string validateEpisodeParams(const EpisodeParams& p) {
   return "";
 }
 
+TurbulenceParams episodeTurbulence(const TurbulenceParams& base, const EpisodeStart& start,
+                                   double height) {
+  TurbulenceParams t = base;
+  t.seed = mixSeed(base.seed, start.noise_seed, 0x7475726275ULL);
+  if (t.wind_at_6m > 0.0) t.height = std::clamp(height, kMinTurbulenceHeight, kMaxTurbulenceHeight);
+  return t;
+}
+
 EpisodeStart attitudeStart(double roll, double pitch) {
   EpisodeStart s;
   s.roll = roll;
@@ -269,14 +277,8 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   WorldParams world_params = p.world;
   if (start.step_size > 0.0) world_params.step_size = start.step_size;
   world_params.air.wind += start.wind;
-  // A realisation of the turbulence per start, its intensities and scales at the altitude
-  // held (else the start height; within the model's range).
-  TurbulenceParams& turbulence = world_params.air.turbulence;
-  turbulence.seed = mixSeed(p.world.air.turbulence.seed, start.noise_seed, 0x7475726275ULL);
-  if (turbulence.wind_at_6m > 0.0) {
-    turbulence.height = std::clamp(start.altitude.value_or(p.start_height), kMinTurbulenceHeight,
-                                   kMaxTurbulenceHeight);
-  }
+  world_params.air.turbulence =
+      episodeTurbulence(p.world.air.turbulence, start, start.altitude.value_or(p.start_height));
   const ControlLoop loop(control_period, world_params.step_size);
   const FlapUnitLayout layout = flapUnitLayout(*model);
   std::vector<int> bodies;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "flapsim/ga.h"
-
 namespace flapsim {
 
 const std::vector<HoverGene>& hoverGenes() {
@@ -95,11 +93,7 @@ HoverFlightResult runHoverEpisode(const CreatureModelPtr& model,
   f.world = params.world;
   if (start.step_size > 0.0) f.world.step_size = start.step_size;
   f.world.air.wind = start.wind;
-  TurbulenceParams& turbulence = f.world.air.turbulence;  // as runEpisode's
-  turbulence.seed = mixSeed(params.world.air.turbulence.seed, start.noise_seed, 0x7475726275ULL);
-  if (turbulence.wind_at_6m > 0.0) {
-    turbulence.height = std::clamp(c.altitude, kMinTurbulenceHeight, kMaxTurbulenceHeight);
-  }
+  f.world.air.turbulence = episodeTurbulence(params.world.air.turbulence, start, c.altitude);
   f.start_roll = start.roll;
   f.start_pitch = start.pitch;
   f.start_height = params.start_height;

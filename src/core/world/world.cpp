@@ -142,10 +142,7 @@ class World::Impl {
                           air.subdivisions_u != params_.air.subdivisions_u ||
                           air.subdivisions_v != params_.air.subdivisions_v;
     const bool drag = air.drag_coefficient != params_.air.drag_coefficient;
-    const TurbulenceParams& t = air.turbulence;
-    const TurbulenceParams& old = params_.air.turbulence;
-    const bool turbulence = t.wind_at_6m != old.wind_at_6m || t.height != old.height ||
-                            t.per_creature != old.per_creature || t.seed != old.seed;
+    const bool turbulence = air.turbulence != params_.air.turbulence;
     if (air.model != params_.air.model) air_.setDefaultModel(makeAirModel(air.model));
     params_.air = air;
     // The aero surfaces of every creature, keeping its motion state.
