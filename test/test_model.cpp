@@ -363,8 +363,8 @@ TEST(ModelErrors, NameTheCulprit) {
   expectError(robot(R"(<link name="massless"/>)"), {"massless", "mass"});
   expectError(
       robot(
-          R"(<link name="tilted"><inertial><mass value="1"/><inertia ixx="1" ixy="0.1" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)"),
-      {"tilted", "off-diagonal"});
+          R"(<link name="tilted"><inertial><mass value="1"/><inertia ixx="1" ixy="1.5" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>)"),
+      {"tilted", "not positive definite"});
 }
 
 // <spring joint stiffness reference>: on a passive or a wing joint (in parallel with its

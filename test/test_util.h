@@ -61,14 +61,14 @@ inline std::vector<BodyMotion> bodyMotions(const CreatureModel& m, const Creatur
   std::vector<BodyMotion> bodies;
   for (size_t k = 0; k < m.links.size(); ++k) {
     const LinkModel& l = m.links[k];
-    const Mat3 r = s.link_poses[k].orientation.toRotationMatrix();
+    const Pose frame = l.fromUrdf(s.link_poses[k]);  // the link frame (principal axes)
+    const Mat3 r = frame.orientation.toRotationMatrix();
     BodyMotion b;
     b.mass = l.mass;
-    b.com = s.link_poses[k].apply(l.com);
+    b.com = frame.apply(l.com);
     b.inertia = r * l.inertia.asDiagonal() * r.transpose();
     b.angular_velocity = s.link_twists[k].angular;
-    b.velocity =
-        s.link_twists[k].linear + b.angular_velocity.cross(b.com - s.link_poses[k].position);
+    b.velocity = s.link_twists[k].linear + b.angular_velocity.cross(b.com - frame.position);
     bodies.push_back(b);
   }
   return bodies;

@@ -40,11 +40,17 @@ struct RoundShape {
   Pose origin;
 };
 
+/// A link's frame is its URDF frame unless the URDF's inertia tensor has products of inertia
+/// (ixy, ixz, iyz) or a rotated <inertial><origin rpy>: then its axes are the principal axes
+/// of inertia (same origin), and every link-frame quantity below (COM, shapes, the joints'
+/// origins and axis, the aero span) is in that frame. `urdf_frame` is the URDF link frame in
+/// the link frame: users see URDF frames (CreatureState, StateRequest, spawn poses, tf).
 struct LinkModel {
   std::string name;
   double mass = 0.0;
   Vec3 com = Vec3::Zero();         // centre of mass in the link frame
   Vec3 inertia = Vec3::Zero();     // principal moments about the COM, link axes
+  Pose urdf_frame;                 // the URDF link frame in the link frame (a rotation)
   std::vector<Box> boxes;          // collision boxes (visual ones if it has no collision)
   std::vector<RoundShape> rounds;  // collision cylinders and spheres (likewise)
   /// The link's shapes that are not simulated, e.g. "collision mesh" (see geometryNotes).
@@ -55,6 +61,31 @@ struct LinkModel {
   int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
 
   bool hasShapes() const { return !boxes.empty() || !rounds.empty(); }
+  /// Whether the link frame differs from the URDF frame (urdf_frame is not exactly identity).
+  bool rotated() const { return urdf_frame.orientation.coeffs() != Quat::Identity().coeffs(); }
+  /// The URDF frame's pose given the link frame's `pose` (in any frame), and back; `pose`
+  /// itself, bit for bit, unless rotated().
+  Pose toUrdf(const Pose& pose) const { return rotated() ? pose * urdf_frame : pose; }
+  Pose fromUrdf(const Pose& pose) const { return rotated() ? pose * urdf_frame.inverse() : pose; }
+  /// The centre of mass in the URDF link frame.
+  Vec3 urdfCom() const { return rotated() ? Vec3(urdf_frame.inverse().apply(com)) : com; }
+};
+
+/// A link without mass on a fixed joint (a CAD model's base_link, a sensor's frame), lumped
+/// into the link it is fixed to, as Gazebo's URDF import does: its shapes are that link's,
+/// its child joints hang from it. It remains a frame (tf, StateRequest::link, ...).
+struct LumpedLink {
+  std::string name;
+  std::string joint;  // the fixed joint it hung on ("" for a massless root)
+  int link = -1;      // the link it is lumped into (index into CreatureModel::links)
+  Pose pose;          // its URDF frame in that link's URDF frame
+};
+
+/// A named frame of a creature as a link of the model and the frame's pose in that link's
+/// frame (LinkModel::urdf_frame for a link's own URDF frame); link -1 if none has the name.
+struct FrameOnLink {
+  int link = -1;
+  Pose pose;
 };
 
 enum class JointType { kFixed, kRevolute, kContinuous, kPrismatic };
@@ -97,7 +128,8 @@ struct JointModel {
   bool movable() const { return type != JointType::kFixed; }
 };
 
-/// Links are stored parent-before-child, the root first; joints in URDF order.
+/// Links are stored parent-before-child, the root first; joints in URDF order. The root is
+/// the URDF's root link, or, if that has no mass, the first link with mass fixed to it.
 struct CreatureModel {
   std::string name;    // the URDF robot name
   std::string source;  // file name or "<string>", for messages
@@ -107,9 +139,12 @@ struct CreatureModel {
   /// The root link is named "world" (the gazebo_ros convention): the creature is anchored
   /// at its spawn pose. The "world" link needs no inertia.
   bool fixed_base = false;
+  std::vector<LumpedLink> lumped;  // massless links on fixed joints, in URDF order
 
   int findLink(const std::string& link_name) const;
   int findJoint(const std::string& joint_name) const;
+  /// A link's or a lumped link's frame by name (see FrameOnLink).
+  FrameOnLink findFrame(const std::string& frame_name) const;
   double totalMass() const;
 };
 
@@ -119,6 +154,10 @@ using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 /// source and the link or joint at fault.
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
                                     const std::string& source = "<string>");
+
+/// The child link's URDF frame in the parent link's URDF frame with joint `joint` at
+/// `position` (what tf publishes).
+Pose urdfJointPose(const CreatureModel& model, const JointModel& joint, double position);
 
 /// One line per link whose visual shapes are simulated for want of a <collision>, and per shape
 /// the model ignores (LinkModel::ignored_shapes), naming the link and the shape; empty if the
@@ -145,7 +184,8 @@ constexpr double kMaxUrdfInertia = 1e6;
 std::string readUrdfFile(const std::string& path);
 
 /// The lowest z of the model's boxes (their corners), cylinders and spheres with its links at
-/// `link_poses` (link frames in the world); +infinity for a model without shapes.
+/// `link_poses` (URDF link frames in the world, as CreatureState's); +infinity for a model without
+/// shapes.
 double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses);
 
 /// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.

@@ -69,7 +69,7 @@ std::vector<std::string> cappedJointValues(const CreatureModel& model, double st
 
 /// State of one creature. Vectors follow the model's links / joints.
 struct CreatureState {
-  std::vector<Pose> link_poses;          // link frames in the world
+  std::vector<Pose> link_poses;          // URDF link frames in the world
   std::vector<Twist> link_twists;        // velocity of each link frame's origin, world frame
   std::vector<double> joint_positions;   // per model joint (0 for fixed joints)
   std::vector<double> joint_velocities;  // per model joint (0 for fixed joints)
@@ -77,6 +77,12 @@ struct CreatureState {
   /// (wing motor, velocity target, feathering or Coulomb friction; not damping).
   std::vector<double> joint_efforts;
 };
+
+/// The pose and twist (CreatureState's conventions) of frame `name` of a creature of `model`
+/// in `state`: a link's (empty: the root's) or a lumped link's (CreatureModel::lumped, fixed to
+/// the link it is lumped into). False, and nothing set, if the creature has no such frame.
+bool frameMotion(const CreatureModel& model, const CreatureState& state, const std::string& name,
+                 Pose* pose, Twist* twist);
 
 /// The mechanical power of a creature's motors (World::power): each motor's torque times its
 /// joint's displacement, step by step (substeps included), summed since the creature was
@@ -121,8 +127,8 @@ struct CreatureEnergy {
 };
 
 /// A state to put a creature in (World::setState), world frame. The pose and twist are those
-/// of one link's frame (CreatureState's convention: the twist is the velocity of the link
-/// frame's origin); the rest of the creature follows through its joints.
+/// of one link's URDF frame, or a lumped link's (CreatureState's convention: the twist is the
+/// velocity of the frame's origin); the rest of the creature follows through its joints.
 struct StateRequest {
   std::string link;  // empty: the root link
   Pose pose;
@@ -135,7 +141,7 @@ struct StateRequest {
 
 /// A wrench applied to a link from outside (World::applyWrench): a push or a gust.
 struct ExternalWrench {
-  std::string link;            // empty: the root link
+  std::string link;            // empty: the root link; a lumped link: the link it is lumped into
   Vec3 force = Vec3::Zero();   // N, world frame
   Vec3 torque = Vec3::Zero();  // N m, world frame, added to the force's moment
   Vec3 point = Vec3::Zero();   // where the force acts, world frame, at the time of the call
@@ -183,7 +189,7 @@ class World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
-  /// Adds a creature at `pose` (root link frame) moving with `twist`. Throws
+  /// Adds a creature at `pose` (root link's URDF frame) moving with `twist`. Throws
   /// InputError for a taken or empty name or a non-finite pose.
   void spawn(const std::string& name, CreatureModelPtr model, const Pose& pose,
              const Twist& twist = Twist());

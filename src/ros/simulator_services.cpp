@@ -248,22 +248,22 @@ SimulatorNode::ReferenceFrame SimulatorNode::referenceFrame(const std::string& n
   if (at != std::string::npos) {
     owner = name.substr(0, at);
     link = name.substr(at + length);
-  } else if (asked && asked->model->findLink(name) >= 0) {
+  } else if (asked && asked->model->findFrame(name).link >= 0) {
     owner = creature;  // a link of the creature asked about
     link = name;
   }
   const Creature* c = find(owner);
   // 'fu/' and 'fu::' name no link (they were taken as fu's root).
   const bool no_link = at != std::string::npos && link.empty();
-  const int k = !c || no_link ? -1 : link.empty() ? 0 : c->model->findLink(link);
-  if (k < 0) {
+  const flapsim::CreatureState s = c && !no_link ? world_.state(owner) : flapsim::CreatureState();
+  FrameMotion motion;
+  if (!c || no_link || !flapsim::frameMotion(*c->model, s, link, &motion.pose, &motion.twist)) {
     throw flapsim::InputError("unknown reference_frame '" + name + "' (give '' or '" +
                               params_.world_frame + "', a creature, '<creature>/<link>' or a " +
                               "link of '" + creature + "')");
   }
-  const flapsim::CreatureState s = world_.state(owner);
-  return ReferenceFrame{linkFrame(owner, c->model->links[k].name), owner,
-                        FrameMotion{s.link_poses.at(k), s.link_twists.at(k)}};
+  return ReferenceFrame{linkFrame(owner, link.empty() ? c->model->links[0].name : link), owner,
+                        motion};
 }
 
 bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetState::Response& res) {
@@ -272,13 +272,12 @@ bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetStat
   return serve(res, "get_state refused: ", req.name, [&] {
     const Creature* c = find(req.name);
     if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
-    const int link = req.link.empty() ? 0 : c->model->findLink(req.link);
-    if (link < 0) {
-      throw flapsim::InputError("creature '" + req.name + "' has no link '" + req.link + "'");
-    }
     const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
     const flapsim::CreatureState s = world_.state(req.name);
-    FrameMotion m{s.link_poses.at(link), s.link_twists.at(link)};
+    FrameMotion m;  // a link's, or a lumped link's (fixed to the link it is lumped into)
+    if (!flapsim::frameMotion(*c->model, s, req.link, &m.pose, &m.twist)) {
+      throw flapsim::InputError("creature '" + req.name + "' has no link '" + req.link + "'");
+    }
     if (!frame.name.empty()) {
       m = toFrame(frame.motion, m);
       res.header.frame_id = frame.name;
@@ -289,7 +288,8 @@ bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetStat
     res.joint_names = joints.name;
     res.joint_positions = joints.position;
     res.joint_velocities = joints.velocity;
-    res.status_message = "state of '" + req.name + "' link '" + c->model->links[link].name + "'" +
+    res.status_message = "state of '" + req.name + "' link '" +
+                         (req.link.empty() ? c->model->links[0].name : req.link) + "'" +
                          (frame.name.empty() ? "" : " in " + frame.name);
   });
 }

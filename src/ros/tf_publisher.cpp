@@ -18,17 +18,6 @@ geometry_msgs::TransformStamped stamped(const std::string& parent, const std::st
   return t;
 }
 
-// The child link frame in the parent link frame: the joint's origin, then its motion.
-flapsim::Pose jointPose(const flapsim::JointModel& joint, double position) {
-  flapsim::Pose motion;
-  if (joint.type == flapsim::JointType::kPrismatic) {
-    motion.position = position * joint.axis;
-  } else if (joint.movable()) {
-    motion.orientation = flapsim::Quat(Eigen::AngleAxisd(position, joint.axis));
-  }
-  return joint.origin * motion;
-}
-
 }  // namespace
 
 std::vector<geometry_msgs::TransformStamped> movingTransforms(const std::string& creature,
@@ -44,7 +33,8 @@ std::vector<geometry_msgs::TransformStamped> movingTransforms(const std::string&
     if (!joint.movable()) continue;
     out.push_back(stamped(linkFrame(creature, model.links.at(joint.parent_link).name),
                           linkFrame(creature, model.links.at(joint.child_link).name),
-                          jointPose(joint, state.joint_positions.at(j)), stamp));
+                          flapsim::urdfJointPose(model, joint, state.joint_positions.at(j)),
+                          stamp));
   }
   return out;
 }
@@ -56,8 +46,13 @@ std::vector<geometry_msgs::TransformStamped> fixedTransforms(const std::string& 
   for (const flapsim::JointModel& joint : model.joints) {
     if (joint.movable()) continue;
     out.push_back(stamped(linkFrame(creature, model.links.at(joint.parent_link).name),
-                          linkFrame(creature, model.links.at(joint.child_link).name), joint.origin,
-                          stamp));
+                          linkFrame(creature, model.links.at(joint.child_link).name),
+                          flapsim::urdfJointPose(model, joint, 0.0), stamp));
+  }
+  // Massless links lumped into the link they are fixed to: frames fixed to it.
+  for (const flapsim::LumpedLink& lumped : model.lumped) {
+    out.push_back(stamped(linkFrame(creature, model.links.at(lumped.link).name),
+                          linkFrame(creature, lumped.name), lumped.pose, stamp));
   }
   return out;
 }

@@ -101,7 +101,7 @@ flapsim::Vec3 centreOfMass(const flapsim::CreatureModel& model, const flapsim::C
   double mass = 0.0;
   for (size_t k = 0; k < model.links.size() && k < s.link_poses.size(); ++k) {
     const flapsim::Pose& p = s.link_poses[k];
-    const flapsim::Vec3 com = p.position + p.orientation * model.links[k].com;
+    const flapsim::Vec3 com = p.position + p.orientation * model.links[k].urdfCom();
     sum += model.links[k].mass * com;
     mass += model.links[k].mass;
     origins += p.position;

@@ -84,7 +84,8 @@ void setupLink(btMultiBody& mb, const CreatureModel& m, int k) {
   }
 }
 
-// The multibody of `m`, its root's COM at `pose` * root COM, moving with `twist`.
+// The multibody of `m`, its root's COM where `pose` (the root's URDF frame) puts it, moving with
+// `twist`.
 std::unique_ptr<btMultiBody> makeMultiBody(const CreatureModel& m, const Pose& pose,
                                            const Twist& twist) {
   const int n = static_cast<int>(m.links.size()) - 1;
@@ -99,7 +100,7 @@ std::unique_ptr<btMultiBody> makeMultiBody(const CreatureModel& m, const Pose& p
   mb->setHasSelfCollision(false);
   mb->setUseGyroTerm(true);
   mb->setCanSleep(false);
-  const Pose com_pose = pose * Pose{root.com, Quat::Identity()};
+  const Pose com_pose = root.fromUrdf(pose) * Pose{root.com, Quat::Identity()};
   mb->setBaseWorldTransform(toBt(com_pose));
   mb->setBaseVel(toBt(twist.linear));
   mb->setBaseOmega(toBt(twist.angular));

@@ -225,7 +225,7 @@ void applyGusts(World& world, const std::string& name, const CreatureModel& mode
     ExternalWrench w;
     w.link = start.force_link;
     w.force = Vec3(0.0, 0.0, start.force_sign * p.gust_force);
-    w.point = world.state(name).link_poses[link].apply(model.links[link].com);
+    w.point = world.state(name).link_poses[link].apply(model.links[link].urdfCom());
     w.duration = p.gust_force_duration;
     world.applyWrench(name, w);
   }

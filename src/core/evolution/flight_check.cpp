@@ -53,7 +53,7 @@ double creatureSpan(const CreatureModel& model) {
   const CreatureState state = world.state("c");
   double low = 0.0, high = 0.0;
   for (size_t k = 0; k < model.links.size(); ++k) {
-    const Pose& link = state.link_poses[k];
+    const Pose link = model.links[k].fromUrdf(state.link_poses[k]);
     for (const Box& box : model.links[k].boxes) {
       for (int corner = 0; corner < 8; ++corner) {
         const Vec3 local(corner & 1 ? 0.5 : -0.5, corner & 2 ? 0.5 : -0.5, corner & 4 ? 0.5 : -0.5);

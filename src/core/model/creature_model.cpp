@@ -10,10 +10,12 @@
 #include <map>
 #include <mutex>
 #include <queue>
+#include <set>
 
 #include "flapsim/text_file.h"
 #include "fluid/box_union.h"
 #include "model/annotations.h"
+#include "model/link_frames.h"
 #include "model/model_error.h"
 
 namespace flapsim {
@@ -30,6 +32,29 @@ int CreatureModel::findJoint(const std::string& joint_name) const {
     if (joints[i].name == joint_name) return static_cast<int>(i);
   }
   return -1;
+}
+
+FrameOnLink CreatureModel::findFrame(const std::string& frame_name) const {
+  const int k = findLink(frame_name);
+  if (k >= 0) return FrameOnLink{k, links[k].urdf_frame};
+  for (const LumpedLink& l : lumped) {
+    if (l.name == frame_name) return FrameOnLink{l.link, links[l.link].urdf_frame * l.pose};
+  }
+  return FrameOnLink{};
+}
+
+Pose urdfJointPose(const CreatureModel& model, const JointModel& joint, double position) {
+  Pose motion;
+  if (joint.type == JointType::kPrismatic) {
+    motion.position = position * joint.axis;
+  } else if (joint.movable()) {
+    motion.orientation = Quat(Eigen::AngleAxisd(position, joint.axis));
+  }
+  Pose p = joint.movable() ? joint.origin * motion : joint.origin;
+  const LinkModel& parent = model.links.at(joint.parent_link);
+  const LinkModel& child = model.links.at(joint.child_link);
+  if (parent.rotated()) p = parent.urdf_frame.inverse() * p;
+  return child.toUrdf(p);
 }
 
 double CreatureModel::totalMass() const {
@@ -149,29 +174,21 @@ urdf::ModelInterfaceSharedPtr parseUrdf(const std::string& urdf_xml, const std::
   return urdf;
 }
 
-// A link's mass, COM, inertia and boxes.
+// A link's mass, COM (URDF frame), inertia and shapes; mass 0 without <inertial> or mass.
 LinkModel readLink(const urdf::LinkConstSharedPtr& l, const std::string& source) {
   LinkModel lm;
   lm.name = l->name;
   const std::string where = "link '" + l->name + "'";
-  if (!l->inertial || !(l->inertial->mass > 0.0)) {
+  if (l->inertial && !(l->inertial->mass >= 0.0)) {
     fail(source, where + " has no positive mass (<inertial><mass value=.../>)");
   }
-  const auto& in = *l->inertial;
-  lm.mass = in.mass;
-  Pose com = toPose(in.origin);
-  lm.com = com.position;
-  if (!com.orientation.isApprox(Quat::Identity(), 1e-12) &&
-      !com.orientation.isApprox(Quat(-1, 0, 0, 0), 1e-12)) {
-    fail(source, where + ": rotated <inertial><origin rpy> is not supported");
-  }
-  if (in.ixy != 0.0 || in.ixz != 0.0 || in.iyz != 0.0) {
-    fail(source, where + ": off-diagonal inertia (ixy, ixz, iyz) is not supported");
-  }
-  lm.inertia = Vec3(in.ixx, in.iyy, in.izz);
-  if (!finite(lm.inertia) || !finite(lm.com) || !std::isfinite(lm.mass) ||
-      lm.inertia.minCoeff() <= 0.0) {
-    fail(source, where + ": inertia must be finite and positive");
+  if (l->inertial && l->inertial->mass > 0.0) {
+    const auto& in = *l->inertial;
+    lm.mass = in.mass;
+    const Pose com = toPose(in.origin);
+    lm.com = com.position;
+    if (!finite(lm.com) || !std::isfinite(lm.mass)) fail(source, where + ": COM must be finite");
+    setInertia(lm, com.orientation, {in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz}, source);
   }
   const size_t shapes = std::max(l->collision_array.size(), l->visual_array.size());
   if (shapes > static_cast<size_t>(kMaxShapesPerLink)) {
@@ -299,6 +316,8 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
   model->name = urdf->getName();
   model->source = source;
   std::map<std::string, int> link_index;
+  std::set<std::string> aero_links;
+  for (const auto& a : notes.aero) aero_links.insert(a.first);
   addLinks(*urdf, notes, source, *model, link_index);
   // Joints in document order.
   for (const std::string& name : notes.joint_order) {
@@ -309,6 +328,8 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
     model->joints.push_back(jm);
   }
   applyJointAnnotations(notes, source, *model);
+  lumpMasslessLinks(*model, aero_links, source);
+  expressInLinkFrames(*model);
   return model;
 }
 
@@ -340,15 +361,16 @@ std::string readUrdfFile(const std::string& path) {
 double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses) {
   double lowest = std::numeric_limits<double>::infinity();
   for (size_t l = 0; l < model.links.size() && l < link_poses.size(); ++l) {
+    const Pose link = model.links[l].fromUrdf(link_poses[l]);
     for (const Box& box : model.links[l].boxes) {
-      const Pose frame = link_poses[l] * box.origin;
+      const Pose frame = link * box.origin;
       for (int corner = 0; corner < 8; ++corner) {
         const Vec3 half(corner & 1 ? 0.5 : -0.5, corner & 2 ? 0.5 : -0.5, corner & 4 ? 0.5 : -0.5);
         lowest = std::min(lowest, frame.apply(half.cwiseProduct(box.size)).z());
       }
     }
     for (const RoundShape& r : model.links[l].rounds) {
-      const Pose frame = link_poses[l] * r.origin;
+      const Pose frame = link * r.origin;
       double below = r.radius;  // a sphere; a cylinder: its lower rim or cap
       if (r.kind == RoundShape::Kind::kCylinder) {
         const Vec3 axis = frame.orientation * Vec3::UnitZ();

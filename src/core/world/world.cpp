@@ -246,7 +246,7 @@ class World::Impl {
   void applyWrench(const std::string& creature, const ExternalWrench& w) {
     const size_t c = index(creature);
     CreatureRecord& r = records_[c];
-    const int k = w.link.empty() ? 0 : r.model->findLink(w.link);
+    const int k = w.link.empty() ? 0 : r.model->findFrame(w.link).link;
     if (k < 0) throw InputError("creature '" + creature + "' has no link '" + w.link + "'");
     // As gazebo_msgs/ApplyBodyWrench: shorter than a step (0 included) is one step.
     const double steps =
@@ -269,7 +269,7 @@ class World::Impl {
     int removed = 0;
     for (CreatureRecord& r : records_) {
       if (!creature.empty() && r.name != creature) continue;
-      const int k = link.empty() ? -1 : r.model->findLink(link);
+      const int k = link.empty() ? -1 : r.model->findFrame(link).link;
       const size_t before = r.wrenches.size();
       r.wrenches.erase(std::remove_if(r.wrenches.begin(), r.wrenches.end(),
                                       [k](const ActiveWrench& w) { return k < 0 || w.link == k; }),
@@ -454,7 +454,7 @@ void World::applyWrench(const std::string& creature, const ExternalWrench& wrenc
 int World::clearWrenches(const std::string& creature, const std::string& link) {
   if (!creature.empty()) {
     const CreatureModel& m = *impl_->model(creature);  // InputError if unknown
-    if (!link.empty() && m.findLink(link) < 0) {
+    if (!link.empty() && m.findFrame(link).link < 0) {
       throw InputError("creature '" + creature + "' has no link '" + link + "'");
     }
   } else if (!link.empty()) {
