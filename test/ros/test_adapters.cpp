@@ -523,6 +523,43 @@ TEST(TfTree, FixedJointsAreTheirOrigins) {
   EXPECT_EQ(moving[0].child_frame_id, "c/pole");
 }
 
+// A CAD-style URDF: a massless base_link root fixed to a body whose inertia is a full tensor
+// (simulated in its principal frame), a wing on a revolute joint. tf gives the file's frames:
+// the body -> wing transform is the file's origin and axis, base_link hangs from the body at
+// the inverse of its joint's origin.
+TEST(TfTree, LumpedLinksAndTurnedInertiasAreUrdfFrames) {
+  const std::string inertia = R"(<inertia ixx="2" ixy="0.5" ixz="0.2" iyy="3" iyz="0" izz="4"/>)";
+  auto m = flapsim::parseCreatureModel(
+      R"(<robot name="r"><link name="base_link"/>
+      <link name="body"><inertial><mass value="1"/>)" +
+      inertia + R"(</inertial></link>
+      <link name="wing"><inertial><mass value="0.1"/>)" +
+      inertia + R"(</inertial></link>
+      <joint name="base_joint" type="fixed"><parent link="base_link"/><child link="body"/>
+        <origin xyz="0 0 0.1" rpy="0 0 1.5707963267948966"/></joint>
+      <joint name="hinge" type="revolute"><parent link="body"/><child link="wing"/>
+        <origin xyz="0 0.2 0"/><axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      </robot>)");
+  ASSERT_TRUE(m->links[0].rotated());
+  auto fixed = flapsim_ros::fixedTransforms("c", *m, ros::Time(2, 0));
+  ASSERT_EQ(fixed.size(), 1u);
+  EXPECT_EQ(fixed[0].header.frame_id, "c/body");
+  EXPECT_EQ(fixed[0].child_frame_id, "c/base_link");
+  EXPECT_NEAR(fixed[0].transform.translation.z, -0.1, 1e-15);
+  EXPECT_NEAR(fixed[0].transform.rotation.z, -std::sqrt(0.5), 1e-15);  // yaw -90 degrees
+  const flapsim::CreatureState s = stateOf(*m);
+  auto moving = flapsim_ros::movingTransforms("c", *m, s, ros::Time(2, 0), "world");
+  ASSERT_EQ(moving.size(), 2u);
+  EXPECT_EQ(moving[0].child_frame_id, "c/body");
+  EXPECT_EQ(moving[1].child_frame_id, "c/wing");
+  const auto& t = moving[1].transform;
+  EXPECT_NEAR(std::hypot(t.translation.x, t.translation.z), 0.0, 1e-15);
+  EXPECT_NEAR(t.translation.y, 0.2, 1e-15);
+  const flapsim::Quat q(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z);
+  const flapsim::Quat expect(Eigen::AngleAxisd(s.joint_positions[0], Vec3::UnitX()));
+  EXPECT_NEAR(q.angularDistance(expect), 0.0, 1e-14);
+}
+
 // gazebo_msgs semantics: the pose in the frame; the velocities' difference in its axes.
 TEST(ReferenceFrame, ToFrameAndBackAreInverse) {
   const flapsim_ros::FrameMotion frame{

@@ -98,8 +98,9 @@ flapsim::Step stepRequest(std::uint32_t n) {
   return s;
 }
 
-// ---- tf_tree.test: a paused flapsim with afc (urdf/afc_4.urdf: 11 revolute joints) and
-// copter (urdf/bamboo_copter.urdf: 2 fixed joints) ----------------------------------------
+// ---- tf_tree.test: a paused flapsim with afc (urdf/afc_4.urdf: 11 revolute joints),
+// copter (urdf/bamboo_copter.urdf: 2 fixed joints) and cad (test/ros/cad_unit.urdf: massless
+// base_link and imu_link lumped into the body, full inertia tensors) ---------------------
 
 class Tree : public ::testing::Test {
  protected:
@@ -133,14 +134,15 @@ TEST_F(Tree, MovingJointsAreOnTfAndFixedJointsOnTfStatic) {
             if (tr.header.stamp == t) moving.insert({tr.header.frame_id, tr.child_frame_id});
           }
         }
-        return moving.size() >= 14;
+        return moving.size() >= 17;
       },
       kWait));
-  Edges want_moving = {{"world", "afc/unit0_body"},
-                       {"world", "copter/pole"},
-                       {"world", "flapsim/view"},
-                       {"world", "flapsim/camera"}};
-  Edges want_static;
+  Edges want_moving = {{"world", "afc/unit0_body"},   {"world", "copter/pole"},
+                       {"world", "flapsim/view"},     {"world", "flapsim/camera"},
+                       {"world", "cad/body"},         {"cad/body", "cad/wing_left"},
+                       {"cad/body", "cad/wing_right"}};
+  // cad's massless base_link and imu_link, lumped into its body, hang from it.
+  Edges want_static = {{"cad/body", "cad/base_link"}, {"cad/body", "cad/imu_link"}};
   const auto afc = flapsim::loadCreatureModel(sourcePath("urdf/afc_4.urdf"));
   for (const auto& j : afc->joints) {
     want_moving.insert(
@@ -151,7 +153,7 @@ TEST_F(Tree, MovingJointsAreOnTfAndFixedJointsOnTfStatic) {
     want_static.insert({"copter/" + copter->links[j.parent_link].name,
                         "copter/" + copter->links[j.child_link].name});
   }
-  EXPECT_EQ(want_moving.size(), 4u + 11u);
+  EXPECT_EQ(want_moving.size(), 7u + 11u);
   EXPECT_EQ(moving, want_moving);
   EXPECT_EQ(edgesOf(tf_static.msgs.back()->transforms), want_static);
   // A fixed joint's transform is its URDF origin.
@@ -187,7 +189,8 @@ TEST_F(Tree, AnyTwoLinksLookUpAsGetStateGivesThem) {
   const ros::Time t = s.response.sim_time;
   const std::vector<std::pair<std::string, std::string>> links = {
       {"afc", "unit0_body"},       {"afc", "unit3_wing_left"}, {"afc", "unit2_body"},
-      {"afc", "unit1_wing_right"}, {"copter", "blade_left"},   {"copter", "pole"}};
+      {"afc", "unit1_wing_right"}, {"copter", "blade_left"},   {"copter", "pole"},
+      {"cad", "base_link"},        {"cad", "imu_link"},        {"cad", "wing_left"}};
   for (const auto& [ca, la] : links) {
     for (const auto& [cb, lb] : links) {
       const std::string a = ca + "/" + la, b = cb + "/" + lb;
