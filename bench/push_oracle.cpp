@@ -12,7 +12,7 @@
 // 65 rad/s and the other slow (10, 20 or 27 rad/s), so the air pushes it back; the other wing
 // the other way round; nine rate pairs, from 0 or 0.1 s before the push to 0, 0.1 or 0.3 s
 // after it. Per start: whether the network alone flips, how many of the 54 patterns keep it
-// upright, and the best one. The README's flight in real air quotes it: with upstrokes as fast
+// upright, and the best one. doc/flight_and_evolution.md quotes it: with upstrokes as fast
 // as the downstrokes the push is survivable, which the roll reflex
 // (FlapControllerParams::roll_reflex_bank) exploits without knowing the push.
 #include <cstdint>

@@ -1,6 +1,7 @@
 #!/bin/bash
-# The README's flight table: flight_check of one controller in the issue-23 conditions (20
-# held-out starts within +-30 deg, 60 s), one markdown row per condition and step size.
+# The flight tables of doc/flight_and_evolution.md: flight_check of one controller in the
+# disturbance conditions (20 held-out starts within +-30 deg, 60 s), one markdown row per
+# condition and step size.
 # usage: scripts/flight_table.sh [--altitude M] WEIGHTS PAIRS [STEP_SIZES...]
 #   (default steps: 0.001 0.0005; --altitude M: every row holds M m instead of climbing, and the
 #   rows "hold 5 m" are left out)

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Regenerates doc/evolution/paper/ (the README's paper reproduction, Fig. 7 and 8): the paper
+# Regenerates doc/evolution/paper/ (doc/flight_and_evolution.md: Fig. 7 and 8): the paper
 # preset (the paper's unit without ballast, its 2-2-2 network, no phase lock; 10 individuals,
 # 200 generations, elitism, rank selection, crossover 0.1, mutation 0.05, fitness the
 # accumulated height) on one 10 s flight per evaluation, seed 1. Results do not depend on

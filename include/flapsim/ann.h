@@ -98,7 +98,7 @@ struct FlapControllerParams {
   /// Stroke offset (an extension; 0 is the paper's): both wings' stroke turns at
   /// stroke_offset -+ amplitude (rad; > 0 raises it). Raised strokes are a dihedral: air from
   /// the side pushes the windward wing up and the leeward one down, which rolls the unit away
-  /// from a side wind instead of into it (README, flight in real air).
+  /// from a side wind instead of into it (doc/flight_and_evolution.md).
   double stroke_offset = 0.0;
   double control_period = 0.02;  // s between network updates
   /// Phase lock (an extension of the paper's controller): each wing's upstroke rate follows
@@ -111,9 +111,10 @@ struct FlapControllerParams {
   /// Chain pitch term, an extension for creatures of several units (0: off, the paper's
   /// controller). Units chained by roll joints form a chain rigid in pitch, and every unit's
   /// network sees the same pitch, so no copy of it can make a pitching moment: a 12-unit chain
-  /// started 5 deg nose up holds that pitch for ~15 s, then pitches over and sinks (README,
-  /// robust flight). With the term, unit k of n (s_k = 1 - 2k/(n-1): +1 at the nose, -1 at the
-  /// tail) scales both its downstroke rates by 1 - clamp(pitch_gain s_k p, +-pitch_limit),
+  /// started 5 deg nose up holds that pitch for ~15 s, then pitches over and sinks
+  /// (doc/flight_and_evolution.md). With the term, unit k of n (s_k = 1 - 2k/(n-1): +1 at the
+  /// nose, -1 at the tail) scales both its downstroke rates by
+  /// 1 - clamp(pitch_gain s_k p, +-pitch_limit),
   /// where p = world_up . body_forward averaged over the units (> 0: nose up), and may exceed
   /// max_downstroke_rate up to pitch_max_downstroke_rate: while the nose is up, the nose beats
   /// slower and the tail faster. A unit's left/right ratio, its roll control, is kept.
@@ -127,8 +128,8 @@ struct FlapControllerParams {
   /// over faster than roll_reflex_rate (rad/s), the reflex takes over its strokes: the low
   /// wing beats down at roll_reflex_fast_rate and up at roll_reflex_slow_rate (air pushes it
   /// up), the high wing the other way round (air pushes it down). The gyro is the body's:
-  /// it swings by tens of rad/s with each stroke, so the bank gates it (README, flight in real
-  /// air).
+  /// it swings by tens of rad/s with each stroke, so the bank gates it
+  /// (doc/flight_and_evolution.md).
   double roll_reflex_bank = 0.0;        // rad
   double roll_reflex_rate = 5.0;        // rad/s
   double roll_reflex_fast_rate = 65.0;  // rad/s
@@ -142,7 +143,7 @@ struct FlapControllerParams {
   /// pitch_reflex_fast_rate and up at pitch_reflex_slow_rate (the air pushes them up), those of
   /// its high end the other way round (the air pushes them down): the units whose |s_k|
   /// (chainPitchScale's) exceeds pitch_reflex_ends; the middle ones keep their command
-  /// (README, flight in real air). "Beat down at" is the pair's mean: each wing's downstroke
+  /// (doc/flight_and_evolution.md). "Beat down at" is the pair's mean: each wing's downstroke
   /// keeps its share of the network's (within min_downstroke_rate and
   /// pitch_max_downstroke_rate), so the unit keeps its roll control while the reflex acts.
   double pitch_reflex_angle = 0.0;       // rad
@@ -154,7 +155,7 @@ struct FlapControllerParams {
   /// controller puts between the root's IMU and unitSensing(): the episodes of evolution and
   /// flight_check, and ann_controller on <creature>/imu. The IMU's orientation noise reaches
   /// every unit's input at once through the joint encoders, and the chain's reflexes act on
-  /// thresholds it crosses (README, flight in real air).
+  /// thresholds it crosses (doc/flight_and_evolution.md).
   double attitude_filter_time = 0.0;  // s
   /// Ground-speed damping (an extension, set by hand, not evolved; 0: off). Levelled, a
   /// flier keeps any horizontal speed it picks up: the chain's air damping is weak (0.16 deg
@@ -163,7 +164,8 @@ struct FlapControllerParams {
   /// odometry's twist through ROS), every unit's network and the chain pitch term see the
   /// world's up tilted against the horizontal velocity v by min(velocity_gain |v|,
   /// velocity_tilt_limit) rad: holding "level" then tilts the flier back, its thrust brakes
-  /// the speed (the velocity loop of a multirotor cascade, README, flight in real air).
+  /// the speed (the velocity loop of a multirotor cascade,
+  /// doc/flight_and_evolution.md).
   double velocity_gain = 0.0;         // rad per m/s
   double velocity_tilt_limit = 0.05;  // rad
 };

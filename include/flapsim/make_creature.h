@@ -25,7 +25,7 @@ struct FlapUnitParams {
   /// The body's centre of mass lies this far below the wing hinges (a ballast under the
   /// body; the box stays where it is). Without it the unit is unstable in pitch: from a
   /// 0.1 rad pitch at 40/10/1.2 it drifts forward and pitches 30 deg within 6 s; with 2 cm
-  /// it levels out (see README, creatures).
+  /// it levels out (doc/flight_and_evolution.md).
   double body_com_drop = 0.02;
   double wing_span = 0.35;   // along y, from the hinge to the tip
   double wing_chord = 0.22;  // along x
@@ -41,7 +41,7 @@ struct FlapUnitParams {
   /// and yaw. kPitch (wave 1): the chain is rigid in roll and folds in pitch; with the
   /// one-pair controller on every unit, 20 tilted starts of 60 s at 1 ms fly 8/20 (4 units,
   /// springs 0.5 N m/rad), 1/20 (6) and 0/20 (12), against 18/20, 16/20 and 14/20 with roll
-  /// joints (README, robust flight).
+  /// joints (doc/flight_and_evolution.md).
   LinkAxis link_axis = LinkAxis::kRoll;
   /// N m/rad: a <spring> on each passive joint between units (0: none). 2 by default: it
   /// couples neighbouring units in roll, so that one unit's roll excursion does not twist
@@ -68,7 +68,7 @@ struct FlapUnitParams {
 /// 2 N m cannot reach its commanded rates and sinks under the evolved network (-12 to -22 m
 /// in 30 s, 8 tilted starts), and at 8 N m it climbs (20/20 held-out starts fly at 1, 0.5
 /// and 0.25 ms). Chained units keep 2 N m: their chain controllers fly 20/20 with it, and a
-/// 4-unit chain at 8 N m flew none of 8 starts (README, creatures).
+/// 4-unit chain at 8 N m flew none of 8 starts (doc/physics.md).
 constexpr double kOnePairWingEffort = 8.0;
 constexpr double kChainWingEffort = 2.0;
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""`rosrun flapsim <tool> --help` for every tool, from the devel space of the README's build
+"""`rosrun flapsim <tool> --help` for every tool, from the devel space of scripts/build.sh's build
 (./build, whose executables rosrun would skip: scripts/build.sh links them into ./bin) and from
 an install space (`cmake --install` into a temporary prefix): each prints its usage on
 standard output and exits 0. Arguments: the devel prefix and the build directory. With
