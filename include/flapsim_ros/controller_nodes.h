@@ -85,6 +85,9 @@ class AnnControllerNode {
   void subscribe();
   flapsim::WingCommand command(const flapsim::FlapSensing& sensed, const ros::Time& stamp) const;
   void onTimer(const ros::TimerEvent& event);
+  /// Free running: publishes the command for the latest readings; false (and, if `warn`, a
+  /// throttled warning) while a reading is missing.
+  bool answer(bool warn);
   bool runLockstep();
   bool onStart(std_srvs::Empty::Request& req, std_srvs::Empty::Response& res);
 
@@ -109,6 +112,10 @@ class AnnControllerNode {
   std::mt19937_64 altimeter_rng_;  // the altimeter's and ground speed's noise, from ~noise_seed
   std::normal_distribution<double> normal_;
   std::atomic<bool> started_{false};
+  // Free running, until the first command: the simulator holds sim time for it (its creature's
+  // `controller`), so the sim-time timer does not fire yet; this one polls in wall time.
+  ros::WallTimer first_answer_timer_;
+  bool answered_ = false;
 };
 
 }  // namespace flapsim_ros

@@ -29,6 +29,10 @@ struct CreatureSpec {
   /// Optional stroke for all wing joints from t = 0 (one entry) or per wing
   /// joint in URDF order.
   std::vector<flapsim::StrokeCommand> wing_command;
+  /// The node name of the controller that commands it (e.g. "/hover/hover_controller"); not
+  /// empty: the simulation does not step until its first wing command arrives (or
+  /// `controller_wait_timeout` passes), so that the controller flies it from t = 0.
+  std::string controller;
 };
 
 /// Force arrows on `~aero_markers`.
@@ -79,6 +83,10 @@ struct NodeParams {
   /// `wing_command` parameter) at which its wings stop beating; 0: never.
   double wing_command_timeout = 0.0;
   CommandTimeoutAction wing_command_timeout_action = CommandTimeoutAction::kHold;
+  /// s of wall time, while unpaused, the node holds sim time for the first wing command of
+  /// each creature that names a `controller`; then it says which never answered and runs
+  /// without them. 0: no wait.
+  double controller_wait_timeout = 30.0;
   ViewParams view;
   bool paused = false;  // start paused
   std::string world_frame = "world";

@@ -76,6 +76,9 @@ class SimulatorNode {
     std::uint64_t command_step = 0;  // step count when `command` came (the timeout's start)
     bool command_lapsed = false;     // wing_command_timeout passed since: wings held or released
     double command_lag = 0.0;  // s of sim time: how old the state its last command answered was
+    std::string controller;    // the node name of its controller (~creatures' `controller`)
+    bool awaiting_controller = false;  // the node holds sim time for its first command
+    bool controller_missing = false;   // controller_wait_timeout passed without one
   };
   /// A wing command answering a state (its stamp) older than this (s of sim time) is a
   /// controller falling behind: warned, and shown on /diagnostics.
@@ -117,6 +120,12 @@ class SimulatorNode {
   std::uint64_t stepsToTimeout() const;
   /// Holds or releases the wings of each creature whose command timed out at this step.
   void applyTimeouts();
+  /// True while the node holds sim time for the first wing command of a creature's controller
+  /// (creatures naming a `controller`; unpaused, for up to ~controller_wait_timeout of wall
+  /// time): announces the wait, and sends the awaited creatures' state again to controllers
+  /// that connected after it went out. Once the time passes it names the controllers that did
+  /// not answer and the node runs without them (controller_wait.cpp).
+  bool holdForControllers();
   /// Logs each creature the watchdog froze, once, and republishes the diagnostics.
   void reportDivergences();
   void publishDiagnostics();
@@ -135,6 +144,8 @@ class SimulatorNode {
   /// Latched /tf_static: every creature's fixed joints (after each spawn and delete).
   void publishStaticTransforms();
   void publishCreature(const Creature& c, const ros::Time& stamp);
+  /// Its joint_states, odom and imu (to their subscribers).
+  void publishCreatureState(const Creature& c, const ros::Time& stamp);
   sensor_msgs::Imu imuMsgOf(const Creature& c, const flapsim::CreatureState& s,
                             const ros::Time& stamp);
   /// Moves the view frames (flapsim/view, flapsim/camera) to the creatures at `stamp`.
@@ -193,6 +204,11 @@ class SimulatorNode {
   std::uint64_t slice_steps_ = 1;              // steps per slice (see advance())
 
   std::uint64_t timeout_steps_ = 0;  // wing_command_timeout in steps (0: none)
+  bool holding_ = false;             // holding sim time for controllers (holdForControllers)
+  double held_ = 0.0;                // s of wall time held for them so far (unpaused)
+  ros::WallTime held_wall_;          // of the last check while held and unpaused
+  ros::WallTime resent_wall_;        // of the last state sent again to awaited controllers
+  std::size_t awaited_count_ = 0;    // creatures held for at the last check
 
   std::vector<std::unique_ptr<Creature>> creatures_;  // in spawn order
   ros::Publisher clock_pub_, marker_pub_, creature_marker_pub_, diagnostics_pub_;

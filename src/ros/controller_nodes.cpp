@@ -125,7 +125,9 @@ AnnControllerNode::AnnControllerNode(const ros::NodeHandle& nh, const ros::NodeH
                     << " is not applied with tf's attitude (it reads odom's twist)");
   }
   if (params_.attitude_source == AttitudeSource::kImu) subscribe();
-  pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
+  // Latched: the simulator holds sim time for the first command, which must not be lost if it
+  // goes out before the simulator's subscription connects.
+  pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10, /*latch=*/true);
   if (params_.lockstep)
     start_srv_ = pnh_.advertiseService("start", &AnnControllerNode::onStart, this);
   ROS_INFO_STREAM(
@@ -250,19 +252,23 @@ flapsim::WingCommand AnnControllerNode::command(const flapsim::FlapSensing& sens
   return msg;
 }
 
-void AnnControllerNode::onTimer(const ros::TimerEvent&) {
+void AnnControllerNode::onTimer(const ros::TimerEvent&) { answer(true); }
+
+bool AnnControllerNode::answer(bool warn) {
   std::optional<flapsim::FlapSensing> s;
   try {
     s = sense(ros::Time(0), 0);
   } catch (const std::exception& e) {
     ROS_WARN_STREAM_THROTTLE(5.0, "ann_controller: " << e.what());
-    return;
+    return false;
   }
   if (!s) {
-    ROS_WARN_STREAM_THROTTLE(5.0, "ann_controller: no " << missing(0) << " yet");
-    return;
+    if (warn) ROS_WARN_STREAM_THROTTLE(5.0, "ann_controller: no " << missing(0) << " yet");
+    return false;
   }
   pub_.publish(command(*s, ros::Time::now()));
+  answered_ = true;
+  return true;
 }
 
 bool AnnControllerNode::onStart(std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
@@ -274,6 +280,10 @@ bool AnnControllerNode::run() {
   if (params_.lockstep) return runLockstep();
   ros::Timer timer =
       nh_.createTimer(ros::Duration(1.0 / params_.rate), &AnnControllerNode::onTimer, this);
+  first_answer_timer_ =
+      nh_.createWallTimer(ros::WallDuration(0.02), [this](const ros::WallTimerEvent&) {
+        if (answered_ || answer(false)) first_answer_timer_.stop();
+      });
   ros::spin();
   return true;
 }

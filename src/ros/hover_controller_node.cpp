@@ -77,7 +77,10 @@ HoverControllerNode::HoverControllerNode(const ros::NodeHandle& nh, const ros::N
         }
         if (!params_.lockstep) onState();
       });
-  pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10);
+  // Latched: the simulator holds sim time for the first command (this controller answers the
+  // state it gets on connecting), which must not be lost if it goes out before the simulator's
+  // subscription connects.
+  pub_ = nh_.advertise<flapsim::WingCommand>("wing_command", 10, /*latch=*/true);
   ROS_INFO_STREAM("hover_controller: '" << c << "' at " << params_.controller.altitude << " m, "
                                         << params_.rate << " Hz"
                                         << (params_.lockstep ? ", lockstep" : ""));

@@ -258,6 +258,7 @@ CreatureSpec parseCreatureSpec(const XmlRpcValue& entry, const std::string& wher
   if (d.has("wing_command")) {
     c.wing_command = parseWingCommand(Dict(d.at("wing_command"), d.key("wing_command")));
   }
+  c.controller = d.string("controller", "");
   d.rejectUnknown();
   return c;
 }
@@ -302,6 +303,10 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   }
   p.wing_command_timeout_action =
       action == "hold" ? CommandTimeoutAction::kHold : CommandTimeoutAction::kRelease;
+  p.controller_wait_timeout = d.number("controller_wait_timeout", p.controller_wait_timeout);
+  if (!(p.controller_wait_timeout >= 0.0 && p.controller_wait_timeout <= 1e6)) {
+    fail("controller_wait_timeout", "must be in [0, 1e6] s of wall time (0: no wait)");
+  }
   if (d.has("view")) p.view = parseView(Dict(d.at("view"), "view"), p.view);
   p.paused = d.boolean("paused", p.paused);
   p.world_frame = d.string("world_frame", p.world_frame);

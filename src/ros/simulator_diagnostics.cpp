@@ -1,6 +1,8 @@
-// The simulator node's /diagnostics: one status per creature (frozen, its wing command timed
-// out or lagging, or running).
+// The simulator node's /diagnostics: one status per creature (frozen, waiting for its
+// controller or run without it, its wing command timed out or lagging, or running).
 #include <diagnostic_msgs/DiagnosticArray.h>
+
+#include <sstream>
 
 #include "flapsim_ros/simulator_node.h"
 
@@ -18,6 +20,16 @@ void SimulatorNode::publishDiagnostics() {
     if (d) {
       s.level = diagnostic_msgs::DiagnosticStatus::ERROR;
       s.message = "frozen: diverged at step " + std::to_string(d->step) + ": " + d->quantity;
+    } else if (c->awaiting_controller) {
+      s.level = diagnostic_msgs::DiagnosticStatus::WARN;
+      s.message = "waiting for the first wing command of its controller " + c->controller +
+                  ": sim time holds until it comes (~controller_wait_timeout)";
+    } else if (c->controller_missing) {
+      s.level = diagnostic_msgs::DiagnosticStatus::ERROR;
+      std::ostringstream m;
+      m << "its controller " << c->controller << " sent no wing command within "
+        << params_.controller_wait_timeout << " s of wall time: running without it";
+      s.message = m.str();
     } else if (c->command_lapsed) {
       s.level = diagnostic_msgs::DiagnosticStatus::WARN;
       s.message = "wing command timed out at t = " +

@@ -118,6 +118,10 @@ void SimulatorNode::spawnConfigured() {
       }
       commanded(*c, r);
     }
+    Creature* c = find(spec.name);
+    c->controller = spec.controller;
+    c->awaiting_controller =
+        !spec.controller.empty() && !c->command && params_.controller_wait_timeout > 0.0;
   }
 }
 
@@ -219,6 +223,8 @@ void SimulatorNode::commanded(Creature& c, WingCommandRequest request) {
   c.command = std::move(request);
   c.command_step = world_.stepCount();
   c.command_lapsed = false;
+  c.awaiting_controller = false;
+  c.controller_missing = false;
 }
 
 // ---- stepping and publishing ---------------------------------------------------------
@@ -305,10 +311,14 @@ sensor_msgs::Imu SimulatorNode::imuMsgOf(const Creature& c, const flapsim::Creat
 }
 
 void SimulatorNode::publishCreature(const Creature& c, const ros::Time& stamp) {
+  c.power->publish(world_.power(c.name), stamp);
+  publishCreatureState(c, stamp);
+}
+
+void SimulatorNode::publishCreatureState(const Creature& c, const ros::Time& stamp) {
   const bool need_js = c.joint_states.getNumSubscribers() > 0;
   const bool need_odom = c.odom.getNumSubscribers() > 0;
   const bool need_imu = c.imu.getNumSubscribers() > 0;
-  c.power->publish(world_.power(c.name), stamp);
   if (!need_js && !need_odom && !need_imu) return;
   const flapsim::CreatureState s = world_.state(c.name);
   if (need_imu) c.imu.publish(imuMsgOf(c, s, stamp));
@@ -431,12 +441,12 @@ void SimulatorNode::restartPacing() {
 void SimulatorNode::run() {
   restartPacing();
   while (ros::ok()) {
-    if (paused_) {
+    if (paused_ || holdForControllers()) {
       queue_.callAvailable(ros::WallDuration(kPausedPoll));
       tf_->serveNewSubscribers(now());
       // /clock goes on while paused: rospy's subscribers of one topic share a connection, so
       // `rostopic echo /clock` with use_sim_time may miss the message a new connection gets.
-      if (paused_ && (ros::WallTime::now() - clock_wall_).toSec() >= kPausedClockPeriod) {
+      if ((ros::WallTime::now() - clock_wall_).toSec() >= kPausedClockPeriod) {
         clock_wall_ = ros::WallTime::now();
         clock_pub_.publish(clockMsg());
       }

@@ -287,6 +287,8 @@ TEST(Params, StartUpRangesAreNamed) {
        "parameter 'wing_command_timeout': must be in [0, 1e6] s of sim time (0: no timeout)"},
       {"wing_command_timeout_action: stop",
        "parameter 'wing_command_timeout_action': must be 'hold' or 'release', got 'stop'"},
+      {"controller_wait_timeout: -1",
+       "parameter 'controller_wait_timeout': must be in [0, 1e6] s of wall time (0: no wait)"},
       {"view: {distance: 0}", "parameter 'view/distance': must be in (0, 1e4] m"},
       {"view: {pitch: 1.6}", "parameter 'view/pitch': must be within +-pi/2 (exclusive)"},
       {"view: {zoom: 1}", "parameter 'view/zoom': unknown parameter (misspelt?)"},
@@ -310,6 +312,14 @@ TEST(Params, StartUpRangesAreNamed) {
   EXPECT_EQ(t.wing_command_timeout, 0.5);
   EXPECT_EQ(t.wing_command_timeout_action, flapsim_ros::CommandTimeoutAction::kRelease);
   EXPECT_EQ(flapsim_ros::parseNodeParams(XmlRpcValue()).wing_command_timeout, 0.0);
+  // The wait for a creature's controller (its `controller`, a node name for the messages).
+  EXPECT_EQ(flapsim_ros::parseNodeParams(XmlRpcValue()).controller_wait_timeout, 30.0);
+  const flapsim_ros::NodeParams w = flapsim_ros::parseNodeParams(
+      yaml("{controller_wait_timeout: 0, creatures: [{name: a, urdf_file: /x.urdf, controller: "
+           "/a/ann_controller}, {name: b, urdf_file: /x.urdf}]}"));
+  EXPECT_EQ(w.controller_wait_timeout, 0.0);
+  EXPECT_EQ(w.creatures.at(0).controller, "/a/ann_controller");
+  EXPECT_EQ(w.creatures.at(1).controller, "");
 }
 
 TEST(Params, CreatureNames) {
