@@ -48,7 +48,8 @@ constexpr double kTolerance = 1e-10;
 // Two worlds, lean and full steps, set up alike; `steps` steps in `chunk`s, the states
 // compared after each chunk (and `check` run on the lean one).
 void expectSameTrajectory(WorldParams p, const std::function<void(World&)>& setup, int steps,
-                          int chunk, const std::function<void(const CreatureState&)>& check) {
+                          int chunk, const std::function<void(const CreatureState&)>& check,
+                          double tolerance = kTolerance) {
   p.lean_steps = true;
   World lean(p);
   p.lean_steps = false;
@@ -59,7 +60,7 @@ void expectSameTrajectory(WorldParams p, const std::function<void(World&)>& setu
     lean.step(chunk);
     full.step(chunk);
     const CreatureState a = lean.state("c"), b = full.state("c");
-    ASSERT_LT(largestDifference(a, b), kTolerance) << "after " << done + chunk << " steps";
+    ASSERT_LT(largestDifference(a, b), tolerance) << "after " << done + chunk << " steps";
     if (check) check(a);
   }
 }
@@ -95,6 +96,8 @@ TEST(LeanStep, FeatheringAndImplicitDragFollowFullSteps) {
             "c", {}, std::vector<StrokeCommand>(feather->wing_joints.size(), {30, 10, 0.8, 1.2}));
       },
       300, 20, nullptr);
+  // The quasi-steady law's implicit part is central differences of its kernel, which turn
+  // the two steps' rounding (1e-16) into 1e-11 of the damping: 1.7e-10 after 200 steps.
   WorldParams p;
   p.air.model = "quasi_steady";
   p.air.wind = Vec3(0.0, 1.0, 0.0);
@@ -106,7 +109,7 @@ TEST(LeanStep, FeatheringAndImplicitDragFollowFullSteps) {
         w.setWingCommands("c", {},
                           std::vector<StrokeCommand>(fu->wing_joints.size(), {40, 10, 0.8}));
       },
-      300, 20, nullptr);
+      300, 20, nullptr, 1e-9);
 }
 
 // A flap unit released 0.3 m above the ground falls onto it and keeps flapping there: the

@@ -156,26 +156,67 @@ inline Vec3 relativeAirVelocity(const Vec3& v, const Vec3& w, const Vec3& r, con
   return v + w.cross(r) - wind;
 }
 
-/// An air model maps a body's motion to the wrench the air exerts on it.
-/// Implementations must be pure: same inputs, same output.
+/// How the world treats an air model's drag where it is stiff (a drag rate of more than two
+/// link masses per step, from AirModel::forceCoefficient): in the velocity update, as a
+/// damping over half the step (the trapezoidal rule), besides the force evaluated at the
+/// step's start.
+enum class AirLinearisation {
+  kNone,              // never: the law is evaluated explicitly only, stiff or not
+  kOwn,               // with the law's own derivative, AirModel::dragDamping
+  kFiniteDifference,  // with central differences of AirModel::bodyWrench (12 calls)
+};
+
+/// 6x6 about a body's centre of mass, world axes, [angular; linear].
+using AirDamping = Eigen::Matrix<double, 6, 6>;
+
+/// An air model (a fluid law) maps a body's motion to the wrench the air exerts on it: its
+/// contract is its force kernel (bodyWrench, pure: same inputs, same output), its
+/// linearisation for the implicit solve (or none, stated), the scale of its forces that decides
+/// when it is stiff, the parameters it reads and their checks. A law of your own is one class
+/// and one registerAirModel line (then `<aero model="name">` and AirParams::model take it), or
+/// World::setAirModel for one world.
 class AirModel {
  public:
   virtual ~AirModel() = default;
   /// `cell_forces`, if given, receives one world-frame force per cell.
   virtual Wrench bodyWrench(const BodyKinematics& body, const AeroSurface& surface,
                             const AirParams& air, std::vector<Vec3>* cell_forces) const = 0;
+  /// How the world treats the law where it is stiff (see AirLinearisation). Default: kNone.
+  virtual AirLinearisation linearisation() const { return AirLinearisation::kNone; }
+  /// For kOwn: the damping D, symmetric positive semi-definite, by which the wrench changes by
+  /// about -D dnu for a change dnu = [d omega; d v] of the body's motion relative to the air.
+  virtual AirDamping dragDamping(const BodyKinematics& body, const AeroSurface& surface,
+                                 const AirParams& air) const;
+  /// C such that the law's force on the body is at most about 1/2 rho C A |u|^2 (A: its cells'
+  /// area, |u|: its fastest point's speed relative to the air): the world's stiffness test.
+  /// Default: the surface's drag coefficient.
+  virtual double forceCoefficient(const AeroSurface& surface, const AirParams& air) const;
+  /// Whether the law reads AirParams::drag_coefficient (the surface's Cd). Default: false.
+  virtual bool readsDragCoefficient() const { return false; }
+  /// Empty if the parameters the law reads are valid, else a message naming the bad one. The
+  /// world checks every registered law's parameters with the air's. Default: "".
+  virtual std::string check(const AirParams& air) const;
 };
 
 using AirModelPtr = std::shared_ptr<const AirModel>;
 
-/// The model of that name ("pressure", "quasi_steady"), or null for an unknown name.
+/// The registered model of that name ("pressure", "quasi_steady", or one registerAirModel
+/// added), or null for an unknown name. Models are pure, so one instance serves every world.
 AirModelPtr makeAirModel(const std::string& name);
 
-/// Names of the built-in air models, in a fixed order: {"pressure", "quasi_steady"}: the one
-/// list that validation, error messages and per-link model lookups derive from.
-const std::vector<std::string>& airModelNames();
+/// Adds a law that links (`<aero model="name">`) and AirParams::model can name, for every world
+/// created afterwards. Throws InputError if the name is empty, taken, or the model null.
+void registerAirModel(const std::string& name, AirModelPtr model);
+
+/// Names of the registered air models: the built-in ones first, {"pressure", "quasi_steady"},
+/// then the registered ones in order: the one list that validation, error messages and per-link
+/// model lookups derive from.
+std::vector<std::string> airModelNames();
 
 /// "unknown air model '<name>' (pressure, quasi_steady)", the list taken from airModelNames().
 std::string unknownAirModelMessage(const std::string& name);
+
+/// The first failing check of every registered law (AirModel::check), or "".
+std::string checkAirModels(const AirParams& air);
 
 }  // namespace flapsim

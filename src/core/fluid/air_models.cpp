@@ -1,16 +1,66 @@
+// The registry of air models: one line per built-in law, and the laws registerAirModel adds.
+#include <mutex>
+
+#include "fluid/fluid_law.h"
 #include "fluid/pressure.h"
 #include "fluid/quasi_steady.h"
 
 namespace flapsim {
 
+namespace {
+
+struct Registry {
+  std::mutex mutex;
+  std::vector<std::pair<std::string, AirModelPtr>> laws;
+};
+
+Registry& registry() {
+  static Registry r{{},
+                    {
+                        {"pressure", std::make_shared<PressureAirModel>()},
+                        {"quasi_steady", std::make_shared<QuasiSteadyAirModel>()},
+                    }};
+  return r;
+}
+
+}  // namespace
+
+AirDamping AirModel::dragDamping(const BodyKinematics& /*body*/, const AeroSurface& /*surface*/,
+                                 const AirParams& /*air*/) const {
+  return AirDamping::Zero();
+}
+
+double AirModel::forceCoefficient(const AeroSurface& surface, const AirParams& /*air*/) const {
+  return surface.drag_coefficient;
+}
+
+std::string AirModel::check(const AirParams& /*air*/) const { return ""; }
+
 AirModelPtr makeAirModel(const std::string& name) {
-  if (name == "pressure") return std::make_shared<PressureAirModel>();
-  if (name == "quasi_steady") return std::make_shared<QuasiSteadyAirModel>();
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (const auto& law : r.laws) {
+    if (law.first == name) return law.second;
+  }
   return nullptr;
 }
 
-const std::vector<std::string>& airModelNames() {
-  static const std::vector<std::string> names{"pressure", "quasi_steady"};
+void registerAirModel(const std::string& name, AirModelPtr model) {
+  if (name.empty()) throw InputError("air model: the name is empty");
+  if (!model) throw InputError("air model '" + name + "' is null");
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  for (const auto& law : r.laws) {
+    if (law.first == name) throw InputError("air model '" + name + "' is already registered");
+  }
+  r.laws.emplace_back(name, std::move(model));
+}
+
+std::vector<std::string> airModelNames() {
+  Registry& r = registry();
+  std::lock_guard<std::mutex> lock(r.mutex);
+  std::vector<std::string> names;
+  for (const auto& law : r.laws) names.push_back(law.first);
   return names;
 }
 
@@ -18,6 +68,25 @@ std::string unknownAirModelMessage(const std::string& name) {
   std::string list;
   for (const std::string& n : airModelNames()) list += (list.empty() ? "" : ", ") + n;
   return "unknown air model '" + name + "' (" + list + ")";
+}
+
+std::string checkAirModels(const AirParams& air) {
+  std::vector<AirModelPtr> laws;
+  {
+    Registry& r = registry();
+    std::lock_guard<std::mutex> lock(r.mutex);
+    for (const auto& law : r.laws) laws.push_back(law.second);
+  }
+  for (const AirModelPtr& law : laws) {
+    std::string err = law->check(air);
+    if (!err.empty()) return err;
+  }
+  return "";
+}
+
+bool batchedPressureLaw(const AirModel& model) {
+  static const AirModel* const pressure = makeAirModel("pressure").get();
+  return &model == pressure;
 }
 
 }  // namespace flapsim

@@ -17,12 +17,11 @@ Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
 }
 
 bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
-                       double reach, double step) {
+                       double coefficient, double reach, double step) {
   if (a.mass <= 0.0) return true;
   // Far below the threshold (each speed under half of it, squared: no square root), as
   // most links in air are.
-  const double limit =
-      kImplicitDragRatio * a.mass / (step * air.density * a.surface.drag_coefficient * a.area);
+  const double limit = kImplicitDragRatio * a.mass / (step * air.density * coefficient * a.area);
   const double half = 0.45 * limit;
   if ((kin.linear_velocity - air.wind).squaredNorm() < half * half &&
       kin.angular_velocity.squaredNorm() * reach * reach < half * half) {
@@ -30,7 +29,7 @@ bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirPa
   }
   const double speed =
       (kin.linear_velocity - air.wind).norm() + kin.angular_velocity.norm() * reach;
-  const double rate = air.density * a.surface.drag_coefficient * a.area * speed;
+  const double rate = air.density * coefficient * a.area * speed;
   return step * rate > kImplicitDragRatio * a.mass;
 }
 
@@ -57,6 +56,7 @@ CreatureFluid::CreatureFluid(const CreatureModel& m, const AirParams& air) {
     AeroBody a;
     a.link = static_cast<int>(k);
     a.model = l.aero.model;
+    if (!a.model.empty()) a.own_model = makeAirModel(a.model);  // checked by the model's parser
     setSurface(a, m, air);
     a.last.link = a.link;
     bodies_.push_back(std::move(a));

@@ -17,8 +17,9 @@ namespace flapsim {
 
 // A link that the air acts on (aero enabled, with boxes); other links have none.
 struct AeroBody {
-  int link = 0;       // model link index (0 = root = Bullet base)
-  std::string model;  // the link's own air model, empty for the world's
+  int link = 0;           // model link index (0 = root = Bullet base)
+  std::string model;      // the link's own air model, empty for the world's
+  AirModelPtr own_model;  // that model (null for the world's), resolved at spawn
   AeroSurface surface;
   // The fluid's implicit part (fluid/added_mass.h), spatial, about the COM: the added mass
   // of the link's plates at density 1 in body axes, and its factor; this step's added mass
@@ -43,14 +44,15 @@ struct AeroBody {
 constexpr double kImplicitDragRatio = 2.0;
 
 // Whether the drag on aero body `a` is stiff enough for the implicit treatment: if step x
-// rho Cd A |u|max / m (A: all its cells, |u|max: its fastest point relative to the air,
-// reach: from its COM to its farthest corner) exceeds kImplicitDragRatio. With at most
+// rho C A |u|max / m (C: its law's force coefficient, AirModel::forceCoefficient; A: all its
+// cells, |u|max: its fastest point relative to the air, reach: from its COM to its farthest
+// corner) exceeds kImplicitDragRatio. With at most
 // about half of a body's cells advancing, that bounds step x (d|F|/du) / m by 1, half of
 // the 2 at which the explicit step reverses a face-on cell's normal speed. Below it the
 // drag is explicit, first order, cheaper, and more accurate than its linearisation across
 // a stroke's turn.
 bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
-                       double reach, double step);
+                       double coefficient, double reach, double step);
 
 // The added mass of a link's plate-like boxes at density 1 (AeroBody::added_mass).
 Mat6 linkAddedMass(const LinkModel& l, const AirParams& air);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "flapsim/world.h"
 #include "fluid/body_flow.h"
 
 namespace flapsim {
@@ -260,6 +261,12 @@ Mat6 pressureDragDamping(const FluidInput& in) {
     flush(n);
   }
   return spatialToCommonFrame(out, body.orientation, Vec3::Zero());
+}
+
+std::string PressureAirModel::check(const AirParams& air) const {
+  const double cd = air.drag_coefficient;
+  if (std::isfinite(cd) && cd >= 0.0 && cd <= kMaxDragCoefficient) return "";
+  return "air drag_coefficient must be in [0, 1000]";
 }
 
 }  // namespace flapsim

@@ -33,7 +33,17 @@ Wrench pressureLaw(const FluidInput& in, std::vector<Vec3>* cell_forces);
 /// are evaluated by the law at the start of the step).
 Mat6 pressureDragDamping(const FluidInput& in);
 
-/// The paper's model (IEEE SMC 2010, eq. 3): pressure on advancing sub-surfaces.
-using PressureAirModel = LawAirModel<pressureLaw>;
+/// The paper's model (IEEE SMC 2010, eq. 3): pressure on advancing sub-surfaces, stabilised
+/// with its own derivative (pressureDragDamping); it reads the surface's drag coefficient.
+class PressureAirModel : public LawAirModel<pressureLaw> {
+ public:
+  AirLinearisation linearisation() const override { return AirLinearisation::kOwn; }
+  AirDamping dragDamping(const BodyKinematics& body, const AeroSurface& surface,
+                         const AirParams& air) const override {
+    return pressureDragDamping(FluidInput{body, surface, air});
+  }
+  bool readsDragCoefficient() const override { return true; }
+  std::string check(const AirParams& air) const override;
+};
 
 }  // namespace flapsim

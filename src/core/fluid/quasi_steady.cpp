@@ -126,4 +126,22 @@ Wrench quasiSteadyLaw(const FluidInput& in, std::vector<Vec3>* cell_forces) {
   return Wrench{flow.rot * total, flow.rot * torque};
 }
 
+double QuasiSteadyAirModel::forceCoefficient(const AeroSurface& /*surface*/,
+                                             const AirParams& air) const {
+  const QuasiSteadyCoefficients& c = air.quasi_steady;
+  return std::abs(c.lift_mean) + std::abs(c.lift_amplitude) + std::abs(c.drag_mean) +
+         std::abs(c.drag_amplitude);
+}
+
+std::string QuasiSteadyAirModel::check(const AirParams& air) const {
+  const QuasiSteadyCoefficients& q = air.quasi_steady;
+  for (double c : {q.lift_mean, q.lift_amplitude, q.lift_frequency, q.lift_phase, q.drag_mean,
+                   q.drag_amplitude, q.drag_frequency, q.drag_phase}) {
+    if (!std::isfinite(c) || std::abs(c) > 1e3) {
+      return "air quasi_steady coefficients must be finite and within +-1000";
+    }
+  }
+  return "";
+}
+
 }  // namespace flapsim

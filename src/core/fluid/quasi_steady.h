@@ -42,6 +42,14 @@ double rotationalLiftCoefficient(double x0);
 Wrench quasiSteadyLaw(const FluidInput& in, std::vector<Vec3>* cell_forces);
 
 /// The quasi-steady law as an air model.
-using QuasiSteadyAirModel = LawAirModel<quasiSteadyLaw>;
+/// The quasi-steady law as an air model: stabilised with central differences of its own
+/// kernel (its coefficients are fits, with no derivative of their own written here); its
+/// force scale is the largest |C_L| + |C_D| its coefficients can give.
+class QuasiSteadyAirModel : public LawAirModel<quasiSteadyLaw> {
+ public:
+  AirLinearisation linearisation() const override { return AirLinearisation::kFiniteDifference; }
+  double forceCoefficient(const AeroSurface& surface, const AirParams& air) const override;
+  std::string check(const AirParams& air) const override;
+};
 
 }  // namespace flapsim

@@ -20,7 +20,7 @@ std::vector<SweepRow> pressureSweep(const SweepParams& p) {
   for (const std::string& name : p.models) {
     AirModelPtr model = makeAirModel(name);
     if (!model) throw InputError("sweep: unknown air model '" + name + "'");
-    const bool uses_cd = name == "pressure";
+    const bool uses_cd = model->readsDragCoefficient();
     const std::vector<double> cds = uses_cd ? p.drag_coefficients : std::vector<double>{0.0};
     for (double cd : cds) {
       for (int grid : p.grids) {
@@ -100,7 +100,8 @@ std::string sweepGnuplotScript(const SweepParams& p, const std::vector<SweepRow>
     }
     std::ostringstream title;
     title << rows[first].model;
-    if (rows[first].model == "pressure") {
+    const AirModelPtr model = makeAirModel(rows[first].model);
+    if (model && model->readsDragCoefficient()) {
       title << " Cd " << std::to_string(rows[first].drag_coefficient).substr(0, 4);
     }
     title << ", grid " << rows[first].grid;
@@ -113,9 +114,12 @@ std::string sweepGnuplotScript(const SweepParams& p, const std::vector<SweepRow>
 }
 
 std::string sweepUnusedFlag(const SweepParams& p, const std::vector<CliSeen>& seen) {
-  const bool pressure = std::find(p.models.begin(), p.models.end(), "pressure") != p.models.end();
+  const bool reads_cd = std::any_of(p.models.begin(), p.models.end(), [](const std::string& m) {
+    const AirModelPtr model = makeAirModel(m);
+    return model && model->readsDragCoefficient();
+  });
   for (const CliSeen& given : seen) {
-    if (given.flag->names[0] == "--cd" && !pressure) {
+    if (given.flag->names[0] == "--cd" && !reads_cd) {
       return "--cd has no effect without the pressure model in --models (it sets that "
              "model's drag coefficients)";
     }

@@ -1,33 +1,18 @@
 #include "world/fluid_stage.h"
 
-#include <typeinfo>
-
 #include "dynamics/bullet_body.h"
 #include "dynamics/momentum_balance.h"
 #include "fluid/added_mass.h"
 #include "fluid/buoyancy.h"
-#include "fluid/pressure.h"
+#include "fluid/fluid_law.h"
 
 namespace flapsim {
 
 AirStage::AirStage(const std::string& default_model) {
   setDefaultModel(makeAirModel(default_model));
-  for (const std::string& name : airModelNames()) named_models_[name] = makeAirModel(name);
 }
 
-void AirStage::setDefaultModel(AirModelPtr model) {
-  default_model_ = std::move(model);
-  // The law itself, not a model derived from it (which may do anything).
-  default_pressure_ = default_model_ && typeid(*default_model_) == typeid(PressureAirModel);
-}
-
-bool AirStage::pressureLaw(const AeroBody& a) const {
-  return a.model.empty() ? default_pressure_ : a.model == "pressure";
-}
-
-const AirModel& AirStage::modelOf(const AeroBody& a) const {
-  return a.model.empty() ? *default_model_ : *named_models_.at(a.model);
-}
+void AirStage::setDefaultModel(AirModelPtr model) { default_model_ = std::move(model); }
 
 namespace {
 
@@ -56,6 +41,25 @@ void accelerationBias(const CreatureModel& m, const LinkFrames& frames, const Ve
   }
 }
 
+// Aero body `a`'s implicit drag for this (sub)step: its law's own linearisation
+// (AirModel::linearisation) over half the step where its drag is stiff (the trapezoidal rule,
+// and still no face-on drag can reverse a cell's normal speed within a step: v1 = v0 - dt k
+// v0^2 / (m + dt k v0)), else none; whether it has one.
+bool setImplicitDrag(const AirModel& law, AeroBody& a, const BodyKinematics& kin,
+                     const AirParams& air, double reach, double step) {
+  const bool implicit =
+      air.density > 0.0 && law.linearisation() != AirLinearisation::kNone &&
+      needsImplicitDrag(a, kin, air, law.forceCoefficient(a.surface, air), reach, step);
+  if (implicit) {
+    a.drag = 0.5 * step * lawDamping(law, kin, a.surface, air);
+    a.drag_zero = false;
+  } else if (!a.drag_zero) {
+    a.drag.setZero();
+    a.drag_zero = true;
+  }
+  return implicit;
+}
+
 }  // namespace
 
 void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
@@ -69,7 +73,7 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
   bool batch = false;
   for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
     body.frames().kinematics(fluid.bodies_[i].link, fluid.kinematics_[i]);
-    batch = batch || (fluid.pressure_.holds(i) && pressureLaw(fluid.bodies_[i]));
+    batch = batch || (fluid.pressure_.holds(i) && batchedPressureLaw(modelOf(fluid.bodies_[i])));
   }
   batch = batch && !record_cells_;
   if (batch) fluid.pressure_.run(fluid.kinematics_, air, fluid.batch_wrench_);
@@ -85,10 +89,11 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
     const int k = a.link;
     const BodyKinematics& kin = fluid.kinematics_[i];
     const Mat3& rotation = kin.rotation;
-    Wrench w = batch && fluid.pressure_.holds(i) && pressureLaw(a)
-                   ? fluid.batch_wrench_[i]
-                   : modelOf(a).bodyWrench(kin, a.surface, air,
-                                           record_cells_ ? &a.last.cell_forces : nullptr);
+    const AirModel& law = modelOf(a);
+    Wrench w =
+        batch && fluid.pressure_.holds(i) && batchedPressureLaw(law)
+            ? fluid.batch_wrench_[i]
+            : law.bodyWrench(kin, a.surface, air, record_cells_ ? &a.last.cell_forces : nullptr);
     if (air.buoyancy) w += buoyancyLaw(FluidInput{kin, a.surface, air, fluid_gravity}, nullptr);
     a.last.com = kin.com;
     a.last.wrench = w;
@@ -110,16 +115,7 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
                                      bias);
       }
     }
-    const bool implicit = air.density > 0.0 && needsImplicitDrag(a, kin, air, body.reach(k), step);
-    // Half the step: the trapezoidal rule, and still no face-on drag can reverse a cell's
-    // normal speed within a step (v1 = v0 - dt k v0^2 / (m + dt k v0)).
-    if (implicit) {
-      a.drag = 0.5 * step * pressureDragDamping(FluidInput{kin, a.surface, air});
-      a.drag_zero = false;
-    } else if (!a.drag_zero) {
-      a.drag.setZero();
-      a.drag_zero = true;
-    }
+    const bool implicit = setImplicitDrag(law, a, kin, air, body.reach(k), step);
     fluid.active_ = fluid.active_ || implicit || (a.has_added_mass && air.density > 0.0);
     if (record_cells_) {
       a.last.cell_centres.resize(a.surface.cells.size());

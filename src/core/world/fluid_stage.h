@@ -4,7 +4,6 @@
 // linearised drag) for the servo stage. Private to flapsim_core.
 #pragma once
 
-#include <map>
 #include <string>
 #include <utility>
 
@@ -17,7 +16,8 @@ namespace flapsim {
 class BulletBody;
 class MomentumBalance;
 
-// The air models in use: the world's default and the built-in ones that links may name.
+// The air models in use: the world's default (the links that name their own hold it,
+// AeroBody::own_model).
 class AirStage {
  public:
   explicit AirStage(const std::string& default_model);
@@ -33,14 +33,11 @@ class AirStage {
              MomentumBalance& momentum, const WorldParams& params, double step) const;
 
  private:
-  const AirModel& modelOf(const AeroBody& a) const;
-  // Whether aero body `a`'s air model is the built-in pressure law (which the fluid's
-  // PressureBatch then computes, with every other such body of the creature at once).
-  bool pressureLaw(const AeroBody& a) const;
+  const AirModel& modelOf(const AeroBody& a) const {
+    return a.own_model ? *a.own_model : *default_model_;
+  }
 
   AirModelPtr default_model_;
-  bool default_pressure_ = false;                    // default_model_ is a PressureAirModel
-  std::map<std::string, AirModelPtr> named_models_;  // for links that name their own
   bool record_cells_ = false;
 };
 

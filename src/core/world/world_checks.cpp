@@ -59,25 +59,17 @@ const Rule<WorldParams> kWorldRules[] = {
 const Rule<AirParams> kAirRules[] = {
     {[](const AirParams& a) { return inRange(a.density, 0.0, kMaxDensity); },
      "air density must be in [0, 1e5] kg/m^3"},
-    {[](const AirParams& a) { return inRange(a.drag_coefficient, 0.0, kMaxDragCoefficient); },
-     "air drag_coefficient must be in [0, 1000]"},
     {[](const AirParams& a) { return finiteWithin(a.wind, 1e3); },
      "air wind must be finite, each component within +-1000 m/s"},
     {[](const AirParams& a) { return makeAirModel(a.model) != nullptr; }, nullptr,
      [](const AirParams& a) { return unknownAirModelMessage(a.model); }},
+    // The parameters each law reads (the drag coefficient, the quasi-steady coefficients).
+    {[](const AirParams& a) { return checkAirModels(a).empty(); }, nullptr,
+     [](const AirParams& a) { return checkAirModels(a); }},
     {[](const AirParams& a) { return checkTurbulence(a.turbulence).empty(); }, nullptr,
      [](const AirParams& a) { return checkTurbulence(a.turbulence); }},
     {[](const AirParams& a) { return checkGust(a.gust).empty(); }, nullptr,
      [](const AirParams& a) { return checkGust(a.gust); }},
-    {[](const AirParams& a) {
-       const QuasiSteadyCoefficients& q = a.quasi_steady;
-       for (double c : {q.lift_mean, q.lift_amplitude, q.lift_frequency, q.lift_phase, q.drag_mean,
-                        q.drag_amplitude, q.drag_frequency, q.drag_phase}) {
-         if (!inRange(c, -1e3, 1e3)) return false;
-       }
-       return true;
-     },
-     "air quasi_steady coefficients must be finite and within +-1000"},
     {[](const AirParams& a) {
        return a.subdivisions_u >= 1 && a.subdivisions_v >= 1 && a.subdivisions_u <= 1000 &&
               a.subdivisions_v <= 1000;
