@@ -22,6 +22,8 @@ PACKAGES=(
   # physics, robot description, configuration
   libbullet-dev libeigen3-dev liburdfdom-dev libtinyxml2-dev libconsole-bridge-dev
   libyaml-cpp-dev
+  # URDF meshes: assimp reads STL/OBJ/DAE; roslib resolves package:// URIs (ros::package)
+  libassimp-dev libroslib-dev
   # tests and plots
   libgtest-dev googletest gnuplot-nox
   # seeing it: rviz, rosrun, headless X for rviz, screenshots, movies and their checks

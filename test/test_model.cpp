@@ -232,18 +232,22 @@ TEST(ModelErrors, ValidReferenceParses) {
   EXPECT_EQ(m->wing_joints.size(), 1u);
 }
 
-// Boxes, cylinders and spheres collide and feel the air, from a link's collisions (its
-// visuals if no collision is simulated); a mesh is listed by link and kind.
-TEST(Geometry, CylindersAndSpheresAreShapesMeshesAreListedByLinkAndKind) {
-  const auto m = flapsim::parseCreatureModel(R"(<robot name="s">
+// Boxes, cylinders, spheres and meshes collide and feel the air, from a link's collisions (its
+// visuals if it has no collision); a link simulating its visuals is named.
+TEST(Geometry, CylindersSpheresAndMeshesAreShapes) {
+  const auto m =
+      flapsim::parseCreatureModel(R"(<robot name="s">
     <link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
       <visual><geometry><sphere radius="0.1"/></geometry></visual>
       <collision><origin xyz="0 0 0.5"/><geometry><cylinder radius="0.1" length="0.2"/></geometry></collision>
-      <collision><geometry><mesh filename="package://x/shell.stl"/></geometry></collision></link>
+      <collision><geometry><mesh filename=")" FLAPSIM_SOURCE_DIR
+                                  R"(/test/meshes/cube.dae"/></geometry></collision></link>
     <link name="b"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>
       <visual><geometry><sphere radius="0.3"/></geometry></visual></link>
     <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint></robot>)");
   ASSERT_EQ(m->links[0].rounds.size(), 1u);  // its visual sphere is drawn, not simulated
+  ASSERT_EQ(m->links[0].meshes.size(), 1u);
+  EXPECT_EQ(m->links[0].meshes[0].mesh->triangles.size(), 12u);
   const flapsim::RoundShape& c = m->links[0].rounds[0];
   EXPECT_EQ(c.kind, flapsim::RoundShape::Kind::kCylinder);
   EXPECT_EQ(c.radius, 0.1);
@@ -255,11 +259,10 @@ TEST(Geometry, CylindersAndSpheresAreShapesMeshesAreListedByLinkAndKind) {
   EXPECT_EQ(
       flapsim::geometryNotes(*m),
       (std::vector<std::string>{
-          "link 'a': collision mesh ignored (no contact, no air): "
-          "only boxes, cylinders and spheres are simulated",
           "link 'b' has no <collision>: its <visual> shapes are simulated (contact and air)"}));
-  // The lowest point: the sphere's bottom with b 1 m up, the cylinder's cap with a turned
-  // 90 degrees about x (the cylinder then lies along y, its side 0.1 below its axis).
+  // The lowest point: the sphere's bottom with b 1 m up (the cube's is at 0.95), the cylinder's
+  // cap with a turned 90 degrees about x (the cylinder then lies along y, its side 0.1 below
+  // its axis; the cube's 0.05).
   const flapsim::Pose up{flapsim::Vec3(0, 0, 1), flapsim::Quat::Identity()};
   EXPECT_NEAR(flapsim::lowestBoxPoint(*m, {up, up}), 0.7, 1e-12);
   const flapsim::Pose turned{flapsim::Vec3::Zero(),

@@ -1,7 +1,9 @@
 // CreatureModel: an immutable description of a creature, read from URDF.
 #pragma once
 
+#include <array>
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -40,6 +42,30 @@ struct RoundShape {
   Pose origin;
 };
 
+/// The triangles of a mesh file (assimp: STL, OBJ, DAE, ...), its vertices scaled by the
+/// <mesh scale> and in the mesh's frame; identical vertices welded. Immutable once loaded.
+struct MeshData {
+  std::vector<Vec3> vertices;
+  /// Vertex indices, counter-clockwise seen from outside: as the file winds them, all reversed
+  /// if it is closed and they enclose a negative volume (an inside-out file, a mirror scale).
+  std::vector<std::array<int, 3>> triangles;
+  /// Whether it is a closed, consistently wound surface: each edge is run once each way.
+  bool closed = false;
+  int open_edges = 0;            // edges not run exactly once each way (0 when closed)
+  double volume = 0.0;           // the enclosed volume if closed, else 0
+  Vec3 centroid = Vec3::Zero();  // of that volume (of the vertices if not closed)
+  Vec3 lower = Vec3::Zero(), upper = Vec3::Zero();  // bounds of the vertices
+};
+
+/// A <mesh> of the link's geometry, in the link frame: a collider (its convex hull) and an
+/// air surface (its triangles, see meshFaces).
+struct MeshShape {
+  std::string uri;            // the <mesh filename>, for messages
+  Vec3 scale = Vec3::Ones();  // the <mesh scale> (already applied to mesh->vertices)
+  Pose origin;
+  std::shared_ptr<const MeshData> mesh;
+};
+
 /// A link's frame is its URDF frame unless the URDF's inertia tensor has products of inertia
 /// (ixy, ixz, iyz) or a rotated <inertial><origin rpy>: then its axes are the principal axes
 /// of inertia (same origin), and every link-frame quantity below (COM, shapes, the joints'
@@ -53,14 +79,13 @@ struct LinkModel {
   Pose urdf_frame;                 // the URDF link frame in the link frame (a rotation)
   std::vector<Box> boxes;          // collision boxes (visual ones if it has no collision)
   std::vector<RoundShape> rounds;  // collision cylinders and spheres (likewise)
-  /// The link's shapes that are not simulated, e.g. "collision mesh" (see geometryNotes).
-  std::vector<std::string> ignored_shapes;
+  std::vector<MeshShape> meshes;   // collision meshes (likewise)
   /// Whether its shapes come from its <visual> elements (it has no <collision>).
   bool shapes_from_visuals = false;
   AeroSettings aero;
   int parent_joint = -1;  // index into CreatureModel::joints, -1 for the root
 
-  bool hasShapes() const { return !boxes.empty() || !rounds.empty(); }
+  bool hasShapes() const { return !boxes.empty() || !rounds.empty() || !meshes.empty(); }
   /// Whether the link frame differs from the URDF frame (urdf_frame is not exactly identity).
   bool rotated() const { return urdf_frame.orientation.coeffs() != Quat::Identity().coeffs(); }
   /// The URDF frame's pose given the link frame's `pose` (in any frame), and back; `pose`
@@ -150,18 +175,30 @@ struct CreatureModel {
 
 using CreatureModelPtr = std::shared_ptr<const CreatureModel>;
 
-/// Parses URDF text; `source` names it in errors. Throws ModelError naming the
-/// source and the link or joint at fault.
+/// The file path of a <mesh filename> URI; throws (ModelError or any std::exception) saying
+/// why it has none, e.g. an unknown package.
+using MeshResolver = std::function<std::string(const std::string& uri)>;
+
+/// Resolves URIs as ROS does, without ROS: "file:///abs/path" and "/abs/path" as they are; a
+/// relative path against `base_dir` (the URDF file's directory; refused if empty);
+/// "package://pkg/rel/path" in the first directory found under ROS_PACKAGE_PATH (searched to
+/// depth 8, as rospack does) whose package.xml has <name>pkg</name>. Anything else is refused.
+MeshResolver defaultMeshResolver(const std::string& base_dir = "");
+
+/// Parses URDF text; `source` names it in errors. Meshes are read through `resolve_mesh`
+/// (empty: defaultMeshResolver("")). Throws ModelError naming the source and the link or
+/// joint at fault; a mesh that cannot be resolved or read names its link, its URI and why.
 CreatureModelPtr parseCreatureModel(const std::string& urdf_xml,
-                                    const std::string& source = "<string>");
+                                    const std::string& source = "<string>",
+                                    const MeshResolver& resolve_mesh = {});
 
 /// The child link's URDF frame in the parent link's URDF frame with joint `joint` at
 /// `position` (what tf publishes).
 Pose urdfJointPose(const CreatureModel& model, const JointModel& joint, double position);
 
-/// One line per link whose visual shapes are simulated for want of a <collision>, and per shape
-/// the model ignores (LinkModel::ignored_shapes), naming the link and the shape; empty if the
-/// collision shapes are simulated, all of them. (The simulator node says these at a spawn.)
+/// One line per link whose visual shapes are simulated for want of a <collision>, and per mesh
+/// that is not closed (no volume, normals from its winding), naming the link and the mesh;
+/// empty if neither. (The simulator node says these at a spawn.)
 std::vector<std::string> geometryNotes(const CreatureModel& model);
 
 /// Largest URDF file read (bytes): 16 MiB, far beyond any creature's description.
@@ -183,13 +220,14 @@ constexpr double kMaxUrdfInertia = 1e6;
 /// kMaxUrdfFileBytes. Throws ModelError naming the file and what is wrong.
 std::string readUrdfFile(const std::string& path);
 
-/// The lowest z of the model's boxes (their corners), cylinders and spheres with its links at
-/// `link_poses` (URDF link frames in the world, as CreatureState's); +infinity for a model without
-/// shapes.
+/// The lowest z of the model's boxes (their corners), meshes (their vertices), cylinders and
+/// spheres with its links at `link_poses` (URDF link frames in the world, as CreatureState's);
+/// +infinity for a model without shapes.
 double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_poses);
 
-/// Reads (readUrdfFile) and parses a URDF file. Throws ModelError naming the file.
-CreatureModelPtr loadCreatureModel(const std::string& path);
+/// Reads (readUrdfFile) and parses a URDF file, its meshes through `resolve_mesh` (empty:
+/// defaultMeshResolver of the file's directory). Throws ModelError naming the file.
+CreatureModelPtr loadCreatureModel(const std::string& path, const MeshResolver& resolve_mesh = {});
 
 /// The spanwise axis (unit, sign arbitrary) of link `link` in its COM frame, whose axes are the
 /// link frame's: for a link hanging from a wing joint, the direction from the joint's axis out

@@ -1,6 +1,7 @@
 #include "flapsim_ros/simulator_node.h"
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <ros/package.h>
 #include <rosgraph_msgs/Clock.h>
 #include <std_msgs/String.h>
 #include <tf2_msgs/TFMessage.h>
@@ -8,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+
+#include "flapsim_ros/urdf_source.h"
 
 namespace flapsim_ros {
 
@@ -135,7 +138,10 @@ std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std
     throw flapsim::InputError(source + ": " + std::to_string(urdf_xml.size()) +
                               " bytes, over the limit of 16 MiB");
   }
-  flapsim::CreatureModelPtr model = flapsim::parseCreatureModel(urdf_xml, source);
+  flapsim::CreatureModelPtr model = flapsim::parseCreatureModel(
+      urdf_xml, source,
+      spawnMeshResolver(params_.urdf_roots, source,
+                        [](const std::string& package) { return ros::package::getPath(package); }));
   world_.spawn(name, model, pose, twist);
   auto c = std::make_unique<Creature>();
   c->nh = nh_;

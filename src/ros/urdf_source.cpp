@@ -2,6 +2,7 @@
 
 #include <limits.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <sstream>
@@ -70,6 +71,40 @@ std::vector<std::string> defaultUrdfRoots(const char* ros_package_path,
   }
   if (!working_directory.empty()) roots.push_back(working_directory);
   return roots;
+}
+
+flapsim::MeshResolver spawnMeshResolver(
+    const std::vector<std::string>& roots, const std::string& source,
+    const std::function<std::string(const std::string&)>& package_path) {
+  struct stat st {};
+  std::string dir;
+  const size_t slash = source.rfind('/');
+  if (::stat(source.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+    dir = slash == std::string::npos ? "." : source.substr(0, std::max<size_t>(slash, 1));
+  }
+  return [roots, dir, package_path](const std::string& uri) {
+    std::string path;
+    const std::string scheme = "package://";
+    if (uri.compare(0, scheme.size(), scheme) == 0) {
+      const std::string rest = uri.substr(scheme.size());
+      const size_t end = rest.find('/');
+      const std::string package = rest.substr(0, end);
+      const std::string found = package.empty() ? "" : package_path(package);
+      if (found.empty()) throw flapsim::ModelError("unknown package '" + package + "'");
+      path = end == std::string::npos ? found : found + rest.substr(end);
+    } else {
+      path = flapsim::defaultMeshResolver(dir)(uri);
+    }
+    const std::string file = canonical(path);
+    for (const std::string& root : roots) {
+      if (under(file, canonical(root))) return file;
+    }
+    std::string text =
+        "refused: a mesh file must exist under an allowed root (parameter "
+        "~urdf_roots:";
+    for (size_t i = 0; i < roots.size(); ++i) text += (i ? ", " : " ") + roots[i];
+    throw flapsim::ModelError(text + ")");
+  };
 }
 
 }  // namespace flapsim_ros

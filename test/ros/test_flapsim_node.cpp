@@ -592,42 +592,32 @@ TEST_F(Node, SpawnNamesTheJointValuesItLowers) {
   EXPECT_TRUE(d.response.success) << d.response.status_message;
 }
 
-// A shape the world does not simulate (a mesh; boxes, cylinders and spheres collide and feel
-// the air): spawned, named by link and kind in the reply and in a warning, not silently
-// dropped; the simulated cylinder and sphere are not named.
-TEST_F(Node, SpawnNamesTheShapesItIgnores) {
+// A mesh that cannot be had (an unknown package) is refused by name: the link, the URI and
+// why; nothing is spawned. Boxes, cylinders, spheres and meshes are all simulated: a spawn
+// names none of them as ignored.
+TEST_F(Node, SpawnRefusesAnUnreadableMeshByName) {
   flapsim::SpawnCreature s;
   s.request.name = "shapes";
   s.request.urdf_xml = R"(<robot name="s">
     <link name="body"><inertial><mass value="0.01"/>
       <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
-      <visual><geometry><box size="0.1 0.1 0.01"/></geometry></visual>
       <collision><geometry><cylinder radius="0.05" length="0.2"/></geometry></collision></link>
-    <link name="ball"><inertial><mass value="0.01"/>
-      <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
-      <visual><geometry><sphere radius="0.03"/></geometry></visual></link>
     <link name="shell"><inertial><mass value="0.01"/>
       <inertia ixx="1e-5" ixy="0" ixz="0" iyy="1e-5" iyz="0" izz="1e-5"/></inertial>
-      <collision><geometry><mesh filename="package://x/shell.stl"/></geometry></collision>
-      <collision><geometry><box size="0.02 0.02 0.02"/></geometry></collision></link>
-    <joint name="j1" type="fixed"><parent link="body"/><child link="ball"/></joint>
+      <collision><geometry><mesh filename="package://x/shell.stl"/></geometry></collision></link>
     <joint name="j2" type="fixed"><parent link="body"/><child link="shell"/></joint></robot>)";
   s.request.initial_pose.position.z = 40.0;
   ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
-  ASSERT_TRUE(s.response.success) << s.response.status_message;
-  const std::string line =
-      "creature 'shapes', link 'shell': collision mesh ignored (no contact, no air): only boxes, "
-      "cylinders and spheres are simulated";
-  EXPECT_NE(s.response.status_message.find(line), std::string::npos)
-      << line << " not in: " << s.response.status_message;
-  EXPECT_TRUE(warned(line)) << line;
-  for (const std::string shape : {"collision cylinder", "visual sphere", "visual box"}) {
-    EXPECT_EQ(s.response.status_message.find(shape), std::string::npos)
-        << shape << " in: " << s.response.status_message;
+  EXPECT_FALSE(s.response.success);
+  for (const std::string part :
+       {"link 'shell'", "mesh 'package://x/shell.stl'", "unknown package"}) {
+    EXPECT_NE(s.response.status_message.find(part), std::string::npos)
+        << part << " not in: " << s.response.status_message;
   }
   flapsim::DeleteCreature d;
   d.request.name = "shapes";
   ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  EXPECT_FALSE(d.response.success);  // it was never spawned
 }
 
 TEST_F(Node, BadWingCommandsWarnAndKeepTheLastValidCommand) {

@@ -1,5 +1,7 @@
 #include "dynamics/bullet_body.h"
 
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -58,6 +60,10 @@ void BodySnapshot::restore(btMultiBody& mb) const {
 }
 
 namespace {
+
+// The contact margin of a mesh's convex hull (m): small against a wing's thickness, and
+// enough for Bullet's convex contact (GJK/EPA) to keep resting contacts steady.
+constexpr double kHullMargin = 1e-3;
 
 // Link k (>= 1) of the multibody, on the joint to its parent.
 void setupLink(btMultiBody& mb, const CreatureModel& m, int k) {
@@ -119,6 +125,10 @@ double linkReach(const LinkModel& l) {
     const double rim = std::hypot(r.radius, 0.5 * r.length);  // a sphere's length is 0
     reach = std::max(reach, (com_inv * r.origin).position.norm() + rim);
   }
+  for (const MeshShape& m : l.meshes) {
+    const Pose frame = com_inv * m.origin;
+    for (const Vec3& v : m.mesh->vertices) reach = std::max(reach, frame.apply(v).norm());
+  }
   return reach;
 }
 
@@ -151,7 +161,7 @@ BulletBody::~BulletBody() {
 // The collision shape of a link with shapes (in the COM frame), owned by the body.
 btCollisionShape* BulletBody::linkShape(const LinkModel& l) {
   const Pose com_inv{-l.com, Quat::Identity()};
-  if (l.boxes.empty() || !l.rounds.empty()) return roundLinkShape(l);
+  if (l.boxes.empty() || !l.rounds.empty() || !l.meshes.empty()) return roundLinkShape(l);
   const Pose first = com_inv * l.boxes[0].origin;
   if (l.boxes.size() == 1 && first.position.isZero(1e-12) &&
       first.orientation.isApprox(Quat::Identity(), 1e-12)) {
@@ -170,12 +180,12 @@ btCollisionShape* BulletBody::linkShape(const LinkModel& l) {
   return shape;
 }
 
-// The compound shape of a link with cylinders or spheres (btCylinderShapeZ: URDF's axis z)
-// and its boxes, in the COM frame, owned by the body.
+// The compound shape of a link with cylinders or spheres (btCylinderShapeZ: URDF's axis z),
+// meshes (the convex hull of each) and its boxes, in the COM frame, owned by the body.
 btCollisionShape* BulletBody::roundLinkShape(const LinkModel& l) {
   const Pose com_inv{-l.com, Quat::Identity()};
-  auto compound =
-      std::make_unique<btCompoundShape>(false, static_cast<int>(l.boxes.size() + l.rounds.size()));
+  auto compound = std::make_unique<btCompoundShape>(
+      false, static_cast<int>(l.boxes.size() + l.rounds.size() + l.meshes.size()));
   auto add = [&](std::unique_ptr<btCollisionShape> child, const Pose& origin) {
     compound->addChildShape(toBt(com_inv * origin), child.get());
     shapes_.push_back(std::move(child));
@@ -188,6 +198,16 @@ btCollisionShape* BulletBody::roundLinkShape(const LinkModel& l) {
       const btVector3 half(r.radius, r.radius, 0.5 * r.length);
       add(std::make_unique<btCylinderShapeZ>(half), r.origin);
     }
+  }
+  for (const MeshShape& m : l.meshes) {
+    // The hull's vertices only (optimizeConvexHull), rounded by a margin of kHullMargin: it
+    // rests that far above what it lies on.
+    auto hull = std::make_unique<btConvexHullShape>();
+    for (const Vec3& v : m.mesh->vertices) hull->addPoint(toBt(v), false);
+    hull->recalcLocalAabb();
+    hull->optimizeConvexHull();
+    hull->setMargin(kHullMargin);
+    add(std::move(hull), m.origin);
   }
   btCollisionShape* shape = compound.get();
   shapes_.push_back(std::move(compound));

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <utility>
 
+#include "fluid/added_mass.h"
 #include "fluid/box_union.h"
+#include "fluid/mesh_surface.h"
 
 namespace flapsim {
 
@@ -63,6 +65,27 @@ void setFaceAxes(SurfaceFace& face, const Vec3& longer_edge, const std::optional
   }
 }
 
+// Makes `face` (to be appended to `surface`, all its cells kept) a regular grid of fu x fv cells
+// `step_u`, `step_v` apart (body frame).
+void setGrid(const AeroSurface& surface, SurfaceFace& face, int fu, int fv, const Vec3& step_u,
+             const Vec3& step_v) {
+  face.nu = fu;
+  face.nv = fv;
+  face.step_u = step_u;
+  face.step_v = step_v;
+  face.centre_x_normal = surface.cells[face.first_cell].centre.cross(face.normal);
+  face.step_u_x_normal = face.step_u.cross(face.normal);
+  face.step_v_x_normal = face.step_v.cross(face.normal);
+  face.steps_of = static_cast<int>(surface.faces.size());
+  for (size_t k = 0; k < surface.faces.size(); ++k) {
+    const SurfaceFace& other = surface.faces[k];
+    if (other.nu > 0 && other.step_u == face.step_u && other.step_v == face.step_v) {
+      face.steps_of = static_cast<int>(k);
+      break;
+    }
+  }
+}
+
 // Adds the faces of a box to `surface`, without the cells for which hidden(centre) holds: a
 // face that keeps every cell is a regular grid, one that keeps some a plain list, one that
 // keeps none is left out. With `thin_edges`, a face edge at most kThinEdge of the face's other
@@ -98,25 +121,10 @@ void addBoxFaces(AeroSurface& surface, const Vec3& size, const Pose& origin, int
     face.cell_count = static_cast<int>(surface.cells.size()) - face.first_cell;
     if (face.cell_count == 0) continue;
     if (face.cell_count == fu * fv) {
-      face.nu = fu;
-      face.nv = fv;
-      Vec3 step = Vec3::Zero();
-      step[b] = size[b] / fu;
-      face.step_u = origin.orientation * step;
-      step = Vec3::Zero();
-      step[c] = size[c] / fv;
-      face.step_v = origin.orientation * step;
-      face.centre_x_normal = surface.cells[face.first_cell].centre.cross(face.normal);
-      face.step_u_x_normal = face.step_u.cross(face.normal);
-      face.step_v_x_normal = face.step_v.cross(face.normal);
-      face.steps_of = static_cast<int>(surface.faces.size());
-      for (size_t k = 0; k < surface.faces.size(); ++k) {
-        const SurfaceFace& other = surface.faces[k];
-        if (other.nu > 0 && other.step_u == face.step_u && other.step_v == face.step_v) {
-          face.steps_of = static_cast<int>(k);
-          break;
-        }
-      }
+      Vec3 step_u = Vec3::Zero(), step_v = Vec3::Zero();
+      step_u[b] = size[b] / fu;
+      step_v[c] = size[c] / fv;
+      setGrid(surface, face, fu, fv, origin.orientation * step_u, origin.orientation * step_v);
     }
     surface.faces.push_back(face);
   }
@@ -221,6 +229,43 @@ void addSphereFaces(AeroSurface& surface, const RoundShape& r, int around, int b
   }
 }
 
+// The faces of a mesh (meshFaces), minus the hidden cells; a rectangle that keeps all its cells
+// is a regular grid.
+template <typename Hidden>
+void addMeshFaces(AeroSurface& surface, const MeshShape& m, int nu, int nv,
+                  const std::optional<Vec3>& span, Hidden hidden) {
+  for (const MeshFace& f : meshFaces(*m.mesh, nu, nv)) {
+    SurfaceFace face;
+    face.normal = m.origin.orientation * f.normal;
+    for (int k = 0; k < 4; ++k) face.corners[k] = m.origin.apply(f.corners[k]);
+    setFaceAxes(face, m.origin.orientation * f.edge, span);
+    face.first_cell = static_cast<int>(surface.cells.size());
+    for (const SurfaceCell& c : f.cells) {
+      const SurfaceCell cell{m.origin.apply(c.centre), face.normal, c.area};
+      if (!hidden(cell.centre)) surface.cells.push_back(cell);
+    }
+    face.cell_count = static_cast<int>(surface.cells.size()) - face.first_cell;
+    if (face.cell_count == 0) continue;
+    if (f.nu > 0 && face.cell_count == f.nu * f.nv) {
+      setGrid(surface, face, f.nu, f.nv, m.origin.orientation * f.step_u,
+              m.origin.orientation * f.step_v);
+    }
+    surface.faces.push_back(face);
+  }
+}
+
+// The body-frame bounds of a mesh.
+Eigen::AlignedBox3d meshBounds(const MeshShape& m) {
+  Eigen::AlignedBox3d bounds;
+  for (int k = 0; k < 8; ++k) {
+    const MeshData& d = *m.mesh;
+    bounds.extend(
+        m.origin.apply(Vec3(k & 1 ? d.upper.x() : d.lower.x(), k & 2 ? d.upper.y() : d.lower.y(),
+                            k & 4 ? d.upper.z() : d.lower.z())));
+  }
+  return bounds;
+}
+
 }  // namespace
 
 int roundCellsAround(int nu) { return std::max(12, 3 * nu); }
@@ -246,14 +291,18 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
 }
 
 AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
-                         const std::optional<Vec3>& span, const std::vector<RoundShape>& rounds) {
+                         const std::optional<Vec3>& span, const std::vector<RoundShape>& rounds,
+                         const std::vector<MeshShape>& meshes) {
   AeroSurface surface;
   double largest = 0.0;
   for (const Box& box : boxes) largest = std::max(largest, box.size.maxCoeff());
   for (const RoundShape& r : rounds) largest = std::max(largest, 2.0 * r.radius + r.length);
+  for (const MeshShape& m : meshes) {
+    largest = std::max(largest, (m.mesh->upper - m.mesh->lower).maxCoeff());
+  }
   const double tolerance = 1e-6 * largest;
-  // The shapes (boxes, then round shapes) whose bounds touch each shape's: only they can hide
-  // its cells.
+  // The shapes (boxes, round shapes, then meshes) whose bounds touch each shape's: only they can
+  // hide its cells.
   std::vector<Eigen::AlignedBox3d> bounds;
   for (const Box& box : boxes) bounds.push_back(boxBounds(box));
   for (const RoundShape& r : rounds) {
@@ -264,17 +313,22 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
                    Vec3::Constant(r.radius));
     bounds.emplace_back(r.origin.position - half, r.origin.position + half);
   }
+  for (const MeshShape& m : meshes) bounds.push_back(meshBounds(m));
   std::vector<std::vector<size_t>> near(bounds.size());
   for (const auto& [a, b] : overlappingBounds(bounds, -2.0 * tolerance)) {
     near[a].push_back(b);
     near[b].push_back(a);
   }
+  const size_t first_mesh = boxes.size() + rounds.size();
   // Whether a cell centre of shape `shape` lies in another shape.
   auto hiddenFrom = [&](size_t shape) {
     return [&, shape](const Vec3& centre) {
       for (const size_t j : near[shape]) {
         if (j < boxes.size() ? insideBox(boxes[j], centre, tolerance)
-                             : insideRound(rounds[j - boxes.size()], centre, tolerance)) {
+            : j < first_mesh
+                ? insideRound(rounds[j - boxes.size()], centre, tolerance)
+                : insideMesh(*meshes[j - first_mesh].mesh,
+                             meshes[j - first_mesh].origin.inverse().apply(centre), tolerance)) {
           return true;
         }
       }
@@ -287,6 +341,12 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
   const BoxUnion u = unionOfBoxes(boxes);
   surface.volume = u.volume;
   surface.centroid = u.centroid;
+  // Overlaps of round shapes and meshes with other shapes are counted twice (see the comment).
+  auto addVolume = [&surface](double v, const Vec3& centroid) {
+    const double total = surface.volume + v;
+    if (total > 0.0) surface.centroid = (surface.volume * surface.centroid + v * centroid) / total;
+    surface.volume = total;
+  };
   const int around = roundCellsAround(nu);
   for (size_t i = 0; i < rounds.size(); ++i) {
     const RoundShape& r = rounds[i];
@@ -295,18 +355,38 @@ AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
     } else {
       addCylinderFaces(surface, r, around, std::max(1, nv), span, hiddenFrom(boxes.size() + i));
     }
-    // Overlaps with other shapes are counted twice (see buildSurface's comment).
-    const double v = roundVolume(r), total = surface.volume + v;
-    surface.centroid = (surface.volume * surface.centroid + v * r.origin.position) / total;
-    surface.volume = total;
+    addVolume(roundVolume(r), r.origin.position);
+  }
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    addMeshFaces(surface, meshes[i], nu, nv, span, hiddenFrom(first_mesh + i));
+    addVolume(meshes[i].mesh->volume, meshes[i].origin.apply(meshes[i].mesh->centroid));
   }
   return surface;
 }
 
-std::vector<Box> comFrameBoxes(const LinkModel& link) {
+namespace {
+
+// The link's own boxes in its COM frame.
+std::vector<Box> comFrameOwnBoxes(const LinkModel& link) {
   const Pose com_inv{-link.com, Quat::Identity()};
   std::vector<Box> boxes;
   for (const Box& b : link.boxes) boxes.push_back(Box{b.size, com_inv * b.origin});
+  return boxes;
+}
+
+}  // namespace
+
+std::vector<Box> comFrameBoxes(const LinkModel& link) {
+  std::vector<Box> boxes = comFrameOwnBoxes(link);
+  const Pose com_inv{-link.com, Quat::Identity()};
+  for (const MeshShape& m : link.meshes) {
+    const Vec3 size = m.mesh->upper - m.mesh->lower;
+    Vec3 sorted = size;
+    std::sort(sorted.data(), sorted.data() + 3);
+    if (!(sorted[0] <= kPlateThickness * sorted[1])) continue;
+    const Pose centre{m.origin.apply(0.5 * (m.mesh->upper + m.mesh->lower)), m.origin.orientation};
+    boxes.push_back(Box{size, com_inv * centre});
+  }
   return boxes;
 }
 
@@ -315,6 +395,13 @@ std::vector<RoundShape> comFrameRounds(const LinkModel& link) {
   std::vector<RoundShape> rounds = link.rounds;
   for (RoundShape& r : rounds) r.origin = com_inv * r.origin;
   return rounds;
+}
+
+std::vector<MeshShape> comFrameMeshes(const LinkModel& link) {
+  const Pose com_inv{-link.com, Quat::Identity()};
+  std::vector<MeshShape> meshes = link.meshes;
+  for (MeshShape& m : meshes) m.origin = com_inv * m.origin;
+  return meshes;
 }
 
 int subdivisionsU(const LinkModel& link, const AirParams& air) {
@@ -327,8 +414,9 @@ int subdivisionsV(const LinkModel& link, const AirParams& air) {
 
 AeroSurface linkAeroSurface(const CreatureModel& model, int link, const AirParams& air) {
   const LinkModel& l = model.links.at(static_cast<size_t>(link));
-  AeroSurface surface = buildSurface(comFrameBoxes(l), subdivisionsU(l, air), subdivisionsV(l, air),
-                                     spanAxis(model, link), comFrameRounds(l));
+  AeroSurface surface =
+      buildSurface(comFrameOwnBoxes(l), subdivisionsU(l, air), subdivisionsV(l, air),
+                   spanAxis(model, link), comFrameRounds(l), comFrameMeshes(l));
   surface.drag_coefficient =
       l.aero.drag_coefficient ? *l.aero.drag_coefficient : air.drag_coefficient;
   if (l.parent_joint >= 0) {

@@ -30,12 +30,16 @@ void appendBox(AeroSurface& surface, const Vec3& size, const Pose& origin, int n
 /// roundCellsAround(nu) strips around a cylinder's side times nv along it, plus two caps of
 /// that many sectors; a sphere as roundCellsAround(nu) / 2 bands of equal height (equal area)
 /// times roundCellsAround(nu) longitudes, each cell along its patch's mean normal (a sphere
-/// cell's corners are its centre). Cells inside another shape are removed both ways. Their
-/// volumes (exact for each shape) are added to the boxes' union, the centroid volume-weighted:
-/// a round shape's overlap with another shape is counted twice.
+/// cell's corners are its centre). `meshes` (body frame) add meshFaces(nu, nv): a rectangle
+/// of two triangles cut as a box face, other triangles into cells of about a box cell's size.
+/// Cells inside another shape are removed all ways (a closed mesh's inside by its winding
+/// number). Their volumes (exact for each shape; a closed mesh's enclosed volume, an open
+/// one's 0) are added to the boxes' union, the centroid volume-weighted: a round shape's or
+/// mesh's overlap with another shape is counted twice.
 AeroSurface buildSurface(const std::vector<Box>& boxes, int nu, int nv,
                          const std::optional<Vec3>& span = std::nullopt,
-                         const std::vector<RoundShape>& rounds = {});
+                         const std::vector<RoundShape>& rounds = {},
+                         const std::vector<MeshShape>& meshes = {});
 
 /// Facets around a cylinder or sphere for `nu` subdivisions: max(12, 3 nu).
 int roundCellsAround(int nu);
@@ -44,10 +48,15 @@ int roundCellCount(const RoundShape& r, int nu, int nv);
 /// The volume of a cylinder or sphere.
 double roundVolume(const RoundShape& r);
 
-/// A link's boxes in its COM frame, and its cells per face edge (its AeroSettings', else the
-/// world's), as its aero surface and its added mass use them.
+/// The boxes of a link's added mass, in its COM frame: its boxes, and for each mesh whose
+/// bounds in its own frame are plate-like (kPlateThickness) a box of those bounds (the plate
+/// added mass of a box that size stands for the mesh's; other meshes add none). Its aero
+/// surface takes its own boxes only.
 std::vector<Box> comFrameBoxes(const LinkModel& link);
+/// A link's cylinders and spheres, and its meshes, in its COM frame; and its cells per face
+/// edge (its AeroSettings', else the world's), as its aero surface and added mass use them.
 std::vector<RoundShape> comFrameRounds(const LinkModel& link);
+std::vector<MeshShape> comFrameMeshes(const LinkModel& link);
 int subdivisionsU(const LinkModel& link, const AirParams& air);
 int subdivisionsV(const LinkModel& link, const AirParams& air);
 

@@ -16,6 +16,7 @@
 #include "fluid/box_union.h"
 #include "model/annotations.h"
 #include "model/link_frames.h"
+#include "model/mesh_loader.h"
 #include "model/model_error.h"
 
 namespace flapsim {
@@ -98,24 +99,38 @@ bool finite(const Vec3& v) {
   return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z());
 }
 
-const char* geometryKind(const urdf::Geometry& g) {
-  switch (g.type) {
-    case urdf::Geometry::BOX:
-      return "box";
-    case urdf::Geometry::CYLINDER:
-      return "cylinder";
-    case urdf::Geometry::SPHERE:
-      return "sphere";
-    case urdf::Geometry::MESH:
-      return "mesh";
+// The mesh of a <mesh> element, through `resolve`; a ModelError naming the link, the URI and
+// why if it cannot be read.
+MeshShape readMesh(const urdf::Mesh& mesh, const urdf::Pose& origin, const std::string& where,
+                   const MeshResolver& resolve, const std::string& source) {
+  MeshShape shape;
+  shape.uri = mesh.filename;
+  shape.scale = Vec3(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+  shape.origin = toPose(origin);
+  const std::string what = where + ": mesh '" + mesh.filename + "'";
+  if (!finite(shape.scale) || shape.scale.cwiseAbs().minCoeff() == 0.0 ||
+      shape.scale.cwiseAbs().maxCoeff() > kMaxUrdfLength) {
+    fail(source, what + ": scale must be non-zero and at most 1000 in magnitude");
   }
-  return "geometry";
+  try {
+    shape.mesh = readMeshFile(resolve(mesh.filename), shape.scale);
+  } catch (const std::exception& e) {
+    fail(source, what + ": " + e.what());
+  }
+  for (const Vec3& v : shape.mesh->vertices) {
+    if (v.cwiseAbs().maxCoeff() > kMaxUrdfLength) {
+      fail(source, what + ": a vertex lies over 1000 m from the mesh's origin");
+    }
+  }
+  return shape;
 }
 
-// The link's simulated shapes (boxes, cylinders, spheres) from its collision elements, or from
-// its visual ones if none is simulated; meshes go to ignored_shapes.
-void addShapes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
-  auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin, const char* role) {
+// The link's simulated shapes from its collision elements, or from its visual ones if it has
+// no collision shape; meshes read through `resolve`.
+void addShapes(const urdf::LinkConstSharedPtr& link, LinkModel& out, const MeshResolver& resolve,
+               const std::string& source) {
+  const std::string where = "link '" + link->name + "'";
+  auto add = [&](const urdf::GeometrySharedPtr& g, const urdf::Pose& origin) {
     if (!g) return;
     switch (g->type) {
       case urdf::Geometry::BOX: {
@@ -135,13 +150,15 @@ void addShapes(const urdf::LinkConstSharedPtr& link, LinkModel& out) {
             RoundShape{RoundShape::Kind::kSphere, sphere.radius, 0.0, toPose(origin)});
         return;
       }
-      default:
-        out.ignored_shapes.push_back(std::string(role) + " " + geometryKind(*g));
+      case urdf::Geometry::MESH:
+        out.meshes.push_back(
+            readMesh(static_cast<const urdf::Mesh&>(*g), origin, where, resolve, source));
+        return;
     }
   };
-  for (const auto& c : link->collision_array) add(c->geometry, c->origin, "collision");
+  for (const auto& c : link->collision_array) add(c->geometry, c->origin);
   if (!out.hasShapes()) {
-    for (const auto& v : link->visual_array) add(v->geometry, v->origin, "visual");
+    for (const auto& v : link->visual_array) add(v->geometry, v->origin);
     out.shapes_from_visuals = out.hasShapes();
   }
 }
@@ -175,7 +192,8 @@ urdf::ModelInterfaceSharedPtr parseUrdf(const std::string& urdf_xml, const std::
 }
 
 // A link's mass, COM (URDF frame), inertia and shapes; mass 0 without <inertial> or mass.
-LinkModel readLink(const urdf::LinkConstSharedPtr& l, const std::string& source) {
+LinkModel readLink(const urdf::LinkConstSharedPtr& l, const MeshResolver& resolve,
+                   const std::string& source) {
   LinkModel lm;
   lm.name = l->name;
   const std::string where = "link '" + l->name + "'";
@@ -195,7 +213,7 @@ LinkModel readLink(const urdf::LinkConstSharedPtr& l, const std::string& source)
     fail(source, where + " has " + std::to_string(shapes) + " shapes (<collision> or <visual>)" +
                      ", over the limit of " + std::to_string(kMaxShapesPerLink) + " per link");
   }
-  addShapes(l, lm);
+  addShapes(l, lm, resolve, source);
   for (const Box& b : lm.boxes) {
     if (!finite(b.size) || b.size.minCoeff() <= 0.0) {
       fail(source, where + ": box size must be positive");
@@ -221,8 +239,8 @@ LinkModel readLink(const urdf::LinkConstSharedPtr& l, const std::string& source)
 
 // The links parent-before-child (breadth first from the root), with their <aero> settings;
 // their indices by name into `index`.
-void addLinks(const urdf::ModelInterface& urdf, Annotations& notes, const std::string& source,
-              CreatureModel& model, std::map<std::string, int>& index) {
+void addLinks(const urdf::ModelInterface& urdf, Annotations& notes, const MeshResolver& resolve,
+              const std::string& source, CreatureModel& model, std::map<std::string, int>& index) {
   std::queue<urdf::LinkConstSharedPtr> todo;
   todo.push(urdf.getRoot());
   while (!todo.empty()) {
@@ -237,7 +255,7 @@ void addLinks(const urdf::ModelInterface& urdf, Annotations& notes, const std::s
       model.links.push_back(world);
       continue;
     }
-    LinkModel lm = readLink(l, source);
+    LinkModel lm = readLink(l, resolve, source);
     auto aero = notes.aero.find(l->name);
     if (aero != notes.aero.end()) {
       lm.aero = aero->second;
@@ -309,7 +327,8 @@ JointModel readJoint(const urdf::Joint& j, const std::map<std::string, int>& ind
 
 }  // namespace
 
-CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::string& source) {
+CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::string& source,
+                                    const MeshResolver& resolve_mesh) {
   Annotations notes = readAnnotations(urdf_xml, source);
   const urdf::ModelInterfaceSharedPtr urdf = parseUrdf(urdf_xml, source);
   auto model = std::make_shared<CreatureModel>();
@@ -318,7 +337,8 @@ CreatureModelPtr parseCreatureModel(const std::string& urdf_xml, const std::stri
   std::map<std::string, int> link_index;
   std::set<std::string> aero_links;
   for (const auto& a : notes.aero) aero_links.insert(a.first);
-  addLinks(*urdf, notes, source, *model, link_index);
+  addLinks(*urdf, notes, resolve_mesh ? resolve_mesh : defaultMeshResolver(""), source, *model,
+           link_index);
   // Joints in document order.
   for (const std::string& name : notes.joint_order) {
     urdf::JointConstSharedPtr j = urdf->getJoint(name);
@@ -379,6 +399,10 @@ double lowestBoxPoint(const CreatureModel& model, const std::vector<Pose>& link_
       }
       lowest = std::min(lowest, frame.position.z() - below);
     }
+    for (const MeshShape& mesh : model.links[l].meshes) {
+      const Pose frame = link * mesh.origin;
+      for (const Vec3& v : mesh.mesh->vertices) lowest = std::min(lowest, frame.apply(v).z());
+    }
   }
   return lowest;
 }
@@ -390,17 +414,24 @@ std::vector<std::string> geometryNotes(const CreatureModel& model) {
       lines.push_back("link '" + link.name +
                       "' has no <collision>: its <visual> shapes are simulated (contact and air)");
     }
-    for (const std::string& shape : link.ignored_shapes) {
-      lines.push_back(
-          "link '" + link.name + "': " + shape +
-          " ignored (no contact, no air): only boxes, cylinders and spheres are simulated");
+    for (const MeshShape& mesh : link.meshes) {
+      if (mesh.mesh->closed) continue;
+      lines.push_back("link '" + link.name + "': mesh '" + mesh.uri + "' is not closed (" +
+                      std::to_string(mesh.mesh->open_edges) +
+                      " edges not run once each way): no volume (buoyancy), its air normals "
+                      "from its triangles' winding");
     }
   }
   return lines;
 }
 
-CreatureModelPtr loadCreatureModel(const std::string& path) {
-  return parseCreatureModel(readUrdfFile(path), path);
+CreatureModelPtr loadCreatureModel(const std::string& path, const MeshResolver& resolve_mesh) {
+  if (resolve_mesh) return parseCreatureModel(readUrdfFile(path), path, resolve_mesh);
+  const size_t slash = path.rfind('/');
+  const std::string dir = slash == std::string::npos ? "."
+                          : slash == 0               ? "/"
+                                                     : path.substr(0, slash);
+  return parseCreatureModel(readUrdfFile(path), path, defaultMeshResolver(dir));
 }
 
 }  // namespace flapsim

@@ -138,7 +138,7 @@ std::vector<int> reroot(CreatureModel& m, const std::string& source) {
 
 // Moves the shapes of massless link `k` to link `host`, `pose` being k's frame in host's.
 void moveShapes(LinkModel& k, LinkModel& host, const Pose& pose, const std::string& source) {
-  if (!k.hasShapes() && k.ignored_shapes.empty()) return;
+  if (!k.hasShapes()) return;
   const std::string where = "link '" + k.name + "'";
   if (host.mass == 0.0) fail(source, where + " has shapes but no mass: it is fixed to the world");
   for (Box b : k.boxes) {
@@ -149,9 +149,12 @@ void moveShapes(LinkModel& k, LinkModel& host, const Pose& pose, const std::stri
     r.origin = pose * r.origin;
     host.rounds.push_back(r);
   }
-  for (const std::string& s : k.ignored_shapes) host.ignored_shapes.push_back(s + " of " + where);
+  for (MeshShape mesh : k.meshes) {
+    mesh.origin = pose * mesh.origin;
+    host.meshes.push_back(mesh);
+  }
   host.shapes_from_visuals = host.shapes_from_visuals || k.shapes_from_visuals;
-  const size_t shapes = host.boxes.size() + host.rounds.size();
+  const size_t shapes = host.boxes.size() + host.rounds.size() + host.meshes.size();
   if (shapes > static_cast<size_t>(kMaxShapesPerLink) ||
       turnedOverlaps(host.boxes) > static_cast<size_t>(kMaxTurnedOverlaps)) {
     fail(source, "link '" + host.name + "' with " + where +
@@ -243,6 +246,7 @@ void expressInLinkFrames(CreatureModel& m) {
     l.com = f.orientation * l.com;
     for (Box& b : l.boxes) b.origin = f * b.origin;
     for (RoundShape& r : l.rounds) r.origin = f * r.origin;
+    for (MeshShape& mesh : l.meshes) mesh.origin = f * mesh.origin;
     if (l.aero.span) l.aero.span = Vec3(f.orientation * *l.aero.span);
     for (JointModel& j : m.joints) {
       if (j.parent_link == static_cast<int>(k)) j.origin = f * j.origin;

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "flapsim/world.h"
+#include "fluid/mesh_surface.h"
 #include "fluid/surface.h"
 
 namespace flapsim {
@@ -168,6 +169,7 @@ std::string checkCells(const std::string& name, const CreatureModel& m, const Ai
     const int nu = subdivisionsU(l, air), nv = subdivisionsV(l, air);
     double cells = 6.0 * static_cast<double>(l.boxes.size()) * nu * nv;
     for (const RoundShape& r : l.rounds) cells += roundCellCount(r, nu, nv);
+    for (const MeshShape& mesh : l.meshes) cells += meshCellCount(*mesh.mesh, nu, nv);
     total += cells;
     if (cells > largest) {
       largest = cells;
@@ -179,7 +181,7 @@ std::string checkCells(const std::string& name, const CreatureModel& m, const Ai
   msg.precision(10);
   msg << "creature '" << name << "' would have " << total << " air cells (link '" << largest_link
       << "' alone " << largest << "), over max_cells " << max_cells
-      << " (boxes x 6 faces x subdivisions, plus cylinders' and spheres' facets)";
+      << " (boxes x 6 faces x subdivisions, plus cylinders', spheres' and meshes' cells)";
   return msg.str();
 }
 
