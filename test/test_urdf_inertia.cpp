@@ -236,7 +236,7 @@ TEST(UrdfLumping, ACadUnitFliesAsThePlainOne) {
   const auto cad = parseCreatureModel(cadUnit());
   World world(test::openSky());
   world.spawn("plain", parseCreatureModel(flapUnit(kIdentity)), kStart);
-  world.spawn("cad", cad, kStart);  // the root: the body
+  world.spawn("cad", cad, kStart * kBodyInBase.inverse());  // base_link's frame: body at kStart
   flap(world, {"plain", "cad"});
   const CreatureState p = world.state("plain"), c = world.state("cad");
   ASSERT_GT((p.link_poses[0].position - kStart.position).norm(), 0.05);
@@ -255,6 +255,24 @@ TEST(UrdfLumping, ACadUnitFliesAsThePlainOne) {
   const Vec3 arm = frameAt(*cad, c, "tip").position - c.link_poses[1].position;
   EXPECT_LT((tip.linear - c.link_twists[1].linear - c.link_twists[1].angular.cross(arm)).norm(),
             1e-12);
+}
+
+// The spawn pose is the URDF root's frame, as Gazebo's model frame, also when the root is a
+// massless base_link lumped into the body; the spawn twist is that frame origin's.
+TEST(UrdfLumping, TheSpawnPoseIsTheMasslessRootsFrame) {
+  const auto cad = parseCreatureModel(cadUnit());
+  World world(test::vacuum());
+  Twist twist;
+  twist.linear = Vec3(0.1, 0.2, 0.3);
+  twist.angular = Vec3(0.5, -1.0, 2.0);
+  const Pose at = test::at(1, 2, 3, fromRpy(0.4, -0.2, 0.9));
+  world.spawn("cad", cad, at, twist);
+  const CreatureState s = world.state("cad");
+  EXPECT_LT(poseError(frameAt(*cad, s, "base_link"), at), 1e-12);
+  EXPECT_LT(poseError(s.link_poses[0], at * kBodyInBase), 1e-12);
+  const Vec3 body = twist.linear + twist.angular.cross(s.link_poses[0].position - at.position);
+  EXPECT_LT((s.link_twists[0].linear - body).norm(), 1e-12);
+  EXPECT_LT((s.link_twists[0].angular - twist.angular).norm(), 1e-12);
 }
 
 // setState and applyWrench take a lumped link's name: base_link placed at a pose puts the

@@ -189,8 +189,9 @@ class World {
   World(const World&) = delete;
   World& operator=(const World&) = delete;
 
-  /// Adds a creature at `pose` (root link's URDF frame) moving with `twist`. Throws
-  /// InputError for a taken or empty name or a non-finite pose.
+  /// Adds a creature at `pose` (its URDF root link's frame, as Gazebo's model frame: also when
+  /// that link is massless and lumped into the link it is fixed to) moving with `twist` (of
+  /// that frame's origin). Throws InputError for a taken or empty name or a non-finite pose.
   void spawn(const std::string& name, CreatureModelPtr model, const Pose& pose,
              const Twist& twist = Twist());
   /// Removes a creature; InputError if unknown.

@@ -229,7 +229,9 @@ void lumpMasslessLinks(CreatureModel& m, const std::set<std::string>& aero_links
                          " into '" + m.links[host[k]].name + "': give its <aero> to that link");
       }
       moveShapes(m.links[k], m.links[host[k]], pose[k], source);
-      m.lumped.push_back(LumpedLink{m.links[k].name, j.name, host[k], pose[k]});
+      // The URDF root (link 0) hangs on a reversed joint now; it hung on none.
+      m.lumped.push_back(
+          LumpedLink{m.links[k].name, k == 0 ? std::string() : j.name, host[k], pose[k]});
     } else if (host[p] != p) {
       j.origin = pose[p] * j.origin;
       j.parent_link = host[p];

@@ -355,8 +355,17 @@ void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& p
   const std::string cells =
       checkCells(name, *model, impl_->params().air, impl_->params().max_cells);
   if (!cells.empty()) throw InputError(cells);
+  // A massless URDF root (a CAD model's base_link) was lumped into the link it is fixed to:
+  // the pose is still the root's frame, Gazebo's model frame, and the twist its origin's.
+  Pose root = pose;
+  Twist moving = twist;
+  for (const LumpedLink& l : model->lumped) {
+    if (!l.joint.empty()) continue;
+    root = pose * l.pose.inverse();
+    moving.linear = twist.linear + twist.angular.cross(root.position - pose.position);
+  }
   try {
-    impl_->spawn(name, model, pose, twist);
+    impl_->spawn(name, model, root, moving);
   } catch (const std::bad_alloc&) {
     throw InputError("creature '" + name + "': out of memory while building it");
   }
