@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "flapsim_ros/reconfigure_bounds.h"
+#include "flapsim_ros/request_names.h"
 #include "flapsim_ros/simulator_node.h"
 #include "flapsim_ros/urdf_source.h"
 
@@ -187,9 +188,10 @@ bool SimulatorNode::onStep(flapsim::Step::Request& req, flapsim::Step::Response&
 bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
                             flapsim::SpawnCreature::Response& res) {
   try {
+    adoptGazeboNames(req);
     if (req.urdf_xml.empty() == req.urdf_file.empty()) {
       throw flapsim::InputError("spawn '" + req.name +
-                                "': give exactly one of urdf_xml and urdf_file");
+                                "': give exactly one of model_xml (urdf_xml) and urdf_file");
     }
     const bool from_file = !req.urdf_file.empty();
     const std::vector<std::string> capped =
@@ -225,6 +227,7 @@ bool SimulatorNode::onSpawn(flapsim::SpawnCreature::Request& req,
 bool SimulatorNode::onDelete(flapsim::DeleteCreature::Request& req,
                              flapsim::DeleteCreature::Response& res) {
   try {
+    adoptGazeboNames(req);
     remove(req.name);
     res.success = true;
     res.status_message = "deleted '" + req.name + "'";
@@ -270,6 +273,7 @@ bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetStat
   res.header.stamp = now();
   res.header.frame_id = params_.world_frame;
   return serve(res, "get_state refused: ", req.name, [&] {
+    adoptGazeboNames(req);
     const Creature* c = find(req.name);
     if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
     const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
@@ -296,13 +300,12 @@ bool SimulatorNode::onGetState(flapsim::GetState::Request& req, flapsim::GetStat
 
 bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetState::Response& res) {
   return serve(res, "set_state refused, nothing changed: ", req.name, [&] {
+    adoptGazeboNames(req);
     const Creature* c = find(req.name);
     if (!c) throw flapsim::InputError("unknown creature '" + req.name + "'");
+    // A link of this creature too: taken where it is at the call, before the move (as
+    // Gazebo's set_model_state takes its reference_frame).
     const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
-    if (frame.creature == req.name) {
-      throw flapsim::InputError("reference_frame '" + req.reference_frame + "' is a link of '" +
-                                req.name + "' itself: give the world or another creature's link");
-    }
     flapsim::StateRequest r;
     try {
       r = stateRequest(*c->model, world_.state(req.name), req);
@@ -329,6 +332,7 @@ bool SimulatorNode::onSetState(flapsim::SetState::Request& req, flapsim::SetStat
 bool SimulatorNode::onApplyWrench(flapsim::ApplyWrench::Request& req,
                                   flapsim::ApplyWrench::Response& res) {
   return serve(res, "apply_wrench refused: ", req.name, [&] {
+    adoptGazeboNames(req);
     const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
     flapsim::ExternalWrench w = fromMsg(req);
     if (!frame.name.empty()) w = toWorld(w, frame.motion.pose);
@@ -343,6 +347,7 @@ bool SimulatorNode::onApplyWrench(flapsim::ApplyWrench::Request& req,
 bool SimulatorNode::onClearWrenches(flapsim::ClearWrenches::Request& req,
                                     flapsim::ClearWrenches::Response& res) {
   return serve(res, "clear_wrenches refused: ", req.name, [&] {
+    adoptGazeboNames(req);
     const int n = world_.clearWrenches(req.name, req.link);
     res.status_message = "cleared " + std::to_string(n) + " wrench(es)";
   });

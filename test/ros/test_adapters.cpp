@@ -10,6 +10,7 @@
 #include "flapsim/creature_model.h"
 #include "flapsim_ros/conversions.h"
 #include "flapsim_ros/params.h"
+#include "flapsim_ros/request_names.h"
 #include "flapsim_ros/tf_publisher.h"
 
 namespace {
@@ -320,6 +321,37 @@ TEST(Params, StartUpRangesAreNamed) {
   EXPECT_EQ(w.controller_wait_timeout, 0.0);
   EXPECT_EQ(w.creatures.at(0).controller, "/a/ann_controller");
   EXPECT_EQ(w.creatures.at(1).controller, "");
+}
+
+// Request fields under gazebo_msgs' names and the former ones (srv/*.srv): either, or both
+// alike; a link field may be "<creature>::<link>".
+TEST(RequestNames, EitherNameAndCreatureLinkForms) {
+  using flapsim_ros::requestBody;
+  const std::string fu = "fu", plate = "plate", none, body = "unit0_body", full = "fu::unit0_body";
+  EXPECT_EQ(flapsim_ros::eitherField({"model_name", fu}, {"name", none}), "fu");
+  EXPECT_EQ(flapsim_ros::eitherField({"model_name", none}, {"name", fu}), "fu");
+  EXPECT_EQ(flapsim_ros::eitherField({"model_name", fu}, {"name", fu}), "fu");
+  EXPECT_THROW(flapsim_ros::eitherField({"model_name", fu}, {"name", plate}), flapsim::InputError);
+  for (const auto& b : {requestBody({"m", fu}, {"n", none}, {"l", body}, {"o", none}),
+                        requestBody({"m", none}, {"n", none}, {"l", full}, {"o", none}),
+                        requestBody({"m", none}, {"n", fu}, {"l", none}, {"o", full}),
+                        requestBody({"m", fu}, {"n", fu}, {"l", full}, {"o", body})}) {
+    EXPECT_EQ(b.creature, "fu");
+    EXPECT_EQ(b.link, "unit0_body");
+  }
+  const std::string plate_body = "plate::unit0_body", wing = "wing";
+  EXPECT_THROW(requestBody({"m", none}, {"n", none}, {"l", full}, {"o", plate_body}),
+               flapsim::InputError);
+  EXPECT_THROW(requestBody({"m", fu}, {"n", none}, {"l", body}, {"o", wing}), flapsim::InputError);
+  const std::string odd = "a/b::c";  // not a creature's name before '::': a link name
+  EXPECT_EQ(requestBody({"m", fu}, {"n", none}, {"l", odd}, {"o", none}).link, odd);
+  try {
+    requestBody({"model_name", plate}, {"name", none}, {"body_name", full}, {"link", none});
+    ADD_FAILURE() << "a link of another creature was taken";
+  } catch (const flapsim::InputError& e) {
+    EXPECT_STREQ(e.what(),
+                 "body_name 'fu::unit0_body' is a link of 'fu', not of model_name 'plate'");
+  }
 }
 
 TEST(Params, CreatureNames) {

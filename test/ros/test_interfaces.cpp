@@ -1,5 +1,6 @@
 // What a gazebo_ros user reaches for (rostest: interfaces.test, wing_timeout_release.test):
-// reference frames in set_state and apply_wrench, flapsim/get_physics and set_physics, a
+// reference frames in set_state and apply_wrench, gazebo_msgs' request field names and
+// "<creature>::<link>" link fields, flapsim/get_physics and set_physics, a
 // paused node that answers `rostopic echo -n1` with use_sim_time, and the wing command
 // timeout. The node starts paused; sim times are reached through flapsim/step.
 #include <diagnostic_msgs/DiagnosticArray.h>
@@ -8,6 +9,7 @@
 #include <sensor_msgs/JointState.h>
 #include <std_srvs/Empty.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <regex>
@@ -16,10 +18,12 @@
 
 #include "flapsim/ApplyWrench.h"
 #include "flapsim/ClearWrenches.h"
+#include "flapsim/DeleteCreature.h"
 #include "flapsim/GetPhysics.h"
 #include "flapsim/GetState.h"
 #include "flapsim/SetPhysics.h"
 #include "flapsim/SetState.h"
+#include "flapsim/SpawnCreature.h"
 #include "flapsim/Step.h"
 #include "flapsim/types.h"
 #include "node_calls.h"
@@ -98,8 +102,8 @@ class Interfaces : public ::testing::Test {
 };
 
 // set_state in another creature's link frame: the pose lands where that frame puts it, and
-// get_state in the same frame reads back what was set. A creature's own link, or a frame
-// that does not exist, is refused by name and nothing changes.
+// get_state in the same frame reads back what was set. A frame that does not exist is refused
+// by name and nothing changes.
 TEST_F(Interfaces, SetStateInAnotherCreaturesLinkFrame) {
   flapsim::SetState::Request body;
   body.name = "fu";
@@ -126,8 +130,6 @@ TEST_F(Interfaces, SetStateInAnotherCreaturesLinkFrame) {
   EXPECT_NEAR(back.twist.linear.x, 2.0, 1e-12);
 
   for (const auto& [frame, cause] : std::vector<std::pair<std::string, std::string>>{
-           {"plate", "is a link of 'plate' itself"},
-           {"plate/plate", "is a link of 'plate' itself"},
            {"fu/tail", "unknown reference_frame 'fu/tail'"},
            {"fu/", "unknown reference_frame 'fu/'"},    // no link: not fu's root
            {"fu::", "unknown reference_frame 'fu::'"},  // likewise
@@ -139,6 +141,96 @@ TEST_F(Interfaces, SetStateInAnotherCreaturesLinkFrame) {
     const auto after = getState("plate");
     EXPECT_EQ(after.pose.position.z, world.pose.position.z) << frame;
   }
+}
+
+// set_state in a frame of the creature itself takes the frame where it is at the call, as
+// Gazebo's set_model_state does: 1 m along its own x moves the creature 1 m along the x it had.
+TEST_F(Interfaces, SetStateInItsOwnFrameMovesItFromWhereItIs) {
+  flapsim::SetState::Request r;
+  r.name = "plate";
+  r.pose = yawed(1, 2, 50, 0.5);
+  ASSERT_TRUE(setState(r).success);
+  for (const std::string frame : {"plate", "plate/plate", "plate::plate"}) {
+    const flapsim::Pose before = poseOf(getState("plate").pose);
+    r.reference_frame = frame;
+    r.pose = yawed(1, 0, 0, 0.1);
+    const auto moved = setState(r);
+    ASSERT_TRUE(moved.success) << frame << ": " << moved.status_message;
+    const flapsim::Pose after = poseOf(getState("plate").pose);
+    const flapsim::Pose want = before * poseOf(r.pose);
+    EXPECT_NEAR((after.position - want.position).norm(), 0.0, 1e-12) << frame;
+    EXPECT_NEAR(after.orientation.angularDistance(want.orientation), 0.0, 1e-12) << frame;
+  }
+}
+
+// gazebo_msgs' field names (model_name, link_name, body_name, model_xml) name what the former
+// ones (name, link, urdf_xml) do; either may be given, both set must agree (a refusal names
+// both). A link field may be "<creature>::<link>", the creature then empty or the same.
+TEST_F(Interfaces, GazeboFieldNamesAndCreatureLinkForms) {
+  const auto old_names = getState("fu", "unit0_body");
+  ASSERT_TRUE(old_names.success);
+  flapsim::GetState::Request g;
+  for (const auto& [model, link, old_link] :
+       std::vector<std::array<std::string, 3>>{{"fu", "unit0_body", ""},
+                                               {"", "fu::unit0_body", ""},
+                                               {"fu", "fu::unit0_body", ""},
+                                               {"", "", "fu::unit0_body"}}) {
+    g.model_name = model;
+    g.link_name = link;
+    g.link = old_link;
+    const auto s = callService<flapsim::GetState>("/flapsim/get_state", g);
+    ASSERT_TRUE(s.success) << model << " " << link << " " << old_link << ": " << s.status_message;
+    EXPECT_EQ(s.pose.position.z, old_names.pose.position.z);
+    EXPECT_EQ(s.status_message, old_names.status_message);
+  }
+  for (const auto& [model, name, link, cause] : std::vector<std::array<std::string, 4>>{
+           {"fu", "plate", "", "model_name 'fu' and name 'plate' differ (name is model_name's"},
+           {"plate", "", "fu::unit0_body",
+            "link_name 'fu::unit0_body' is a link of 'fu', not of model_name 'plate'"},
+           {"", "", "fu::", "link_name 'fu::' names no link"}}) {
+    g = flapsim::GetState::Request();
+    g.model_name = model;
+    g.name = name;
+    g.link_name = link;
+    const auto s = callService<flapsim::GetState>("/flapsim/get_state", g);
+    EXPECT_FALSE(s.success);
+    EXPECT_NE(s.status_message.find(cause), std::string::npos) << s.status_message;
+  }
+  flapsim::SetState::Request r;
+  r.model_name = "plate";
+  r.pose = yawed(7, 0, 40, 0);
+  ASSERT_TRUE(setState(r).success);
+  EXPECT_EQ(getState("plate").pose.position.x, 7.0);
+  // A wrench on body_name "<creature>::<link>" (gazebo's form), cleared the same way.
+  flapsim::ApplyWrench::Request w;
+  w.body_name = "plate::plate";
+  w.wrench.force.z = 1.0;
+  const auto applied = applyWrench(w);
+  ASSERT_TRUE(applied.success) << applied.status_message;
+  EXPECT_NE(applied.status_message.find("wrench on 'plate' link 'plate'"), std::string::npos);
+  flapsim::ClearWrenches::Request c;
+  c.body_name = "plate::plate";
+  const auto cleared = callService<flapsim::ClearWrenches>("/flapsim/clear_wrenches", c);
+  EXPECT_EQ(cleared.status_message, "cleared 1 wrench(es)");
+  // Spawn and delete by model_name and model_xml.
+  std::string urdf;
+  ASSERT_TRUE(ros::param::get("/plate/robot_description", urdf));
+  flapsim::SpawnCreature::Request sp;
+  sp.model_name = "extra";
+  sp.model_xml = urdf;
+  sp.initial_pose = yawed(0, 9, 30, 0);
+  sp.urdf_xml = urdf + " ";
+  auto spawned = callService<flapsim::SpawnCreature>("/flapsim/spawn", sp);
+  EXPECT_FALSE(spawned.success);
+  EXPECT_EQ(spawned.status_message,
+            "model_xml and urdf_xml differ (urdf_xml is model_xml's former name: give one)");
+  sp.urdf_xml.clear();
+  spawned = callService<flapsim::SpawnCreature>("/flapsim/spawn", sp);
+  ASSERT_TRUE(spawned.success) << spawned.status_message;
+  flapsim::DeleteCreature::Request d;
+  d.model_name = "extra";
+  const auto deleted = callService<flapsim::DeleteCreature>("/flapsim/delete", d);
+  EXPECT_TRUE(deleted.success) << deleted.status_message;
 }
 
 // A push given in the plate's own frame with the point left at {} acts at the plate's origin

@@ -154,7 +154,11 @@ class SpawnCreatureTool(unittest.TestCase):
              f"cannot read {os.path.join(self.dir, 'missing.urdf')}"),
             (["-file", "mine.urdf"], "give the creature's name: -name NAME"),
             (["-name", "m"], "give exactly one of -file, -param, -string, -stdin"),
-            (["-sdf", "-file", "mine.urdf", "-name", "m"], "-sdf is gazebo's"),
+            (["-sdf", "-file", "mine.urdf", "-name", "m"],
+             "-sdf is gazebo's: flapsim spawns URDF"),
+            (["-reference_frame", "x", "-file", "mine.urdf", "-name", "m"],
+             "-reference_frame is gazebo's: flapsim spawns in the world frame"),
+            (["-gazebo_namespace", "a b"], "-gazebo_namespace: 'a b' is not a node name"),
             (["-file", "mine.urdf", "-name", "m", "-x", "nan"], "-x: 'nan' is not finite"),
             (["-file", "mine.urdf", "-name", "m", "-x"], "-x needs a number"),
             (["-param", "/no/such/param", "-name", "m"], "parameter /no/such/param is not set"),
@@ -296,10 +300,12 @@ class SpawnCreatureTool(unittest.TestCase):
             half_alive.close()
 
     def test_without_the_simulator_the_timeout_ends_the_wait_naming_the_service(self):
-        code, _, err = run("-file", "mine.urdf", "-name", "m", "-timeout", "2", "-simulator",
-                           "/nobody", cwd=self.dir, timeout=2 + MARGIN)
-        self.assert_one_line_error(code, err, "no service /nobody/spawn after 2 s (-timeout)",
-                                   "-simulator /nobody")
+        # -gazebo_namespace is spawn_model's name for -simulator: the same flag
+        for flag in ("-simulator", "-gazebo_namespace"):
+            code, _, err = run("-file", "mine.urdf", "-name", "m", "-timeout", "2", flag,
+                               "/nobody", cwd=self.dir, timeout=2 + MARGIN)
+            self.assert_one_line_error(code, err, "no service /nobody/spawn after 2 s (-timeout)",
+                                       f"{flag} /nobody")
 
     def test_an_unknown_or_fixed_J_joint_is_refused_before_the_spawn(self):
         flap_unit = os.path.join(PKG, "urdf", "flap_unit.urdf")
@@ -337,7 +343,7 @@ class SpawnCreatureTool(unittest.TestCase):
         deleted = []
 
         def delete(req):
-            deleted.append(req.name)
+            deleted.append(req.model_name)  # the tool sends gazebo_msgs' name
             return DeleteCreatureResponse(success=False, status_message="delete refused")
 
         services = [
