@@ -665,7 +665,7 @@ TEST_F(Node, BadServiceCallsFailAndLeaveTheWorldAlone) {
       {"broken", "<robot name='b'><link name='a'>", "", "broken", 1.0},
       {"nofile", "", "/nonexistent/x.urdf", "/nonexistent/x.urdf", 1.0},
       {"a b", "", sourcePath("urdf/plate.urdf"), "'a b'", 1.0},
-      {"nourdf", "", "", "exactly one of urdf_xml and urdf_file", 1.0},
+      {"nourdf", "", "", "exactly one of model_xml (urdf_xml) and urdf_file", 1.0},
       {"nanpose", "", sourcePath("urdf/plate.urdf"), "position must be finite",
        std::numeric_limits<double>::quiet_NaN()},
   };
