@@ -382,8 +382,8 @@ TEST(Cells, TooManyAirCellsAreRefusedNamingTheCreatureAndLink) {
   World w(p);
   EXPECT_EQ(spawnError(w, at(0, 0, 1)),
             "creature 'c' would have 18000000 air cells (link 'unit0_body' alone 6000000), over "
-            "max_cells 200000 (boxes x 6 faces x subdivisions, plus cylinders' and spheres' "
-            "facets)");
+            "max_cells 200000 (boxes x 6 faces x subdivisions, plus cylinders', spheres' and "
+            "meshes' cells)");
   EXPECT_TRUE(w.creatureNames().empty());
 
   World ok;

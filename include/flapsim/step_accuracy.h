@@ -1,6 +1,5 @@
 // Which step sizes a creature may be flown at: a step is accurate for a creature when an open-
-// loop flight at it keeps every URDF value as given (no joint damping or spring capped for the
-// step: world.h, cappedJointValues), stays finite and not diverged, and changes height within
+// loop flight at it stays finite and not diverged, and changes height within
 // kStepTolerance of the same flight at a reference step of 1/16 ms (the same world, turn
 // substeps included). Evolution draws its step sizes from the accurate ones (evolve
 // --step-sizes auto). No clock.
@@ -22,7 +21,6 @@ constexpr double kAccuracySeconds = 3.0;      // s of open-loop flight
 /// One flight's figures at one step.
 struct StepFlight {
   double step = 0.0;
-  int capped = 0;              // URDF values the world caps at this step
   bool finite = true;          // not diverged
   double height_change = 0.0;  // m, of the root after kAccuracySeconds
 };

@@ -60,12 +60,13 @@ constexpr double kMaxSpin = 1e5;  // rad/s, of a spawned creature
 /// Empty string if valid, else a message naming the bad parameter.
 std::string validateWorldParams(const WorldParams& params);
 
-/// Joint damping and <spring> stiffness act as explicit torques: a world with steps of
-/// `step_size` uses at most a quarter of the child link's own inertia about the axis per
-/// step (damping) or per step squared (stiffness), beyond which the step would blow up. One
-/// line per URDF value a world lowers so, naming the joint, the value and what is used
-/// instead; empty if every value is used as given. (The simulator node logs these lines.)
-std::vector<std::string> cappedJointValues(const CreatureModel& model, double step_size);
+/// Joint damping and <spring> stiffness act as explicit torques up to a quarter of the child
+/// link's own inertia about the axis per step (damping) or per step squared (stiffness), beyond
+/// which an explicit step would blow up; a joint with either beyond has both act implicitly,
+/// in the servo solve (backward Euler: unconditionally stable, its motion faster than the step
+/// damped out). One line per URDF value beyond, naming the joint, the value and the limit;
+/// empty if every joint is explicit. (The simulator node logs these lines.)
+std::vector<std::string> implicitJointValues(const CreatureModel& model, double step_size);
 
 /// State of one creature. Vectors follow the model's links / joints.
 struct CreatureState {

@@ -92,9 +92,9 @@ class SimulatorNode {
 
   /// Spawns the creatures of ~creatures, with their wing commands. ParamError naming a bad one.
   void spawnConfigured();
-  // Returns (and logs as warnings) the URDF values the world lowers for its step
-  // (flapsim::cappedJointValues) and the shapes it ignores (flapsim::geometryNotes), each
-  // line prefixed with the creature.
+  // Returns (and logs as warnings) the joint values too stiff for an explicit step, which act
+  // implicitly (flapsim::implicitJointValues), and the shapes it ignores (flapsim::geometryNotes),
+  // each line prefixed with the creature.
   std::vector<std::string> spawn(const std::string& name, const std::string& urdf_xml,
                                  const std::string& source, const flapsim::Pose& pose,
                                  const flapsim::Twist& twist);

@@ -157,7 +157,7 @@ std::vector<std::string> SimulatorNode::spawn(const std::string& name, const std
   creatures_.push_back(std::move(c));
   publishCreatureMarkers();
   publishStaticTransforms();
-  std::vector<std::string> notes = flapsim::cappedJointValues(*model, params_.world.step_size);
+  std::vector<std::string> notes = flapsim::implicitJointValues(*model, params_.world.step_size);
   for (const std::string& line : flapsim::geometryNotes(*model)) notes.push_back(line);
   for (std::string& line : notes) {
     line = "creature '" + name + "', " + line;

@@ -567,9 +567,9 @@ TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {
   EXPECT_TRUE(d.response.success);
 }
 
-// A hinge damped beyond what the 1 ms step keeps stable (I / (4 dt) = 0.0335 N m s/rad for
-// this flap): spawned, with the value the world uses named in the reply and in a warning.
-TEST_F(Node, SpawnNamesTheJointValuesItLowers) {
+// A hinge damped beyond what an explicit 1 ms step keeps stable (I / (4 dt) = 0.0335 N m s/rad
+// for this flap): spawned, its damping acting implicitly, named in the reply and in a warning.
+TEST_F(Node, SpawnNamesTheJointValuesThatActImplicitly) {
   flapsim::SpawnCreature s;
   s.request.name = "damped";
   s.request.urdf_xml = R"(<robot name="d"><link name="world"/>
@@ -583,7 +583,7 @@ TEST_F(Node, SpawnNamesTheJointValuesItLowers) {
   ASSERT_TRUE(s.response.success) << s.response.status_message;
   const std::string line =
       "creature 'damped', joint 'hinge': damping 1000 is more than an explicit step of 0.001 s "
-      "keeps stable; 0.0335 is used";
+      "keeps stable (0.0335): it acts implicitly, its motion faster than the step damped out";
   EXPECT_NE(s.response.status_message.find(line), std::string::npos) << s.response.status_message;
   EXPECT_TRUE(warned(line));
   flapsim::DeleteCreature d;

@@ -272,10 +272,11 @@ void JointServoSolver::inwardPass(const std::vector<ServoLink>& links,
         break;
       case Status::kFree: {
         const Vec6 u_vec = ia * s_[k];
-        const double d = s_[k].dot(u_vec);
+        const double d = s_[k].dot(u_vec) + demands[k].spring_damping;
         u_vec_[k] = u_vec;
         d_[k] = d;
-        u_[k] = (update_ ? tau_[k] + step_torque_[k] : tau_[k]) - s_[k].dot(bias_[k]);
+        u_[k] = (update_ ? tau_[k] + step_torque_[k] : tau_[k]) - s_[k].dot(bias_[k]) +
+                demands[k].spring_impulse;
         if (d > 0.0 && update_) {
           const Mat6 reduced = ia - u_vec * (u_vec.transpose() / d);
           articulated_[p] += reduced;
@@ -329,8 +330,11 @@ void JointServoSolver::outwardPass(const std::vector<ServoLink>& links, bool fix
     }
     dv_[k] = ap + s_[k] * dq;
     if (status_[k] == Status::kPrescribed) {
-      out.impulse[k] = s_[k].dot(articulated_[k] * dv_[k] + bias_[k]);
-      if (update_) out.impulse[k] -= step_torque_[k];  // the servo's share
+      // The servo's share: less the step's joint torque and the implicit spring's impulse.
+      const ServoDemand& d = demands[k];
+      out.impulse[k] = s_[k].dot(articulated_[k] * dv_[k] + bias_[k]) -
+                       (d.spring_impulse - d.spring_damping * dq);
+      if (update_) out.impulse[k] -= step_torque_[k];
     }
     out.velocity_change[k] = dq;
   }

@@ -41,6 +41,13 @@ struct ServoDemand {
   /// A different bound on -impulse (a motor's torque-speed line makes the bounds of driving
   /// and braking differ), >= 0; < 0: max_impulse bounds both directions.
   double max_negative_impulse = -1.0;
+  /// The joint's spring and damper treated implicitly (ServoStage::solve): they add
+  /// spring_impulse - spring_damping x (the joint's velocity change) to its impulse, with
+  /// spring_damping >= 0, whether the joint is free (passive, or its servo pushing with its
+  /// bound) or held at its target (the servo's impulse is then less by it). Not part of the
+  /// solution's impulse, which is the servo's alone.
+  double spring_impulse = 0.0;
+  double spring_damping = 0.0;
 
   /// The bounds: -lower() <= impulse <= upper().
   double upper() const { return max_impulse; }

@@ -33,12 +33,16 @@ ServoStage::ServoStage(const CreatureModel& m, const WorldParams& params) : mode
   max_effort_.assign(m.joints.size(), 0.0);
   damping_.assign(m.joints.size(), 0.0);
   stiffness_.assign(m.joints.size(), 0.0);
+  implicit_.assign(m.joints.size(), 0);
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
     const JointModel& j = m.joints[ji];
     if (!j.movable()) continue;
     max_effort_[ji] = j.effort > 0.0 ? j.effort : params.default_wing_effort;
-    damping_[ji] = std::min(j.damping, dampingLimit(m, j, params.step_size));
-    stiffness_[ji] = std::min(j.stiffness, stiffnessLimit(m, j, params.step_size));
+    damping_[ji] = j.damping;
+    stiffness_[ji] = j.stiffness;
+    implicit_[ji] = j.damping > dampingLimit(m, j, params.step_size) ||
+                    j.stiffness > stiffnessLimit(m, j, params.step_size);
+    any_implicit_ = any_implicit_ || implicit_[ji];
   }
   const size_t links = m.links.size();
   target_.assign(links, 0.0);
@@ -69,7 +73,8 @@ void ServoStage::demand(int link, double target, const TorqueBounds& bounds, dou
   target_[link] = target;
 }
 
-void ServoStage::begin(const btMultiBody& mb) {
+void ServoStage::begin(const btMultiBody& mb, double dt) {
+  step_ = dt;
   const int links = mb.getNumLinks();
   start_joint_velocity_.resize(static_cast<size_t>(links));
   for (int l = 0; l < links; ++l) start_joint_velocity_[l] = jointVel(mb, l);
@@ -181,8 +186,9 @@ Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, TreeDynamics* 
     demands_[k].velocity_change = target_[k] - jointVel(mb, static_cast<int>(k) - 1);
     any = true;
   }
+  if (any_implicit_) setImplicitSprings(mb);
   drag_impulse_.clear();
-  if (!any && !fluid.active()) {
+  if (!any && !fluid.active() && !any_implicit_) {
     solution_.impulse.assign(demands_.size(), 0.0);
     solution_.saturated.assign(demands_.size(), false);
     return Vec6::Zero();
@@ -212,6 +218,22 @@ Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, TreeDynamics* 
   addVelocityChange(mb, update);
   if (update) lean->velocitiesUpdated();
   return drag_impulse;
+}
+
+void ServoStage::setImplicitSprings(const btMultiBody& mb) {
+  for (size_t k = 1; k < demands_.size(); ++k) {
+    ServoDemand& d = demands_[k];
+    const int ji = model_->links[k].parent_joint;
+    if (!implicit_[ji]) continue;
+    // -k (q + dt v1 - reference) - c v1 with v1 = v + dq, v the velocity the solve's changes
+    // are from (Bullet's after this step's forces; the start's when the solve takes the
+    // velocity update too) and q the step's start.
+    const int link = static_cast<int>(k) - 1;
+    const double q = mb.getJointPos(link) - model_->joints[ji].reference;
+    const double rate = damping_[ji] + step_ * stiffness_[ji];
+    d.spring_impulse = -step_ * (stiffness_[ji] * q + rate * jointVel(mb, link));
+    d.spring_damping = step_ * rate;
+  }
 }
 
 void ServoStage::addVelocityChange(btMultiBody& mb, bool update) const {

@@ -27,11 +27,13 @@ class ServoStage {
   // bounds, damping and stiffness the world's step keeps stable.
   ServoStage(const CreatureModel& m, const WorldParams& params);
 
-  // Per model joint: the servo's torque bound, and the passive damping and spring stiffness
-  // (capped for the step's stability, see dampingLimit()).
+  // Per model joint: the servo's torque bound, the passive damping and the spring stiffness,
+  // and whether the two act implicitly, in the solve (stiffer than an explicit step keeps
+  // stable, see dampingLimit()), rather than as explicit torques.
   double maxEffort(size_t joint) const { return max_effort_[joint]; }
   double damping(size_t joint) const { return damping_[joint]; }
   double stiffness(size_t joint) const { return stiffness_[joint]; }
+  bool implicitSpring(size_t joint) const { return implicit_[joint] != 0; }
 
   // The actuation stage's demands for this step, per link (the servo of the joint to its
   // parent): none, or a target velocity at the end of the step under a torque bound.
@@ -40,9 +42,9 @@ class ServoStage {
   // The same under a motor's bounds, which differ in the two directions (dynamics/motor.h).
   void demand(int link, double target, const TorqueBounds& bounds, double dt);
 
-  // The start of a (sub)step: the velocities the fluid's implicit part and the saturated
-  // servos' correction are measured from.
-  void begin(const btMultiBody& mb);
+  // The start of a (sub)step of `dt`: the velocities the fluid's implicit part and the
+  // saturated servos' correction are measured from.
+  void begin(const btMultiBody& mb, double dt);
   // Inside Bullet's step, once the velocities hold gravity, air and damping: solves every
   // servo and the fluid's implicit part together and adds the velocity change they cause
   // (frames of the start of the step; `lean`: the lean step's tree, if this is one). On a
@@ -96,8 +98,14 @@ class ServoStage {
 
   const CreatureModel* model_;
   std::vector<double> max_effort_, damping_, stiffness_;  // per model joint
-  std::vector<double> target_;                            // per link: velocity wanted
-  std::vector<ServoDemand> demands_;                      // per link
+  std::vector<char> implicit_;                            // per model joint
+  bool any_implicit_ = false;
+  double step_ = 0.0;  // of this (sub)step
+  // Each implicit spring's impulse terms in its link's demand (ServoDemand::spring_impulse),
+  // from the joint's position and velocity when the solve starts.
+  void setImplicitSprings(const btMultiBody& mb);
+  std::vector<double> target_;        // per link: velocity wanted
+  std::vector<ServoDemand> demands_;  // per link
   std::vector<ServoLink> links_;
   JointServoSolver solver_;
   ServoSolution solution_;
@@ -118,13 +126,14 @@ class ServoStage {
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> drag_impulse_;  // per aero body
 };
 
-// Joint damping is applied as an explicit torque -d qdot, stable while d dt stays well
-// under the joint's inertia. Beyond that it is capped at a quarter of the child link's own
-// inertia about the axis per step: the joint is then nearly rigid in velocity either way,
-// and a large URDF damping cannot make the step blow up.
+// Joint damping is an explicit torque -d qdot, stable while d dt stays well under the joint's
+// inertia, and a <spring> an explicit torque -k (q - reference), stable while the child link's
+// own oscillation sqrt(k / I) dt stays below 2. A joint whose damping is more than a quarter of
+// the child link's own inertia about the axis per step, or whose stiffness is more than a
+// quarter of it per step squared, has both treated implicitly instead, in the servo solve
+// (backward Euler: -k (q0 + dt v1 - reference) - d v1, unconditionally stable; its motion
+// faster than the step is damped out).
 double dampingLimit(const CreatureModel& m, const JointModel& j, double dt);
-// A <spring> is an explicit torque -k (q - reference), stable while the child link's own
-// oscillation sqrt(k / I) dt stays below 2; beyond a quarter of I / dt^2 it is capped there.
 double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt);
 
 }  // namespace flapsim

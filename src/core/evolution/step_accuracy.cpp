@@ -14,7 +14,6 @@ StepFlight flyOpenLoop(const CreatureModelPtr& model, const StrokeCommand& strok
   w.setWingCommands("c", {}, std::vector<StrokeCommand>(model->wing_joints.size(), stroke));
   StepFlight f;
   f.step = step;
-  f.capped = static_cast<int>(cappedJointValues(*model, step).size());
   const int steps = static_cast<int>(std::lround(kAccuracySeconds / step));
   w.step(steps);
   f.finite = !w.divergence("c");
@@ -29,10 +28,6 @@ double StepVerdict::relativeError() const {
 
 std::string StepVerdict::why() const {
   char out[160];
-  if (flight.capped > 0) {
-    std::snprintf(out, sizeof out, "%d joint value(s) capped at this step", flight.capped);
-    return out;
-  }
   if (!flight.finite) return "diverged";
   if (relativeError() > kStepTolerance) {
     std::snprintf(out, sizeof out, "height change %.4f m against the reference's %.4f m (%.1f %%)",

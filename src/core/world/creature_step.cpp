@@ -60,7 +60,7 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   // position: the frames of the start are those the last (sub)step ended with
   s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0, p.air.wind,
                    p.air.added_mass_velocity_products);
-  s.servos.begin(s.body.multiBody());
+  s.servos.begin(s.body.multiBody(), h);
   if (c.energy_audit) s.energy.beginSubStep(s.body);
   applyDrives(*r.model, r.drives, s.servos, s.body.multiBody(), h);  // actuation
   c.air.apply(*r.model, s.body, s.fluid, s.momentum, p, h);          // fluid

@@ -30,13 +30,16 @@ void EnergyMeter::endSubStep(const CreatureModel& m, const std::vector<JointDriv
     }
   }
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
-    // Damping acts on passive joints only (world/joint_drives.h).
-    if (!m.joints[ji].movable() || drives[ji].mode != JointDrive::Mode::kPassive) continue;
+    // Explicit damping acts on passive joints only (world/joint_drives.h), at the start's
+    // velocity; an implicit one on any joint, at the end's (ServoStage::implicitSpring).
+    if (!m.joints[ji].movable()) continue;
+    const bool implicit = servos.implicitSpring(ji);
+    if (!implicit && drives[ji].mode != JointDrive::Mode::kPassive) continue;
     const double d = servos.damping(ji);
     if (d <= 0.0) continue;
     const int l = m.joints[ji].child_link - 1;
     const double q0 = servos.startVelocity(l), q1 = mb.getJointVel(l);
-    damping_work_ -= h * d * q0 * 0.5 * (q0 + q1);
+    damping_work_ -= h * d * (implicit ? q1 : q0) * 0.5 * (q0 + q1);
   }
 }
 

@@ -40,13 +40,14 @@ void driveJoint(const JointModel& j, size_t ji, JointDrive& d, ServoStage& servo
     case JointDrive::Mode::kPassive:
       // Coulomb friction: a zero-velocity servo whose torque is capped by friction.
       if (j.friction > 0.0) servos.demand(j.child_link, 0.0, j.friction, dt);
-      if (servos.damping(ji) > 0.0) {
+      if (servos.damping(ji) > 0.0 && !servos.implicitSpring(ji)) {
         mb.addJointTorque(link, -servos.damping(ji) * mb.getJointVel(link));
       }
       break;
   }
-  // A spring acts whether or not a motor drives the joint (in parallel with it).
-  if (servos.stiffness(ji) > 0.0) {
+  // A spring acts whether or not a motor drives the joint (in parallel with it); a stiff one
+  // in the servo solve (ServoStage::implicitSpring).
+  if (servos.stiffness(ji) > 0.0 && !servos.implicitSpring(ji)) {
     mb.addJointTorque(link, -servos.stiffness(ji) * (mb.getJointPos(link) - j.reference));
   }
 }

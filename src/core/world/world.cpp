@@ -16,14 +16,14 @@
 
 namespace flapsim {
 
-std::vector<std::string> cappedJointValues(const CreatureModel& model, double step_size) {
+std::vector<std::string> implicitJointValues(const CreatureModel& model, double step_size) {
   std::vector<std::string> out;
-  auto note = [&](const JointModel& j, const char* what, double value, double used) {
+  auto note = [&](const JointModel& j, const char* what, double value, double limit) {
     std::ostringstream line;
     line.precision(4);
     line << "joint '" << j.name << "': " << what << " " << value
-         << " is more than an explicit step of " << step_size << " s keeps stable; " << used
-         << " is used";
+         << " is more than an explicit step of " << step_size << " s keeps stable (" << limit
+         << "): it acts implicitly, its motion faster than the step damped out";
     out.push_back(line.str());
   };
   for (const JointModel& j : model.joints) {
