@@ -72,15 +72,20 @@ class LinearDrag : public AirModel {
 
 constexpr double kPlateMass = 0.01;  // plate.urdf
 
-// The plate (0.2 x 0.2 x 0.002 m, 10 g) falling flat from rest in water under `law` (no
-// buoyancy, no added mass, no ground) for `steps` of 1 ms: its vertical velocity.
-double fallingPlateVelocity(const AirModelPtr& law, int steps) {
+// Water without buoyancy or added mass, no ground: only the law acts besides gravity.
+WorldParams lawOnlyWater() {
   WorldParams p = test::openSky();
   p.ground = false;
   p.air = waterParams();
   p.air.buoyancy = false;
   p.air.added_mass = false;
-  World w(p);
+  return p;
+}
+
+// The plate (0.2 x 0.2 x 0.002 m, 10 g) falling flat from rest in lawOnlyWater() under `law`
+// for `steps` of 1 ms: its vertical velocity.
+double fallingPlateVelocity(const AirModelPtr& law, int steps) {
+  World w(lawOnlyWater());
   w.setAirModel(law);
   w.spawn("plate", loadUrdf("plate.urdf"), at(0, 0, 5));
   w.step(steps);
@@ -182,12 +187,7 @@ TEST(FluidLaw, ARegisteredLawIsChosenByName) {
   ASSERT_NE(urdf.find(aero), std::string::npos);
   urdf.replace(urdf.find(aero), aero.size(),
                R"(<aero link="plate" subdivisions="4 4" model="linear_drag_test"/>)");
-  WorldParams p = test::openSky();
-  p.ground = false;
-  p.air = waterParams();
-  p.air.buoyancy = false;
-  p.air.added_mass = false;
-  World w(p);
+  World w(lawOnlyWater());
   w.spawn("plate", parseCreatureModel(urdf), at(0, 0, 5));
   w.step(20);
   EXPECT_NEAR(w.rootTwist("plate").linear.z(), trapezoidalFall(k, dt, 20), 1e-14);

@@ -73,32 +73,34 @@ void adoptGazeboNames(flapsim::DeleteCreature::Request& req) {
   req.name = eitherField({"model_name", req.model_name}, {"name", req.name});
 }
 
-void adoptGazeboNames(flapsim::GetState::Request& req) {
+namespace {
+
+// A request naming a creature and one of its links: gazebo_msgs' `link_field` (link_name or
+// body_name) or the former `link`.
+template <class Request>
+void adoptBodyNames(Request& req, const char* link_field, const std::string& link_value) {
   const RequestBody b = requestBody({"model_name", req.model_name}, {"name", req.name},
-                                    {"link_name", req.link_name}, {"link", req.link});
+                                    {link_field, link_value}, {"link", req.link});
   req.name = b.creature;
   req.link = b.link;
+}
+
+}  // namespace
+
+void adoptGazeboNames(flapsim::GetState::Request& req) {
+  adoptBodyNames(req, "link_name", req.link_name);
 }
 
 void adoptGazeboNames(flapsim::SetState::Request& req) {
-  const RequestBody b = requestBody({"model_name", req.model_name}, {"name", req.name},
-                                    {"link_name", req.link_name}, {"link", req.link});
-  req.name = b.creature;
-  req.link = b.link;
+  adoptBodyNames(req, "link_name", req.link_name);
 }
 
 void adoptGazeboNames(flapsim::ApplyWrench::Request& req) {
-  const RequestBody b = requestBody({"model_name", req.model_name}, {"name", req.name},
-                                    {"body_name", req.body_name}, {"link", req.link});
-  req.name = b.creature;
-  req.link = b.link;
+  adoptBodyNames(req, "body_name", req.body_name);
 }
 
 void adoptGazeboNames(flapsim::ClearWrenches::Request& req) {
-  const RequestBody b = requestBody({"model_name", req.model_name}, {"name", req.name},
-                                    {"body_name", req.body_name}, {"link", req.link});
-  req.name = b.creature;
-  req.link = b.link;
+  adoptBodyNames(req, "body_name", req.body_name);
 }
 
 }  // namespace flapsim_ros
