@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "flapsim/air_model.h"
+#include "flapsim_ros/param_schema.h"
 #include "flapsim_ros/urdf_source.h"
 
 namespace flapsim_ros {
@@ -109,8 +110,8 @@ MarkerParams parseMarkers(const Dict& d, MarkerParams m) {
   m.scale = d.number("scale", m.scale);
   m.per_cell = d.boolean("per_cell", m.per_cell);
   m.width = d.number("width", m.width);
-  if (m.scale < 0.0) fail(d.key("scale"), "must be >= 0");
-  if (m.width <= 0.0) fail(d.key("width"), "must be > 0");
+  requireInRange("markers/scale", m.scale, d.key("scale"));
+  requireInRange("markers/width", m.width, d.key("width"));
   d.rejectUnknown();
   return m;
 }
@@ -122,8 +123,7 @@ ImuParams parseImu(const Dict& d, ImuParams m) {
   m.seed = d.integer("seed", m.seed);
   for (const char* k :
        {"orientation_noise", "angular_velocity_noise", "linear_acceleration_noise"}) {
-    const double v = d.number(k, 0.0);
-    if (!(v >= 0.0 && v <= 1e3)) fail(d.key(k), "must be in [0, 1000]");
+    requireInRange(std::string("imu/") + k, d.number(k, 0.0), d.key(k));
   }
   d.rejectUnknown();
   return m;
@@ -148,7 +148,7 @@ ViewParams parseView(const Dict& d, ViewParams v) {
   v.distance = d.number("distance", v.distance);
   v.yaw = d.number("yaw", v.yaw);
   v.pitch = d.number("pitch", v.pitch);
-  if (!(v.distance > 0.0 && v.distance <= 1e4)) fail(d.key("distance"), "must be in (0, 1e4] m");
+  requireInRange("view/distance", v.distance, d.key("distance"));
   if (std::abs(v.pitch) >= M_PI / 2) fail(d.key("pitch"), "must be within +-pi/2 (exclusive)");
   if (std::abs(v.yaw) > 1e3) fail(d.key("yaw"), "must be within +-1000 rad");
   d.rejectUnknown();
@@ -283,9 +283,7 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   if (!err.empty()) throw ParamError("bad world parameters: " + err);
 
   p.publish_rate = d.number("publish_rate", p.publish_rate);
-  if (p.publish_rate < 0.01 || p.publish_rate > 1e6) {
-    fail("publish_rate", "must be in [0.01, 1e6] (Hz of sim time)");
-  }
+  requireInRange("publish_rate", p.publish_rate);
   p.real_time_factor = d.number("real_time_factor", p.real_time_factor);
   if (p.real_time_factor != 0.0 && (p.real_time_factor < 1e-3 || p.real_time_factor > 1e6)) {
     fail("real_time_factor", "must be 0 (as fast as possible) or in [0.001, 1e6]");
@@ -294,9 +292,7 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   if (p.max_steps_per_call < 1) fail("max_steps_per_call", "must be >= 1");
   if (d.has("urdf_roots")) p.urdf_roots = parseUrdfRoots(d);
   p.wing_command_timeout = d.number("wing_command_timeout", p.wing_command_timeout);
-  if (!(p.wing_command_timeout >= 0.0 && p.wing_command_timeout <= 1e6)) {
-    fail("wing_command_timeout", "must be in [0, 1e6] s of sim time (0: no timeout)");
-  }
+  requireInRange("wing_command_timeout", p.wing_command_timeout);
   const std::string action = d.string("wing_command_timeout_action", "hold");
   if (action != "hold" && action != "release") {
     fail("wing_command_timeout_action", "must be 'hold' or 'release', got '" + action + "'");
@@ -304,9 +300,7 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   p.wing_command_timeout_action =
       action == "hold" ? CommandTimeoutAction::kHold : CommandTimeoutAction::kRelease;
   p.controller_wait_timeout = d.number("controller_wait_timeout", p.controller_wait_timeout);
-  if (!(p.controller_wait_timeout >= 0.0 && p.controller_wait_timeout <= 1e6)) {
-    fail("controller_wait_timeout", "must be in [0, 1e6] s of wall time (0: no wait)");
-  }
+  requireInRange("controller_wait_timeout", p.controller_wait_timeout);
   if (d.has("view")) p.view = parseView(Dict(d.at("view"), "view"), p.view);
   p.paused = d.boolean("paused", p.paused);
   p.world_frame = d.string("world_frame", p.world_frame);
@@ -331,9 +325,11 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
     }
   }
   // Written by the node's dynamic_reconfigure server (what runs): outputs, not inputs.
-  for (const char* k : {"wind_x", "wind_y", "wind_z", "density", "drag_coefficient", "gravity_x",
-                        "gravity_y", "gravity_z", "show_markers"}) {
-    if (d.has(k)) d.at(k);
+  for (const ParamSpec& s : nodeParamSchema()) {
+    std::istringstream names(s.reconfigure);
+    for (std::string k; names >> k;) {
+      if (d.has(k)) d.at(k);
+    }
   }
   p.unknown_keys = d.unknownKeys();
   return p;
