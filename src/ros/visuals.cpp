@@ -24,10 +24,26 @@ void setColour(visualization_msgs::Marker* m, const urdf::VisualSharedPtr& visua
   }
 }
 
-/// A marker of one URDF geometry at `origin` in the link frame; false for meshes and
-/// unknown shapes (not drawn).
+/// A marker of one URDF geometry at `origin` in the link frame; false for unknown shapes and
+/// for a mesh by a relative path, which rviz cannot resolve (not drawn). A mesh is drawn from
+/// its URI (package:// or file://, an absolute path made a file:// one), scaled as the URDF says.
 bool shapeMarker(const urdf::Geometry& g, const urdf::Pose& origin, visualization_msgs::Marker* m) {
   switch (g.type) {
+    case urdf::Geometry::MESH: {
+      const auto& mesh = static_cast<const urdf::Mesh&>(g);
+      if (!mesh.filename.empty() && mesh.filename[0] == '/') {
+        m->mesh_resource = "file://" + mesh.filename;
+      } else if (mesh.filename.find("://") != std::string::npos) {
+        m->mesh_resource = mesh.filename;
+      } else {
+        return false;
+      }
+      m->type = visualization_msgs::Marker::MESH_RESOURCE;
+      m->scale.x = mesh.scale.x;
+      m->scale.y = mesh.scale.y;
+      m->scale.z = mesh.scale.z;
+      break;
+    }
     case urdf::Geometry::BOX: {
       const auto& box = static_cast<const urdf::Box&>(g);
       m->type = visualization_msgs::Marker::CUBE;

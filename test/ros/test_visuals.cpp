@@ -49,6 +49,32 @@ TEST(CreatureMarkers, FlapUnitIsThreeColouredBoxesInItsLinkFrames) {
   EXPECT_NE(markers[0].id, markers[1].id);
 }
 
+// A CAD-style robot drawn from its meshes: each mesh a MESH_RESOURCE marker of its URI, scaled
+// as the URDF says; a mesh by a relative path is not drawn (rviz could not find it).
+TEST(CreatureMarkers, MeshesAreDrawnFromTheirUris) {
+  const auto markers = flapsim_ros::creatureMarkers(
+      "cad", readSource("test/ros/cad_mesh_unit.urdf"), "cad_mesh_unit.urdf");
+  std::map<std::string, visualization_msgs::Marker> by_frame;
+  for (const auto& m : markers) by_frame[m.header.frame_id] = m;
+  ASSERT_EQ(by_frame.count("cad/base_link"), 1u);
+  const auto& body = by_frame["cad/base_link"];
+  EXPECT_EQ(body.type, visualization_msgs::Marker::MESH_RESOURCE);
+  EXPECT_EQ(body.mesh_resource, "package://flapsim/test/meshes/body_box.obj");
+  EXPECT_DOUBLE_EQ(body.scale.x, 1.0);
+  EXPECT_DOUBLE_EQ(body.pose.position.z, 0.02);  // the visual's origin in base_link
+  ASSERT_EQ(by_frame.count("cad/wing_left"), 1u);
+  EXPECT_EQ(by_frame["cad/wing_left"].mesh_resource, "package://flapsim/test/meshes/wing_box.stl");
+  const std::string scaled = R"(<robot name="m"><link name="a"><visual><geometry>
+      <mesh filename="/tmp/x.stl" scale="2 3 4"/></geometry></visual></link></robot>)";
+  const auto absolute = flapsim_ros::creatureMarkers("m", scaled, "m.urdf");
+  ASSERT_EQ(absolute.size(), 1u);
+  EXPECT_EQ(absolute[0].mesh_resource, "file:///tmp/x.stl");
+  EXPECT_DOUBLE_EQ(absolute[0].scale.z, 4.0);
+  const std::string relative = R"(<robot name="m"><link name="a"><visual><geometry>
+      <mesh filename="meshes/x.stl"/></geometry></visual></link></robot>)";
+  EXPECT_TRUE(flapsim_ros::creatureMarkers("m", relative, "m.urdf").empty());
+}
+
 TEST(CreatureMarkers, UnparsableUrdfIsAnInputErrorNamingItsSource) {
   try {
     flapsim_ros::creatureMarkers("x", "<robot name='x'><link", "broken.urdf");
