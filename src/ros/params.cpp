@@ -71,6 +71,9 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.added_mass = d.boolean("added_mass", air.added_mass);
   air.added_mass_velocity_products =
       d.boolean("added_mass_velocity_products", air.added_mass_velocity_products);
+  air.rotational_lift = d.boolean("rotational_lift", air.rotational_lift);
+  air.centre_of_pressure_shift =
+      d.boolean("centre_of_pressure_shift", air.centre_of_pressure_shift);
   air.enabled = d.boolean("enabled", air.enabled);
   air.model = d.string("model", air.model);
   if (!flapsim::makeAirModel(air.model)) {

@@ -80,7 +80,7 @@ world_frame: map
 ground: false
 threads: 2
 air: {density: 1000, wind: [1, 2.5, -3], subdivisions: [2, 3], buoyancy: false,
-      added_mass_velocity_products: true,
+      added_mass_velocity_products: true, rotational_lift: false, centre_of_pressure_shift: false,
       model: quasi_steady, quasi_steady: {lift_mean: 0.3, drag_phase: -9}}
 markers: {scale: 0.1, per_cell: true}
 something_else: 1
@@ -109,6 +109,8 @@ creatures:
   EXPECT_EQ(p.world.air.subdivisions_v, 3);
   EXPECT_FALSE(p.world.air.buoyancy);
   EXPECT_TRUE(p.world.air.added_mass_velocity_products);
+  EXPECT_FALSE(p.world.air.rotational_lift);  // both true by default
+  EXPECT_FALSE(p.world.air.centre_of_pressure_shift);
   EXPECT_EQ(p.world.threads, 2);
   EXPECT_EQ(p.world.air.model, "quasi_steady");
   EXPECT_EQ(p.world.air.quasi_steady.lift_mean, 0.3);
