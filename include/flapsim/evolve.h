@@ -227,7 +227,7 @@ EvolveParams paperPreset(int pairs = 1);
 /// velocity (up to 1 rad/s per axis), a steady wind (0-2 m/s, any heading), a 0.05 N m roll
 /// torque and a 1 N push on a wing at drawn times, IMU noise (0.1 rad, 0.1 rad/s), altimeter
 /// noise (0.05 m), an altitude setpoint (2-8 m) and step size (1 or 0.5 ms; evolve's default
-/// is auto_step_sizes: afc_1 2 or 1 ms, the chains 1 or 0.5 ms); a sample scores
+/// is auto_step_sizes: afc_1 and the chains 2 or 1 ms); a sample scores
 /// -|height - setpoint| - (1 - up-component), a flip ends the episode at that score less 20 m.
 EvolveParams robustPreset(int pairs = 1);
 
