@@ -185,6 +185,10 @@ using MeshResolver = std::function<std::string(const std::string& uri)>;
 /// depth 8, as rospack does) whose package.xml has <name>pkg</name>. Anything else is refused.
 MeshResolver defaultMeshResolver(const std::string& base_dir = "");
 
+/// The directory of a URDF file's path, against which its relative mesh paths resolve: "." for
+/// a bare file name, "/" for a file at the root.
+std::string urdfDirectory(const std::string& path);
+
 /// Parses URDF text; `source` names it in errors. Meshes are read through `resolve_mesh`
 /// (empty: defaultMeshResolver("")). Throws ModelError naming the source and the link or
 /// joint at fault; a mesh that cannot be resolved or read names its link, its URI and why.

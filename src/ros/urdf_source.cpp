@@ -77,12 +77,10 @@ flapsim::MeshResolver spawnMeshResolver(
     const std::vector<std::string>& roots, const std::string& source,
     const std::function<std::string(const std::string&)>& package_path) {
   struct stat st {};
-  std::string dir;
-  const size_t slash = source.rfind('/');
-  if (::stat(source.c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
-    dir = slash == std::string::npos ? "." : source.substr(0, std::max<size_t>(slash, 1));
-  }
-  return [roots, dir, package_path](const std::string& uri) {
+  const bool file = ::stat(source.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+  const flapsim::MeshResolver relative = flapsim::defaultMeshResolver(
+      file ? flapsim::urdfDirectory(source) : "");  // a text has no directory
+  return [roots, relative, package_path](const std::string& uri) {
     std::string path;
     const std::string scheme = "package://";
     if (uri.compare(0, scheme.size(), scheme) == 0) {
@@ -93,7 +91,7 @@ flapsim::MeshResolver spawnMeshResolver(
       if (found.empty()) throw flapsim::ModelError("unknown package '" + package + "'");
       path = end == std::string::npos ? found : found + rest.substr(end);
     } else {
-      path = flapsim::defaultMeshResolver(dir)(uri);
+      path = relative(uri);
     }
     const std::string file = canonical(path);
     for (const std::string& root : roots) {

@@ -29,6 +29,10 @@ double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt) {
   return 0.25 * childInertia(m, j) / (dt * dt);
 }
 
+bool implicitJoint(const CreatureModel& m, const JointModel& j, double dt) {
+  return j.damping > dampingLimit(m, j, dt) || j.stiffness > stiffnessLimit(m, j, dt);
+}
+
 ServoStage::ServoStage(const CreatureModel& m, const WorldParams& params) : model_(&m) {
   max_effort_.assign(m.joints.size(), 0.0);
   damping_.assign(m.joints.size(), 0.0);
@@ -40,8 +44,7 @@ ServoStage::ServoStage(const CreatureModel& m, const WorldParams& params) : mode
     max_effort_[ji] = j.effort > 0.0 ? j.effort : params.default_wing_effort;
     damping_[ji] = j.damping;
     stiffness_[ji] = j.stiffness;
-    implicit_[ji] = j.damping > dampingLimit(m, j, params.step_size) ||
-                    j.stiffness > stiffnessLimit(m, j, params.step_size);
+    implicit_[ji] = implicitJoint(m, j, params.step_size);
     any_implicit_ = any_implicit_ || implicit_[ji];
   }
   const size_t links = m.links.size();

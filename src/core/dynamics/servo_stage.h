@@ -23,8 +23,8 @@ class CreatureFluid;
 
 class ServoStage {
  public:
-  // The servos of creature `m` (kept by pointer: it must outlive the stage), with the effort
-  // bounds, damping and stiffness the world's step keeps stable.
+  // The servos of creature `m` (kept by pointer: it must outlive the stage), with its joints'
+  // effort bounds, damping and stiffness, the stiff ones implicit at the world's step.
   ServoStage(const CreatureModel& m, const WorldParams& params);
 
   // Per model joint: the servo's torque bound, the passive damping and the spring stiffness,
@@ -92,6 +92,9 @@ class ServoStage {
   // The servos with the fluid's loads; returns the implicit drag's impulse.
   Vec6 solveWithFluid(const btMultiBody& mb, const LinkFrames& frames, const ServoTree& tree,
                       const CreatureFluid& fluid);
+  // Each implicit spring's impulse terms in its link's demand (ServoDemand::spring_impulse),
+  // from the joint's position and velocity when the solve starts.
+  void setImplicitSprings(const btMultiBody& mb);
   // The velocity change of the last solve added to the multibody (`update`: a solve with the
   // velocity update, whose root COM also gains base_bias_).
   void addVelocityChange(btMultiBody& mb, bool update) const;
@@ -100,10 +103,7 @@ class ServoStage {
   std::vector<double> max_effort_, damping_, stiffness_;  // per model joint
   std::vector<char> implicit_;                            // per model joint
   bool any_implicit_ = false;
-  double step_ = 0.0;  // of this (sub)step
-  // Each implicit spring's impulse terms in its link's demand (ServoDemand::spring_impulse),
-  // from the joint's position and velocity when the solve starts.
-  void setImplicitSprings(const btMultiBody& mb);
+  double step_ = 0.0;                 // of this (sub)step
   std::vector<double> target_;        // per link: velocity wanted
   std::vector<ServoDemand> demands_;  // per link
   std::vector<ServoLink> links_;
@@ -135,5 +135,8 @@ class ServoStage {
 // faster than the step is damped out).
 double dampingLimit(const CreatureModel& m, const JointModel& j, double dt);
 double stiffnessLimit(const CreatureModel& m, const JointModel& j, double dt);
+// Whether joint `j`'s damping or stiffness is beyond those limits at steps of `dt` (both then
+// act implicitly).
+bool implicitJoint(const CreatureModel& m, const JointModel& j, double dt);
 
 }  // namespace flapsim

@@ -425,13 +425,14 @@ std::vector<std::string> geometryNotes(const CreatureModel& model) {
   return lines;
 }
 
-CreatureModelPtr loadCreatureModel(const std::string& path, const MeshResolver& resolve_mesh) {
-  if (resolve_mesh) return parseCreatureModel(readUrdfFile(path), path, resolve_mesh);
+std::string urdfDirectory(const std::string& path) {
   const size_t slash = path.rfind('/');
-  const std::string dir = slash == std::string::npos ? "."
-                          : slash == 0               ? "/"
-                                                     : path.substr(0, slash);
-  return parseCreatureModel(readUrdfFile(path), path, defaultMeshResolver(dir));
+  return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+}
+
+CreatureModelPtr loadCreatureModel(const std::string& path, const MeshResolver& resolve_mesh) {
+  return parseCreatureModel(readUrdfFile(path), path,
+                            resolve_mesh ? resolve_mesh : defaultMeshResolver(urdfDirectory(path)));
 }
 
 }  // namespace flapsim

@@ -2,15 +2,6 @@
 
 namespace flapsim {
 
-namespace {
-
-struct Motion {
-  Pose pose;
-  Twist twist;
-};
-
-// The link frame's pose and twist (of its origin) given those of a frame at `frame` in it
-// (the request's, itself bit for bit when `frame` is exactly the link frame).
 Motion linkMotion(const Pose& pose, const Twist& twist, const Pose& frame) {
   const bool same =
       frame.position == Vec3::Zero() && frame.orientation.coeffs() == Quat::Identity().coeffs();
@@ -19,8 +10,6 @@ Motion linkMotion(const Pose& pose, const Twist& twist, const Pose& frame) {
   return Motion{link, Twist{twist.linear + twist.angular.cross(link.position - pose.position),
                             twist.angular}};
 }
-
-}  // namespace
 
 bool frameMotion(const CreatureModel& model, const CreatureState& state, const std::string& name,
                  Pose* pose, Twist* twist) {

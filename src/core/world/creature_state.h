@@ -8,6 +8,15 @@
 
 namespace flapsim {
 
+struct Motion {
+  Pose pose;
+  Twist twist;  // of the frame's origin
+};
+
+// A link frame's pose and twist given those of a frame at `frame` in it (the given ones, bit
+// for bit, when `frame` is exactly the link frame).
+Motion linkMotion(const Pose& pose, const Twist& twist, const Pose& frame);
+
 // The creature's state, read without changing it (the link frames computed into locals).
 CreatureState readState(const CreatureModel& m, const CreatureSim& sim);
 

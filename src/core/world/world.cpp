@@ -27,7 +27,7 @@ std::vector<std::string> implicitJointValues(const CreatureModel& model, double 
     out.push_back(line.str());
   };
   for (const JointModel& j : model.joints) {
-    if (!j.movable()) continue;
+    if (!j.movable() || !implicitJoint(model, j, step_size)) continue;
     const double damping = dampingLimit(model, j, step_size);
     const double stiffness = stiffnessLimit(model, j, step_size);
     if (j.damping > damping) note(j, "damping", j.damping, damping);
@@ -357,15 +357,12 @@ void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& p
   if (!cells.empty()) throw InputError(cells);
   // A massless URDF root (a CAD model's base_link) was lumped into the link it is fixed to:
   // the pose is still the root's frame, Gazebo's model frame, and the twist its origin's.
-  Pose root = pose;
-  Twist moving = twist;
+  Motion root{pose, twist};
   for (const LumpedLink& l : model->lumped) {
-    if (!l.joint.empty()) continue;
-    root = pose * l.pose.inverse();
-    moving.linear = twist.linear + twist.angular.cross(root.position - pose.position);
+    if (l.joint.empty()) root = linkMotion(pose, twist, l.pose);
   }
   try {
-    impl_->spawn(name, model, root, moving);
+    impl_->spawn(name, model, root.pose, root.twist);
   } catch (const std::bad_alloc&) {
     throw InputError("creature '" + name + "': out of memory while building it");
   }
