@@ -151,6 +151,14 @@ struct JointModel {
   int feather_joint = -1;          // <wing joint="..." feather_joint="..."/>: pitches this wing
 
   bool movable() const { return type != JointType::kFixed; }
+  /// The forward kinematics of the joint, the one every chain of links is walked with (link
+  /// poses for tf, urdfJointPose, unitSensing): the child link's frame with the joint at `q`
+  /// (rad, or m if prismatic; ignored if fixed) given the parent link's frame `parent` (in any
+  /// frame; the default, the parent link frame itself, gives the child's frame in it):
+  /// `parent`, then `origin`, then the joint's rotation about or translation along `axis` by
+  /// `q`, composed in that order. The orientation is the plain product, not normalised again
+  /// (within a few ulp of unit): a caller walking a chain normalises where it keeps a result.
+  Pose childPose(double q, const Pose& parent = Pose()) const;
 };
 
 /// Links are stored parent-before-child, the root first; joints in URDF order. The root is

@@ -174,6 +174,38 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
                                    const std::vector<std::string>& joints,
                                    const std::vector<StrokeCommand>& commands);
 
+/// One creature's wing command (World::setWingCommands): `joints` empty = every wing joint in
+/// URDF order.
+struct CreatureWingCommand {
+  std::string creature;
+  std::vector<std::string> joints;
+  std::vector<StrokeCommand> strokes;
+};
+
+/// What the world does with a creature's wing joints once no wing command came for a while
+/// (World::setCommandTimeout): a guard against a controller that stopped.
+struct CommandTimeout {
+  enum class Action {
+    kHold,    // the wing motors hold the wings where they are (World::holdJoint)
+    kRelease  // the wing motors let go: the wing joints are passive (World::clearJointCommand)
+  };
+  /// s of sim time after a creature's last wing command at which its wings are held or
+  /// released, until the next command: rounded to whole steps, at least one; 0: never.
+  double seconds = 0.0;
+  Action action = Action::kHold;
+};
+/// The longest command timeout (s).
+constexpr double kMaxCommandTimeout = 1e6;
+
+/// A creature whose wing command timed out (World::commandLapse, World::takeCommandLapses).
+struct CommandLapse {
+  std::string creature;
+  std::uint64_t commanded_step = 0;  // the step count when its last wing command came
+  std::uint64_t step = 0;            // the step count at which it timed out
+};
+
+class CommandTimeouts;
+
 /// Why the watchdog froze a creature: the step whose result it refused and the quantity at
 /// fault, e.g. "link 'wing' moves at 1.7e+06 m/s (max_speed 1000 m/s)".
 struct Divergence {
@@ -202,7 +234,8 @@ class World {
   CreatureModelPtr model(const std::string& name) const;
 
   /// Puts every creature back to its spawn pose and twist, restarts every stroke (wing
-  /// commands are kept) and sets time to zero: bit-identical to a freshly built world
+  /// commands are kept: a creature whose command timed out gets it back, its timeout
+  /// starting again at 0) and sets time to zero: bit-identical to a freshly built world
   /// given the same commands.
   void reset();
   /// Advances `steps` fixed steps. A creature whose state after a step would be non-finite
@@ -226,9 +259,21 @@ class World {
 
   /// Commands wing joints. `joints` empty = all wing joints in URDF order.
   /// All-or-nothing: on any bad joint name, length or value, throws
-  /// InputError naming it and changes nothing.
+  /// InputError naming it and changes nothing. Starts the creature's command timeout again.
   void setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
                        const std::vector<StrokeCommand>& commands);
+  /// Commands several creatures at once, all or nothing: each creature known and named once,
+  /// each command checked (checkWingCommands) before any is applied. Throws InputError naming
+  /// the creature and the cause, and changes nothing.
+  void setWingCommands(const std::vector<CreatureWingCommand>& commands);
+  /// The wing-command timeout of every creature (CommandTimeout; none at first), from the
+  /// next step on. InputError unless 0 <= seconds <= kMaxCommandTimeout.
+  void setCommandTimeout(const CommandTimeout& timeout);
+  /// The lapse of a creature's wing command while its wings are held or released for want
+  /// of one: none while it is commanded, or was never.
+  std::optional<CommandLapse> commandLapse(const std::string& creature) const;
+  /// The lapses since the last call, each once, in the order they fell due.
+  std::vector<CommandLapse> takeCommandLapses();
   /// Raw joint-velocity target on a movable joint (replaces a stroke there).
   void setJointVelocityTarget(const std::string& creature, const std::string& joint,
                               double velocity);
@@ -285,6 +330,7 @@ class World {
  private:
   class Impl;
   std::unique_ptr<Impl> impl_;
+  std::unique_ptr<CommandTimeouts> timeouts_;  // the wing-command timeout's policy
 };
 
 }  // namespace flapsim

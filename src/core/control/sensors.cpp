@@ -106,10 +106,9 @@ FlapSensing unitSensing(const CreatureModel& model, const std::vector<int>& body
   for (size_t l = 1; l < model.links.size(); ++l) {
     const JointModel& j = model.joints.at(model.links[l].parent_joint);
     const size_t ji = static_cast<size_t>(model.links[l].parent_joint);
-    Quat r = orientation[j.parent_link] * j.origin.orientation;
+    const Quat r = j.childPose(q[ji], Pose{Vec3::Zero(), orientation[j.parent_link]}).orientation;
     Vec3 w = omega[j.parent_link];
     if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) {
-      r = r * Quat(Eigen::AngleAxisd(q[ji], j.axis));
       w += r * (j.axis * qd[ji]);
     }
     orientation[l] = r.normalized();

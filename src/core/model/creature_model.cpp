@@ -44,14 +44,20 @@ FrameOnLink CreatureModel::findFrame(const std::string& frame_name) const {
   return FrameOnLink{};
 }
 
-Pose urdfJointPose(const CreatureModel& model, const JointModel& joint, double position) {
-  Pose motion;
-  if (joint.type == JointType::kPrismatic) {
-    motion.position = position * joint.axis;
-  } else if (joint.movable()) {
-    motion.orientation = Quat(Eigen::AngleAxisd(position, joint.axis));
+Pose JointModel::childPose(double q, const Pose& parent) const {
+  Quat r = parent.orientation * origin.orientation;
+  Vec3 p = parent.apply(origin.position);
+  if (type == JointType::kPrismatic) {
+    p += r * (q * axis);
+  } else if (movable()) {
+    r = r * Quat(Eigen::AngleAxisd(q, axis));
   }
-  Pose p = joint.movable() ? joint.origin * motion : joint.origin;
+  return Pose{p, r};
+}
+
+Pose urdfJointPose(const CreatureModel& model, const JointModel& joint, double position) {
+  Pose p = joint.childPose(position);
+  if (joint.movable()) p.orientation.normalize();
   const LinkModel& parent = model.links.at(joint.parent_link);
   const LinkModel& child = model.links.at(joint.child_link);
   if (parent.rotated()) p = parent.urdf_frame.inverse() * p;

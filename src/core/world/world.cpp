@@ -7,6 +7,7 @@
 #include <thread>
 #include <utility>
 
+#include "world/command_timeouts.h"
 #include "world/creature.h"
 #include "world/creature_state.h"
 #include "world/creature_step.h"
@@ -15,26 +16,6 @@
 #include "world/world_checks.h"
 
 namespace flapsim {
-
-std::vector<std::string> implicitJointValues(const CreatureModel& model, double step_size) {
-  std::vector<std::string> out;
-  auto note = [&](const JointModel& j, const char* what, double value, double limit) {
-    std::ostringstream line;
-    line.precision(4);
-    line << "joint '" << j.name << "': " << what << " " << value
-         << " is more than an explicit step of " << step_size << " s keeps stable (" << limit
-         << "): it acts implicitly, its motion faster than the step damped out";
-    out.push_back(line.str());
-  };
-  for (const JointModel& j : model.joints) {
-    if (!j.movable() || !implicitJoint(model, j, step_size)) continue;
-    const double damping = dampingLimit(model, j, step_size);
-    const double stiffness = stiffnessLimit(model, j, step_size);
-    if (j.damping > damping) note(j, "damping", j.damping, damping);
-    if (j.stiffness > stiffness) note(j, "spring stiffness", j.stiffness, stiffness);
-  }
-  return out;
-}
 
 // The creatures (records and their stages, in spawn order), the air stage and the clock.
 // World checks its arguments and calls these.
@@ -60,6 +41,16 @@ class World::Impl {
 
   const CreatureModelPtr& model(const std::string& name) const {
     return records_[index(name)].model;
+  }
+  std::vector<JointDrive>& drives(const std::string& name) { return records_[index(name)].drives; }
+  // Lapses the wing-command timeouts due now, in spawn order.
+  void lapseDue(CommandTimeouts& timeouts) {
+    for (size_t c = 0; c < records_.size() && timeouts.active(); ++c) {
+      CreatureRecord& r = records_[c];
+      if (!timeouts.due(r.name, time_steps_)) continue;
+      const std::vector<double> q = readState(*r.model, *sims_[c]).joint_positions;
+      timeouts.lapse(r.name, *r.model, r.drives, q, time_steps_);
+    }
   }
 
   void spawn(const std::string& name, const CreatureModelPtr& model, const Pose& pose,
@@ -342,7 +333,9 @@ void refuse(const std::string& name, const std::string& err) {
 
 }  // namespace
 
-World::World(const WorldParams& params) : impl_(std::make_unique<Impl>(checked(params))) {}
+World::World(const WorldParams& params)
+    : impl_(std::make_unique<Impl>(checked(params))),
+      timeouts_(std::make_unique<CommandTimeouts>()) {}
 World::~World() = default;
 
 void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& pose,
@@ -368,15 +361,27 @@ void World::spawn(const std::string& name, CreatureModelPtr model, const Pose& p
   }
 }
 
-void World::remove(const std::string& name) { impl_->remove(name); }
+void World::remove(const std::string& name) {
+  impl_->remove(name);
+  timeouts_->forget(name);
+}
 bool World::has(const std::string& name) const { return impl_->has(name); }
 std::vector<std::string> World::creatureNames() const { return impl_->names(); }
 CreatureModelPtr World::model(const std::string& name) const { return impl_->model(name); }
-void World::reset() { impl_->reset(); }
+void World::reset() {
+  for (const std::string& name : impl_->names()) timeouts_->restore(name, impl_->drives(name));
+  timeouts_->restart();
+  impl_->reset();
+}
 
 void World::step(int steps) {
   if (steps < 0) throw InputError("step count must be >= 0");
-  impl_->step(steps);
+  // In stretches ending where a wing-command timeout falls due: it lapses at its step.
+  for (std::uint64_t left = static_cast<std::uint64_t>(steps), k; left > 0; left -= k) {
+    k = timeouts_->stepsToNext(stepCount(), left);
+    impl_->step(static_cast<int>(k));
+    impl_->lapseDue(*timeouts_);
+  }
 }
 
 double World::time() const { return impl_->time(); }
@@ -411,14 +416,29 @@ void World::setAirModel(AirModelPtr model) {
 
 void World::setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
                             const std::vector<StrokeCommand>& commands) {
-  const CreatureModelPtr& model = impl_->model(creature);
-  std::vector<int> targets;
-  try {
-    targets = checkWingCommands(*model, joints, commands);
-  } catch (const InputError& e) {
-    throw InputError("creature '" + creature + "': " + e.what());
+  setWingCommands({CreatureWingCommand{creature, joints, commands}});
+}
+
+void World::setWingCommands(const std::vector<CreatureWingCommand>& commands) {
+  std::vector<std::vector<int>> targets;
+  for (size_t i = 0; i < commands.size(); ++i) {
+    const CreatureWingCommand& c = commands[i];
+    const CreatureModelPtr& model = impl_->model(c.creature);  // InputError if unknown
+    for (size_t k = 0; k < i; ++k) {
+      if (commands[k].creature == c.creature) {
+        throw InputError("creature '" + c.creature + "' is named twice");
+      }
+    }
+    try {
+      targets.push_back(checkWingCommands(*model, c.joints, c.strokes));
+    } catch (const InputError& e) {
+      throw InputError("creature '" + c.creature + "': " + e.what());
+    }
   }
-  impl_->setStrokes(creature, targets, commands);
+  for (size_t i = 0; i < commands.size(); ++i) {
+    impl_->setStrokes(commands[i].creature, targets[i], commands[i].strokes);
+    timeouts_->commanded(commands[i].creature, stepCount());
+  }
 }
 
 void World::setJointVelocityTarget(const std::string& creature, const std::string& joint,

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "dynamics/servo_stage.h"
 #include "flapsim/world.h"
 #include "fluid/mesh_surface.h"
 #include "fluid/surface.h"
@@ -230,6 +231,26 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
     }
   }
   return targets;
+}
+
+std::vector<std::string> implicitJointValues(const CreatureModel& model, double step_size) {
+  std::vector<std::string> out;
+  auto note = [&](const JointModel& j, const char* what, double value, double limit) {
+    std::ostringstream line;
+    line.precision(4);
+    line << "joint '" << j.name << "': " << what << " " << value
+         << " is more than an explicit step of " << step_size << " s keeps stable (" << limit
+         << "): it acts implicitly, its motion faster than the step damped out";
+    out.push_back(line.str());
+  };
+  for (const JointModel& j : model.joints) {
+    if (!j.movable() || !implicitJoint(model, j, step_size)) continue;
+    const double damping = dampingLimit(model, j, step_size);
+    const double stiffness = stiffnessLimit(model, j, step_size);
+    if (j.damping > damping) note(j, "damping", j.damping, damping);
+    if (j.stiffness > stiffness) note(j, "spring stiffness", j.stiffness, stiffness);
+  }
+  return out;
 }
 
 }  // namespace flapsim
