@@ -440,5 +440,62 @@ TEST(ModelErrors, MissingFileIsNamed) {
   }
 }
 
+// The one forward kinematics of a joint (JointModel::childPose) against the arithmetic tf
+// (urdfJointPose) and unitSensing had before they shared it: equal to the bit, on every joint
+// of the shipped creatures, so neither /tf nor the evolved controllers' inputs moved.
+TEST(Model, ChildPoseGivesTheFormerTfAndSensingArithmeticToTheBit) {
+  const Quat parents[] = {Quat::Identity(),
+                          Quat(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized())),
+                          Quat(Eigen::AngleAxisd(-2.5, Vec3(0, 1, 0)))};
+  int joints = 0;
+  for (const char* file : {"afc_4.urdf", "afc_12.urdf", "feather_unit.urdf", "bamboo_copter.urdf",
+                           "hover_1.urdf", "swimmer.urdf", "flap_unit.urdf"}) {
+    const CreatureModelPtr m = loadUrdf(file);
+    for (const JointModel& j : m->joints) {
+      ++joints;
+      for (double q : {-0.7, 0.0, 0.3, 1.1}) {
+        // urdfJointPose as it was written before childPose.
+        Pose motion;
+        if (j.type == JointType::kPrismatic) {
+          motion.position = q * j.axis;
+        } else if (j.movable()) {
+          motion.orientation = Quat(Eigen::AngleAxisd(q, j.axis));
+        }
+        Pose before = j.movable() ? j.origin * motion : j.origin;
+        const LinkModel& parent = m->links.at(j.parent_link);
+        if (parent.rotated()) before = parent.urdf_frame.inverse() * before;
+        before = m->links.at(j.child_link).toUrdf(before);
+        const Pose now = urdfJointPose(*m, j, q);
+        EXPECT_EQ(now.position, before.position) << file << " " << j.name << " " << q;
+        EXPECT_EQ(now.orientation.coeffs(), before.orientation.coeffs()) << file << " " << j.name;
+        // unitSensing's step from a parent's orientation, as it was written.
+        for (const Quat& r0 : parents) {
+          Quat r = r0 * j.origin.orientation;
+          if (j.type == JointType::kRevolute || j.type == JointType::kContinuous) {
+            r = r * Quat(Eigen::AngleAxisd(q, j.axis));
+          }
+          const Quat sensed = j.childPose(q, Pose{Vec3::Zero(), r0}).orientation;
+          EXPECT_EQ(sensed.coeffs(), r.coeffs()) << file << " " << j.name << " " << q;
+        }
+      }
+    }
+  }
+  EXPECT_GT(joints, 40);
+}
+
+TEST(Model, ChildPoseOfAPrismaticJointSlidesAlongItsAxisAfterTheOrigin) {
+  JointModel j;
+  j.type = JointType::kPrismatic;
+  j.origin = Pose{Vec3(0.1, -0.2, 0.3), Quat(Eigen::AngleAxisd(0.5, Vec3::UnitZ()))};
+  j.axis = Vec3::UnitX();
+  const Pose parent{Vec3(1, 2, 3), Quat(Eigen::AngleAxisd(-0.3, Vec3::UnitY()))};
+  const Pose child = j.childPose(0.25, parent);
+  const Pose expect = parent * j.origin * Pose{Vec3(0.25, 0, 0), Quat::Identity()};
+  EXPECT_LT((child.position - expect.position).norm(), 1e-15);
+  EXPECT_LT(child.orientation.angularDistance(expect.orientation), 1e-15);
+  // Moved 0.25 m along the origin's x, which the origin turned 0.5 rad about z.
+  EXPECT_NEAR((child.position - parent.apply(j.origin.position)).norm(), 0.25, 1e-15);
+}
+
 }  // namespace
 }  // namespace flapsim

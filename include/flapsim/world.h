@@ -261,7 +261,9 @@ class World {
   /// All-or-nothing: on any bad joint name, length or value, throws
   /// InputError naming it and changes nothing. Starts the creature's command timeout again.
   void setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
-                       const std::vector<StrokeCommand>& commands);
+                       const std::vector<StrokeCommand>& commands) {
+    setWingCommands({CreatureWingCommand{creature, joints, commands}});
+  }
   /// Commands several creatures at once, all or nothing: each creature known and named once,
   /// each command checked (checkWingCommands) before any is applied. Throws InputError naming
   /// the creature and the cause, and changes nothing.

@@ -58,18 +58,11 @@ struct WingCommandRequest {
 /// by World::setWingCommands). Throws flapsim::InputError naming the problem.
 WingCommandRequest fromMsg(const flapsim::WingCommand& msg);
 flapsim::WingCommand toMsg(const WingCommandRequest& request);
-/// Checks a request against a creature's model as World::setWingCommands does
-/// (flapsim::checkWingCommands), without a world: lets several creatures be commanded all or
-/// nothing. Throws flapsim::InputError naming the problem.
-void checkWingCommand(const flapsim::CreatureModel& model, const WingCommandRequest& request);
-
-/// The wing commands of a flapsim/step request, checked all or nothing: as many commands as
-/// creatures, each creature known (`model_of` gives null for an unknown name) and named
-/// once, each command valid for its creature's model. Throws flapsim::InputError naming
-/// the cause (and the creature).
-std::vector<WingCommandRequest> checkStepCommands(
-    const std::vector<std::string>& creatures, const std::vector<flapsim::WingCommand>& commands,
-    const std::function<flapsim::CreatureModelPtr(const std::string&)>& model_of);
+/// The wing commands of a flapsim/step request in core terms, converted only (fromMsg):
+/// World::setWingCommands checks them, all or nothing. Throws flapsim::InputError for as
+/// many commands as creatures, or a message fromMsg refuses (naming the creature).
+std::vector<flapsim::CreatureWingCommand> stepCommands(
+    const std::vector<std::string>& creatures, const std::vector<flapsim::WingCommand>& commands);
 
 /// Movable joints in URDF order with positions and velocities.
 sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,

@@ -6,6 +6,7 @@
 #include <ros/node_handle.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -52,11 +53,9 @@ struct ImuParams {
   int seed = 0;
 };
 
-/// What a creature's wings do once `wing_command_timeout` passes without a command.
-enum class CommandTimeoutAction {
-  kHold,    // "hold": the wing motors hold the wings where they are (velocity target 0)
-  kRelease  // "release": the wing motors let go (the wing joints are passive)
-};
+/// What a creature's wings do once `wing_command_timeout` passes without a command: "hold"
+/// (the wing motors hold the wings where they are) or "release" (the wing joints go passive).
+using CommandTimeoutAction = flapsim::CommandTimeout::Action;
 
 /// The frame flapsim/camera (the view of config/flapsim.rviz): it looks at flapsim/view, the
 /// creatures' smoothed centroid, from `yaw` and `pitch` (rad, rviz's orbit angles) at
@@ -118,5 +117,7 @@ NodeParams loadNodeParams(const ros::NodeHandle& pnh);
 constexpr double kPublishQueueSeconds = 10.0;
 /// Those topics' queue: kPublishQueueSeconds of messages at publish_rate, in [10, 10,000].
 int publishQueueSize(const NodeParams& p);
+/// Steps between publications: 1 / (publish_rate step_size), rounded, at least 1.
+std::uint64_t publishEvery(const NodeParams& p);
 
 }  // namespace flapsim_ros

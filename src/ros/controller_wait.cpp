@@ -1,11 +1,9 @@
-// The simulator node's wait for its creatures' controllers (SimulatorNode, continued): a
-// creature that names a `controller` in ~creatures holds sim time until that controller's
-// first wing command, as a scenario waits for rviz and the recorder, so the controller flies
-// it from t = 0 (before, a free-running controller's first command came some 0.7 s of sim
-// time late, the creature falling meanwhile).
-#include <sstream>
+#include "flapsim_ros/controller_wait.h"
 
-#include "flapsim_ros/simulator_node.h"
+#include <sstream>
+#include <vector>
+
+#include "flapsim_ros/conversions.h"
 
 namespace flapsim_ros {
 namespace {
@@ -18,25 +16,32 @@ constexpr double kHeldDiagnosticsPeriod = 1.0;  // s (wall) between /diagnostics
 
 }  // namespace
 
-bool SimulatorNode::holdForControllers() {
-  std::vector<Creature*> awaited;
-  for (const auto& c : creatures_) {
+ControllerWait::ControllerWait(const flapsim::World& world, CreatureRegistry& creatures,
+                               NodeDiagnostics& diagnostics, Stepper& stepper,
+                               const NodeParams& params)
+    : world_(world),
+      creatures_(creatures),
+      diagnostics_(diagnostics),
+      stepper_(stepper),
+      params_(params) {}
+
+bool ControllerWait::hold() {
+  std::vector<NodeCreature*> awaited;
+  for (const auto& c : creatures_.all()) {
     if (c->awaiting_controller) awaited.push_back(c.get());
   }
-  if (paused_) {  // paused time is no controller's delay
+  if (stepper_.paused()) {  // paused time is no controller's delay
     held_wall_ = ros::WallTime();
     return !awaited.empty();
   }
   const ros::WallTime wall = ros::WallTime::now();
   if (awaited.empty()) {
     if (holding_) {
-      holding_ = false;
       if (!held_wall_.isZero()) held_ += (wall - held_wall_).toSec();
       ROS_INFO_STREAM("flapsim: every controller answered after "
-                      << held_ << " s of wall time: running from t = " << formatTime(now())
+                      << held_ << " s of wall time: running from t = " << formatTime(simNow(world_))
                       << " s");
-      restartPacing();
-      publishDiagnostics();
+      end();
     }
     return false;
   }
@@ -44,19 +49,19 @@ bool SimulatorNode::holdForControllers() {
     holding_ = true;
     awaited_count_ = awaited.size();
     std::ostringstream who;
-    for (const Creature* c : awaited) {
+    for (const NodeCreature* c : awaited) {
       who << (c == awaited.front() ? "" : ", ") << c->controller << " ('" << c->name << "')";
     }
     ROS_INFO_STREAM("flapsim: holding sim time at t = "
-                    << formatTime(now()) << " s for the first wing command of " << who.str()
-                    << ", at most " << params_.controller_wait_timeout
+                    << formatTime(simNow(world_)) << " s for the first wing command of "
+                    << who.str() << ", at most " << params_.controller_wait_timeout
                     << " s of wall time (~controller_wait_timeout)");
-    publishDiagnostics();
+    diagnostics_.publish();
   }
   if (!held_wall_.isZero()) held_ += (wall - held_wall_).toSec();
   held_wall_ = wall;
   if (held_ >= params_.controller_wait_timeout) {
-    for (Creature* c : awaited) {
+    for (NodeCreature* c : awaited) {
       c->awaiting_controller = false;
       c->controller_missing = true;
       ROS_ERROR_STREAM("flapsim: creature '"
@@ -68,24 +73,29 @@ bool SimulatorNode::holdForControllers() {
                                ? " (nothing publishes that topic)"
                                : ""));
     }
-    holding_ = false;
-    restartPacing();
-    publishDiagnostics();
+    end();
     return false;
   }
   // Each answer shows at once, the wait every second (a monitor that joins late sees it).
-  if (awaited.size() != awaited_count_ ||
-      (wall - diagnostics_wall_).toSec() >= kHeldDiagnosticsPeriod) {
+  if (awaited.size() != awaited_count_ || diagnostics_.age() >= kHeldDiagnosticsPeriod) {
     awaited_count_ = awaited.size();
-    publishDiagnostics();
+    diagnostics_.publish();
   }
   if ((wall - resent_wall_).toSec() >= kResendPeriod) {
     resent_wall_ = wall;
-    for (const Creature* c : awaited) {
-      if (c->wing_command.getNumPublishers() > 0) publishCreatureState(*c, now());
+    for (const NodeCreature* c : awaited) {
+      if (c->wing_command.getNumPublishers() > 0) {
+        c->topics->publishState(snapshotOf(world_, c->name, simNow(world_)));
+      }
     }
   }
   return true;
+}
+
+void ControllerWait::end() {
+  holding_ = false;
+  stepper_.restartPacing();
+  diagnostics_.publish();
 }
 
 }  // namespace flapsim_ros

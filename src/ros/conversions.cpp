@@ -181,35 +181,23 @@ flapsim::WingCommand toMsg(const WingCommandRequest& request) {
   return m;
 }
 
-void checkWingCommand(const flapsim::CreatureModel& model, const WingCommandRequest& request) {
-  flapsim::checkWingCommands(model, request.joints, request.strokes);
-}
-
-std::vector<WingCommandRequest> checkStepCommands(
-    const std::vector<std::string>& creatures, const std::vector<flapsim::WingCommand>& commands,
-    const std::function<flapsim::CreatureModelPtr(const std::string&)>& model_of) {
+std::vector<flapsim::CreatureWingCommand> stepCommands(
+    const std::vector<std::string>& creatures, const std::vector<flapsim::WingCommand>& commands) {
   if (creatures.size() != commands.size()) {
     throw flapsim::InputError("step request has " + std::to_string(creatures.size()) +
                               " creatures but " + std::to_string(commands.size()) +
                               " wing_commands");
   }
-  std::vector<WingCommandRequest> requests;
+  std::vector<flapsim::CreatureWingCommand> out;
   for (size_t i = 0; i < creatures.size(); ++i) {
-    const flapsim::CreatureModelPtr model = model_of(creatures[i]);
-    if (!model) throw flapsim::InputError("unknown creature '" + creatures[i] + "'");
-    for (size_t k = 0; k < i; ++k) {
-      if (creatures[k] == creatures[i]) {
-        throw flapsim::InputError("creature '" + creatures[i] + "' is named twice");
-      }
-    }
     try {
-      requests.push_back(fromMsg(commands[i]));
-      checkWingCommand(*model, requests.back());
+      WingCommandRequest r = fromMsg(commands[i]);
+      out.push_back(flapsim::CreatureWingCommand{creatures[i], r.joints, r.strokes});
     } catch (const flapsim::InputError& e) {
       throw flapsim::InputError("creature '" + creatures[i] + "': " + e.what());
     }
   }
-  return requests;
+  return out;
 }
 
 sensor_msgs::JointState jointStateMsg(const flapsim::CreatureModel& model,

@@ -4,6 +4,7 @@
 #include <ros/param.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
@@ -355,6 +356,11 @@ NodeParams loadNodeParams(const ros::NodeHandle& pnh) {
     }
   }
   return p;
+}
+
+std::uint64_t publishEvery(const NodeParams& p) {
+  return std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>(std::llround(1.0 / (p.publish_rate * p.world.step_size))));
 }
 
 int publishQueueSize(const NodeParams& p) {

@@ -426,7 +426,7 @@ TEST(Conversions, WingCommandsAreCheckedAgainstTheModel) {
   const flapsim::StrokeCommand ok{30, 10, 0.8};
   auto error = [&](std::vector<std::string> joints, std::vector<flapsim::StrokeCommand> strokes) {
     try {
-      flapsim_ros::checkWingCommand(*afc, {joints, strokes});
+      flapsim::checkWingCommands(*afc, joints, strokes);
     } catch (const flapsim::InputError& e) {
       return std::string(e.what());
     }

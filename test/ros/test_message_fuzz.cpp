@@ -146,8 +146,11 @@ TEST(MessageFuzz, WingCommandsAreAcceptedOrRefusedByNameAndTheWorldStaysFinite) 
   EXPECT_GT(refused, 0);
 }
 
-// flapsim/step wing command lists (checkStepCommands, all or nothing).
+// flapsim/step wing command lists (stepCommands converts, the world checks all or nothing).
 TEST(MessageFuzz, StepRequestsAreCheckedAllOrNothing) {
+  flapsim::World w;
+  for (const char* name : {"c", "d"}) w.spawn(name, flapUnit(), flapsim::Pose());
+  const std::string wing = flapUnit()->joints[flapUnit()->wing_joints[0]].name;
   Fuzzer f(16);
   int accepted = 0, refused = 0;
   for (int i = 0; i < 3000 && !::testing::Test::HasFailure(); ++i) {
@@ -158,20 +161,22 @@ TEST(MessageFuzz, StepRequestsAreCheckedAllOrNothing) {
     for (size_t k = 0, m = f.pick(4) == 0 ? f.pick(4) : n; k < m; ++k) {
       commands.push_back(f.wingCommand());
     }
+    const double before_c = w.wingCommand("c", wing).downstroke_rate;
+    const double before_d = w.wingCommand("d", wing).downstroke_rate;
     try {
-      const auto requests = flapsim_ros::checkStepCommands(
-          creatures, commands, [](const std::string& name) -> flapsim::CreatureModelPtr {
-            return name == "c" || name == "d" ? flapUnit() : nullptr;
-          });
-      ++accepted;
+      const auto requests = flapsim_ros::stepCommands(creatures, commands);
       EXPECT_EQ(requests.size(), creatures.size());
+      w.setWingCommands(requests);
+      ++accepted;
     } catch (const flapsim::InputError& e) {
       ++refused;
       const std::string what = e.what();
-      // Names the creature at fault, or says what does not match.
+      // Names the creature at fault, or says what does not match; commands nobody.
       EXPECT_TRUE(what.find("creature '") != std::string::npos ||
                   what.find("step request has") != std::string::npos)
           << "request " << i << ": " << what;
+      EXPECT_EQ(w.wingCommand("c", wing).downstroke_rate, before_c) << "request " << i;
+      EXPECT_EQ(w.wingCommand("d", wing).downstroke_rate, before_d) << "request " << i;
     }
   }
   std::printf("step request fuzz: %d accepted, %d refused\n", accepted, refused);

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """Checks the size rules of the C++ (.cpp, .h, .hpp, .cc) in src/, include/, bench/ and test/:
-no file over 500 lines (800 in test/), no function and no lambda over 80 lines.
+no file over 500 lines (800 in test/), no function and no lambda over 80 lines, no class, struct
+or union body over 300 lines.
 
 The code is read with its comments, string, raw string and character literals and preprocessor
 lines blanked out, and its braces are matched. A brace opened at namespace or class level (the
@@ -8,7 +9,9 @@ first after `namespace {` or a `public:` label included) whose head ends like a 
 (`...)`, `...) const override`, `...) -> T`, a constructor's initialiser list) opens a function:
 its length is from the first line of its signature to its closing brace. A brace after a
 lambda's introducer (`[...]`, `[...](...)`, `[...](...) mutable -> T`) opens a lambda wherever it
-is (a function, an initialiser list, a table), measured from its `[` to its closing brace.
+is (a function, an initialiser list, a table), measured from its `[` to its closing brace. A
+brace after a `class`, `struct` or `union` head (not `enum`) opens a class body, measured from
+the first line of its head (`template <...>` included) to its closing brace.
 Prints one line per violation and exits 1 if any; with --gtest_output=xml:FILE also writes a
 gtest-style result for catkin_test_results.
 """
@@ -20,6 +23,7 @@ from gtest_xml import write_result
 
 MAX_FILE_LINES = {'src': 500, 'include': 500, 'bench': 500, 'test': 800}
 MAX_FUNCTION_LINES = 80
+MAX_CLASS_LINES = 300
 CPP = ('.cpp', '.h', '.hpp', '.cc')
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..')
 
@@ -34,6 +38,9 @@ QUALIFIERS = (r'((const|volatile|mutable|constexpr|consteval|static|noexcept|ove
 SIGNATURE_END = re.compile(r'\(\s*\)\s*' + QUALIFIERS)
 INITIALISER_LIST = re.compile(r'\)\s*(noexcept\s*)?:(?!:)')
 LAMBDA_END = re.compile(r'\]\s*(<[^;{}]*>\s*)?(\(\s*\)\s*)?' + QUALIFIERS)
+CLASS_NAME = re.compile(r'\s*(template\s*<.*>\s*)?(\[\[.*\]\]\s*)?(typedef\s+)?'
+                        r'(class|struct|union)\b\s*(alignas\s*\(\s*\)\s*)?'
+                        r'(\[\[[^\]]*\]\]\s*)?(\w+(\s*::\s*\w+)*)?', re.S)
 NAME = re.compile(r'(operator\s*(\(\s*\)|\[\s*\]|[^\s\w(][^\s(]*|\w[\w\s:<>*&]*?)|'
                   r'(\w+\s*(<[^()<>]*>)?\s*::\s*)*~?\w+)\s*(<[^()]*>)?\s*$')
 
@@ -152,8 +159,9 @@ def function_name(head, flat):
 
 
 def classify(head, lines, in_scope):
-    """What a `{` after `head` opens: (kind, name, first line). Kinds: 'scope' (a namespace, a
-    class), 'function', 'lambda', 'init' (an initialiser at scope level) or 'block'."""
+    """What a `{` after `head` opens: (kind, name, first line). Kinds: 'scope' (a namespace, an
+    enum), 'class' (a class, struct or union), 'function', 'lambda', 'init' (an initialiser at
+    scope level) or 'block'."""
     labels = LABELS.match(head) if in_scope else None
     start = labels.end() if labels else 0
     head = head[start:]
@@ -170,6 +178,9 @@ def classify(head, lines, in_scope):
         if name:
             return 'function', name, first
     if CLASS.match(flat):
+        named = CLASS_NAME.match(flat)
+        if named:
+            return 'class', re.sub(r'\s+', '', named.group(7) or '?'), first
         return 'scope', None, first
     return ('init' if in_scope else 'block'), None, first
 
@@ -177,13 +188,29 @@ def classify(head, lines, in_scope):
 def functions(lines):
     """Yields (what, first line, last line) of every function ('function NAME') and lambda
     ('lambda' or 'lambda in NAME') body in the file of `lines`."""
+    for what, first, last in bodies(lines):
+        if not what.startswith('class '):
+            yield what, first, last
+
+
+def classes(lines):
+    """Yields (what, first line, last line) of every class, struct and union body ('class
+    NAME') in the file of `lines`."""
+    for what, first, last in bodies(lines):
+        if what.startswith('class '):
+            yield what, first, last
+
+
+def bodies(lines):
+    """Yields (what, first line, last line) of every function, lambda and class body in the
+    file of `lines`, each as it closes."""
     text = blank('\n'.join(lines))
     head, head_lines = [], []
     frames = []  # per open brace: (kind, name, first line, its line, the head before it)
     number = 1
     for c in text:
         if c == '{':
-            in_scope = not frames or frames[-1][0] == 'scope'
+            in_scope = not frames or frames[-1][0] in ('scope', 'class')
             kind, name, first = classify(''.join(head), head_lines, in_scope)
             frames.append((kind, name, first or number, number, head, head_lines))
             head, head_lines = [], []
@@ -191,6 +218,8 @@ def functions(lines):
             kind, name, first, opened, head, head_lines = frames.pop()
             if kind == 'function':
                 yield f'function {name}', first, number
+            elif kind == 'class':
+                yield f'class {name}', first, number
             elif kind == 'lambda':
                 outer = [f[1] for f in frames if f[0] == 'function']
                 yield ('lambda in ' + outer[-1] if outer else 'lambda'), first, number
@@ -212,10 +241,11 @@ def file_problems(rel, lines, max_file_lines):
     problems = []
     if len(lines) > max_file_lines:
         problems.append(f'{rel}: {len(lines)} lines (at most {max_file_lines})')
-    for what, first, last in functions(lines):
-        if last - first + 1 > MAX_FUNCTION_LINES:
+    for what, first, last in bodies(lines):
+        limit = MAX_CLASS_LINES if what.startswith('class ') else MAX_FUNCTION_LINES
+        if last - first + 1 > limit:
             problems.append(f'{rel}:{first}: {what} has {last - first + 1} lines '
-                            f'(at most {MAX_FUNCTION_LINES})')
+                            f'(at most {limit})')
     return problems
 
 

@@ -3,7 +3,9 @@
 a class's `public:`, a function defined in a class body, a lambda in a table or passed to a call,
 a function whose signature spans several lines; include/, bench/ and test/ are scanned (test
 files may have 800 lines). Each on a synthetic snippet one line over the limit (reported) and
-at it (not reported). With --gtest_output=xml:FILE also writes a gtest-style result for
+at it (not reported). Class, struct and union bodies are measured too (300 lines: a class, a
+struct in a namespace, a class template, one nested in another), enums are not. With
+--gtest_output=xml:FILE also writes a gtest-style result for
 catkin_test_results.
 """
 import os
@@ -12,7 +14,7 @@ import sys
 import tempfile
 import unittest
 
-from code_size import MAX_FUNCTION_LINES, check, file_problems, functions
+from code_size import MAX_CLASS_LINES, MAX_FUNCTION_LINES, check, classes, file_problems, functions
 from gtest_xml import run_unittests
 
 
@@ -101,6 +103,51 @@ class CodeSize(unittest.TestCase):
                   "extern \"C\" {", "enum class E : int { kA, kB };"]
                  + function(5, ("int g() {", "  if (x) {", "  } else {", "  }")) + ["}"])
         self.assertEqual(lengths(lines), {"function g": 5})
+
+
+def class_body(length, head="class X {", indent=""):
+    """A class body of `length` lines from its `head` line to its `};`, members only."""
+    members = [f"  int a{i}_ = 0;" for i in range(length - 2)]
+    return [indent + line for line in [head] + members + ["};"]]
+
+
+class ClassSize(unittest.TestCase):
+    def assert_reported(self, make, what):
+        """make(length) is reported as `what` one line over MAX_CLASS_LINES, not at it."""
+        over = file_problems("include/a.h", make(MAX_CLASS_LINES + 1), 500)
+        self.assertEqual(len(over), 1, over)
+        self.assertIn(f"{what} has {MAX_CLASS_LINES + 1} lines (at most {MAX_CLASS_LINES})",
+                      over[0])
+        self.assertEqual(file_problems("include/a.h", make(MAX_CLASS_LINES), 500), [])
+
+    def test_a_class_body_over_the_limit_is_reported(self):
+        self.assert_reported(lambda n: class_body(n), "class X")
+
+    def test_a_struct_in_a_namespace_with_a_base_is_reported(self):
+        self.assert_reported(
+            lambda n: ["namespace a {"] + class_body(n, "struct Y : public Base {") + ["}"],
+            "class Y")
+
+    def test_a_class_template_is_measured_from_its_template_line(self):
+        self.assert_reported(
+            lambda n: ["template <class T>"] + class_body(n - 1, "class Z {"), "class Z")
+
+    def test_a_nested_class_is_measured_on_its_own(self):
+        def outer_and_inner(n):
+            return ["class Outer {", " public:"] + class_body(n, "struct Inner {", "  ") + ["};"]
+        over = file_problems("include/a.h", outer_and_inner(MAX_CLASS_LINES + 1), 500)
+        self.assertEqual([p.split(": ")[1] for p in over],
+                         [f"class Inner has {MAX_CLASS_LINES + 1} lines (at most "
+                          f"{MAX_CLASS_LINES})",
+                          f"class Outer has {MAX_CLASS_LINES + 4} lines (at most "
+                          f"{MAX_CLASS_LINES})"])
+
+    def test_an_enum_is_not_a_class_and_a_member_function_stays_a_function(self):
+        enum = ["enum class E {"] + [f"  k{i}," for i in range(MAX_CLASS_LINES + 5)] + ["};"]
+        self.assertEqual(file_problems("include/a.h", enum, 500), [])
+        body = ["class X {", " public:"] + function(MAX_FUNCTION_LINES + 1, indent="  ") + ["};"]
+        self.assertEqual(list(classes(body)), [("class X", 1, len(body))])
+        self.assertEqual([w for w, _, _ in functions(body)], ["function f"])
 
 
 class Trees(unittest.TestCase):

@@ -318,21 +318,6 @@ class World::Impl {
 
 // ---- World ---------------------------------------------------------------------------
 
-namespace {
-
-WorldParams checked(const WorldParams& p) {
-  std::string err = validateWorldParams(p);
-  if (!err.empty()) throw InputError(err);
-  return p;
-}
-
-// Throws InputError("creature 'name': " + err) unless `err` is empty.
-void refuse(const std::string& name, const std::string& err) {
-  if (!err.empty()) throw InputError("creature '" + name + "': " + err);
-}
-
-}  // namespace
-
 World::World(const WorldParams& params)
     : impl_(std::make_unique<Impl>(checked(params))),
       timeouts_(std::make_unique<CommandTimeouts>()) {}
@@ -412,11 +397,6 @@ void World::setGravity(const Vec3& gravity) {
 void World::setAirModel(AirModelPtr model) {
   if (!model) throw InputError("air model is null");
   impl_->setAirModel(std::move(model));
-}
-
-void World::setWingCommands(const std::string& creature, const std::vector<std::string>& joints,
-                            const std::vector<StrokeCommand>& commands) {
-  setWingCommands({CreatureWingCommand{creature, joints, commands}});
 }
 
 void World::setWingCommands(const std::vector<CreatureWingCommand>& commands) {

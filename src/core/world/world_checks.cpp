@@ -233,6 +233,16 @@ std::vector<int> checkWingCommands(const CreatureModel& model,
   return targets;
 }
 
+WorldParams checked(const WorldParams& p) {
+  std::string err = validateWorldParams(p);
+  if (!err.empty()) throw InputError(err);
+  return p;
+}
+
+void refuse(const std::string& name, const std::string& err) {
+  if (!err.empty()) throw InputError("creature '" + name + "': " + err);
+}
+
 std::vector<std::string> implicitJointValues(const CreatureModel& model, double step_size) {
   std::vector<std::string> out;
   auto note = [&](const JointModel& j, const char* what, double value, double limit) {

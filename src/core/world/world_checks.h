@@ -28,4 +28,9 @@ std::string checkWrench(const ExternalWrench& wrench);
 std::string checkCells(const std::string& name, const CreatureModel& m, const AirParams& air,
                        int max_cells);
 
+// `p` if valid (validateWorldParams), else InputError naming the bad parameter.
+WorldParams checked(const WorldParams& p);
+// Throws InputError("creature 'name': " + err) unless `err` is empty.
+void refuse(const std::string& name, const std::string& err);
+
 }  // namespace flapsim

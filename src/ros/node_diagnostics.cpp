@@ -1,22 +1,30 @@
-// The simulator node's /diagnostics: one status per creature (frozen, waiting for its
-// controller or run without it, its wing command timed out or lagging, or running).
+#include "flapsim_ros/node_diagnostics.h"
+
 #include <diagnostic_msgs/DiagnosticArray.h>
 
 #include <sstream>
 
-#include "flapsim_ros/simulator_node.h"
+#include "flapsim_ros/conversions.h"
 
 namespace flapsim_ros {
 
-void SimulatorNode::publishDiagnostics() {
-  diagnostics_wall_ = ros::WallTime::now();
+NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const flapsim::World& world,
+                                 const CreatureRegistry& creatures, const NodeParams& params)
+    : world_(world), creatures_(creatures), params_(params) {
+  pub_ = ros::NodeHandle(nh).advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+}
+
+void NodeDiagnostics::publish() {
+  last_ = ros::WallTime::now();
   diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = now();
-  for (const auto& c : creatures_) {
+  array.header.stamp = simNow(world_);
+  const std::uint64_t step_ns = stepNanoseconds(world_.params().step_size);
+  for (const auto& c : creatures_.all()) {
     diagnostic_msgs::DiagnosticStatus s;
     s.name = "flapsim: " + c->name;
     s.hardware_id = c->name;
     const std::optional<flapsim::Divergence> d = world_.divergence(c->name);
+    const std::optional<flapsim::CommandLapse> lapse = world_.commandLapse(c->name);
     if (d) {
       s.level = diagnostic_msgs::DiagnosticStatus::ERROR;
       s.message = "frozen: diverged at step " + std::to_string(d->step) + ": " + d->quantity;
@@ -30,10 +38,10 @@ void SimulatorNode::publishDiagnostics() {
       m << "its controller " << c->controller << " sent no wing command within "
         << params_.controller_wait_timeout << " s of wall time: running without it";
       s.message = m.str();
-    } else if (c->command_lapsed) {
+    } else if (lapse) {
       s.level = diagnostic_msgs::DiagnosticStatus::WARN;
-      s.message = "wing command timed out at t = " +
-                  formatTime(simTime(c->command_step + timeout_steps_, step_ns_)) + " s";
+      s.message =
+          "wing command timed out at t = " + formatTime(simTime(lapse->step, step_ns)) + " s";
     } else if (c->command_lag > kCommandLagWarning) {
       s.level = diagnostic_msgs::DiagnosticStatus::WARN;
       s.message = "wing commands lag: the last answered a state " +
@@ -45,7 +53,7 @@ void SimulatorNode::publishDiagnostics() {
     }
     array.status.push_back(s);
   }
-  diagnostics_pub_.publish(array);
+  pub_.publish(array);
 }
 
 }  // namespace flapsim_ros
