@@ -123,5 +123,8 @@ TEST(Observer, DriftingWithACurrentSwimsAsInStillWater) {
 int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_observer");
+  ros::NodeHandle nh;
+  // The node may still be starting (the first test's flapsim/reset failed when it was).
+  if (!ros::service::waitForService("/flapsim/reset", ros::Duration(60))) return 1;
   return RUN_ALL_TESTS();
 }
