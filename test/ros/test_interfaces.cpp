@@ -443,6 +443,33 @@ TEST_F(Interfaces, WingsAreHeldOnceTheCommandTimesOut) {
   EXPECT_LT(std::abs(wings.at(step(1))->velocity[0]), 1e-3);
 }
 
+// flapsim/reset after a lapse: the world gives back the command that lapsed (fu's wing_command
+// parameter) and starts its timeout again at 0, so the wings stroke from t = 0 as in the first
+// run, to the bit, /diagnostics says OK again, and they are held again from step 50.
+TEST_F(Interfaces, AResetAfterALapseFliesTheCommandAgainFromTimeZero) {
+  Wings wings(nh_);
+  callEmpty("/flapsim/reset");
+  const auto first = wings.at(step(30));
+  ASSERT_TRUE(first);
+  ASSERT_TRUE(wings.at(step(40)));  // step 70: held since step 50
+  EXPECT_TRUE(
+      waitFor([&] { return wings.level() == diagnostic_msgs::DiagnosticStatus::WARN; }, kWait));
+  callEmpty("/flapsim/reset");
+  wings.js.clear();
+  EXPECT_TRUE(
+      waitFor([&] { return wings.level() == diagnostic_msgs::DiagnosticStatus::OK; }, kWait));
+  const auto again = wings.at(step(30));
+  ASSERT_TRUE(again);
+  EXPECT_GT(std::abs(again->velocity[0]), 5.0);  // stroking
+  EXPECT_EQ(again->position, first->position);
+  EXPECT_EQ(again->velocity, first->velocity);
+  EXPECT_EQ(again->effort, first->effort);
+  step(20);
+  const auto held = wings.at(step(20));
+  ASSERT_TRUE(held);
+  EXPECT_LT(std::abs(held->velocity[0]), 1e-3);
+}
+
 // release (wing_timeout_release.test): from step 50 the wing motors let go: the joints apply
 // no torque at all, and the wings swing on freely.
 TEST_F(Interfaces, WingsAreReleasedOnceTheCommandTimesOut) {
