@@ -241,7 +241,8 @@ class World {
   /// Advances `steps` fixed steps. A creature whose state after a step would be non-finite
   /// or faster than `max_speed` anywhere keeps the state before that step and is not stepped
   /// again until reset() (it is "frozen", its joint efforts zero: nothing drives it); the
-  /// others go on.
+  /// others go on. A wing-command timeout (setCommandTimeout) lapses at the step it falls due,
+  /// however many steps are asked for at a time.
   void step(int steps = 1);
   /// The watchdog's verdict on a creature: none while it runs normally.
   std::optional<Divergence> divergence(const std::string& creature) const;
