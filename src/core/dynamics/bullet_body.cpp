@@ -1,7 +1,5 @@
 #include "dynamics/bullet_body.h"
 
-#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -60,10 +58,6 @@ void BodySnapshot::restore(btMultiBody& mb) const {
 }
 
 namespace {
-
-// The contact margin of a mesh's convex hull (m): small against a wing's thickness, and
-// enough for Bullet's convex contact (GJK/EPA) to keep resting contacts steady.
-constexpr double kHullMargin = 1e-3;
 
 // Link k (>= 1) of the multibody, on the joint to its parent.
 void setupLink(btMultiBody& mb, const CreatureModel& m, int k) {
@@ -132,7 +126,28 @@ double linkReach(const LinkModel& l) {
   return reach;
 }
 
+// The convex hull of `points` (its vertices only: optimizeConvexHull), rounded by a margin of
+// kHullMargin: it rests that far above what it lies on.
+std::unique_ptr<btConvexHullShape> hullOf(const std::vector<Vec3>& points) {
+  auto hull = std::make_unique<btConvexHullShape>();
+  for (const Vec3& v : points) hull->addPoint(toBt(v), false);
+  hull->recalcLocalAabb();
+  hull->optimizeConvexHull();
+  hull->setMargin(kHullMargin);
+  return hull;
+}
+
 }  // namespace
+
+std::vector<std::unique_ptr<btConvexHullShape>> meshColliders(const MeshShape& mesh) {
+  std::vector<std::unique_ptr<btConvexHullShape>> hulls;
+  if (!mesh.parts) {
+    hulls.push_back(hullOf(mesh.mesh->vertices));
+    return hulls;
+  }
+  for (const std::vector<Vec3>& part : *mesh.parts) hulls.push_back(hullOf(part));
+  return hulls;
+}
 
 BulletBody::BulletBody(const CreatureModel& m, const Pose& pose, const Twist& twist,
                        const WorldParams& params)
@@ -181,7 +196,7 @@ btCollisionShape* BulletBody::linkShape(const LinkModel& l) {
 }
 
 // The compound shape of a link with cylinders or spheres (btCylinderShapeZ: URDF's axis z),
-// meshes (the convex hull of each) and its boxes, in the COM frame, owned by the body.
+// meshes (meshColliders) and its boxes, in the COM frame, owned by the body.
 btCollisionShape* BulletBody::roundLinkShape(const LinkModel& l) {
   const Pose com_inv{-l.com, Quat::Identity()};
   auto compound = std::make_unique<btCompoundShape>(
@@ -200,14 +215,7 @@ btCollisionShape* BulletBody::roundLinkShape(const LinkModel& l) {
     }
   }
   for (const MeshShape& m : l.meshes) {
-    // The hull's vertices only (optimizeConvexHull), rounded by a margin of kHullMargin: it
-    // rests that far above what it lies on.
-    auto hull = std::make_unique<btConvexHullShape>();
-    for (const Vec3& v : m.mesh->vertices) hull->addPoint(toBt(v), false);
-    hull->recalcLocalAabb();
-    hull->optimizeConvexHull();
-    hull->setMargin(kHullMargin);
-    add(std::move(hull), m.origin);
+    for (auto& hull : meshColliders(m)) add(std::move(hull), m.origin);
   }
   btCollisionShape* shape = compound.get();
   shapes_.push_back(std::move(compound));

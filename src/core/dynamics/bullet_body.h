@@ -4,6 +4,7 @@
 // Private to flapsim_core.
 #pragma once
 
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
@@ -48,6 +49,14 @@ struct BodySnapshot {
   void take(const btMultiBody& mb);
   void restore(btMultiBody& mb) const;
 };
+
+// The contact margin of a mesh's convex hulls (m): small against a wing's thickness, and
+// enough for Bullet's convex contact (GJK/EPA) to keep resting contacts steady.
+constexpr double kHullMargin = 1e-3;
+
+// The colliders of `mesh` in its own frame, each a btConvexHullShape rounded by kHullMargin:
+// its convex hull, or one per part of its convex decomposition (MeshShape::parts).
+std::vector<std::unique_ptr<btConvexHullShape>> meshColliders(const MeshShape& mesh);
 
 class BulletBody {
  public:
