@@ -229,8 +229,9 @@ constexpr int kMaxTurnedOverlaps = 256;
 /// (SDFormat's): each part is a convex collider of the link, tested at every contact step.
 constexpr int kMaxConvexHulls = 64;
 constexpr int kDefaultMaxConvexHulls = 16;
-/// Most triangles of a mesh to decompose: the decomposition's time grows with about their
-/// square (doc/urdf.md#contact), and it runs at every spawn of the URDF.
+/// Most triangles of the meshes a URDF asks to decompose, all together: the decomposition's
+/// time grows with about the square of a mesh's triangles (doc/urdf.md#contact), and it runs
+/// at every spawn of the URDF.
 constexpr int kMaxDecompositionTriangles = 5000;
 constexpr double kMaxUrdfMass = 1e6;
 constexpr double kMaxUrdfInertia = 1e6;

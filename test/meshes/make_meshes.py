@@ -3,11 +3,13 @@
 anywhere; rewrites the files beside it).
 
 Boxes as CAD programs export them (12 triangles, two per face, wound counter-clockwise seen
-from outside), an icosphere, an open sheet, an inside-out box, a Collada box and a U-shaped
-block.
+from outside), an icosphere, an open sheet, an inside-out box, a Collada box, a U-shaped
+block and a ring (a torus of 2048 triangles). `make_meshes.py ring NU NV PATH` writes a ring of
+NU x NV quads to PATH.
 """
 import math
 import os
+import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -74,6 +76,23 @@ def u_block():
     return verts, tris
 
 
+def ring(nu, nv, radius=0.05, tube=0.015):
+    """A torus about z (doc/urdf.md's decomposition timing): nu x nv quads of two triangles."""
+    verts = []
+    for i in range(nu):
+        for j in range(nv):
+            u, w = 2 * math.pi * i / nu, 2 * math.pi * j / nv
+            verts.append(((radius + tube * math.cos(w)) * math.cos(u),
+                          (radius + tube * math.cos(w)) * math.sin(u), tube * math.sin(w)))
+    tris = []
+    for i in range(nu):
+        for j in range(nv):
+            a, b = i * nv + j, ((i + 1) % nu) * nv + j
+            c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
+            tris += [(a, b, c), (a, c, d)]
+    return verts, tris
+
+
 def write_stl(name, verts, tris):
     with open(os.path.join(HERE, name), "w") as f:
         f.write("solid %s\n" % name)
@@ -135,9 +154,13 @@ def main():
               [(0, 1, 2), (0, 2, 3)])
     write_obj("icosphere.obj", *icosphere(0.1, 3))
     write_obj("u_block.obj", *u_block())
+    write_obj("ring.obj", *ring(64, 16))
     with open(os.path.join(HERE, "corrupt.stl"), "w") as f:
         f.write("solid broken\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0\n")
 
 
 if __name__ == "__main__":
-    main()
+    if len(sys.argv) == 5 and sys.argv[1] == "ring":  # make_meshes.py ring NU NV PATH
+        write_obj(os.path.abspath(sys.argv[4]), *ring(int(sys.argv[2]), int(sys.argv[3])))
+    else:
+        main()
