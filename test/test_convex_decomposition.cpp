@@ -386,6 +386,9 @@ TEST(ConvexDecompositionUrdf, BadRequestsAreRefusedByName) {
       {uRobot(decompose + " max_convex_hulls=\"65\"/>"),
        "<collision_mesh link='block'>: max_convex_hulls must be an integer in 1..64, got '65'"},
       {uRobot(decompose + " max_convex_hulls=\"0\"/>"), "in 1..64, got '0'"},
+      {uRobot(decompose + " max_convex_hull=\"8\"/>"),
+       "<collision_mesh link='block'>: unknown attribute 'max_convex_hull' (it has link, "
+       "optimization and max_convex_hulls)"},
       {uRobot(decompose + " max_convex_hulls=\"2.5\"/>"), "in 1..64, got '2.5'"},
       {uRobot(decompose + " max_convex_hulls=\"many\"/>"), "in 1..64, got 'many'"},
       {uRobot(

@@ -153,6 +153,13 @@ AeroSettings readAero(const tinyxml2::XMLElement* e, const std::string& where,
 Annotations::CollisionMesh readCollisionMesh(const tinyxml2::XMLElement* e,
                                              const std::string& where, const std::string& source) {
   Annotations::CollisionMesh c;
+  for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+    const std::string name = a->Name();
+    if (name != "link" && name != "optimization" && name != "max_convex_hulls") {
+      fail(source, where + ": unknown attribute '" + name +
+                       "' (it has link, optimization and max_convex_hulls)");
+    }
+  }
   const char* optimization = e->Attribute("optimization");
   const std::string v = optimization ? optimization : "convex_hull";
   if (v == "convex_decomposition") {
