@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "dynamics/bullet_body.h"
+#include "dynamics/bullet_scene.h"
 #include "dynamics/momentum.h"
 #include "flapsim/step_data.h"
 #include "flapsim/world.h"
@@ -225,6 +228,55 @@ TEST(StepData, CountsTheSubstepsOfATurn) {
     most = std::max(most, w.stepData("u").substeps);
   }
   EXPECT_GE(most, 2);
+}
+
+// Bullet's step in its three phases, with no stage between them, is stepSimulation(h, 0, h)
+// to the bit: full steps (lean steps off) of a flap unit thrown onto the ground, bouncing
+// and coming to rest on it.
+TEST(StepOrder, PhasesWithNothingBetweenAreBulletsStep) {
+  WorldParams p;
+  p.lean_steps = false;
+  auto model = loadUrdf("flap_unit.urdf");
+  const Pose pose = at(0, 0, 0.3, Quat(Eigen::AngleAxisd(0.4, Vec3(1, 1, 0).normalized())));
+  const Twist twist{Vec3(0.5, 0.0, -1.0), Vec3(1.0, 2.0, 0.5)};
+  BulletBody phased(*model, pose, twist, p), bullet(*model, pose, twist, p);
+  const double h = p.step_size;
+  int touching = 0;
+  for (int i = 0; i < 600; ++i) {
+    ServoWorld& w = phased.world();
+    ASSERT_TRUE(w.beginStep(h));
+    w.constrain();
+    w.integrate();
+    bullet.world().stepSimulation(h, 0, h);
+    phased.framesAfterStep();  // for the ground check of the next step
+    bullet.framesAfterStep();
+    BodySnapshot a, b;
+    a.take(phased.multiBody());
+    b.take(bullet.multiBody());
+    ASSERT_TRUE(a.position == b.position && a.orientation == b.orientation &&
+                a.velocity == b.velocity && a.omega == b.omega && a.q == b.q && a.qdot == b.qdot)
+        << "step " << i;
+    ASSERT_EQ(phased.hasContacts(), bullet.hasContacts()) << "step " << i;
+    if (phased.hasContacts()) ++touching;
+  }
+  EXPECT_GT(touching, 100);  // the steps with contact were compared too
+}
+
+// The phases run in their order only, and a step Bullet rounds to nothing moves nothing.
+TEST(StepOrder, PhasesOutOfOrderAreRefused) {
+  Scene scene{WorldParams()};
+  ServoWorld& w = scene.world();
+  EXPECT_THROW(w.constrain(), std::logic_error);
+  EXPECT_THROW(w.integrate(), std::logic_error);
+  EXPECT_TRUE(w.beginStep(0.001));
+  EXPECT_THROW(w.beginStep(0.001), std::logic_error);
+  EXPECT_THROW(w.integrate(), std::logic_error);
+  w.constrain();
+  EXPECT_THROW(w.constrain(), std::logic_error);
+  w.integrate();
+  EXPECT_FALSE(w.beginStep(0.0));
+  w.constrain();
+  w.integrate();
 }
 
 }  // namespace
