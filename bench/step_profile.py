@@ -34,11 +34,14 @@ CONSTRAINTS = [("incl", "btMultiBodyDynamicsWorld::solveInternalConstraints("),
                ("in", "flapsim::ServoWorld::solveConstraintsAfterServos(", "btMultiBodyDynamicsWorld::calculateSimulationIslands("),
                ("in", "flapsim::ServoWorld::solveConstraintsAfterServos(", "btMultiBodyDynamicsWorld::buildIslands(")]
 
-# The lean step's velocity update (TreeDynamics): its bias forces when the step begins, its own
-# passes in the constraint phase when the servo solve did not take it (each phase, or its lean
-# half if the compiler kept that apart).
-TREE = [("in", f"flapsim::ServoWorld::{phase}(", "flapsim::TreeDynamics::")
-        for phase in ("beginStep", "beginLeanStep", "constrain", "constrainLeanStep")]
+# The lean step's velocity update (TreeDynamics): its bias forces when the step begins, and its
+# own passes in the constraint phase when the servo solve did not take it.
+TREE = [("in", "flapsim::ServoWorld::", "flapsim::TreeDynamics::")]
+
+# Bullet's step: the phases of ServoWorld that the creature's (sub)step calls (whichever of
+# them and of their halves the compiler kept apart), from wherever it inlined the (sub)step.
+BULLET_STEP = [("in", caller, "flapsim::ServoWorld::")
+               for caller in ("flapsim::(anonymous namespace)::", "flapsim::stepCreature(")]
 
 # Stages: (label, how its instructions are found). "incl F": F's inclusive count; "in P > F":
 # what F cost when called from P. Sub-stages are indented under their stage and included
@@ -58,9 +61,7 @@ STAGES = [
     ("Bullet: position integration", [("incl", "btMultiBody::stepPositionsMultiDof(")]),
     ("Bullet: collision detection", [("incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]),
     ("Bullet: constraint solve (joint limits, contacts)", CONSTRAINTS),
-    ("Bullet: rest of its step", [("incl", "flapsim::ServoWorld::beginStep("),
-                                  ("incl", "flapsim::ServoWorld::constrain("),
-                                  ("incl", "flapsim::ServoWorld::integrate(")]
+    ("Bullet: rest of its step", BULLET_STEP
      + [("-" + r[0],) + r[1:] for r in TREE]
      + [("-incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof("),
         ("-incl", "btMultiBody::stepPositionsMultiDof("),

@@ -292,10 +292,13 @@ void BulletBody::framesAfterStep() {
   mb_->compTreeLinkVelocities(frames_.omega_.data(), frames_.vel_.data());
 }
 
-void BulletBody::setFrame(int k, const TreeDynamics& tree, const btVector3& origin,
-                          const btVector3& omega, const btVector3& velocity) {
-  frames_.world_to_local_[k] = tree.worldToLocal()[k];
-  frames_.rotation_[k] = tree.rotations()[k];
+void BulletBody::setRotations(const TreeDynamics& tree) {
+  frames_.world_to_local_ = tree.worldToLocal();
+  frames_.rotation_ = tree.rotations();
+}
+
+void BulletBody::setFrame(int k, const btVector3& origin, const btVector3& omega,
+                          const btVector3& velocity) {
   frames_.local_origin_[k] = origin;
   frames_.omega_[k] = omega;
   frames_.vel_[k] = velocity;

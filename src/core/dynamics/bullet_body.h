@@ -86,11 +86,12 @@ class BulletBody {
   // After a step that the momentum balance did not correct: the frames where Bullet's step
   // (or a lean step, without writing the multibody) put the links.
   void framesAfterStep();
-  // Link k's frame and velocities as the momentum balance placed them after its correction:
-  // its rotation and that rotation's matrix those of `tree`'s frames (TreeDynamics::
-  // worldToLocal() and rotations(), the same bits as updateKinematics() would give them).
-  void setFrame(int k, const TreeDynamics& tree, const btVector3& origin, const btVector3& omega,
-                const btVector3& velocity);
+  // The frames as the momentum balance placed the links after its correction: every link's
+  // rotation and its matrix those of `tree`'s frames (TreeDynamics::worldToLocal() and
+  // rotations(), the same bits as updateKinematics() would give them), and link k's COM and
+  // velocities.
+  void setRotations(const TreeDynamics& tree);
+  void setFrame(int k, const btVector3& origin, const btVector3& omega, const btVector3& velocity);
   // After the multibody's state was set from outside a step: the frames, the colliders and
   // the broadphase's pairs follow the new state, as for a body just built.
   void settle();

@@ -32,7 +32,7 @@ class StepRecord {
   void external(int link, const Vec3& com, const Wrench& wrench);
   // The servo stage's solve: the servos' impulses and the implicit drag's.
   void servos(const ServoStage& servos, const CreatureFluid& fluid);
-  // The dynamics stage: whether the creature touched anything.
+  // The constraints stage: whether the creature touched anything.
   void contact(bool touching) { data_.contact = data_.contact || touching; }
   // The power stage, at the end of the step: each motor's work over it.
   void endStep(const PowerMeter& power);
@@ -40,14 +40,17 @@ class StepRecord {
   const StepData& data() const { return data_; }
 
  private:
-  // Adds `force` held over the (sub)step with moment `torque` about `point` to link k's wrench
-  // (about the COM of the step's start).
-  void add(Wrench& total, int k, const Vec3& point, const Vec3& force, const Vec3& torque) const;
+  // Adds `wrench` about `point` held over the (sub)step to link k's `total` (about the COM of
+  // the step's start).
+  void add(Wrench& total, int k, const Vec3& point, const Wrench& wrench) const;
 
   const CreatureModel& model_;
+  std::vector<size_t> joint_link_;  // per model joint: its child link
   StepData data_;
   double dt_ = 0.0;                 // the step's length
   double weight_ = 0.0;             // the (sub)step's share of it
+  bool whole_ = false;              // the (sub)step is the whole step
+  bool external_ = false;           // an external wrench was recorded since the step began
   Vec3 sub_origin_ = Vec3::Zero();  // the root's COM at the (sub)step's start
 };
 
