@@ -23,7 +23,6 @@ measurements).
 import datetime
 import glob
 import os
-import re
 import shlex
 import subprocess
 import sys
@@ -51,21 +50,32 @@ class Table:
     from {key: stdout} to the table's rows (lists of cells), and how its commands are said
     below the table (`said`: markdown; the runs' full commands are in the stored raw file)."""
 
-    def __init__(self, name, doc, header, runs, rows, said, note=""):
+    def __init__(self, name, doc, header, runs, rows, said):
         self.name = name
         self.doc = doc
         self.header = header
         self.runs = runs
         self.rows = rows
         self.said = said
-        self.note = note
 
     def block(self, raw):
-        """The markdown block (without its markers) from stored raw output."""
+        """The markdown block (without its markers) from stored raw output, which must be the
+        output of exactly this table's commands."""
         outputs = {key: out for key, (_, out, _) in raw.runs.items()}
         missing = [r.key for r in self.runs if r.key not in outputs]
         if missing:
             raise ValueError(f"table {self.name}: no stored output of run(s) {', '.join(missing)}")
+        extra = sorted(set(outputs) - {r.key for r in self.runs})
+        if extra:
+            raise ValueError(f"table {self.name}: stored output of runs it has no more: "
+                             f"{', '.join(extra)}")
+        for run in self.runs:
+            if raw.runs[run.key][0] != run.command():
+                raise ValueError(f"table {self.name}: run {run.key!r} was stored from "
+                                 f"'{raw.runs[run.key][0]}', its command is now "
+                                 f"'{run.command()}': measure it again")
+        link = os.path.relpath(os.path.join("doc", "tables", self.name + ".txt"),
+                               os.path.dirname(self.doc))
         lines = ["| " + " | ".join(self.header) + " |", "|" + "---|" * len(self.header)]
         for row in self.rows(outputs):
             if len(row) != len(self.header):
@@ -75,8 +85,7 @@ class Table:
         lines.append("")
         lines.append(f"Written by `scripts/doc_tables.py {self.name}` at commit {raw.commit}"
                      f"{' (uncommitted changes in the tree)' if raw.dirty else ''}, "
-                     f"{raw.date}: {self.said}; commands and raw output: "
-                     f"[tables/{self.name}.txt](tables/{self.name}.txt).")
+                     f"{raw.date}: {self.said}; commands and raw output: [{link}]({link}).")
         return "\n".join(lines)
 
 
@@ -209,19 +218,30 @@ def measure(table):
     changed = changed_files()
     print(f"# {table.name} ({table.doc}) at commit {commit}"
           + (f", tree dirty: {', '.join(changed)}" if changed else ", tree clean"), flush=True)
+    before = built(table)
     runs = {}
     for run in table.runs:
         print(f"$ {run.command()}", flush=True)
-        done = subprocess.run(run.argv, cwd=ROOT, capture_output=True, text=True)
+        try:
+            done = subprocess.run(run.argv, cwd=ROOT, capture_output=True, text=True)
+        except OSError as e:
+            raise RuntimeError(f"table {table.name}: cannot run '{run.command()}': {e} (not "
+                               "built, or being rebuilt: build it or retry)") from e
         if done.returncode not in (0, 1):  # flight_check exits 1 when a start fails
             sys.stderr.write(done.stderr)
             raise RuntimeError(f"table {table.name}: '{run.command()}' exited {done.returncode}")
         runs[run.key] = (run.command(), done.stdout, done.returncode)
+    if built(table) != before:
+        raise RuntimeError(f"table {table.name}: a program or library was rebuilt during the "
+                           f"measurement ({before} before): measure again")
     date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
-    return Raw(commit, changed, date, built(table), runs)
+    return Raw(commit, changed, date, before, runs)
 
 
 def main(args):
+    if "--help" in args or "-h" in args:
+        print(__doc__.split("\n\n")[1])
+        return 0
     from doc_tables_registry import TABLES
     if "--list" in args:
         for t in TABLES.values():
@@ -260,4 +280,8 @@ def main(args):
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    sys.exit(main(sys.argv[1:]))
+    try:
+        sys.exit(main(sys.argv[1:]))
+    except (OSError, RuntimeError, ValueError) as e:
+        sys.stderr.write(f"doc_tables.py: {e}\n")
+        sys.exit(1)

@@ -229,6 +229,14 @@ class Finder(unittest.TestCase):
         self.assertEqual(len(problems), 1)
         self.assertIn("differs from what scripts/doc_tables.py formats", problems[0])
 
+    def test_a_stored_output_of_another_command_fails(self):
+        raw = fake_raw()
+        raw.runs["x"] = ("echo 4", "3\n", 0)
+        block = fake_table().block(fake_raw())
+        problems = check({"doc/fake.md": fake_doc(block)}, {"fake": fake_table()}, {"fake": raw})
+        self.assertEqual(len(problems), 1)
+        self.assertIn("was stored from 'echo 4', its command is now 'echo 3'", problems[0])
+
     def test_an_unmarked_table_fails(self):
         block = fake_table().block(fake_raw())
         doc = fake_doc(block, after="\n| a | b |\n|---|---|\n| 1 | 2 |\n")
