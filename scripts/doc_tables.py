@@ -222,20 +222,38 @@ def measure(table):
     runs = {}
     for run in table.runs:
         print(f"$ {run.command()}", flush=True)
+        done = run_once(table, run)
+        runs[run.key] = (run.command(), done.stdout, done.returncode)
+    after = built(table)
+    if after != before:
+        print(f"# {table.name}: rebuilt during the measurement (stored with both times)",
+              flush=True)
+    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+    return Raw(commit, changed, date,
+               before if after == before else f"{before} ; rebuilt by the end: {after}", runs)
+
+
+def run_once(table, run, attempts=10, wait=30):
+    """Runs one command; a program missing or half-written (a rebuild under way: it cannot
+    be started, or the loader fails, exit 127) is waited for and tried again."""
+    import time
+    for attempt in range(attempts):
         try:
             done = subprocess.run(run.argv, cwd=ROOT, capture_output=True, text=True)
         except OSError as e:
-            raise RuntimeError(f"table {table.name}: cannot run '{run.command()}': {e} (not "
-                               "built, or being rebuilt: build it or retry)") from e
-        if done.returncode not in (0, 1):  # flight_check exits 1 when a start fails
-            sys.stderr.write(done.stderr)
-            raise RuntimeError(f"table {table.name}: '{run.command()}' exited {done.returncode}")
-        runs[run.key] = (run.command(), done.stdout, done.returncode)
-    if built(table) != before:
-        raise RuntimeError(f"table {table.name}: a program or library was rebuilt during the "
-                           f"measurement ({before} before): measure again")
-    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
-    return Raw(commit, changed, date, before, runs)
+            failure = str(e)
+        else:
+            if done.returncode in (0, 1):  # flight_check exits 1 when a start fails
+                return done
+            if done.returncode != 127:
+                sys.stderr.write(done.stderr)
+                raise RuntimeError(f"table {table.name}: '{run.command()}' exited "
+                                   f"{done.returncode}")
+            failure = done.stderr.strip()
+        print(f"# cannot run it now ({failure}): a rebuild? again in {wait} s", flush=True)
+        time.sleep(wait)
+    raise RuntimeError(f"table {table.name}: cannot run '{run.command()}' in {attempts} "
+                       "attempts: build it")
 
 
 def main(args):
