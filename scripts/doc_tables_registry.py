@@ -89,7 +89,8 @@ def held_out_starts():
                    ["creature, controller", "step", "passed", "flips", "lowest up",
                     "final height", "time upright"], runs, rows,
                    f"each row `{FLIGHT_CHECK} --weights FILE --pairs N --starts 20 --duration 60 "
-                   "--threads 2` (20 starts within +-15 deg, seed 2024) with the step's "
+                   "--threads 2` (the paper preset's `--urdf urdf/afc_1.urdf` instead of "
+                   "`--pairs`; 20 starts within +-15 deg, seed 2024) with the step's "
                    "`--step-size` (0.25 ms for afc_1 only)"))
 
 
