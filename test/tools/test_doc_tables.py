@@ -40,6 +40,9 @@ NOT_YET_SCRIPTED = {
         "robust preset's network has 33)",
     ("doc/ros_interface.md", "| creature | node | core | node / core |"):
         "bench/node_rtf.py: real-time factors through ROS, load-dependent",
+    ("doc/urdf.md", "| ring, triangles (NU x NV) | 512 (32 x 8) | 1024 (32 x 16) | **2048** "
+     "(64 x 16, ring.obj) | 4096 (64 x 32) | 4992 (96 x 26) |"):
+        "CPU times of a spawn of rings made by test/meshes/make_meshes.py, by hand",
     ("doc/validation.md", "| case | reference | flapsim | error | test |"):
         "cases checked by the gtests of the test column, their figures not yet printed in a "
         "form a script reads (the Dynamics, Water, Air and Cylinders tables)",
