@@ -34,6 +34,15 @@ CONSTRAINTS = [("incl", "btMultiBodyDynamicsWorld::solveInternalConstraints("),
                ("in", "flapsim::ServoWorld::solveConstraintsAfterServos(", "btMultiBodyDynamicsWorld::calculateSimulationIslands("),
                ("in", "flapsim::ServoWorld::solveConstraintsAfterServos(", "btMultiBodyDynamicsWorld::buildIslands(")]
 
+# The lean step's velocity update (TreeDynamics): its bias forces when the step begins, and its
+# own passes in the constraint phase when the servo solve did not take it.
+TREE = [("in", "flapsim::ServoWorld::", "flapsim::TreeDynamics::")]
+
+# Bullet's step: the phases of ServoWorld that the creature's (sub)step calls (whichever of
+# them and of their halves the compiler kept apart), from wherever it inlined the (sub)step.
+BULLET_STEP = [("in", caller, "flapsim::ServoWorld::")
+               for caller in ("flapsim::(anonymous namespace)::", "flapsim::stepCreature(")]
+
 # Stages: (label, how its instructions are found). "incl F": F's inclusive count; "in P > F":
 # what F cost when called from P. Sub-stages are indented under their stage and included
 # in it. Each pattern is the start of a demangled name.
@@ -47,17 +56,16 @@ STAGES = [
                                                   ("in", "flapsim::AirStage::apply(", "flapsim::needsImplicitDrag("),
                                                   ("in", "flapsim::AirStage::apply(", "flapsim::pressureDragDamping(")]),
     ("servo solve (+ velocity update, lean steps)", [("incl", "flapsim::ServoStage::solve(")]),
-    ("velocity update: bias (+ own passes)", [("in", "flapsim::ServoWorld::leanVelocities(", "flapsim::TreeDynamics::")]),
+    ("velocity update: bias (+ own passes)", TREE),
     ("Bullet: its articulated-body pass", [("incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof(")]),
     ("Bullet: position integration", [("incl", "btMultiBody::stepPositionsMultiDof(")]),
     ("Bullet: collision detection", [("incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]),
     ("Bullet: constraint solve (joint limits, contacts)", CONSTRAINTS),
-    ("Bullet: rest of its step", [("incl", "flapsim::ServoWorld::step("),
-                                  ("-incl", "flapsim::ServoStage::solve("),
-                                  ("-in", "flapsim::ServoWorld::leanVelocities(", "flapsim::TreeDynamics::"),
-                                  ("-incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof("),
-                                  ("-incl", "btMultiBody::stepPositionsMultiDof("),
-                                  ("-incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]
+    ("Bullet: rest of its step", BULLET_STEP
+     + [("-" + r[0],) + r[1:] for r in TREE]
+     + [("-incl", "btMultiBody::computeAccelerationsArticulatedBodyAlgorithmMultiDof("),
+        ("-incl", "btMultiBody::stepPositionsMultiDof("),
+        ("-incl", "flapsim::ServoWorld::performDiscreteCollisionDetection(")]
      + [("-" + r[0],) + r[1:] for r in CONSTRAINTS]),
     ("momentum balance (begin and end)", [("incl", "flapsim::MomentumBalance::end("),
                                           ("incl", "flapsim::MomentumBalance::begin(")]),
@@ -161,8 +169,10 @@ def main():
             inclusive, calls, times = subtract(runs)
             bodies, cells, _ = flapsim_bench(bench, urdf, 0.001, ["--runs", "1"])
             total = count(inclusive, calls, [("incl", TOTAL)])
-            substeps = sum(v for k, v in times.items() if k.startswith("flapsim::ServoWorld::step("))
-            full = sum(v for k, v in times.items() if k.startswith("btDiscreteDynamicsWorld::stepSimulation("))
+            substeps = sum(v for k, v in times.items() if k.startswith("flapsim::ServoWorld::beginStep("))
+            # Only Bullet's full step calls its external-forces stage (a lean step does not).
+            full = sum(v for k, v in times.items()
+                       if k.startswith("btMultiBodyDynamicsWorld::solveExternalForces("))
             print(f"\n{n} unit(s): {bodies} bodies, {cells} air cells; callgrind over {steps} "
                   f"steps of 1 ms after {args.skip:g} s of flight from rest at z = 50 m: "
                   f"{substeps} substeps, {full} of them Bullet's full step")

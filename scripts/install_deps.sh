@@ -22,6 +22,8 @@ PACKAGES=(
   # physics, robot description, configuration
   libbullet-dev libeigen3-dev liburdfdom-dev libtinyxml2-dev libconsole-bridge-dev
   libyaml-cpp-dev
+  # convex decomposition of URDF meshes: HACD, in Bullet's extras
+  libbullet-extras-dev
   # URDF meshes: assimp reads STL/OBJ/DAE; roslib resolves package:// URIs (ros::package)
   libassimp-dev libroslib-dev
   # tests and plots

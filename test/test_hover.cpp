@@ -4,6 +4,8 @@
 // side wind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "flapsim/hover_flight.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/text_file.h"
@@ -60,7 +62,9 @@ TEST(HoverController, CorrectsHeightRollAndPitchTheRightWay) {
     return c.update(s, 0.01);
   };
   const auto level = command(Quat::Identity(), p.altitude);
-  EXPECT_NEAR(level[0].downstroke_rate / (4 * level[0].amplitude), p.trim_frequency, 1e-12);
+  // (The first command is the start's: its amplitude start_amplitude of the whole.)
+  EXPECT_NEAR(level[0].downstroke_rate / (4 * level[0].amplitude),
+              p.trim_frequency / p.start_amplitude, 1e-12);
   EXPECT_EQ(level[0].shape, StrokeShape::kSine);
   EXPECT_EQ(level[0].downstroke_feather, p.feather);
   EXPECT_EQ(level[0].feather, -p.feather);
@@ -74,6 +78,40 @@ TEST(HoverController, CorrectsHeightRollAndPitchTheRightWay) {
   HoverControllerParams bad;
   bad.trim_frequency = -1.0;
   EXPECT_THROW(HoverController{bad}, InputError);
+}
+
+// The start: the amplitudes grow linearly from start_amplitude of the whole to the whole over
+// start_time of updates at the same stroke rate, and again after reset(); with start_time 0
+// the first command has the whole amplitude. Bad start parameters are refused by name.
+TEST(HoverController, StartGrowsTheAmplitudeAtTheSameStrokeRate) {
+  HoverControllerParams p;
+  p.start_time = 0.4;
+  p.start_amplitude = 0.5;
+  HoverController c(p);
+  HoverSensors s;
+  s.position = Vec3(0, 0, p.altitude);
+  const double whole = p.amplitude;
+  for (int k = 0; k <= 50; ++k) {
+    const auto out = c.update(s, 0.01);
+    const double share = std::min(1.0, 0.5 + 0.5 * (0.01 * k) / 0.4);
+    ASSERT_NEAR(out[0].amplitude, share * whole, 1e-12) << k;
+    ASSERT_NEAR(out[1].amplitude, share * whole, 1e-12) << k;
+    // The height loop's integral grows only from the error (none here): the rate is trim's.
+    ASSERT_NEAR(out[0].downstroke_rate, 4.0 * whole * p.trim_frequency, 1e-9) << k;
+  }
+  c.reset();
+  EXPECT_NEAR(c.update(s, 0.01)[0].amplitude, 0.5 * whole, 1e-12);
+  p.start_time = 0.0;
+  EXPECT_NEAR(HoverController(p).update(s, 0.01)[0].amplitude, whole, 1e-12);
+  auto refusal = [](HoverControllerParams bad) { return validateHoverControllerParams(bad); };
+  HoverControllerParams bad = p;
+  bad.start_time = -0.1;
+  EXPECT_EQ(refusal(bad), "start_time must be >= 0");
+  bad = p;
+  bad.start_amplitude = 0.0;
+  EXPECT_EQ(refusal(bad), "start_amplitude must be in (0, 1]");
+  bad.start_amplitude = 1.5;
+  EXPECT_EQ(refusal(bad), "start_amplitude must be in (0, 1]");
 }
 
 // Issue 24's target at 1 ms steps in still air and in a 1 m/s side wind (blowing towards +y),

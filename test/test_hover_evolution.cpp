@@ -51,8 +51,13 @@ TEST(HoverEvolution, ZeroGenesAreTheHandDesignedGainsAndTheMapIsInvertible) {
   EXPECT_EQ(hoverParamsFromGenes(geneSet("roll_gain", 1.0)).roll_gain, 2.0 * hand.roll_gain);
   EXPECT_EQ(hoverParamsFromGenes(geneSet("trim_frequency", -1.0)).trim_frequency,
             0.5 * hand.trim_frequency);
-  const std::vector<double> genes = {0.5,  -0.25, 0.125, 1.0,    -1.0, 0.5, 0.75,
-                                     -0.5, 0.25,  0.0,   -0.125, 0.5,  1.0, -1.0};
+  // The start's genes: 0 to 0.8 s, and a share of 0.2 to 1.
+  EXPECT_EQ(hoverParamsFromGenes(geneSet("start_time", -1.0)).start_time, 0.0);
+  EXPECT_EQ(hoverParamsFromGenes(geneSet("start_time", 1.0)).start_time, 0.8);
+  EXPECT_NEAR(hoverParamsFromGenes(geneSet("start_amplitude", -1.0)).start_amplitude, 0.2, 1e-15);
+  EXPECT_NEAR(hoverParamsFromGenes(geneSet("start_amplitude", 1.0)).start_amplitude, 1.0, 1e-15);
+  const std::vector<double> genes = {0.5,  -0.25, 0.125,  1.0, -1.0, 0.5,  0.75,  -0.5,
+                                     0.25, 0.0,   -0.125, 0.5, 1.0,  -1.0, 0.375, -0.625};
   const std::vector<double> back = hoverGenesFromParams(hoverParamsFromGenes(genes));
   ASSERT_EQ(back.size(), genes.size());
   for (size_t i = 0; i < genes.size(); ++i) EXPECT_NEAR(back[i], genes[i], 1e-15) << i;
@@ -81,14 +86,61 @@ TEST(HoverEvolution, FitnessIsTheSameBitsOnAnyThreadCountAndRanksBrokenGenomesBe
   for (double f : one) EXPECT_LE(std::abs(f), fitnessBound(spec));
 }
 
+// The preset's first episode starts as hover.launch does (level, at rest, in still air, holding
+// its start height); the others are drawn as without that rule, to the bit.
+TEST(HoverEvolution, FirstEpisodeStartsLevelInStillAirAndTheOthersAreUnchanged) {
+  EpisodeParams p = hoverPreset().episode;
+  p.episodes = 4;
+  p.seed = 9;
+  ASSERT_TRUE(p.first_start_level);
+  const std::vector<EpisodeStart> starts = episodeStarts(p);
+  p.first_start_level = false;
+  const std::vector<EpisodeStart> drawn = episodeStarts(p);
+  EXPECT_EQ(starts[0].roll, 0.0);
+  EXPECT_EQ(starts[0].pitch, 0.0);
+  EXPECT_EQ(starts[0].wind, Vec3::Zero());
+  EXPECT_EQ(starts[0].rate, Vec3::Zero());
+  ASSERT_TRUE(starts[0].altitude.has_value());
+  EXPECT_EQ(*starts[0].altitude, p.start_height);
+  EXPECT_GT(drawn[0].wind.norm(), 0.0);  // what the rule replaced
+  for (size_t k = 1; k < starts.size(); ++k) {
+    EXPECT_EQ(starts[k].roll, drawn[k].roll);
+    EXPECT_EQ(starts[k].wind, drawn[k].wind);
+    EXPECT_EQ(starts[k].altitude, drawn[k].altitude);
+  }
+}
+
+// The start's penalties: tilting more than 10 deg beyond the start tilt at any time costs
+// kHoverStartTiltWeight per unit of up-component below cos(start tilt + 10 deg), and sinking
+// more than kHoverMaxSag below the start height and the setpoint kHoverSagWeight per m.
+TEST(HoverEvolution, TiltingTenDegreesBeyondTheStartAndSinkingArePenalised) {
+  HoverFlightResult r;
+  r.altitude_rms = 0.0;
+  r.min_upright = 1.0;
+  r.mass = 0.018;
+  r.lowest_upright = std::cos(9.0 * M_PI / 180.0);
+  EXPECT_EQ(hoverEpisodeFitness(r, 20.0), 0.0);
+  r.lowest_upright = std::cos(12.0 * M_PI / 180.0);
+  EXPECT_NEAR(hoverEpisodeFitness(r, 20.0),
+              -kHoverStartTiltWeight * (std::cos(10.0 * M_PI / 180.0) - r.lowest_upright), 1e-15);
+  r.start_tilt = 0.1;  // 5.7 deg at the start: 15.7 deg allowed
+  EXPECT_EQ(hoverEpisodeFitness(r, 20.0), 0.0);
+  // Sinking below the start height and the setpoint: free to kHoverMaxSag, then
+  // kHoverSagWeight per m.
+  r.start_sag = 0.04;
+  EXPECT_EQ(hoverEpisodeFitness(r, 20.0), 0.0);
+  r.start_sag = 0.15;
+  EXPECT_NEAR(hoverEpisodeFitness(r, 20.0), -kHoverSagWeight * (0.15 - kHoverMaxSag), 1e-15);
+}
+
 TEST(HoverEvolution, BadGenomesKindsAndFlagsAreRefusedByName) {
   const EpisodeRunner runner(shortSpec());
-  EXPECT_EQ(runner.check({std::vector<double>(13, 0.0), 0}), "13 weights, the controller has 14");
+  EXPECT_EQ(runner.check({std::vector<double>(13, 0.0), 0}), "13 weights, the controller has 16");
   EXPECT_EQ(runner.check({geneSet("roll_gain", NAN), 0}),
             "gene 6 (roll_gain) is not a number in [-1, 1]");
   EXPECT_EQ(runner.check({geneSet("feather", 1.5), 0}),
             "gene 2 (feather) is not a number in [-1, 1]");
-  EXPECT_EQ(runner.check({std::vector<double>(14, 0.0), 2}), "episode 2 is not in [0, 2)");
+  EXPECT_EQ(runner.check({std::vector<double>(16, 0.0), 2}), "episode 2 is not in [0, 2)");
   EXPECT_THROW(runner.evaluate({geneSet("amplitude", INFINITY), 0}), TaskError);
   EXPECT_EQ(message([] {
               parseEvolveArgs({"--preset", "helicopter"});
@@ -127,8 +179,8 @@ TEST(HoverEvolution, InitSeedsFromAGainsFileAndRefusesAWeightsFile) {
 }
 
 TEST(HoverGains, AFileReadsBackBitForBitAndBadOnesAreRefusedByKey) {
-  HoverControllerParams p = hoverParamsFromGenes(
-      {0.1, -0.2, 0.3, -0.4, 0.5, -0.6, 0.7, -0.8, 0.9, -1.0, 0.11, 0.13, -0.17, 0.19});
+  HoverControllerParams p = hoverParamsFromGenes({0.1, -0.2, 0.3, -0.4, 0.5, -0.6, 0.7, -0.8, 0.9,
+                                                  -1.0, 0.11, 0.13, -0.17, 0.19, 0.23, -0.29});
   const HoverControllerParams back = hoverGainsFromYaml(hoverGainsToYaml(p, "a header"), "f");
   for (const HoverParamField& f : hoverParamFields()) EXPECT_EQ(back.*f.member, p.*f.member);
   EXPECT_EQ(message([] { hoverGainsFromYaml("height_gain: 4\nheigth_gain: 3\n", "f.yaml"); }),

@@ -57,13 +57,21 @@ struct MeshData {
   Vec3 lower = Vec3::Zero(), upper = Vec3::Zero();  // bounds of the vertices
 };
 
-/// A <mesh> of the link's geometry, in the link frame: a collider (its convex hull) and an
-/// air surface (its triangles, see meshFaces).
+/// The convex parts of a mesh's convex decomposition, each as the points (vertices of the
+/// mesh, in its frame) whose convex hull is the part.
+using ConvexParts = std::vector<std::vector<Vec3>>;
+
+/// A <mesh> of the link's geometry, in the link frame: a collider (its convex hull, or the
+/// parts of its convex decomposition) and an air surface (its triangles, see meshFaces).
 struct MeshShape {
   std::string uri;            // the <mesh filename>, for messages
   Vec3 scale = Vec3::Ones();  // the <mesh scale> (already applied to mesh->vertices)
   Pose origin;
   std::shared_ptr<const MeshData> mesh;
+  /// The parts it collides as when its link asks for a convex decomposition
+  /// (`<collision_mesh link="..." optimization="convex_decomposition"/>`); null: it collides as
+  /// its convex hull.
+  std::shared_ptr<const ConvexParts> parts;
 };
 
 /// A link's frame is its URDF frame unless the URDF's inertia tensor has products of inertia
@@ -225,6 +233,14 @@ constexpr int kMaxShapesPerLink = 256;
 /// Most pairs of a link's boxes that overlap at angles other than multiples of 90 degrees: the
 /// union volume measures each along 128 x 128 lines (box_union), so this bounds that work.
 constexpr int kMaxTurnedOverlaps = 256;
+/// Most convex parts a mesh's decomposition may ask for (`max_convex_hulls`), and its default
+/// (SDFormat's): each part is a convex collider of the link, tested at every contact step.
+constexpr int kMaxConvexHulls = 64;
+constexpr int kDefaultMaxConvexHulls = 16;
+/// Most triangles of the meshes a URDF asks to decompose, all together: the decomposition's
+/// time grows faster than a mesh's triangles (4.8 s of CPU for 4992, doc/urdf.md), and it
+/// runs at every spawn of the URDF.
+constexpr int kMaxDecompositionTriangles = 5000;
 constexpr double kMaxUrdfMass = 1e6;
 constexpr double kMaxUrdfInertia = 1e6;
 

@@ -54,6 +54,9 @@ struct EpisodeParams {
   double min_roll = 0.035;  // rad (2 deg)
   double max_roll = 0.087;  // rad (5 deg)
   double max_pitch = 0.035;
+  /// The first episode starts as a scenario does: level, at rest, in still air, holding its
+  /// start height (the other episodes' draws unchanged).
+  bool first_start_level = false;
   // Robust flight (all off in the paper's preset): each episode draws its own.
   double max_start_rate = 0.0;  // rad/s: start angular velocity, uniform per axis
   double max_gust = 0.0;        // m/s: a horizontal wind step of up to this speed

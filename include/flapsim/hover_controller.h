@@ -26,6 +26,11 @@ namespace flapsim {
 ///    the centre of mass, offset = pitch_gain e_y + attitude_integral int(e_y) - pitch_damping q
 ///    (the integrals trim a steady moment: a side wind rolls the creature with it, as the swept
 ///    wings meet the sideways flow unequally);
+///  - start: from the first update the amplitudes grow from start_amplitude of theirs to the
+///    whole over start_time at the same wing speed (the stroke rate kept, so the frequency
+///    falls from 1 / start_amplitude of its value): a stroke from rest begins with a short
+///    half-stroke on one side of the body, whose lift and drag moment the rest of the stroke
+///    does not balance, and a smaller first stroke kicks the body less;
 ///  - position: the attitude aimed at leans the lift against the horizontal position error, its
 ///    integral and the velocity, tilt = -position_gain (x - x0) - position_integral int(x - x0)
 ///    - velocity_gain v, at most max_tilt (x0: where the first update found the creature).
@@ -57,6 +62,8 @@ struct HoverControllerParams {
   /// rad: a wing's amplitude + |offset| at most this (its amplitude cut to fit), inside the
   /// hover wings' stops at +-1.5 rad; the hand-designed gains never reach it (1.2 + 0.25).
   double max_stroke = 1.45;
+  double start_time = 0.4;       // s over which the amplitudes grow to the whole (0: at once)
+  double start_amplitude = 0.6;  // the amplitudes' share at the first update, (0, 1]
 };
 
 /// Empty if valid, else a message naming the bad field.
@@ -104,6 +111,7 @@ class HoverController {
 
   HoverControllerParams params_;
   bool started_ = false;
+  double elapsed_ = 0.0;                   // s of updates since the first (the start's clock)
   Vec3 hold_ = Vec3::Zero();               // the horizontal position held
   double integral_ = 0.0;                  // of the height error, m s
   double frequency_ = 0.0;                 // Hz, last commanded (0: none yet)

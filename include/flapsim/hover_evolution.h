@@ -8,6 +8,7 @@
 // clock.
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -24,9 +25,10 @@ struct HoverGene {
   double span;
 };
 /// The genes in genome order: trim_frequency (span half its value), amplitude and feather
-/// (0.3 of theirs), the height, attitude and position gains (their value: from 0 to twice).
+/// (0.3 of theirs), the height, attitude and position gains (their value: from 0 to twice),
+/// the start's time (from 0 to twice) and amplitude share (0.2 to 1).
 const std::vector<HoverGene>& hoverGenes();
-constexpr int kHoverGeneCount = 14;
+constexpr int kHoverGeneCount = 16;
 constexpr double kHoverGeneRange = 1.0;
 
 /// Empty if `genes` is a hover genome (kHoverGeneCount finite genes within
@@ -40,12 +42,20 @@ std::vector<double> hoverGenesFromParams(const HoverControllerParams& params);
 
 /// The fitness of a hover episode (m, to maximise): -(altitude rms after the settling time +
 /// kHoverPowerWeight x W/kg / 100 + kHoverTiltWeight x (kHoverMinUpright - lowest up-component
-/// after the settling time, if positive)), less the flip penalty after a flip; the rms and the
-/// power term capped at kHoverMaxTerm. The tilt penalty starts at 0.95, a margin above issue 24's
-/// upright (0.9).
+/// after the settling time, if positive) + kHoverStartTiltWeight x (cos(start tilt +
+/// kHoverStartTilt) - lowest up-component from t = 0, if positive) + kHoverSagWeight x (the sag
+/// below the start height and the setpoint from t = 0 - kHoverMaxSag, if positive)), less the
+/// flip penalty after a flip; the rms and the power term capped at kHoverMaxTerm. The tilt penalty
+/// starts at 0.95, a margin above issue 24's upright (0.9); the start's penalty at 10 deg more tilt
+/// than the creature was given at any time of the flight (for the preset's first episode, a level
+/// start in still air as hover.launch's: 10 deg, issue 43's bar for hover.launch from t = 0).
 constexpr double kHoverPowerWeight = 0.5;  // m per 100 W/kg
 constexpr double kHoverTiltWeight = 10.0;  // m per unit of up-component below 0.9
 constexpr double kHoverMinUpright = 0.95;
+constexpr double kHoverStartTilt = 10.0 * M_PI / 180.0;  // rad
+constexpr double kHoverStartTiltWeight = 100.0;          // m per unit of up-component
+constexpr double kHoverMaxSag = 0.05;                    // m (issue 43's bar: 0.1)
+constexpr double kHoverSagWeight = 10.0;                 // m per m
 constexpr double kHoverMaxTerm = 10.0;
 double hoverEpisodeFitness(const HoverFlightResult& result, double flip_penalty);
 /// The largest |fitness| a hover episode can score.
@@ -67,8 +77,9 @@ HoverFlightResult runHoverEpisode(const CreatureModelPtr& model,
 /// evolve --preset hover: 16 individuals, 20 generations, the paper's GA operators but a
 /// mutation rate of 0.15, genes within +-1; 6 episodes of 12 s (figures after 4 s) at 1 ms
 /// from 3 m, each drawing its start roll (0-0.3 rad, sign alternating) and pitch (+-0.3 rad),
-/// a steady wind (0-1 m/s, any heading) and a setpoint (2.7-3.3 m); a flip ends an episode
-/// less 20 m.
+/// a steady wind (0-1 m/s, any heading) and a setpoint (2.7-3.3 m), but the first, which
+/// starts level and at rest in still air holding 3 m (EpisodeParams::first_start_level); a
+/// flip ends an episode less 20 m.
 EvolveParams hoverPreset();
 
 }  // namespace flapsim

@@ -48,6 +48,12 @@ struct HoverFlightResult {
   bool flipped = false;       // the root's up axis went below the horizon (end_on_flip: it ended)
   Vec3 drift = Vec3::Zero();  // m: the root's horizontal offset from its start at the end
   double mass = 0.0;          // kg
+  // From t = 0:
+  double start_tilt = 0.0;      // rad: the root's tilt at the start (start roll and pitch)
+  double lowest_upright = 1.0;  // lowest up-component of the root body over the whole flight
+  double lowest_height = 0.0;   // m, of the root link's origin, over the whole flight
+  /// m: how far the root link's origin sank below both its start height and the setpoint.
+  double start_sag = 0.0;
   double specificPower() const { return mass > 0.0 ? positive_power / mass : 0.0; }
 };
 

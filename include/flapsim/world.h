@@ -12,6 +12,7 @@
 
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
+#include "flapsim/step_data.h"
 #include "flapsim/stroke.h"
 #include "flapsim/types.h"
 
@@ -329,6 +330,8 @@ class World {
   CreatureEnergy energy(const std::string& creature) const;
   /// Air wrenches applied in the last step, one entry per aero link.
   std::vector<LinkAero> aeroForces(const std::string& creature) const;
+  /// The named outputs of the creature's last step, as its stages wrote them (see StepData).
+  StepData stepData(const std::string& creature) const;
 
  private:
   class Impl;

@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
-"""Writes the test meshes of test_mesh.cpp (run from anywhere; rewrites the files beside it).
+"""Writes the test meshes of test_mesh.cpp and test_convex_decomposition.cpp (run from
+anywhere; rewrites the files beside it).
 
 Boxes as CAD programs export them (12 triangles, two per face, wound counter-clockwise seen
-from outside), an icosphere, an open sheet, an inside-out box and a Collada box.
+from outside), an icosphere, an open sheet, an inside-out box, a Collada box, a U-shaped
+block and a ring (a torus of 2048 triangles). `make_meshes.py ring NU NV PATH` writes a ring of
+NU x NV quads to PATH.
 """
 import math
 import os
+import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -49,6 +53,44 @@ def icosphere(radius, levels):
             new += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
         tris = new
     return [tuple(radius * x for x in p) for p in verts], tris
+
+
+def u_block():
+    """A U-shaped block (test_convex_decomposition): 0.1 m along x, 0.04 m along y, 0.06 m high
+    (z from 0), its notch 0.04 m wide and 0.04 m deep (floor at z = 0.02), centred on x = 0.
+    Its profile in the xz plane (counter-clockwise) extruded along y; each end cap is the
+    profile's three rectangles (left prong, floor, right prong), two or three triangles each,
+    so that no triangle spans the notch."""
+    profile = [(-0.05, 0), (-0.02, 0), (0.02, 0), (0.05, 0), (0.05, 0.06), (0.02, 0.06),
+               (0.02, 0.02), (-0.02, 0.02), (-0.02, 0.06), (-0.05, 0.06)]
+    n = len(profile)
+    verts = [(x, -0.02, z) for x, z in profile] + [(x, 0.02, z) for x, z in profile]
+    tris = []
+    for region in ([0, 1, 7, 8, 9], [1, 2, 6, 7], [3, 4, 5, 6, 2]):
+        for k in range(1, len(region) - 1):
+            a, b, c = region[0], region[k], region[k + 1]
+            tris += [(a, b, c), (a + n, c + n, b + n)]  # front (-y) and back (+y) caps
+    for i in range(n):
+        j = (i + 1) % n
+        tris += [(i, i + n, j + n), (i, j + n, j)]  # the sides, outwards
+    return verts, tris
+
+
+def ring(nu, nv, radius=0.05, tube=0.015):
+    """A torus about z (doc/urdf.md's decomposition timing): nu x nv quads of two triangles."""
+    verts = []
+    for i in range(nu):
+        for j in range(nv):
+            u, w = 2 * math.pi * i / nu, 2 * math.pi * j / nv
+            verts.append(((radius + tube * math.cos(w)) * math.cos(u),
+                          (radius + tube * math.cos(w)) * math.sin(u), tube * math.sin(w)))
+    tris = []
+    for i in range(nu):
+        for j in range(nv):
+            a, b = i * nv + j, ((i + 1) % nu) * nv + j
+            c, d = ((i + 1) % nu) * nv + (j + 1) % nv, i * nv + (j + 1) % nv
+            tris += [(a, b, c), (a, c, d)]
+    return verts, tris
 
 
 def write_stl(name, verts, tris):
@@ -111,9 +153,14 @@ def main():
     write_stl("sheet.stl", [(-0.1, -0.1, 0), (0.1, -0.1, 0), (0.1, 0.1, 0), (-0.1, 0.1, 0)],
               [(0, 1, 2), (0, 2, 3)])
     write_obj("icosphere.obj", *icosphere(0.1, 3))
+    write_obj("u_block.obj", *u_block())
+    write_obj("ring.obj", *ring(64, 16))
     with open(os.path.join(HERE, "corrupt.stl"), "w") as f:
         f.write("solid broken\n  facet normal 0 0 1\n    outer loop\n      vertex 0 0\n")
 
 
 if __name__ == "__main__":
-    main()
+    if len(sys.argv) == 5 and sys.argv[1] == "ring":  # make_meshes.py ring NU NV PATH
+        write_obj(os.path.abspath(sys.argv[4]), *ring(int(sys.argv[2]), int(sys.argv[3])))
+    else:
+        main()

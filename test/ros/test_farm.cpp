@@ -77,7 +77,7 @@ TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
   hooks.evaluator = &farm;
   const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
   expectSameBits(in_process, on_farm);
-  EXPECT_EQ(on_farm.best_weights.size(), 14u);
+  EXPECT_EQ(on_farm.best_weights.size(), 16u);
   EXPECT_EQ(farm.resent(), 0);
 }
 
@@ -141,17 +141,17 @@ TEST(Farm, AMalformedBatchIsRefusedByName) {
   srv.request.episodes.assign(2, 0);
   ASSERT_TRUE(client.call(srv));
   EXPECT_EQ(srv.response.message, "malformed batch: 12299 weights for 2 tasks of 12");
-  // A hover task: 14 genes, each within +-1.
+  // A hover task: 16 genes, each within +-1.
   srv.request.spec = {"--preset", "hover", "--duration", "1", "--settle", "0.5"};
   srv.request.weight_count = 13;
   srv.request.weights.assign(13, 0.0);
   srv.request.episodes = {0};
   ASSERT_TRUE(client.call(srv));
   EXPECT_FALSE(srv.response.success);
-  EXPECT_NE(srv.response.message.find("13 weights, the controller has 14"), std::string::npos)
+  EXPECT_NE(srv.response.message.find("13 weights, the controller has 16"), std::string::npos)
       << srv.response.message;
-  srv.request.weight_count = 14;
-  srv.request.weights.assign(14, 0.0);
+  srv.request.weight_count = 16;
+  srv.request.weights.assign(16, 0.0);
   srv.request.weights[3] = 2.0;
   ASSERT_TRUE(client.call(srv));
   EXPECT_FALSE(srv.response.success);

@@ -27,7 +27,9 @@ const std::vector<HoverParamField>& hoverParamFields() {
       {"position_integral", &P::position_integral},
       {"velocity_gain", &P::velocity_gain},
       {"max_tilt", &P::max_tilt},
-      {"max_stroke", &P::max_stroke}};
+      {"max_stroke", &P::max_stroke},
+      {"start_time", &P::start_time},
+      {"start_amplitude", &P::start_amplitude}};
   return fields;
 }
 
@@ -42,6 +44,10 @@ std::string validateHoverControllerParams(const HoverControllerParams& p) {
   if (p.max_roll_share < 0.0 || p.max_roll_share >= 1.0) return "max_roll_share must be in [0, 1)";
   if (p.max_offset < 0.0 || p.max_tilt < 0.0) return "max_offset and max_tilt must be >= 0";
   if (!(p.max_stroke > p.max_offset)) return "max_stroke must be > max_offset";
+  if (p.start_time < 0.0) return "start_time must be >= 0";
+  if (!(p.start_amplitude > 0.0 && p.start_amplitude <= 1.0)) {
+    return "start_amplitude must be in (0, 1]";
+  }
   return "";
 }
 
@@ -52,6 +58,7 @@ HoverController::HoverController(const HoverControllerParams& params) : params_(
 
 void HoverController::reset() {
   started_ = false;
+  elapsed_ = 0.0;
   integral_ = 0.0;
   frequency_ = 0.0;
   attitude_integral_.setZero();
@@ -74,11 +81,18 @@ Vec3 HoverController::WindowMean::add(const Vec3& value, double dt, double windo
 std::array<StrokeCommand, 2> HoverController::update(const HoverSensors& s, double dt) {
   const HoverControllerParams& p = params_;
   constexpr double g = 9.81;
+  dt = std::max(dt, 0.0);
   if (!started_) {
     hold_ = s.position;
     started_ = true;
+  } else {
+    elapsed_ += dt;
   }
-  dt = std::max(dt, 0.0);
+  // The start: the amplitudes' share, growing to 1 over start_time at the same wing speed.
+  const double share =
+      p.start_time > 0.0
+          ? std::min(1.0, p.start_amplitude + (1.0 - p.start_amplitude) * elapsed_ / p.start_time)
+          : 1.0;
   // One stroke at the frequency last commanded.
   const double period = 1.0 / (frequency_ > 0.0 ? frequency_ : p.trim_frequency);
 
@@ -108,7 +122,7 @@ std::array<StrokeCommand, 2> HoverController::update(const HoverSensors& s, doub
   const double ratio =
       std::clamp(std::sqrt(lift), 1.0 / p.max_frequency_ratio, p.max_frequency_ratio);
   const double frequency = p.trim_frequency * ratio;
-  frequency_ = frequency;
+  frequency_ = frequency / share;  // the stroke's own: its amplitude is share x at that rate
 
   // The integrals stop growing while their output is at its limit (no wind-up).
   const Vec3 trim = p.attitude_integral * attitude_integral_;
@@ -122,10 +136,11 @@ std::array<StrokeCommand, 2> HoverController::update(const HoverSensors& s, doub
   for (int side = 0; side < 2; ++side) {
     StrokeCommand& c = out[side];
     c.shape = StrokeShape::kSine;
-    c.amplitude = std::min(p.amplitude * (side == 0 ? 1.0 + roll : 1.0 - roll),
-                           p.max_stroke - std::abs(offset));
-    // Half a period per half-stroke: 2 amplitude / rate = 1 / (2 f).
-    c.downstroke_rate = c.upstroke_rate = 4.0 * c.amplitude * frequency;
+    const double amplitude = std::min(p.amplitude * (side == 0 ? 1.0 + roll : 1.0 - roll),
+                                      p.max_stroke - std::abs(offset));
+    // Half a period per half-stroke: 2 amplitude / rate = 1 / (2 f), at the start's share.
+    c.downstroke_rate = c.upstroke_rate = 4.0 * amplitude * frequency;
+    c.amplitude = share * amplitude;
     c.offset = offset;
     c.downstroke_feather = p.feather;
     c.feather = -p.feather;

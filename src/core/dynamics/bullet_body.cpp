@@ -1,7 +1,5 @@
 #include "dynamics/bullet_body.h"
 
-#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -19,20 +17,30 @@ BodyKinematics LinkFrames::kinematics(int k, Mat3* rotation) const {
 }
 
 void LinkFrames::kinematics(int k, BodyKinematics& kin) const {
-  kin.orientation = fromBt(world_to_local[k].inverse());
+  kin.orientation = fromBt(world_to_local_[k].inverse());
   // One rotation matrix for both velocities: cheaper than two quaternion rotations.
-  if (tree && tree->framesCount() == tree_frames) {
-    kin.rotation = tree->rotations()[k];
-  } else {
-    kin.rotation = kin.orientation.toRotationMatrix();
-  }
-  kin.com = fromBt(local_origin[k]);
+  kin.rotation = rotation_[k];
+  kin.com = fromBt(local_origin_[k]);
   // Bullet's link velocities are in the link's (COM) frame.
-  kin.body_linear_velocity = fromBt(vel[k]);
-  kin.body_angular_velocity = fromBt(omega[k]);
+  kin.body_linear_velocity = fromBt(vel_[k]);
+  kin.body_angular_velocity = fromBt(omega_[k]);
   kin.linear_velocity = kin.rotation * kin.body_linear_velocity;
   kin.angular_velocity = kin.rotation * kin.body_angular_velocity;
   kin.has_body_frame = true;
+}
+
+void LinkFrames::resize(int links) {
+  world_to_local_.resize(links);
+  rotation_.resize(static_cast<size_t>(links));
+  local_origin_.resize(links);
+  omega_.resize(static_cast<size_t>(links));
+  vel_.resize(static_cast<size_t>(links));
+}
+
+void LinkFrames::updateRotations() {
+  for (int k = 0; k < world_to_local_.size(); ++k) {
+    rotation_[k] = fromBt(world_to_local_[k].inverse()).toRotationMatrix();
+  }
 }
 
 void BodySnapshot::take(const btMultiBody& mb) {
@@ -60,10 +68,6 @@ void BodySnapshot::restore(btMultiBody& mb) const {
 }
 
 namespace {
-
-// The contact margin of a mesh's convex hull (m): small against a wing's thickness, and
-// enough for Bullet's convex contact (GJK/EPA) to keep resting contacts steady.
-constexpr double kHullMargin = 1e-3;
 
 // Link k (>= 1) of the multibody, on the joint to its parent.
 void setupLink(btMultiBody& mb, const CreatureModel& m, int k) {
@@ -132,18 +136,36 @@ double linkReach(const LinkModel& l) {
   return reach;
 }
 
+// The convex hull of `points` (its vertices only: optimizeConvexHull), rounded by a margin of
+// kHullMargin: it rests that far above what it lies on.
+std::unique_ptr<btConvexHullShape> hullOf(const std::vector<Vec3>& points) {
+  auto hull = std::make_unique<btConvexHullShape>();
+  for (const Vec3& v : points) hull->addPoint(toBt(v), false);
+  hull->recalcLocalAabb();
+  hull->optimizeConvexHull();
+  hull->setMargin(kHullMargin);
+  return hull;
+}
+
 }  // namespace
+
+std::vector<std::unique_ptr<btConvexHullShape>> meshColliders(const MeshShape& mesh) {
+  std::vector<std::unique_ptr<btConvexHullShape>> hulls;
+  if (!mesh.parts) {
+    hulls.push_back(hullOf(mesh.mesh->vertices));
+    return hulls;
+  }
+  for (const std::vector<Vec3>& part : *mesh.parts) hulls.push_back(hullOf(part));
+  return hulls;
+}
 
 BulletBody::BulletBody(const CreatureModel& m, const Pose& pose, const Twist& twist,
                        const WorldParams& params)
     : model_(m), scene_(std::make_unique<Scene>(params)), mb_(makeMultiBody(m, pose, twist)) {
   world().addMultiBody(mb_.get());
   const int links = static_cast<int>(m.links.size());
-  frames_.world_to_local.resize(links);
-  frames_.local_origin.resize(links);
-  frames_.omega.resize(links);
-  frames_.vel.resize(links);
-  mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
+  frames_.resize(links);
+  mb_->forwardKinematics(frames_.world_to_local_, frames_.local_origin_);
   addColliders(params.ground_friction);
   addLimits();
   world().setGroundCheck([this] { return mayTouch(); });
@@ -181,7 +203,7 @@ btCollisionShape* BulletBody::linkShape(const LinkModel& l) {
 }
 
 // The compound shape of a link with cylinders or spheres (btCylinderShapeZ: URDF's axis z),
-// meshes (the convex hull of each) and its boxes, in the COM frame, owned by the body.
+// meshes (meshColliders) and its boxes, in the COM frame, owned by the body.
 btCollisionShape* BulletBody::roundLinkShape(const LinkModel& l) {
   const Pose com_inv{-l.com, Quat::Identity()};
   auto compound = std::make_unique<btCompoundShape>(
@@ -200,14 +222,7 @@ btCollisionShape* BulletBody::roundLinkShape(const LinkModel& l) {
     }
   }
   for (const MeshShape& m : l.meshes) {
-    // The hull's vertices only (optimizeConvexHull), rounded by a margin of kHullMargin: it
-    // rests that far above what it lies on.
-    auto hull = std::make_unique<btConvexHullShape>();
-    for (const Vec3& v : m.mesh->vertices) hull->addPoint(toBt(v), false);
-    hull->recalcLocalAabb();
-    hull->optimizeConvexHull();
-    hull->setMargin(kHullMargin);
-    add(std::move(hull), m.origin);
+    for (auto& hull : meshColliders(m)) add(std::move(hull), m.origin);
   }
   btCollisionShape* shape = compound.get();
   shapes_.push_back(std::move(compound));
@@ -220,7 +235,8 @@ void BulletBody::addCollider(const LinkModel& l, int k, double friction) {
   col->setCollisionShape(linkShape(l));
   col->setFriction(friction);
   col->setActivationState(DISABLE_DEACTIVATION);
-  col->setWorldTransform(btTransform(frames_.world_to_local[k].inverse(), frames_.local_origin[k]));
+  col->setWorldTransform(
+      btTransform(frames_.world_to_local_[k].inverse(), frames_.local_origin_[k]));
   world().addCollisionObject(col.get(), btBroadphaseProxy::DefaultFilter,
                              btBroadphaseProxy::AllFilter);
   if (k == 0) {
@@ -256,40 +272,44 @@ void BulletBody::addLimits() {
 }
 
 void BulletBody::updateKinematics() {
-  frames_.tree = nullptr;
-  mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
-  mb_->compTreeLinkVelocities(frames_.omega.data(), frames_.vel.data());
+  mb_->forwardKinematics(frames_.world_to_local_, frames_.local_origin_);
+  frames_.updateRotations();
+  mb_->compTreeLinkVelocities(frames_.omega_.data(), frames_.vel_.data());
 }
 
 LinkFrames BulletBody::currentFrames() const {
   const btMultiBody& m = *mb_;
   const int n = m.getNumLinks();
   LinkFrames f;
-  multiBodyFrames(m, f.world_to_local, f.local_origin);
-  f.omega.resize(n + 1);
-  f.vel.resize(n + 1);
-  m.compTreeLinkVelocities(f.omega.data(), f.vel.data());
+  f.resize(n + 1);
+  multiBodyFrames(m, f.world_to_local_, f.local_origin_);
+  f.updateRotations();
+  m.compTreeLinkVelocities(f.omega_.data(), f.vel_.data());
   return f;
 }
 
 void BulletBody::framesAfterStep() {
-  frames_.tree = nullptr;
   // Bullet's step placed the links (and joints moved since have their caches from
   // setJointPos); after a lean step, the same sums without writing the multibody.
   if (world().leanStepped()) {
-    multiBodyFrames(*mb_, frames_.world_to_local, frames_.local_origin);
+    multiBodyFrames(*mb_, frames_.world_to_local_, frames_.local_origin_);
   } else {
-    mb_->forwardKinematics(frames_.world_to_local, frames_.local_origin);
+    mb_->forwardKinematics(frames_.world_to_local_, frames_.local_origin_);
   }
-  mb_->compTreeLinkVelocities(frames_.omega.data(), frames_.vel.data());
+  frames_.updateRotations();
+  mb_->compTreeLinkVelocities(frames_.omega_.data(), frames_.vel_.data());
 }
 
-void BulletBody::setFrame(int k, const btQuaternion& world_to_local, const btVector3& origin,
-                          const btVector3& omega, const btVector3& velocity) {
-  frames_.world_to_local[k] = world_to_local;
-  frames_.local_origin[k] = origin;
-  frames_.omega[k] = omega;
-  frames_.vel[k] = velocity;
+void BulletBody::setRotations(const TreeDynamics& tree) {
+  frames_.world_to_local_ = tree.worldToLocal();
+  frames_.rotation_ = tree.rotations();
+}
+
+void BulletBody::setFrame(int k, const btVector3& origin, const btVector3& omega,
+                          const btVector3& velocity) {
+  frames_.local_origin_[k] = origin;
+  frames_.omega_[k] = omega;
+  frames_.vel_[k] = velocity;
 }
 
 void BulletBody::settle() {
@@ -313,15 +333,17 @@ bool BulletBody::mayTouch() const {
   const LinkFrames& f = frames_;
   for (size_t k = 0; k < reach_.size(); ++k) {
     if (reach_[k] <= 0.0) continue;
+    const int i = static_cast<int>(k);
     // The travel below is at most 2 dt sqrt(2 (v^2 + (w reach)^2)): well clear of that (as
     // high in the air), no square roots.
-    const double margin = f.local_origin[static_cast<int>(k)].z() - reach_[k] - kClearance;
-    const double w_reach = f.omega[k].length2() * reach_[k] * reach_[k];
-    if (margin > 0.0 && 8.0 * dt * dt * (f.vel[k].length2() + w_reach) < 0.99 * margin * margin) {
+    const double margin = f.com(i).z() - reach_[k] - kClearance;
+    const double w_reach = f.omega(i).length2() * reach_[k] * reach_[k];
+    if (margin > 0.0 &&
+        8.0 * dt * dt * (f.velocity(i).length2() + w_reach) < 0.99 * margin * margin) {
       continue;
     }
-    const double travel = 2.0 * dt * (f.vel[k].length() + f.omega[k].length() * reach_[k]);
-    if (f.local_origin[static_cast<int>(k)].z() - reach_[k] - travel < kClearance) return true;
+    const double travel = 2.0 * dt * (f.velocity(i).length() + f.omega(i).length() * reach_[k]);
+    if (f.com(i).z() - reach_[k] - travel < kClearance) return true;
   }
   return false;
 }
@@ -333,17 +355,17 @@ std::string BulletBody::motionFault(double max_speed) const {
     const int i = static_cast<int>(k);
     // Named only on a fault: this runs every step.
     auto link = [&m, k] { return "link '" + m.links[k].name + "'"; };
-    const btQuaternion& q = f.world_to_local[i];
-    if (!std::isfinite(f.local_origin[i].x() + f.local_origin[i].y() + f.local_origin[i].z()) ||
+    const btQuaternion& q = f.worldToLink(i);
+    if (!std::isfinite(f.com(i).x() + f.com(i).y() + f.com(i).z()) ||
         !std::isfinite(q.x() + q.y() + q.z() + q.w())) {
       return link() + " has a non-finite pose";
     }
     // The fastest point of the link: its COM's speed plus the spin times its reach, at most
     // the square root of 2 (v^2 + (w reach)^2): well below the limit (as almost always), no
     // square roots.
-    const double v2 = f.vel[k].length2(), w2r2 = f.omega[k].length2() * reach_[k] * reach_[k];
+    const double v2 = f.velocity(i).length2(), w2r2 = f.omega(i).length2() * reach_[k] * reach_[k];
     if (max_speed > 0.0 && 2.0 * (v2 + w2r2) < 0.99 * max_speed * max_speed) continue;
-    const double v = f.vel[k].length(), w = f.omega[k].length();
+    const double v = f.velocity(i).length(), w = f.omega(i).length();
     if (!std::isfinite(v) || !std::isfinite(w)) return link() + " has a non-finite velocity";
     const double speed = v + w * reach_[k];
     if (speed > max_speed) {

@@ -4,11 +4,11 @@
 // Private to flapsim_core.
 #pragma once
 
+#include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
-#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,22 +21,34 @@
 namespace flapsim {
 
 // Frames and velocities of every link's COM (index = model link): Bullet's link frames
-// (rotation world -> link, COM position) and the COM's velocities in the link frame.
-struct LinkFrames {
+// (rotation world -> link, COM position), the same rotations as matrices (link -> world), and
+// the COM's velocities in the link frame. Written by BulletBody only, which sets each link's
+// rotation and its matrix together: the two always agree.
+class LinkFrames {
+ public:
   // World-frame kinematics of link k's centre of mass; its rotation matrix in `rotation`.
   BodyKinematics kinematics(int k, Mat3* rotation = nullptr) const;
   // The same into `kin`, every field written (no temporary to copy).
   void kinematics(int k, BodyKinematics& kin) const;
 
-  btAlignedObjectArray<btQuaternion> world_to_local;
-  btAlignedObjectArray<btVector3> local_origin;
-  std::vector<btVector3> omega, vel;  // in the link frames
-  // Where the momentum balance placed every link by `tree`'s frames (BulletBody::setFrame(),
-  // then framesFromTree()): while that tree's frames are those of `tree_frames`, its
-  // rotations are every link's rotation matrix, by kinematics()' arithmetic (Eigen's
-  // toRotationMatrix of the same quaternions), which kinematics() then takes.
-  const TreeDynamics* tree = nullptr;
-  std::uint64_t tree_frames = 0;
+  const btQuaternion& worldToLink(int k) const { return world_to_local_[k]; }
+  const Mat3& rotation(int k) const { return rotation_[k]; }  // link -> world
+  const btVector3& com(int k) const { return local_origin_[k]; }
+  // The COM's velocities, in the link's frame.
+  const btVector3& omega(int k) const { return omega_[k]; }
+  const btVector3& velocity(int k) const { return vel_[k]; }
+
+ private:
+  friend class BulletBody;
+  void resize(int links);
+  // Every link's matrix from its rotation (after Bullet wrote all rotations at once): Eigen's
+  // toRotationMatrix of its inverse.
+  void updateRotations();
+
+  btAlignedObjectArray<btQuaternion> world_to_local_;
+  std::vector<Mat3, Eigen::aligned_allocator<Mat3>> rotation_;
+  btAlignedObjectArray<btVector3> local_origin_;
+  std::vector<btVector3> omega_, vel_;
 };
 
 // What a step may change in a multibody: enough to put it back bit for bit.
@@ -48,6 +60,14 @@ struct BodySnapshot {
   void take(const btMultiBody& mb);
   void restore(btMultiBody& mb) const;
 };
+
+// The contact margin of a mesh's convex hulls (m): small against a wing's thickness, and
+// enough for Bullet's convex contact (GJK/EPA) to keep resting contacts steady.
+constexpr double kHullMargin = 1e-3;
+
+// The colliders of `mesh` in its own frame, each a btConvexHullShape rounded by kHullMargin:
+// its convex hull, or one per part of its convex decomposition (MeshShape::parts).
+std::vector<std::unique_ptr<btConvexHullShape>> meshColliders(const MeshShape& mesh);
 
 class BulletBody {
  public:
@@ -75,14 +95,12 @@ class BulletBody {
   // After a step that the momentum balance did not correct: the frames where Bullet's step
   // (or a lean step, without writing the multibody) put the links.
   void framesAfterStep();
-  // Link k's frame and velocities as the momentum balance placed them after its correction.
-  void setFrame(int k, const btQuaternion& world_to_local, const btVector3& origin,
-                const btVector3& omega, const btVector3& velocity);
-  // After setFrame() of every link with the rotations of `tree`'s current frames.
-  void framesFromTree(const TreeDynamics& tree) {
-    frames_.tree = &tree;
-    frames_.tree_frames = tree.framesCount();
-  }
+  // The frames as the momentum balance placed the links after its correction: every link's
+  // rotation and its matrix those of `tree`'s frames (TreeDynamics::worldToLocal() and
+  // rotations(), the same bits as updateKinematics() would give them), and link k's COM and
+  // velocities.
+  void setRotations(const TreeDynamics& tree);
+  void setFrame(int k, const btVector3& origin, const btVector3& omega, const btVector3& velocity);
   // After the multibody's state was set from outside a step: the frames, the colliders and
   // the broadphase's pairs follow the new state, as for a body just built.
   void settle();

@@ -5,6 +5,8 @@
 #include <BulletDynamics/Featherstone/btMultiBodyMLCPConstraintSolver.h>
 
 #include <atomic>
+#include <stdexcept>
+#include <string>
 #include <typeinfo>
 
 #include "dynamics/joint_limit.h"
@@ -14,11 +16,6 @@ namespace flapsim {
 void ServoWorld::performDiscreteCollisionDetection() {
   if (may_touch_ && !may_touch_()) return;
   btMultiBodyDynamicsWorld::performDiscreteCollisionDetection();
-}
-
-void ServoWorld::solveExternalForces(btContactSolverInfo& info) {
-  btMultiBodyDynamicsWorld::solveExternalForces(info);
-  if (servos_) servos_();
 }
 
 void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& world_to_local,
@@ -36,15 +33,86 @@ void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& 
   }
 }
 
-void ServoWorld::step(btScalar h) {
-  lean_stepped_ = false;
-  if (lean_ && leanCapable(h) && may_touch_ && !may_touch_()) {
-    leanStep(h);
-    lean_stepped_ = true;
-    return;
+void ServoWorld::expectPhase(Phase phase, const char* call) const {
+  if (phase_ != phase) {
+    throw std::logic_error(std::string("ServoWorld::") + call +
+                           " out of order: a step is beginStep, constrain, integrate");
   }
-  if (colliders_behind_) placeColliders();
-  stepSimulation(h, 0, h);
+}
+
+bool ServoWorld::beginStep(btScalar h) {
+  expectPhase(Phase::kIdle, "beginStep");
+  phase_ = Phase::kVelocities;
+  step_ = h;
+  lean_stepped_ = lean_ && leanCapable(h) && may_touch_ && !may_touch_();
+  if (lean_stepped_) {
+    beginLeanStep(h);
+  } else {
+    if (colliders_behind_) placeColliders();
+    beginFullStep(h);
+  }
+  return moves_;
+}
+
+void ServoWorld::constrain() {
+  expectPhase(Phase::kVelocities, "constrain");
+  phase_ = Phase::kConstrained;
+  if (lean_stepped_) {
+    constrainLeanStep();
+  } else if (moves_) {
+    // solveConstraints() after solveExternalForces()
+    buildIslands();
+    solveInternalConstraints(getSolverInfo());
+  }
+}
+
+void ServoWorld::integrate() {
+  expectPhase(Phase::kConstrained, "integrate");
+  phase_ = Phase::kIdle;
+  if (lean_stepped_) {
+    integrateLeanStep();
+  } else {
+    integrateFullStep();
+  }
+}
+
+// stepSimulation(h, 0, h) up to the end of solveExternalForces() within
+// internalSingleStepSimulation(h).
+void ServoWorld::beginFullStep(btScalar h) {
+  m_localTime = m_latencyMotionStateInterpolation ? 0 : h;
+  m_fixedTimeStep = 0;
+  moves_ = !btFuzzyZero(h);
+  if (btIDebugDraw* draw = getDebugDrawer()) {
+    gDisableDeactivation = (draw->getDebugMode() & btIDebugDraw::DBG_NoDeactivation) != 0;
+  }
+  if (!moves_) return;
+  saveKinematicState(h);
+  applyGravity();
+  if (m_internalPreTickCallback) (*m_internalPreTickCallback)(this, h);
+  predictUnconstraintMotion(h);
+  btDispatcherInfo& dispatch = getDispatchInfo();
+  dispatch.m_timeStep = h;
+  dispatch.m_stepCount = 0;
+  dispatch.m_debugDraw = getDebugDrawer();
+  createPredictiveContacts(h);
+  performDiscreteCollisionDetection();
+  calculateSimulationIslands();
+  getSolverInfo().m_timeStep = h;
+  solveExternalForces(getSolverInfo());
+}
+
+// The rest of internalSingleStepSimulation(h) and stepSimulation(h, 0, h) after the
+// constraint solve.
+void ServoWorld::integrateFullStep() {
+  if (moves_) {
+    const btScalar h = step_;
+    integrateTransforms(h);
+    updateActions(h);
+    updateActivationState(h);
+    if (m_internalTickCallback) (*m_internalTickCallback)(this, h);
+  }
+  synchronizeMotionStates();
+  clearForces();
 }
 
 void ServoWorld::placeColliders() {
@@ -88,9 +156,11 @@ bool ServoWorld::constraintsMayAct(btScalar h) const {
 
 // stepSimulation(h, 0, h) for leanCapable() worlds, stage by stage (Bullet 3.24's
 // btDiscreteDynamicsWorld and btMultiBodyDynamicsWorld), without the stages that change
-// nothing there while no contact is possible.
-void ServoWorld::leanStep(btScalar h) {
+// nothing there while no contact is possible. Its first phase: solveConstraints() up to the
+// servos, the unconstrained velocities.
+void ServoWorld::beginLeanStep(btScalar h) {
   btMultiBody& mb = *m_multiBodies[0];
+  moves_ = true;  // leanCapable(h): h is not zero
   m_fixedTimeStep = 0;
   m_localTime = m_latencyMotionStateInterpolation ? 0 : h;
   // applyGravity(), after the forces of the step (the same sums).
@@ -101,7 +171,38 @@ void ServoWorld::leanStep(btScalar h) {
   dispatch.m_stepCount = 0;
   btContactSolverInfo& info = getSolverInfo();
   info.m_timeStep = h;
-  leanVelocities(mb, h, info);
+  mb.clearConstraintForces();
+  lean_tree_ = TreeDynamics::handles(mb);
+  if (lean_tree_) {
+    tree_.beginStep(mb, h);  // the update itself in constrain(), unless the servos take it
+  } else {
+    bulletVelocityStep(mb, h, info);
+  }
+  mb.clearForcesAndTorques();
+  tree_fresh_ = lean_tree_;
+}
+
+// The constraint solve only if a joint limit may act.
+void ServoWorld::constrainLeanStep() {
+  btMultiBody& mb = *m_multiBodies[0];
+  btContactSolverInfo& info = getSolverInfo();
+  tree_fresh_ = false;
+  if (lean_tree_) tree_.finishVelocityStep(mb);
+  // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
+  // the (zero) velocity change's clamp.
+  if (constraintsMayAct(step_) || mb.internalNeedsJointFeedback()) {
+    // The solver reads the inertia caches of Bullet's own pass (no velocity change at dt 0;
+    // they depend on positions only).
+    if (lean_tree_) bulletVelocityStep(mb, 0, info);
+    solveConstraintsAfterServos(info);
+  } else {
+    mb.processDeltaVeeMultiDof2();
+  }
+}
+
+void ServoWorld::integrateLeanStep() {
+  btMultiBody& mb = *m_multiBodies[0];
+  const btScalar h = step_;
   // integrateMultiBodyTransforms(); the colliders wait for the next full step.
   mb.addSplitV();
   mb.stepPositionsMultiDof(h);
@@ -111,36 +212,9 @@ void ServoWorld::leanStep(btScalar h) {
   // samples and its loops over colliders (which never sleep) and rigid bodies (none). A
   // multibody that cannot sleep is marked awake.
   mb.checkMotionAndSleepIfRequired(h);
-  // clearForces() would clear the multibody's forces and torques again (leanVelocities cleared
-  // them once it had taken them, and nothing adds any after) and those of the non-static rigid
-  // bodies, which a lean world has none of.
-}
-
-// solveConstraints(): the unconstrained velocities, the servos, and the constraint solve
-// only if a joint limit may act.
-void ServoWorld::leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo& info) {
-  mb.clearConstraintForces();
-  const bool tree = TreeDynamics::handles(mb);
-  if (tree) {
-    tree_.beginStep(mb, h);  // the update itself below, unless the servos take it
-  } else {
-    bulletVelocityStep(mb, h, info);
-  }
-  mb.clearForcesAndTorques();
-  tree_fresh_ = tree;
-  if (servos_) servos_();
-  tree_fresh_ = false;
-  if (tree) tree_.finishVelocityStep(mb);
-  // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
-  // the (zero) velocity change's clamp.
-  if (constraintsMayAct(h) || mb.internalNeedsJointFeedback()) {
-    // The solver reads the inertia caches of Bullet's own pass (no velocity change at dt 0;
-    // they depend on positions only).
-    if (tree) bulletVelocityStep(mb, 0, info);
-    solveConstraintsAfterServos(info);
-  } else {
-    mb.processDeltaVeeMultiDof2();
-  }
+  // clearForces() would clear the multibody's forces and torques again (beginLeanStep()
+  // cleared them once it had taken them, and nothing adds any after) and those of the
+  // non-static rigid bodies, which a lean world has none of.
 }
 
 void ServoWorld::bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info) {

@@ -1,4 +1,4 @@
-// The Bullet scene of one creature: its dynamics world (with the servo hook and the ground
+// The Bullet scene of one creature: its dynamics world (stepped in phases, with the ground
 // check), the serialised Dantzig LCP solver, the ground, and conversions to and from Bullet.
 // Private to flapsim_core.
 #pragma once
@@ -36,28 +36,40 @@ inline btScalar jointVel(const btMultiBody& mb, int link) {
 void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& world_to_local,
                      btAlignedObjectArray<btVector3>& local_origin);
 
-// A multibody world that lets its creature's joint servos act between Bullet's
-// unconstrained velocity update (gravity, air, damping) and its constraint solve (limits,
-// contacts), which is where Bullet's own joint motors act.
+// A multibody world whose step is taken in phases, so that the creature's servo stage acts
+// between Bullet's unconstrained velocity update (gravity, air, damping) and its constraint
+// solve (limits, contacts), which is where Bullet's own joint motors act:
+//
+//   beginStep(h)   the unconstrained velocities: Bullet's step up to the end of its external
+//                  forces (collision detection included), or a lean step's velocity update
+//   (the caller)   ServoStage::solve, with leanTree()
+//   constrain()    joint limits and contacts: Bullet's constraint solve (a lean step: only if
+//                  a joint limit may act)
+//   integrate()    positions from the velocities, and Bullet's end of step
+//
+// Together, with nothing between them, what stepSimulation(h, 0, h) does (without Bullet's
+// profiler), with the same results up to the rounding of the lean step's velocity update.
 class ServoWorld : public btMultiBodyDynamicsWorld {
  public:
   using btMultiBodyDynamicsWorld::btMultiBodyDynamicsWorld;
-  void setServos(std::function<void()> servos) { servos_ = std::move(servos); }
   // `may_touch` answers false while the creature cannot touch anything this step; collision
   // detection (bounding boxes, broadphase, narrowphase) is then skipped: it would find nothing.
   void setGroundCheck(std::function<bool()> may_touch) { may_touch_ = std::move(may_touch); }
 
   // Lean steps (on by default) take a step in which nothing can touch from the multibody's
-  // own routines and TreeDynamics (leanStep); off, every step is Bullet's.
+  // own routines and TreeDynamics; off, every step is Bullet's.
   void setLeanSteps(bool on) { lean_ = on; }
 
-  // One step of `h`: what stepSimulation(h, 0, h) does, with the same results up to the
-  // rounding of the lean step's velocity update.
-  void step(btScalar h);
-  // Whether the last step() was a lean step (whose colliders stay behind).
+  // The phases of one step of `h`, in this order (else std::logic_error). beginStep() returns
+  // whether the step moves anything (Bullet takes no step of a length it rounds to zero): if
+  // not, no stage acts before constrain().
+  bool beginStep(btScalar h);
+  void constrain();
+  void integrate();
+  // Whether the last step was a lean step (whose colliders stay behind).
   bool leanStepped() const { return lean_stepped_; }
-  // While the servos of a lean step act: its velocity update's tree (inertias and joint
-  // subspaces of the step's positions); else null.
+  // Between beginStep() and constrain() of a lean step: its velocity update's tree (inertias
+  // and joint subspaces of the step's positions); else null.
   // Its velocity update may still be to come (TreeDynamics::velocitiesPending()): the servo
   // stage then takes it into its own solve.
   TreeDynamics* leanTree() { return tree_fresh_ ? &tree_ : nullptr; }
@@ -70,27 +82,30 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
 
   void performDiscreteCollisionDetection() override;
 
- protected:
-  void solveExternalForces(btContactSolverInfo& info) override;
-
  private:
+  enum class Phase { kIdle, kVelocities, kConstrained };
+  void expectPhase(Phase phase, const char* call) const;
   // Whether the world holds what a lean step handles: one multibody that never sleeps, its
   // constraints our joint limits, nothing else that moves or acts, no callbacks.
   bool leanCapable(btScalar h) const;
   // Whether a multibody constraint could have rows this step (one we do not know: yes).
   bool constraintsMayAct(btScalar h) const;
-  // Bullet's step without the work that finds nothing while no contact is possible: the
-  // interpolated transforms (overwritten before anything reads them), collision detection
-  // (skipped anyway), islands and the constraint solver, unless a joint limit may act. The
-  // unconstrained velocities come from TreeDynamics where it handles the multibody.
-  void leanStep(btScalar h);
-  void leanVelocities(btMultiBody& mb, btScalar h, btContactSolverInfo& info);
+  // Bullet's step (btDiscreteDynamicsWorld::stepSimulation and internalSingleStepSimulation,
+  // btMultiBodyDynamicsWorld::solveConstraints) in the three phases.
+  void beginFullStep(btScalar h);
+  void integrateFullStep();
+  // A lean step: Bullet's step without the work that finds nothing while no contact is
+  // possible: the interpolated transforms (overwritten before anything reads them), collision
+  // detection (skipped anyway), islands and the constraint solver, unless a joint limit may
+  // act. The unconstrained velocities come from TreeDynamics where it handles the multibody.
+  void beginLeanStep(btScalar h);
+  void constrainLeanStep();
+  void integrateLeanStep();
   // The rest of Bullet's velocity stage once the servos acted: islands, the solve of all
   // constraints and contacts, and the solver's velocity change.
   void solveConstraintsAfterServos(btContactSolverInfo& info);
   // Bullet's articulated-body pass: velocities += h * accelerations, and its solver caches.
   void bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info);
-  std::function<void()> servos_;
   std::function<bool()> may_touch_;
   bool lean_ = true;
   TreeDynamics tree_;  // the lean step's velocity update
@@ -99,6 +114,12 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // full step first places them where the multibody is then.
   bool colliders_behind_ = false;
   bool lean_stepped_ = false;
+  // The step under way: its phase, length, whether it moves anything, and whether a lean
+  // step's velocity update is TreeDynamics'.
+  Phase phase_ = Phase::kIdle;
+  btScalar step_ = 0;
+  bool moves_ = false;
+  bool lean_tree_ = false;
 };
 
 // Bullet's Dantzig LCP keeps its failure flag in a global variable (s_error in

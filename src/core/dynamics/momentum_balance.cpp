@@ -61,7 +61,7 @@ void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added
   external_force_.setZero();
   external_moment_.setZero();
   drag_impulse_.setZero();
-  origin_ = fromBt(body.frames().local_origin[0]);
+  origin_ = fromBt(body.frames().com(0));
   const bool carried = carried_valid_ && carried_density_ == added_mass_density;
   carried_valid_ = false;
   density_ = added_mass_density;
@@ -130,6 +130,7 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
   mb.setBaseOmega(mb.getBaseOmega() + toBt(c.angular_velocity));
   mb.setBaseVel(mb.getBaseVel() + toBt(c.velocity + c.angular_velocity.cross(base - now.com)));
   const TreeDynamics& tree = body.world().tree();
+  body.setRotations(tree);
   const int bodies = static_cast<int>(motions_.size());
   for (int k = 0; k < bodies; ++k) {
     const LinkMotion& b = motions_[k];
@@ -137,10 +138,9 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
     const Mat3& to_world = tree.rotations()[k];
     const Vec3 w = b.angular_velocity + c.angular_velocity;
     const Vec3 v = b.velocity + c.velocity + c.angular_velocity.cross(b.com - now.com);
-    body.setFrame(k, tree.worldToLocal()[k], toBt(Vec3(b.com + shift)),
-                  toBt(Vec3(to_world.transpose() * w)), toBt(Vec3(to_world.transpose() * v)));
+    body.setFrame(k, toBt(Vec3(b.com + shift)), toBt(Vec3(to_world.transpose() * w)),
+                  toBt(Vec3(to_world.transpose() * v)));
   }
-  body.framesFromTree(tree);
   // The momentum is now the target, about the shifted centre of mass (a translation changes
   // no momentum about the centre): the next step starts from it instead of measuring it again.
   carried_.mass = now.mass;

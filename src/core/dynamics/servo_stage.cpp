@@ -92,20 +92,20 @@ void ServoStage::forget() {
 
 void ServoStage::updateLinks(const LinkFrames& frames) {
   const CreatureModel& m = *model_;
-  const btVector3 origin = frames.local_origin[0];  // the root's COM
+  const btVector3 origin = frames.com(0);  // the root's COM
   for (size_t k = 0; k < links_.size(); ++k) {
     const LinkModel& l = m.links[k];
     ServoLink& s = links_[k];
-    const btMatrix3x3 rot(frames.world_to_local[k].inverse());
+    const btMatrix3x3 rot(frames.worldToLink(static_cast<int>(k)).inverse());
     const btMatrix3x3 inertia = rot.scaled(toBt(l.inertia)) * rot.transpose();
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c) s.inertia(r, c) = inertia[r][c];
     }
-    s.com = fromBt(frames.local_origin[k] - origin);
+    s.com = fromBt(frames.com(static_cast<int>(k)) - origin);
     if (k > 0) {
       const JointModel& j = m.joints[l.parent_joint];
       s.axis = fromBt(rot * toBt(j.axis));
-      s.anchor = fromBt(frames.local_origin[k] - rot * toBt(l.com) - origin);
+      s.anchor = fromBt(frames.com(static_cast<int>(k)) - rot * toBt(l.com) - origin);
     }
   }
 }
@@ -159,7 +159,7 @@ Vec6 ServoStage::solveWithFluid(const btMultiBody& mb, const LinkFrames& frames,
     change_[i] = change_of_link_[k];
     if (aero[i].drag_zero && !aero[i].has_added_mass) continue;
     loads_.links.push_back(k);
-    const Vec3 offset = fromBt(frames.local_origin[k] - frames.local_origin[0]);
+    const Vec3 offset = fromBt(frames.com(k) - frames.com(0));
     Mat6& extra = loads_.extra_inertia[k];
     extra.setZero();
     if (!aero[i].drag_zero) {

@@ -1,8 +1,9 @@
 // The servo stage of a creature's step: its joint servos (wing motors, velocity targets,
 // feathering, Coulomb friction) and the fluid's implicit part (added mass, linearised drag),
-// solved together as one impulse problem (dynamics/joint_servo.h) inside Bullet's step,
-// between its unconstrained velocity update (gravity, air, damping) and its constraint solve
-// (limits, contacts), where Bullet's own joint motors act. Private to flapsim_core.
+// solved together as one impulse problem (dynamics/joint_servo.h) between Bullet's
+// unconstrained velocity update (gravity, air, damping) and its constraint solve (limits,
+// contacts), where Bullet's own joint motors act (the stages "velocities", "servos" and
+// "constraints" of world/creature_step.h). Private to flapsim_core.
 #pragma once
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
@@ -18,7 +19,7 @@
 
 namespace flapsim {
 
-struct LinkFrames;
+class LinkFrames;
 class CreatureFluid;
 
 class ServoStage {
@@ -45,9 +46,10 @@ class ServoStage {
   // The start of a (sub)step of `dt`: the velocities the fluid's implicit part and the
   // saturated servos' correction are measured from.
   void begin(const btMultiBody& mb, double dt);
-  // Inside Bullet's step, once the velocities hold gravity, air and damping: solves every
-  // servo and the fluid's implicit part together and adds the velocity change they cause
-  // (frames of the start of the step; `lean`: the lean step's tree, if this is one). On a
+  // Between ServoWorld::beginStep() and constrain(), once the velocities hold gravity, air
+  // and damping: solves every servo and the fluid's implicit part together and adds the
+  // velocity change they cause (frames of the start of the step; `lean`: the lean step's
+  // tree, ServoWorld::leanTree(), if this is one). On a
   // lean step whose velocity update is still to come (TreeDynamics::velocitiesPending()) the
   // same solve takes the update as well (ServoTree::bias), unless no servo acts and the
   // fluid has no implicit part. Returns the implicit drag's impulse over the step [moment

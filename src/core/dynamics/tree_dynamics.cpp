@@ -60,7 +60,6 @@ bool TreeDynamics::handles(const btMultiBody& mb) {
 // Rotations, COMs, spatial inertias and joint axes, about the base's COM, as
 // btMultiBody::forwardKinematics places the links.
 void TreeDynamics::linkFrames(const btMultiBody& mb) {
-  ++frames_count_;
   const int n = mb.getNumLinks();
   for (auto* v : {&inv_d_, &u_}) v->resize(n + 1);
   to_local_.resize(n + 1);

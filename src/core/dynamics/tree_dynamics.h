@@ -11,7 +11,6 @@
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 
-#include <cstdint>
 #include <vector>
 
 #include "dynamics/joint_servo.h"
@@ -41,8 +40,6 @@ class TreeDynamics {
   // arithmetic (the same bits as its frames).
   const btAlignedObjectArray<btQuaternion>& worldToLocal() const { return to_local_; }
   const std::vector<Vec3, Eigen::aligned_allocator<Vec3>>& coms() const { return com_; }
-  // How many times the frames were computed: the same count, the same frames.
-  std::uint64_t framesCount() const { return frames_count_; }
   // Every body's spatial velocity [angular; linear at the base's COM], world axes, at the
   // multibody's velocities and the frames of the last updateFrames().
   const std::vector<Vec6, Eigen::aligned_allocator<Vec6>>& velocities(const btMultiBody& mb);
@@ -103,7 +100,6 @@ class TreeDynamics {
   std::vector<double> out_;  // Bullet's velocity order
   // The inputs of the frames (framesCurrent()), and scratch to gather them.
   const btMultiBody* framed_ = nullptr;
-  std::uint64_t frames_count_ = 0;
   std::vector<btScalar> frame_inputs_, inputs_;
 };
 

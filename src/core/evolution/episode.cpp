@@ -171,6 +171,13 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureMo
     const Vec3 direction(bias.normal(), bias.normal(), bias.normal());
     s.gyro_bias = size * direction.normalized();
   }
+  if (p.first_start_level && !starts.empty()) {
+    EpisodeStart& s = starts.front();
+    s.roll = s.pitch = 0.0;
+    s.rate = Vec3::Zero();
+    s.gust = s.wind = Vec3::Zero();
+    if (p.altitude_hold) s.altitude = p.start_height;
+  }
   return starts;
 }
 

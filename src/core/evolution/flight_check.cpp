@@ -341,13 +341,16 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
       "hover at %g m, wind %g m/s%s, %g s at %g ms (figures after %g s), gains %s:\n"
       "  height %.3f to %.3f m (rms %.4f m), lowest up-component %.4f, largest height range in a "
       "stroke %.1f mm, drift %.2f m, %.2f Hz\n"
+      "  from t = 0: lowest %.3f m, largest tilt %.1f deg (%.1f deg at the start)\n"
       "  mechanical power of the motors: %.3f W positive (%.1f W/kg of its %.1f g), "
       "%.3f W net\n"
       "  figure of merit: ideal %.3f W (actuator disk of %.4f m^2) / %.3f W = %.2f\n%s\n",
       altitude, o.params.wind, turbulenceNote(o.params.turbulence).c_str(), p.duration,
       1000.0 * p.world.step_size, p.settle, o.gains.empty() ? "by hand" : o.gains.c_str(),
       r.min_height, r.max_height, r.altitude_rms, r.min_upright, 1000.0 * r.max_stroke_oscillation,
-      r.drift.norm(), r.mean_frequency, r.positive_power, r.specificPower(), 1000.0 * r.mass,
+      r.drift.norm(), r.mean_frequency, r.lowest_height,
+      std::acos(std::clamp(r.lowest_upright, -1.0, 1.0)) * 180.0 / M_PI,
+      r.start_tilt * 180.0 / M_PI, r.positive_power, r.specificPower(), 1000.0 * r.mass,
       r.net_power, ideal, disk, r.positive_power, ideal / r.positive_power, ok ? "pass" : "FAIL");
   return line;
 }

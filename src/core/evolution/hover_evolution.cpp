@@ -22,7 +22,9 @@ const std::vector<HoverGene>& hoverGenes() {
                                 {"attitude_integral", &P::attitude_integral, 1.0},
                                 {"position_gain", &P::position_gain, 1.0},
                                 {"position_integral", &P::position_integral, 1.0},
-                                {"velocity_gain", &P::velocity_gain, 1.0}};
+                                {"velocity_gain", &P::velocity_gain, 1.0},
+                                {"start_time", &P::start_time, 1.0},
+                                {"start_amplitude", &P::start_amplitude, 0.4 / 0.6}};
     for (HoverGene& gene : g) gene.span *= hand.*gene.member;  // a fraction of the value
     return g;
   }();
@@ -70,11 +72,15 @@ double hoverEpisodeFitness(const HoverFlightResult& r, double flip_penalty) {
                          : kHoverMaxTerm;
   const double power = std::min(kHoverPowerWeight * r.specificPower() / 100.0, kHoverMaxTerm);
   const double tilt = kHoverTiltWeight * std::max(0.0, kHoverMinUpright - r.min_upright);
-  return -(rms + power + tilt + (r.flipped ? flip_penalty : 0.0));
+  const double start_limit = std::cos(std::min(r.start_tilt + kHoverStartTilt, M_PI));
+  const double start_tilt = kHoverStartTiltWeight * std::max(0.0, start_limit - r.lowest_upright);
+  const double sag = kHoverSagWeight * std::clamp(r.start_sag - kHoverMaxSag, 0.0, kHoverMaxTerm);
+  return -(rms + power + tilt + start_tilt + sag + (r.flipped ? flip_penalty : 0.0));
 }
 
 double hoverFitnessBound(const EpisodeParams& params) {
-  return 2.0 * kHoverMaxTerm + kHoverTiltWeight * (kHoverMinUpright + 1.0) + params.flip_penalty;
+  return 2.0 * kHoverMaxTerm + kHoverTiltWeight * (kHoverMinUpright + 1.0) +
+         kHoverStartTiltWeight * 2.0 + kHoverSagWeight * kHoverMaxTerm + params.flip_penalty;
 }
 
 std::string validateHoverEpisodes(const EpisodeParams& params) {
@@ -124,6 +130,7 @@ EvolveParams hoverPreset() {
   e.max_altitude = 3.3;
   e.flip_penalty = 20.0;
   e.episodes = 6;
+  e.first_start_level = true;
   return p;
 }
 

@@ -87,6 +87,8 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   r.min_height = std::numeric_limits<double>::infinity();
   r.max_height = -r.min_height;
   r.mass = model->totalMass();
+  r.lowest_height = start.position.z();
+  r.start_tilt = std::acos(std::clamp((start.orientation * Vec3::UnitZ()).z(), -1.0, 1.0));
   HoverFigures figures{r, controller.altitude};
   CreaturePower settled;
   double frequency_sum = 0.0;
@@ -99,7 +101,10 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
     for (int k = 0; k < steps; ++k) {
       world.step(1);
       const Pose pose = world.rootPose(name);
-      if ((pose.orientation * Vec3::UnitZ()).z() < 0.0) r.flipped = true;
+      const double up = (pose.orientation * Vec3::UnitZ()).z();
+      r.lowest_upright = std::min(r.lowest_upright, up);
+      r.lowest_height = std::min(r.lowest_height, pose.position.z());
+      if (up < 0.0) r.flipped = true;
       if (world.time() <= p.settle + 0.5 * p.world.step_size) continue;
       figures.add(pose, p.world.step_size, frequency);
     }
@@ -118,6 +123,7 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   r.mean_frequency = counted > 0 ? frequency_sum / counted : 0.0;
   r.altitude_rms = figures.samples > 0 ? std::sqrt(figures.squares / figures.samples)
                                        : std::numeric_limits<double>::quiet_NaN();
+  r.start_sag = std::max(0.0, std::min(start.position.z(), controller.altitude) - r.lowest_height);
   r.drift = world.rootPose(name).position - start.position;
   r.drift.z() = 0.0;
   return r;

@@ -149,6 +149,54 @@ AeroSettings readAero(const tinyxml2::XMLElement* e, const std::string& where,
   return s;
 }
 
+// One <collision_mesh link=...> element's settings.
+Annotations::CollisionMesh readCollisionMesh(const tinyxml2::XMLElement* e,
+                                             const std::string& where, const std::string& source) {
+  Annotations::CollisionMesh c;
+  for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
+    const std::string name = a->Name();
+    if (name != "link" && name != "optimization" && name != "max_convex_hulls") {
+      fail(source, where + ": unknown attribute '" + name +
+                       "' (it has link, optimization and max_convex_hulls)");
+    }
+  }
+  const char* optimization = e->Attribute("optimization");
+  const std::string v = optimization ? optimization : "convex_hull";
+  if (v == "convex_decomposition") {
+    c.decompose = true;
+  } else if (v != "convex_hull") {
+    fail(source,
+         where + ": optimization must be convex_hull or convex_decomposition, got '" + v + "'");
+  }
+  if (const char* text = e->Attribute("max_convex_hulls")) {
+    if (!c.decompose) {
+      fail(source, where + ": max_convex_hulls is for optimization='convex_decomposition' only");
+    }
+    std::istringstream in(text);
+    int n = 0;
+    std::string rest;
+    if (!(in >> n) || (in >> rest) || n < 1 || n > kMaxConvexHulls) {
+      fail(source, where + ": max_convex_hulls must be an integer in 1.." +
+                       std::to_string(kMaxConvexHulls) + ", got '" + text + "'");
+    }
+    c.max_convex_hulls = n;
+  }
+  return c;
+}
+
+void readCollisionMeshes(const tinyxml2::XMLElement* robot, const std::string& source,
+                         Annotations& a) {
+  for (auto* e = robot->FirstChildElement("collision_mesh"); e;
+       e = e->NextSiblingElement("collision_mesh")) {
+    const char* link = e->Attribute("link");
+    if (!link || !*link) fail(source, "<collision_mesh> without a link attribute");
+    const std::string where = std::string("<collision_mesh link='") + link + "'>";
+    if (!a.collision_meshes.emplace(link, readCollisionMesh(e, where, source)).second) {
+      fail(source, "two <collision_mesh> elements for link '" + std::string(link) + "'");
+    }
+  }
+}
+
 }  // namespace
 
 Annotations readAnnotations(const std::string& xml, const std::string& source) {
@@ -166,6 +214,7 @@ Annotations readAnnotations(const std::string& xml, const std::string& source) {
   readWings(robot, source, a);
   readSprings(robot, source, a);
   readMotors(robot, source, a);
+  readCollisionMeshes(robot, source, a);
   for (auto* e = robot->FirstChildElement("aero"); e; e = e->NextSiblingElement("aero")) {
     const char* link = e->Attribute("link");
     if (!link || !*link) fail(source, "<aero> without a link attribute");

@@ -4,6 +4,8 @@
 //   <spring joint="..." stiffness="..." [reference="..."]/>   a joint's torsion spring
 //   <motor joint="..." [stall_torque] [no_load_speed] [max_power]/>   a joint's DC motor
 //   <aero link="..." drag_coefficient subdivisions="nu nv" enabled model span added_mass/>
+//   <collision_mesh link="..." optimization="convex_hull|convex_decomposition"
+//                   [max_convex_hulls="N"]/>   how the link's meshes collide
 #pragma once
 
 #include <map>
@@ -31,6 +33,13 @@ struct Annotations {
     double max_power = 0.0;
   };
   std::vector<Motor> motors;
+  /// A link's <collision_mesh>: whether its meshes collide as their convex decomposition (into
+  /// at most max_convex_hulls parts) rather than as their convex hull.
+  struct CollisionMesh {
+    bool decompose = false;
+    int max_convex_hulls = kDefaultMaxConvexHulls;
+  };
+  std::map<std::string, CollisionMesh> collision_meshes;  // by link name
 };
 
 /// Parses the XML, checks every link's and joint's numbers (model/urdf_numbers.h) and reads

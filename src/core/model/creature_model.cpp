@@ -15,6 +15,7 @@
 #include "flapsim/text_file.h"
 #include "fluid/box_union.h"
 #include "model/annotations.h"
+#include "model/convex_decomposition.h"
 #include "model/link_frames.h"
 #include "model/mesh_loader.h"
 #include "model/model_error.h"
@@ -243,12 +244,38 @@ LinkModel readLink(const urdf::LinkConstSharedPtr& l, const MeshResolver& resolv
   return lm;
 }
 
-// The links parent-before-child (breadth first from the root), with their <aero> settings;
-// their indices by name into `index`.
+// The convex decomposition of each of `link`'s meshes, as its <collision_mesh> asks;
+// `triangles` counts those decomposed so far in the URDF (kMaxDecompositionTriangles bounds
+// them all). A ModelError naming the link and the mesh if one cannot be decomposed.
+void decomposeMeshes(const Annotations::CollisionMesh& settings, const std::string& source,
+                     size_t& triangles, LinkModel& link) {
+  const std::string where = "<collision_mesh link='" + link.name + "'>";
+  if (link.meshes.empty()) fail(source, where + ": the link has no mesh to decompose");
+  for (MeshShape& mesh : link.meshes) {
+    const std::string what =
+        "link '" + link.name + "': mesh '" + mesh.uri + "': no convex decomposition: ";
+    triangles += mesh.mesh->triangles.size();
+    if (triangles > static_cast<size_t>(kMaxDecompositionTriangles)) {
+      fail(source, what + std::to_string(triangles) +
+                       " triangles to decompose in the URDF up to this mesh, over the limit of " +
+                       std::to_string(kMaxDecompositionTriangles) + " (simplify the mesh)");
+    }
+    try {
+      mesh.parts =
+          std::make_shared<const ConvexParts>(decomposeMesh(*mesh.mesh, settings.max_convex_hulls));
+    } catch (const std::exception& e) {
+      fail(source, what + e.what());
+    }
+  }
+}
+
+// The links parent-before-child (breadth first from the root), with their <aero> and
+// <collision_mesh> settings; their indices by name into `index`.
 void addLinks(const urdf::ModelInterface& urdf, Annotations& notes, const MeshResolver& resolve,
               const std::string& source, CreatureModel& model, std::map<std::string, int>& index) {
   std::queue<urdf::LinkConstSharedPtr> todo;
   todo.push(urdf.getRoot());
+  size_t decomposed = 0;  // triangles
   while (!todo.empty()) {
     urdf::LinkConstSharedPtr l = todo.front();
     todo.pop();
@@ -267,11 +294,22 @@ void addLinks(const urdf::ModelInterface& urdf, Annotations& notes, const MeshRe
       lm.aero = aero->second;
       notes.aero.erase(aero);
     }
+    auto collision = notes.collision_meshes.find(l->name);
+    if (collision != notes.collision_meshes.end()) {
+      if (collision->second.decompose) {
+        decomposeMeshes(collision->second, source, decomposed, lm);
+      }
+      notes.collision_meshes.erase(collision);
+    }
     index[l->name] = static_cast<int>(model.links.size());
     model.links.push_back(lm);
   }
   if (!notes.aero.empty()) {
     fail(source, "<aero> names unknown link '" + notes.aero.begin()->first + "'");
+  }
+  if (!notes.collision_meshes.empty()) {
+    fail(source,
+         "<collision_mesh> names unknown link '" + notes.collision_meshes.begin()->first + "'");
   }
 }
 

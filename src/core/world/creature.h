@@ -17,6 +17,7 @@
 #include "world/energy_meter.h"
 #include "world/joint_drives.h"
 #include "world/power.h"
+#include "world/step_record.h"
 
 namespace flapsim {
 
@@ -44,7 +45,7 @@ struct CreatureRecord {
 class CreatureSim {
  public:
   // A creature of model `m` (which must outlive it) with its root link frame at `pose`
-  // moving with `twist`. The servo stage is hooked into Bullet's step.
+  // moving with `twist`.
   CreatureSim(const CreatureModel& m, const Pose& pose, const Twist& twist,
               const WorldParams& params);
   CreatureSim(const CreatureSim&) = delete;
@@ -58,9 +59,10 @@ class CreatureSim {
   PowerMeter power;            // the work of its motors since it was built
   EnergyMeter energy;          // the air's and damping's work while the audit is on
   TurbulenceField turbulence;  // its realisation of the air's turbulence (none if off)
+  StepRecord record;           // the step data of its last step, as the stages wrote it
 
   // After the multibody's state was set from outside a step: what comes next depends on
-  // the new state alone, as for a body just built.
+  // the new state alone, as for a body just built (and no step data).
   void settle();
 };
 

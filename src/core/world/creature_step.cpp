@@ -8,12 +8,12 @@ namespace flapsim {
 
 CreatureSim::CreatureSim(const CreatureModel& m, const Pose& pose, const Twist& twist,
                          const WorldParams& params)
-    : body(m, pose, twist, params), servos(m, params), fluid(m, params.air), momentum(m) {
+    : body(m, pose, twist, params),
+      servos(m, params),
+      fluid(m, params.air),
+      momentum(m),
+      record(m) {
   power.reset(m.joints.size());
-  body.world().setServos([this] {
-    momentum.setDragImpulse(
-        servos.solve(body.multiBody(), body.frames(), body.world().leanTree(), fluid));
-  });
 }
 
 CreatureEnergy creatureEnergy(const CreatureModel& m, const CreatureSim& s,
@@ -31,6 +31,7 @@ void CreatureSim::settle() {
   servos.forget();
   momentum.forget();
   fluid.forgetFlow();
+  record.clear();
 }
 
 namespace {
@@ -44,6 +45,7 @@ void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s) {
     const Vec3 arm = kin.orientation * w.offset;
     const Wrench about_com{w.force, w.torque + arm.cross(w.force)};
     s.momentum.addExternal(kin.com, about_com);
+    s.record.external(w.link, kin.com, about_com);
     if (w.link == 0) {
       mb.addBaseForce(toBt(about_com.force));
       mb.addBaseTorque(toBt(about_com.torque));
@@ -57,19 +59,30 @@ void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s) {
 // One (sub)step of `h`, stage by stage (see creature_step.h).
 void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) {
   const WorldParams& p = c.params;
+  btMultiBody& mb = s.body.multiBody();
+  ServoWorld& world = s.body.world();
   // position: the frames of the start are those the last (sub)step ended with
   s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0, p.air.wind,
                    p.air.added_mass_velocity_products);
-  s.servos.begin(s.body.multiBody(), h);
+  s.servos.begin(mb, h);
+  s.record.beginSubStep(s.body.frames(), h);
   if (c.energy_audit) s.energy.beginSubStep(s.body);
-  applyDrives(*r.model, r.drives, s.servos, s.body.multiBody(), h);  // actuation
-  c.air.apply(*r.model, s.body, s.fluid, s.momentum, p, h);          // fluid
-  applyWrenches(r.wrenches, s);                                      // external
-  s.body.world().step(h);  // dynamics (the servo stage acts inside)
-  s.servos.integrateSaturated(s.body.multiBody(), s.body.hasContacts(), h);  // integrate
-  s.momentum.end(s.body, s.fluid, p.gravity, h);                             // momentum
-  s.power.endSubStep(*r.model, r.drives, s.body.multiBody(), s.servos, h);   // power
-  if (c.energy_audit) {
+  applyDrives(*r.model, r.drives, s.servos, mb, h);          // actuation
+  c.air.apply(*r.model, s.body, s.fluid, s.momentum, p, h);  // fluid
+  s.record.fluid(s.fluid, p.air.enabled);
+  applyWrenches(r.wrenches, s);  // external
+  // velocities, then servos (none in a step too short for Bullet to take: nothing moves)
+  if (world.beginStep(h)) {
+    s.momentum.setDragImpulse(s.servos.solve(mb, s.body.frames(), world.leanTree(), s.fluid));
+    s.record.servos(s.servos, s.fluid);
+  }
+  world.constrain();  // constraints
+  s.record.contact(s.body.hasContacts());
+  world.integrate();                                         // positions
+  s.servos.integrateSaturated(mb, s.body.hasContacts(), h);  // saturated
+  s.momentum.end(s.body, s.fluid, p.gravity, h);             // momentum
+  s.power.endSubStep(*r.model, r.drives, mb, s.servos, h);   // power
+  if (c.energy_audit) {                                      // energy
     s.energy.endSubStep(*r.model, r.drives, s.body, s.fluid, s.servos, p.air.enabled, p.air.wind,
                         h);
   }
@@ -102,6 +115,7 @@ void stepInSteadyAir(CreatureRecord& r, CreatureSim& s, const StepContext& c,
                      std::uint64_t number) {
   s.before.take(s.body.multiBody());
   s.power.beginStep();
+  s.record.beginStep(s.body.frames(), c.params.step_size);
   const double dt = c.params.step_size, most = c.params.turn_substep;
   const StrokeTurn turn =
       most > 0.0 ? strokeTurn(*r.model, r.drives, s.servos, s.body.multiBody(), dt) : StrokeTurn();
@@ -124,9 +138,11 @@ void stepInSteadyAir(CreatureRecord& r, CreatureSim& s, const StepContext& c,
   if (fault.empty()) {
     r.root_acceleration = fromBt(s.body.multiBody().getBaseVel() - s.before.velocity) / dt;
     s.power.endStep(dt);
+    s.record.endStep(s.power);
     return;
   }
   s.power.undoStep();
+  s.record.clear();
   s.before.restore(s.body.multiBody());
   s.body.updateKinematics();
   s.servos.forget();  // a frozen creature is driven by nothing: no efforts of the refused step

@@ -1,28 +1,42 @@
-// A creature's step as named stages, after MuJoCo's mj_step. One step of `step_size`:
+// A creature's step as named stages, after MuJoCo's mj_step, in the order the code runs them
+// (creature_step.cpp: stepCreature, stepInSteadyAir, subStep). Each stage writes its named
+// outputs of the step into the creature's step data (world/step_record.h; read through
+// World::stepData, flapsim/step_data.h). One step of `step_size`:
 //
 //   check       a creature the watchdog froze is not stepped; the state before the step is
-//               kept (creature_step.cpp: stepCreature)
+//               kept (stepCreature)
 //   air         the air's velocity at the root's COM (wind, gust, turbulence), uniform over
 //               the creature for the step (creatureAirVelocity)
 //   substeps    a step in which a wing reverses is cut at the turn into pieces of at most
 //               turn_substep (world/joint_drives.h: strokeTurn); each (sub)step runs:
 //     position      the link frames of the (sub)step's start: those the last one ended with
-//                   (dynamics/bullet_body.h), and the momentum and velocities then
-//                   (dynamics/momentum_balance.h, dynamics/servo_stage.h: begin)
+//                   (dynamics/bullet_body.h: LinkFrames), and the momentum and velocities
+//                   then (dynamics/momentum_balance.h, dynamics/servo_stage.h: begin)
 //     actuation     joint drives -> servo demands and passive torques (world/joint_drives.h)
 //     fluid         the air's wrenches and this step's implicit fluid (world/fluid_stage.h)
-//     external      the user's external wrenches (this file)
-//     dynamics      Bullet's step: unconstrained accelerations (its articulated-body pass or
-//                   dynamics/tree_dynamics.h), then inside it the servo stage solves servos
-//                   and the implicit fluid together (dynamics/servo_stage.h: solve), then
-//                   contacts and joint limits (dynamics/joint_limit.h), then integration
-//     integrate     saturated servos move by the trapezoid of their velocities
+//                   -> the step data's fluid_wrench
+//     external      the user's external wrenches (this file) -> external_wrench
+//     velocities    Bullet's unconstrained velocities under gravity and the forces (its
+//                   articulated-body pass, or dynamics/tree_dynamics.h on a lean step):
+//                   dynamics/bullet_scene.h: ServoWorld::beginStep
+//     servos        the servo stage solves servos and the implicit fluid together and adds
+//                   the velocity change they cause (dynamics/servo_stage.h: solve) ->
+//                   servo_effort, fluid_wrench (the implicit drag's share)
+//     constraints   contacts and joint limits: Bullet's constraint solve (on a lean step
+//                   only if a limit may act, dynamics/joint_limit.h): ServoWorld::constrain
+//                   -> contact
+//     positions     Bullet's integration of the positions: ServoWorld::integrate
+//     saturated     saturated servos move by the trapezoid of their velocities
 //                   (dynamics/servo_stage.h: integrateSaturated)
 //     momentum      the rigid correction that keeps the momentum that of the external
 //                   impulses, and the frames of the (sub)step's end (momentum_balance.h: end)
+//     power         each motor's work over the (sub)step (world/power.h)
+//     energy        the air's and the damping's work, while the energy audit is on
+//                   (world/energy_meter.h)
 //   wrenches    the external wrenches count down their steps
 //   watchdog    a non-finite or too fast result is refused: the creature is put back as it
-//               was and frozen (dynamics/bullet_body.h: motionFault)
+//               was and frozen, its step data cleared (dynamics/bullet_body.h: motionFault);
+//               else the step's power closes the step data -> joint_power, total_power
 //
 // Private to flapsim_core.
 #pragma once

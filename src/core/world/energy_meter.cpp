@@ -6,9 +6,7 @@
 
 namespace flapsim {
 
-void EnergyMeter::beginSubStep(const BulletBody& body) {
-  origin_ = fromBt(body.frames().local_origin[0]);
-}
+void EnergyMeter::beginSubStep(const BulletBody& body) { origin_ = fromBt(body.frames().com(0)); }
 
 void EnergyMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
                              const BulletBody& body, const CreatureFluid& fluid,

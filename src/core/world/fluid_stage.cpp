@@ -103,7 +103,7 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
       // fluid: not in the momentum balance's external impulses.
       const SpatialFactor& added = fluid.addedMass(i, rotation, air.density);
       if (air.density > 0.0 && air.added_mass_velocity_products) {
-        const Vec3 origin = fromBt(body.frames().local_origin[0]);
+        const Vec3 origin = fromBt(body.frames().com(0));
         if (fluid.link_bias_.empty()) {
           accelerationBias(model, body.frames(), origin, air.wind, fluid.link_velocity_,
                            fluid.link_bias_);

@@ -28,6 +28,8 @@ class PowerMeter {
   void endStep(double dt);
   /// The step did not happen (the watchdog put the creature back): its work is taken back.
   void undoStep();
+  /// Per joint, its motor's work in the current step so far (after endStep(): the step's).
+  const std::vector<double>& stepWork() const { return step_work_; }
   /// The counters, as World::power gives them.
   CreaturePower report(double mass) const;
 

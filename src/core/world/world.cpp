@@ -167,6 +167,9 @@ class World::Impl {
     for (const AeroBody& a : sims_[index(creature)]->fluid.bodies()) out.push_back(a.last);
     return out;
   }
+  const StepData& stepData(const std::string& creature) const {
+    return sims_[index(creature)]->record.data();
+  }
 
   // ---- drives --------------------------------------------------------------------
   // Strokes on the wing joints `targets` (checked by checkWingCommands).
@@ -486,5 +489,6 @@ Vec3 World::airVelocity(const std::string& creature) const { return impl_->airVe
 std::vector<LinkAero> World::aeroForces(const std::string& creature) const {
   return impl_->aeroForces(creature);
 }
+StepData World::stepData(const std::string& creature) const { return impl_->stepData(creature); }
 
 }  // namespace flapsim
