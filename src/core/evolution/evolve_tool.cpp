@@ -157,12 +157,17 @@ std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result
                               const std::string& evaluated_on) {
   const EpisodeParams& e = o.params.episode;
   std::ostringstream header;
-  header << "Hover controller gains (flapsim::HoverController) evolved on " << evaluated_on
+  header << "Hover controller gains (flapsim::HoverController) evolved "
+         << (evaluated_on == "farm" ? "on the farm" : evaluated_on)
          << ".\nReproduce: " << evolveCommand(o) << " --out <dir>\n"
          << "Fitness = mean of -(altitude rms after " << e.settle_time << " s + "
          << kHoverPowerWeight << " x W/kg / 100 + " << kHoverTiltWeight << " x ("
-         << kHoverMinUpright << " - lowest up)+, less " << e.flip_penalty << " after a flip) over "
-         << e.episodes << " episodes of " << e.duration << " s: " << result.best_fitness
+         << kHoverMinUpright << " - lowest up)+ + " << kHoverStartTiltWeight
+         << " x (cos(start tilt + 10 deg) - lowest up from t = 0)+ + " << kHoverSagWeight
+         << " x (sag below start and setpoint - " << kHoverMaxSag << " m)+, less " << e.flip_penalty
+         << " after a flip) over " << e.episodes << " episodes of " << e.duration << " s"
+         << (e.first_start_level ? ", the first level in still air" : "") << ": "
+         << result.best_fitness
          << "\nLoad it as hover_controller's private parameters (hover.launch gains:=FILE); "
          << "measure it with flight_check --hover --gains FILE.";
   writeTextFile(o.weights_path,
