@@ -460,13 +460,17 @@ TEST(BadInput, InvalidWorldParamsAreNamed) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("subdivisions"), std::string::npos);
   }
-  p = WorldParams();
-  p.turn_substep = -0.001;
-  try {
-    World w(p);
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("turn_substep"), std::string::npos);
+  for (double bad : {-0.001, 1e-300, 5e-8}) {  // 1e-300: 1e297 pieces a step
+    p = WorldParams();
+    p.turn_substep = bad;
+    try {
+      World w(p);
+      FAIL() << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("turn_substep must be 0 (off) or finite and >= 1e-7 s"),
+                std::string::npos)
+          << e.what();
+    }
   }
 }
 

@@ -39,8 +39,11 @@ std::string firstFailure(const Rule<T> (&rules)[N], const T& value) {
 const Rule<WorldParams> kWorldRules[] = {
     {[](const WorldParams& p) { return inRange(p.step_size, 1e-6, 0.1); },
      "step_size must be in [1e-6, 0.1] s"},
-    {[](const WorldParams& p) { return std::isfinite(p.turn_substep) && p.turn_substep >= 0.0; },
-     "turn_substep must be finite and >= 0 s"},
+    // (Substeps shorter than 1e-7 s would cut a step into more pieces than an int counts.)
+    {[](const WorldParams& p) {
+       return p.turn_substep == 0.0 || (std::isfinite(p.turn_substep) && p.turn_substep >= 1e-7);
+     },
+     "turn_substep must be 0 (off) or finite and >= 1e-7 s"},
     {[](const WorldParams& p) { return finiteNorm(p.gravity, kMaxGravity); },
      "gravity must be finite and at most 1e4 m/s^2"},
     {[](const WorldParams& p) { return inRange(p.ground_friction, 0.0, 1e3); },
