@@ -66,8 +66,6 @@ SEPARATOR = re.compile(r"^\s*\|?\s*:?-{3,}:?\s*(\|\s*:?-{3,}:?\s*)*\|?\s*$")
 # Registered tables whose commands have not been run yet, each with why: name -> reason. Their
 # blocks still hold the figures measured by hand before; a ratchet as NOT_YET_SCRIPTED.
 NOT_YET_MEASURED = {
-    "afc_12_altitude_hold": "12 flights of the 12-unit chain, 2.5-5 min each on this shared "
-                            "2-core machine: not yet run",
 }
 
 
