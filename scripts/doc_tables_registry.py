@@ -222,16 +222,16 @@ register_flight_table("afc_1_paper_climbing", "config/afc_1_weights.yaml", 1, (1
 
 
 def chains_climbing():
-    """afc_4 and afc_6 climbing under their controllers in the disturbance conditions (1 ms
-    only: the 0.5 ms rows double its 15 min of CPU)."""
-    runs4, labels4 = flight_table("", "config/afc_4_weights.yaml", 4, (1,), CONDITIONS,
+    """afc_4 and afc_6 climbing under their controllers in the disturbance conditions."""
+    runs4, labels4 = flight_table("", "config/afc_4_weights.yaml", 4, (1, 0.5), CONDITIONS,
                                   creature="afc_4")
-    runs6, labels6 = flight_table("", "config/afc_6_weights.yaml", 6, (1,), CONDITIONS,
+    runs6, labels6 = flight_table("", "config/afc_6_weights.yaml", 6, (1, 0.5), CONDITIONS,
                                   creature="afc_6")
     register(Table("afc_4_6_climbing", FLIGHT_DOC, ["creature, condition"] + TABLE_HEADER[1:],
                    runs4 + runs6, flight_rows(labels4 + labels6),
                    f"each row `{FLIGHT_CHECK} --weights config/afc_N_weights.yaml --pairs N "
-                   f"{' '.join(WIDE_STARTS)}` with the condition's flags (1 ms)"))
+                   f"{' '.join(WIDE_STARTS)}` with the condition's flags and the step's "
+                   "`--step-size`"))
 
 
 chains_climbing()
