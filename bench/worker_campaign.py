@@ -8,6 +8,7 @@ three times. On a master of its own; prints figures, never passes or fails.
 """
 import os
 import random
+import re
 import subprocess
 import sys
 import tempfile
@@ -26,24 +27,31 @@ SERVICE = "/flapsim_farm/w/evaluate_episodes"
 ROBUST = ["--preset", "robust"]
 
 
-def request(spec, tasks=1, weight_count=12, episode=0, weights=None):
+# The robust preset's weight count, learnt from the worker's refusal of a wrong one in main()
+# ("1 weights, the controller has N"), so the campaign follows the network's size.
+WEIGHTS = [None]
+
+
+def request(spec, tasks=1, weight_count=None, episode=0, weights=None):
+    weight_count = weight_count if weight_count is not None else WEIGHTS[0]
     return EvaluateEpisodesRequest(
         spec=spec, weight_count=weight_count,
         weights=weights if weights is not None else [0.1] * (weight_count * tasks),
         episodes=[episode] * tasks)
 
 
-CAMPAIGN = [
-    ("1: --episodes 10000000", request(ROBUST + ["--episodes", "10000000"], episode=-1)),
-    ("2: 833,333 tasks (1e7 weights)", request(ROBUST, tasks=833333)),
-    ("2: --step-sizes 0.000001", request(ROBUST + ["--step-sizes", "0.000001"])),
-    ("2: --duration 4.3e7", request(ROBUST + ["--duration", "4.3e7"])),
-    ("2: --pairs 3000", request(ROBUST + ["--pairs", "3000"])),
-    ("2: 1024 tasks of 15 s", request(ROBUST, tasks=1024)),
-    ("5: --duration 1e9", request(ROBUST + ["--duration", "1e9"])),
-    ("a 16 MiB argument", request(["--preset", "r" * (16 << 20)])),
-    ("NaN weights", request(ROBUST, weights=[float("nan")] * 12)),
-]
+def campaign():
+    return [
+        ("1: --episodes 10000000", request(ROBUST + ["--episodes", "10000000"], episode=-1)),
+        ("2: 833,333 tasks (1e7 weights)", request(ROBUST, tasks=833333)),
+        ("2: --step-sizes 0.000001", request(ROBUST + ["--step-sizes", "0.000001"])),
+        ("2: --duration 4.3e7", request(ROBUST + ["--duration", "4.3e7"])),
+        ("2: --pairs 3000", request(ROBUST + ["--pairs", "3000"])),
+        ("2: 1024 tasks of 15 s", request(ROBUST, tasks=1024)),
+        ("5: --duration 1e9", request(ROBUST + ["--duration", "1e9"])),
+        ("a 16 MiB argument", request(["--preset", "r" * (16 << 20)])),
+        ("NaN weights", request(ROBUST, weights=[float("nan")] * WEIGHTS[0])),
+    ]
 
 
 def memory_kb(pid):
@@ -65,6 +73,11 @@ def main():
         rospy.init_node("worker_campaign", anonymous=True, disable_signals=True)
         rospy.wait_for_service(SERVICE, timeout=30)
         call = rospy.ServiceProxy(SERVICE, EvaluateEpisodes)
+        refusal = call(request(ROBUST, weight_count=1)).message
+        found = re.search(r"the controller has (\d+)", refusal)
+        if not found:
+            sys.exit("worker_campaign: no weight count in the worker's refusal: " + refusal)
+        WEIGHTS[0] = int(found.group(1))
         normal = request(ROBUST)
         call(normal)  # the runner of the normal spec is built once
         rss, hwm = memory_kb(worker.pid)
@@ -73,7 +86,7 @@ def main():
                                                 "RSS MB", "peak MB"))
         worst = 0.0
         for round_ in range(3):
-            for name, req in CAMPAIGN:
+            for name, req in campaign():
                 t = time.monotonic()
                 res = call(req)
                 hostile = time.monotonic() - t
