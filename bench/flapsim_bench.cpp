@@ -69,12 +69,13 @@ struct Scenario {
 };
 
 // Air cells of a creature's aero links at the default air parameters (what the air model
-// sums over each step, advancing faces only).
+// sums over each step, advancing faces only): of every shape, meshes, cylinders and spheres
+// included.
 int airCells(const flapsim::CreatureModel& model) {
   int cells = 0;
   for (size_t k = 0; k < model.links.size(); ++k) {
     const flapsim::LinkModel& l = model.links[k];
-    if (!l.aero.enabled || l.boxes.empty()) continue;
+    if (!l.aero.enabled) continue;
     cells += static_cast<int>(
         flapsim::linkAeroSurface(model, static_cast<int>(k), flapsim::AirParams()).cells.size());
   }
