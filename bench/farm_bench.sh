@@ -19,6 +19,8 @@ cleanup() {
 trap cleanup EXIT
 
 rate() { grep -o '[0-9.]* episodes/s' "$1" | head -1; }
+load() { python3 -c 'import os, sys; print("load average at the %s: %.2f %.2f %.2f" % ((sys.argv[1],) + os.getloadavg()))' "$1"; }
+load start
 
 for t in 1 2; do
   "$bin/evolve" $flags --threads "$t" --out "$out/threads$t" > "$out/threads$t.log"
@@ -47,3 +49,4 @@ for d in threads2 farm1 farm2; do
   cmp -s "$out/threads1/fitness.csv" "$out/$d/fitness.csv" || same=no
 done
 echo "fitness.csv the same in all four: $same"
+load end

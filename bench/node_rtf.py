@@ -57,6 +57,7 @@ creatures:
     pose: {{xyz: [0, 0, 1000], rpy: [0, 0, 0]}}
     wing_command: {{downstroke_rate: 30, upstroke_rate: 10, amplitude: 0.8}}
 """)
+    print("load average at the start: %.2f %.2f %.2f" % os.getloadavg(), flush=True)
     master = PrivateMaster(os.path.join(tmp, "log.txt"))
     try:
         master.run(["rosparam", "load", params, "/flapsim"])
@@ -84,6 +85,7 @@ creatures:
                          check=True, capture_output=True, text=True).stdout.strip()
     core_rtf = float(out.rsplit(" ", 1)[1])
     print(f"core on the same stretch: {out}\nnode / core = {node_rtf / core_rtf:.3f}")
+    print("load average at the end: %.2f %.2f %.2f" % os.getloadavg())
     return 0
 
 

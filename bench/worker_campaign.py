@@ -81,12 +81,14 @@ def main():
         normal = request(ROBUST)
         call(normal)  # the runner of the normal spec is built once
         rss, hwm = memory_kb(worker.pid)
+        print("load average at the start: %.2f %.2f %.2f" % os.getloadavg())
         print("worker at start: VmRSS %.1f MB, VmHWM %.1f MB" % (rss / 1024, hwm / 1024))
-        print("%-32s %-9s %-44s %10s %9s %9s" % ("call", "answered", "message", "normal s",
-                                                "RSS MB", "peak MB"))
+        print("%-32s %9s %10s %9s %9s  %s" % ("call", "answered", "normal s", "RSS MB",
+                                              "peak MB", "message"))
         worst = 0.0
         for round_ in range(3):
-            for name, req in campaign():
+            calls = campaign()
+            for name, req in calls:
                 t = time.monotonic()
                 res = call(req)
                 hostile = time.monotonic() - t
@@ -95,14 +97,15 @@ def main():
                 normal_s = time.monotonic() - t
                 worst = max(worst, normal_s)
                 rss, hwm = memory_kb(worker.pid)
-                if round_ == 0 or name == CAMPAIGN[-1][0]:
-                    print("%-32s %-9s %-44s %10.3f %9.1f %9.1f" % (
-                        name, "%.3f s" % hostile, (res.message or "success")[:44], normal_s,
-                        rss / 1024, hwm / 1024))
+                if round_ == 0 or name == calls[-1][0]:
+                    print("%-32s %7.3f s %10.3f %9.1f %9.1f  %s" % (
+                        name, hostile, normal_s, rss / 1024, hwm / 1024,
+                        (res.message or "success")[:160]))
                 assert ok.success, ok.message
             print("after round %d: VmRSS %.1f MB, VmHWM %.1f MB" % (round_ + 1, rss / 1024,
                                                                    hwm / 1024))
         print("slowest normal call: %.3f s" % worst)
+        print("load average at the end: %.2f %.2f %.2f" % os.getloadavg())
     finally:
         rospy.signal_shutdown("done")
         worker.terminate()

@@ -48,7 +48,9 @@ class Run:
 class Table:
     """A measured table: its name, doc file (relative to ROOT), header row, runs, a function
     from {key: stdout} to the table's rows (lists of cells), and how its commands are said
-    below the table (`said`: markdown; the runs' full commands are in the stored raw file)."""
+    below the table (`said`: markdown, or a function from {key: stdout} to it when it says
+    what the runs saw, such as the load average; the runs' full commands are in the stored raw
+    file)."""
 
     def __init__(self, name, doc, header, runs, rows, said):
         self.name = name
@@ -83,9 +85,10 @@ class Table:
                                  f"{len(self.header)} columns: {row}")
             lines.append("| " + " | ".join(row) + " |")
         lines.append("")
+        said = self.said(outputs) if callable(self.said) else self.said
         lines.append(f"Written by `scripts/doc_tables.py {self.name}` at commit {raw.commit}"
                      f"{' (uncommitted changes in the tree)' if raw.dirty else ''}, "
-                     f"{raw.date}: {self.said}; commands and raw output: [{link}]({link}).")
+                     f"{raw.date}: {said}; commands and raw output: [{link}]({link}).")
         return "\n".join(lines)
 
 
@@ -263,7 +266,8 @@ def main(args):
     from doc_tables_registry import TABLES
     if "--list" in args:
         for t in TABLES.values():
-            print(f"{t.name}\t{t.doc}\t{t.said}")
+            said = t.said if not callable(t.said) else "; ".join(r.command() for r in t.runs)
+            print(f"{t.name}\t{t.doc}\t{said}")
         return 0
     write = "--write" in args
     write_raw = "--write-raw" in args

@@ -457,3 +457,25 @@ def step_profile():
 
 
 step_profile()
+
+
+# --- doc/validation.md: the cases the gtests check ---------------------------------------------
+
+def validation_tables():
+    from doc_tables_validation import TABLES as VALIDATION
+    for make in VALIDATION:
+        register(make())
+
+
+validation_tables()
+
+
+# --- the bench programs' tables: times, memory, answers (doc/urdf.md, doc/reliability.md, ...) --
+
+def bench_tables():
+    from doc_tables_bench import TABLES as BENCH
+    for make in BENCH:
+        register(make())
+
+
+bench_tables()

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iomanip>
 
+#include "doc_figure.h"
 #include "flapsim/air_model.h"
 #include "fluid/box_union.h"
 #include "fluid/buoyancy.h"
@@ -242,6 +243,11 @@ TEST(BuildSurface, FlushHalfPlatesFeelTheDragOfOneWholePlate) {
     EXPECT_NEAR((f2 - f1).norm(), 0.0, 1e-12 * f1.norm()) << u.transpose();
   }
   const double edge_on = pressureIn(one, Vec3(2, 0, 0)).force.norm();
+  test::printFigure("face_on_one", pressureIn(one, Vec3(0, 0, -2)).force.norm());
+  test::printFigure("face_on_two", pressureIn(two, Vec3(0, 0, -2)).force.norm());
+  test::printFigure("edge_on_one", edge_on);
+  test::printFigure("edge_on_two", pressureIn(two, Vec3(2, 0, 0)).force.norm());
+  test::printFigure("edge_on_unmasked", pressureIn(unmasked, Vec3(2, 0, 0)).force.norm());
   EXPECT_NEAR(pressureIn(unmasked, Vec3(2, 0, 0)).force.norm(), 2.0 * edge_on, 1e-12);
   // The quasi-steady model sees the same single plate, given the same span.
   const AeroSurface two_qs = buildSurface(halves, 4, 4, Vec3::UnitY());
@@ -287,6 +293,8 @@ TEST(BuildSurface, PartlyHiddenFaceSumsEqualThePerCellSum) {
 TEST(UnionOfBoxes, AlignedOverlapIsCountedOnceExactly) {
   const Vec3 cube(0.1, 0.1, 0.1);
   const AeroSurface s = buildSurface({box(cube, Vec3::Zero()), box(cube, Vec3(0.05, 0, 0))}, 2, 2);
+  test::printFigure("volume_error", std::abs(s.volume - 1.5e-3));
+  test::printFigure("centroid_error", (s.centroid - Vec3(0.025, 0, 0)).norm());
   EXPECT_NEAR(s.volume, 1.5e-3, 1e-15);
   EXPECT_NEAR((s.centroid - Vec3(0.025, 0, 0)).norm(), 0.0, 1e-15);
   const Wrench w =
@@ -311,6 +319,8 @@ TEST(UnionOfBoxes, TurnedOverlapMatchesTheOctagonWithinSamplingError) {
   const Quat turn(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ()));
   const double octagon = 2.0 * (std::sqrt(2.0) - 1.0) * a * a;
   const BoxUnion same = unionOfBoxes({box(cube, Vec3::Zero()), box(cube, Vec3::Zero(), turn)});
+  test::printFigure("volume", same.volume);
+  test::printFigure("expected", 2 * a * a * a - octagon * a);
   EXPECT_NEAR(same.volume / (2 * a * a * a - octagon * a), 1.0, 1e-4);  // measured -2.5e-5
   EXPECT_NEAR(same.centroid.norm(), 0.0, 1e-4 * a);
   const BoxUnion raised =
@@ -404,6 +414,7 @@ TEST(BuoyancyWrench, BottomHeavyCubeIsTurnedBackUpright) {
   const double a = 0.1, h = 0.02, rho = 1000.0, g = 9.81;
   const AeroSurface s = buildSurface({box(Vec3(a, a, a), Vec3(0, 0, h))}, 2, 2);
   ASSERT_NEAR((s.centroid - Vec3(0, 0, h)).norm(), 0.0, 1e-15);
+  double most = 0.0;  // the largest difference from the torque expected
   for (double theta : {-0.5, -0.1, 0.1, 0.5}) {
     for (int i : {0, 1}) {
       const Vec3 axis = Vec3::Unit(i);
@@ -413,8 +424,12 @@ TEST(BuoyancyWrench, BottomHeavyCubeIsTurnedBackUpright) {
       EXPECT_NEAR(w.force.z(), rho * a * a * a * g, 1e-12);
       EXPECT_NEAR(w.torque.dot(axis), -rho * a * a * a * g * h * std::sin(theta), 1e-12);
       EXPECT_LT(w.torque.dot(axis) * theta, 0.0);  // against the tilt
+      most =
+          std::max(most, std::abs(w.torque.dot(axis) + rho * a * a * a * g * h * std::sin(theta)));
+      if (theta == 0.1 && i == 0) test::printFigure("torque_0.1rad", w.torque.dot(axis));
     }
   }
+  test::printFigure("largest_difference", most);
 }
 
 // ---- quasi-steady span, centre of pressure, rotational lift ------------------------------
@@ -435,16 +450,21 @@ TEST(QuasiSteadySpan, SquareAndNearlySquarePlatesAgreeGivenTheSpan) {
   appendBox(old_a, square, Pose(), 4, 4);
   appendBox(old_b, longer, Pose(), 4, 4);
   double worst_old = 1.0;
+  double lowest = 1e300, highest = 0.0;  // the force ratios over the flows
   for (const Vec3& u : {Vec3(0, 0, -2), Vec3(2, 0, -0.5), Vec3(0, 2, -0.2), Vec3(1, 1.5, -0.8)}) {
     BodyKinematics k;
     k.linear_velocity = u;
     const double fa = quasiSteadyOn(a, k, air).force.norm();
     const double fb = quasiSteadyOn(b, k, air).force.norm();
     EXPECT_NEAR(fb / fa, 1.0, 0.02) << u.transpose();
+    lowest = std::min(lowest, fb / fa);
+    highest = std::max(highest, fb / fa);
     const double oa = quasiSteadyOn(old_a, k, air).force.norm();
     const double ob = quasiSteadyOn(old_b, k, air).force.norm();
     worst_old = std::max(worst_old, std::max(ob / oa, oa / ob));
   }
+  test::printFigure("lowest_ratio", lowest);
+  test::printFigure("highest_ratio", highest);
   EXPECT_GT(worst_old, 2.0);  // the flows above do tell the two spans apart
 }
 
@@ -459,6 +479,7 @@ TEST(QuasiSteadyCentreOfPressure, GlidingPlatePitchesNoseUpByWhitneyWood) {
   off.centre_of_pressure_shift = false;
   on.rotational_lift = off.rotational_lift = false;
   const QuasiSteadyCoefficients q;
+  double most = 0.0;  // the largest relative error of the moment
   for (double deg : {5.0, 10.0, 20.0, 45.0, 80.0}) {
     const double alpha = deg * M_PI / 180.0;
     for (double dir : {1.0, -1.0}) {
@@ -472,9 +493,12 @@ TEST(QuasiSteadyCentreOfPressure, GlidingPlatePitchesNoseUpByWhitneyWood) {
       EXPECT_NEAR(w.force.z() / fz, 1.0, 1e-6) << deg;
       const double arm = c / 2 - c * (0.82 * alpha / M_PI + 0.05);
       EXPECT_NEAR(w.torque.y() / (-dir * arm * fz), 1.0, 1e-6) << deg << " dir " << dir;
+      most = std::max(most, std::abs(w.torque.y() / (-dir * arm * fz) - 1.0));
+      if (deg == 10.0 && dir > 0) test::printFigure("torque_y_10deg", w.torque.y());
       EXPECT_NEAR(quasiSteadyOn(s, k, off).torque.norm(), 0.0, 1e-6 * arm * fz) << deg;
     }
   }
+  test::printFigure("largest_relative_error", most);
 }
 
 // The same plate at alpha = 10 deg also pitching nose-up at rate q (omega = -q y) gains
@@ -488,6 +512,7 @@ TEST(QuasiSteadyRotationalLift, FollowsSaneDickinsonAndIsOddInPitchRate) {
   on.centre_of_pressure_shift = off.centre_of_pressure_shift = false;
   off.rotational_lift = false;
   const Vec3 v = speed * Vec3(std::cos(alpha), 0, -std::sin(alpha));
+  double most = 0.0;  // the largest relative error of the extra lift
   for (double x0 : {0.5, 0.0}) {
     s.pitch_axis_point = Vec3(c * (0.5 - x0), 0, 0);
     for (double q : {1.0, 2.0, -1.0, -2.0}) {
@@ -499,6 +524,8 @@ TEST(QuasiSteadyRotationalLift, FollowsSaneDickinsonAndIsOddInPitchRate) {
       const Vec3 at_axis = v + k.angular_velocity.cross(s.pitch_axis_point);
       const double expected = M_PI * (0.75 - x0) * kRho * at_axis.norm() * c * c * span * q;
       EXPECT_NEAR(extra.z() / expected, 1.0, 1e-9) << x0 << " q " << q;
+      most = std::max(most, std::abs(extra.z() / expected - 1.0));
+      if (x0 == 0.5 && q == 1.0) test::printFigure("lift_mid_chord_q1", extra.z());
       EXPECT_NEAR(extra.head<2>().norm(), 0.0, 1e-9 * std::abs(expected));
     }
   }
@@ -507,6 +534,7 @@ TEST(QuasiSteadyRotationalLift, FollowsSaneDickinsonAndIsOddInPitchRate) {
   BodyKinematics still;
   still.angular_velocity = Vec3(0, 3.0, 0);
   const Vec3 extra = quasiSteadyOn(s, still, on).force - quasiSteadyOn(s, still, off).force;
+  test::printFigure("largest_relative_error", most);
   EXPECT_NEAR(extra.norm(), 0.0, 1e-15);
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "doc_figure.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
 #include "test_util.h"
@@ -209,6 +210,7 @@ double swim(double w1, double w2, int cycles) {
 
 TEST(Water, EqualStrokesGoNowhereUnequalOnesMove) {
   const double equal = swim(1, 1, 10), twice = swim(2, 1, 10), thrice = swim(3, 1, 10);
+  test::printFigure("equal_z", equal);
   EXPECT_LT(std::abs(equal), 0.01);
   EXPECT_GT(std::abs(twice), 0.03);
   EXPECT_GT(std::abs(thrice), std::abs(twice));

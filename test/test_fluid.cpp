@@ -3,12 +3,14 @@
 // mass, buoyancy that rights a bottom-heavy body.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "doc_figure.h"
 #include "fluid/added_mass.h"
 #include "fluid/pressure.h"
 #include "fluid/surface.h"
@@ -25,6 +27,14 @@ constexpr double kWater = 1000.0;
 // DNV-RP-C205 table A-2's coefficients at its rows, linear in c / b between them, and the
 // plate's added mass C_A rho pi c^2 b / 4 with c the shorter edge.
 TEST(AddedMass, CoefficientFollowsTheDnvTableOfRectangularPlates) {
+  double most = 0.0;  // the largest difference from the table over its rows
+  const double rows[][2] = {{1, 0.579}, {1.25, 0.642}, {1.5, 0.690}, {1.59, 0.704},
+                            {2, 0.757}, {2.5, 0.801},  {3, 0.830},   {4, 0.871},
+                            {5, 0.897}, {6.25, 0.917}, {8, 0.934},   {10, 0.947}};
+  for (const auto& row : rows) {
+    most = std::max(most, std::abs(plateAddedMassCoefficient(1.0, row[0]) - row[1]));
+  }
+  test::printFigure("largest_difference", most);
   EXPECT_DOUBLE_EQ(plateAddedMassCoefficient(0.2, 0.2), 0.579);
   EXPECT_DOUBLE_EQ(plateAddedMassCoefficient(0.1, 0.2), 0.757);
   EXPECT_DOUBLE_EQ(plateAddedMassCoefficient(0.3, 0.1), 0.830);  // either edge first
@@ -48,8 +58,12 @@ TEST(AddedMass, PlateGetsItAlongItsNormalOnly) {
   const Mat6 a = normalInertia(masses, kWater);
   const Vec3 n = tilted.orientation * Vec3::UnitZ();
   const double expected = plateAddedMass(kWater, 0.22, 0.35);
-  EXPECT_NEAR(n.dot(a.bottomRightCorner<3, 3>() * n), expected, 1e-12 * expected);
   const Vec3 in_plane = tilted.orientation * Vec3::UnitX();
+  test::printFigure("normal_relative_error",
+                    std::abs(n.dot(a.bottomRightCorner<3, 3>() * n) / expected - 1.0));
+  test::printFigure("in_plane_relative",
+                    std::abs(in_plane.dot(a.bottomRightCorner<3, 3>() * in_plane)) / expected);
+  EXPECT_NEAR(n.dot(a.bottomRightCorner<3, 3>() * n), expected, 1e-12 * expected);
   EXPECT_NEAR(in_plane.dot(a.bottomRightCorner<3, 3>() * in_plane), 0.0, 1e-12 * expected);
   std::vector<NormalMass> cube;
   appendPlateAddedMass(cube, Vec3(0.1, 0.1, 0.1), Pose(), 4, 4);
@@ -76,6 +90,7 @@ TEST(DragDamping, FaceOnPlateIsTheForceDerivative) {
   faster.linear_velocity.z() -= 1e-6;
   const double dfz = model.bodyWrench(faster, surface, air, nullptr).force.z() -
                      model.bodyWrench(body, surface, air, nullptr).force.z();
+  test::printFigure("relative_difference", std::abs(dfz / 1e-6 / d(5, 5) - 1.0));
   EXPECT_NEAR(dfz / 1e-6, d(5, 5), 1e-4 * d(5, 5));
 }
 
@@ -134,6 +149,10 @@ TEST(WaterWorld, LevelPlateStartsAtItsAspectRatiosAddedMassAcceleration) {
         const double added = plate.ca * kWater * M_PI * plate.chord * plate.chord * plate.span / 4;
         const double expected = (m - kWater * volume) * -9.81 / (m + added);
         const double a = w.rootTwist("plate").linear.z() / p.step_size;
+        const std::string name =
+            test::figureName("%gx%g_%s_%gms", plate.chord, plate.span, model, dt * 1000);
+        test::printFigure("a_" + name, a);
+        test::printFigure("expected_" + name, expected);
         EXPECT_NEAR(a, expected, 0.02 * std::abs(expected));
         std::printf("plate %g x %g in water (%s), step %g s: a = %.6f m/s^2, C_A = %.3f: %.6f\n",
                     plate.chord, plate.span, model, dt, a, plate.ca, expected);
@@ -161,6 +180,8 @@ TEST(WaterWorld, SwimmerStaysBoundedAtHardStrokes) {
     const CreatureState s = w.state("s");
     ASSERT_TRUE(s.link_poses[0].position.allFinite());
     // The wing tips move at most 40 rad/s x 0.38 m = 15 m/s relative to the body.
+    test::printFigure(test::figureName("fastest_%g/%g", c.downstroke_rate, c.upstroke_rate),
+                      fastest);
     EXPECT_LT(fastest, 15.0);
     EXPECT_LT(s.link_poses[0].position.norm(), 10.0);
     std::printf("swimmer %.0f/%.0f: fastest %.2f m/s, at 10 s z = %.3f m\n", c.downstroke_rate,
@@ -187,6 +208,7 @@ TEST(WaterWorld, BottomHeavyCubeRightsItself) {
     const double up = (w.rootPose("cube").orientation * Vec3::UnitZ()).z();
     const double tilt = std::acos(std::min(1.0, up)) * 180.0 / M_PI;
     std::printf("bottom-heavy cube, step %g s: tilt %.3f deg after 10 s\n", dt, tilt);
+    test::printFigure(test::figureName("tilt_deg_%gms", dt * 1000), tilt);
     EXPECT_LT(tilt, 5.0) << dt;
   }
 }
@@ -228,6 +250,9 @@ TEST(StiffDrag, LightSheetThrownFaceOnSlowsWithoutReversing) {
     const double expected = v0 / (1.0 + ka * v0 * seconds / m);
     std::printf("sheet thrown at %g m/s, step %g s: %.6f m/s after %g s, analytic %.6f m/s\n", v0,
                 dt, last, seconds, expected);
+    test::printFigure(test::figureName("speed_%gms", dt * 1000), last);
+    test::printFigure(test::figureName("expected_%gms", dt * 1000), expected);
+    test::printFigure(test::figureName("monotonic_%gms", dt * 1000), monotonic ? 1 : 0);
     EXPECT_TRUE(monotonic) << dt;
     EXPECT_NEAR(last, expected, (dt > 0.001 ? 0.05 : 0.01) * expected) << dt;
   }

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "doc_figure.h"
 #include "flapsim/energy_audit.h"
 #include "flapsim/world.h"
 #include "fluid/added_mass.h"
@@ -106,6 +107,17 @@ Gap chaosFloor(const std::string& urdf, const Medium& medium, double dt, Flight 
              e.orientation.angularDistance(reference.orientation)};
 }
 
+// The case expectInvariant runs, named for the figures printed (printGaps).
+std::string current_case;
+
+// Prints a case's gap and chaos floor, position (m) and angle (rad).
+void printGaps(const Gap& gap, const Gap& floor) {
+  test::printFigure("gap_position_" + current_case, gap.position);
+  test::printFigure("gap_angle_" + current_case, gap.angle);
+  test::printFigure("floor_position_" + current_case, floor.position);
+  test::printFigure("floor_angle_" + current_case, floor.angle);
+}
+
 template <typename Observe>
 void expectInvariant(const char* what, Observe observe) {
   for (bool products : {false, true}) {
@@ -115,6 +127,8 @@ void expectInvariant(const char* what, Observe observe) {
         for (double dt : {0.001, 0.0005}) {
           SCOPED_TRACE(std::string(what) + ": " + urdf + " in " + medium.name + " at " +
                        std::to_string(dt * 1e3) + " ms" + (products ? ", velocity products" : ""));
+          current_case = test::figureName("%s_%s_%gms_%s", urdf, medium.name, dt * 1e3,
+                                          products ? "products" : "plain");
           observe(urdf, medium, dt);
         }
       }
@@ -132,6 +146,9 @@ TEST(GalileanInvariance, MovingWithAUniformFluidFliesAsAtRestShiftedByWt) {
     const End a = fly(urdf, medium, dt, still), b = fly(urdf, medium, dt, moving);
     const Gap floor = chaosFloor(urdf, medium, dt, still, a);
     ASSERT_GT(floor.position, 0.0);
+    printGaps(Gap{(b.position - medium.flow * kSeconds - a.position).norm(),
+                  b.orientation.angularDistance(a.orientation)},
+              floor);
     EXPECT_LT((b.position - medium.flow * kSeconds - a.position).norm(), floor.position);
     EXPECT_LT(b.orientation.angularDistance(a.orientation), floor.angle);
   });
@@ -147,6 +164,9 @@ TEST(RotationInvariance, AStartYawedAboutTheVerticalFliesTheYawedPath) {
     yawed.wind = yawed.turn * f.wind;
     const End a = fly(urdf, medium, dt, f), b = fly(urdf, medium, dt, yawed);
     const Gap floor = chaosFloor(urdf, medium, dt, f, a);
+    printGaps(Gap{(yawed.turn * (a.position - kStart) + kStart - b.position).norm(),
+                  (yawed.turn * a.orientation).angularDistance(b.orientation)},
+              floor);
     EXPECT_LT((yawed.turn * (a.position - kStart) + kStart - b.position).norm(), floor.position);
     EXPECT_LT((yawed.turn * a.orientation).angularDistance(b.orientation), floor.angle);
   });
@@ -171,6 +191,9 @@ TEST(MirrorSymmetry, MirroredStartAndCommandsFlyTheMirroredPath) {
     const Gap floor = chaosFloor(urdf, medium, dt, f, a);
     ASSERT_GT(a.orientation.angularDistance(Quat(Eigen::AngleAxisd(f.roll, Vec3::UnitX()))),
               10.0 * floor.angle);  // it did turn
+    printGaps(Gap{(mirrored(a.position) - b.position).norm(),
+                  mirrored(a.orientation).angularDistance(b.orientation)},
+              floor);
     EXPECT_LT((mirrored(a.position) - b.position).norm(), floor.position);
     EXPECT_LT(mirrored(a.orientation).angularDistance(b.orientation), floor.angle);
   });
@@ -205,9 +228,13 @@ TEST(AcceleratingFlow, APlatePushedByTheWatersAccelerationGainsRhoVPlusAddedMass
   const double u = 0.002;  // m/s
   EXPECT_EQ(velocityAfterAFlowStep(Vec3::Zero(), 0), Vec3::Zero());
   const Vec3 normal = velocityAfterAFlowStep(Vec3(0, 0, u), 0);
+  const Vec3 in_plane = velocityAfterAFlowStep(Vec3(u, 0, 0), 0);
+  test::printFigure("normal_per_u", normal.z() / u);
+  test::printFigure("in_plane_per_u", in_plane.x() / u);
+  test::printFigure("normal_error", std::abs(normal.z() - (rho_v + m_a) * u / (m + m_a)));
+  test::printFigure("in_plane_error", std::abs(in_plane.x() - rho_v * u / m));
   EXPECT_NEAR(normal.z(), (rho_v + m_a) * u / (m + m_a), 1e-15);
   EXPECT_EQ(normal.head<2>(), Eigen::Vector2d::Zero());
-  const Vec3 in_plane = velocityAfterAFlowStep(Vec3(u, 0, 0), 0);
   EXPECT_NEAR(in_plane.x(), rho_v * u / m, 1e-15);
   EXPECT_EQ(in_plane.tail<2>(), Eigen::Vector2d::Zero());
   // A flow whose velocity then stays pushes no more.

@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
+#include "doc_figure.h"
 #include "dynamics/joint_servo.h"
 
 namespace flapsim {
@@ -83,17 +85,23 @@ Dense denseSolve(const std::vector<ServoLink>& links, bool fixed_root,
   return out;
 }
 
-void expectMatchesDense(const std::vector<ServoLink>& links, bool fixed_root,
-                        const ServoSolution& s, const Dense& d, double tol) {
+// Returns the largest difference.
+double expectMatchesDense(const std::vector<ServoLink>& links, bool fixed_root,
+                          const ServoSolution& s, const Dense& d, double tol) {
   int ndof = 0;
   const std::vector<int> dof = dofIndex(links, fixed_root, &ndof);
+  double most = 0.0;
   for (int i = 0; i < 6; ++i) {
     EXPECT_NEAR(s.root_velocity_change(i), fixed_root ? 0.0 : d.dq(i), tol) << "root " << i;
+    most = std::max(most, std::abs(s.root_velocity_change(i) - (fixed_root ? 0.0 : d.dq(i))));
   }
   for (size_t k = 1; k < links.size(); ++k) {
     EXPECT_NEAR(s.impulse[k], d.impulse[k], tol) << "link " << k;
     EXPECT_NEAR(s.velocity_change[k], dof[k] < 0 ? 0.0 : d.dq(dof[k]), tol) << "link " << k;
+    most = std::max({most, std::abs(s.impulse[k] - d.impulse[k]),
+                     std::abs(s.velocity_change[k] - (dof[k] < 0 ? 0.0 : d.dq(dof[k])))});
   }
+  return most;
 }
 
 // Seven links, floating or fixed root; link 1 and the root have two children each.
@@ -214,6 +222,7 @@ TEST(JointServo, ExtraInertiaAndImpulsesMatchDenseSolve) {
     loads.extra_inertia.push_back((k % 2 == 0 ? 5.0 : 0.0) * f * f.transpose());
     loads.impulse.push_back(0.3 * p);
   }
+  double most = 0.0;
   for (bool with_servos : {false, true}) {
     for (bool fixed_root : {false, true}) {
       SCOPED_TRACE(std::string(fixed_root ? "fixed root" : "floating root") +
@@ -224,7 +233,7 @@ TEST(JointServo, ExtraInertiaAndImpulsesMatchDenseSolve) {
       ServoSolution s;
       solver.solve(links, fixed_root, demands, loads, s);
       const Dense d = denseSolve(links, fixed_root, demands, std::vector<double>(7, 0.0), loads);
-      expectMatchesDense(links, fixed_root, s, d, 1e-9);
+      most = std::max(most, expectMatchesDense(links, fixed_root, s, d, 1e-9));
       ASSERT_EQ(s.link_velocity_change.size(), links.size());
       int ndof = 0;
       const std::vector<int> dof = dofIndex(links, fixed_root, &ndof);
@@ -234,9 +243,11 @@ TEST(JointServo, ExtraInertiaAndImpulsesMatchDenseSolve) {
           if (dof[a] >= 0) expected += motionSubspace(links[a]) * d.dq(dof[a]);
         }
         EXPECT_LT((s.link_velocity_change[k] - expected).norm(), 1e-9) << "link " << k;
+        most = std::max(most, (s.link_velocity_change[k] - expected).norm());
       }
     }
   }
+  test::printFigure("largest_difference", most);
 }
 
 TEST(JointServo, WrongNumberOfLoadsIsNamed) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "doc_figure.h"
 #include "dynamics/tree_dynamics.h"
 #include "flapsim/make_creature.h"
 #include "test_util.h"
@@ -56,13 +57,16 @@ void expectSameTrajectory(WorldParams p, const std::function<void(World&)>& setu
   World full(p);
   setup(lean);
   setup(full);
+  double most = 0.0;
   for (int done = 0; done < steps; done += chunk) {
     lean.step(chunk);
     full.step(chunk);
     const CreatureState a = lean.state("c"), b = full.state("c");
+    most = std::max(most, largestDifference(a, b));
     ASSERT_LT(largestDifference(a, b), tolerance) << "after " << done + chunk << " steps";
     if (check) check(a);
   }
+  test::printFigure("largest_difference", most);
 }
 
 void flapper(World& w, int units, double height) {
@@ -190,6 +194,7 @@ TEST(LeanStep, TreeDynamicsAcceleratesAsBullet) {
     }
   };
   TreeDynamics tree;
+  double most = 0.0;  // the largest difference relative to 1 + |Bullet's acceleration|
   auto expectAsBullet = [&](const std::string& what) {
     const std::vector<double> ours = tree.accelerations(mb);
     btAlignedObjectArray<btScalar> r;
@@ -199,6 +204,7 @@ TEST(LeanStep, TreeDynamicsAcceleratesAsBullet) {
     const btScalar* bullet = &r[mb.getNumDofs()];
     ASSERT_EQ(ours.size(), 6u + mb.getNumDofs());
     for (size_t i = 0; i < ours.size(); ++i) {
+      most = std::max(most, std::abs(ours[i] - bullet[i]) / (1.0 + std::abs(bullet[i])));
       EXPECT_NEAR(ours[i], bullet[i], 1e-10 * (1.0 + std::abs(bullet[i])))
           << what << ", acceleration " << i;
     }
@@ -216,6 +222,7 @@ TEST(LeanStep, TreeDynamicsAcceleratesAsBullet) {
     velocitiesAndForces();
     expectAsBullet(name + ", joint 3 moved");
   }
+  test::printFigure("largest_relative_difference", most);
 }
 
 }  // namespace

@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "doc_figure.h"
 #include "dynamics/momentum.h"
 #include "fluid/added_mass.h"
 #include "test_util.h"
@@ -57,6 +59,8 @@ TEST(Momentum, CorrectionReachesTheTarget) {
     b.com += com - before.com;
   }
   const SystemMomentum after = systemMomentum(bodies);
+  test::printFigure("error",
+                    std::max((after.linear - linear).norm(), (after.angular - angular).norm()));
   EXPECT_LT((after.linear - linear).norm(), 1e-13);
   EXPECT_LT((after.angular - angular).norm(), 1e-13);
   EXPECT_LT((after.com - com).norm(), 1e-15);
@@ -86,6 +90,8 @@ TEST(Momentum, CorrectionReachesTheTargetWithFluid) {
     b.angular_velocity += c.angular_velocity;
   }
   const SystemMomentum after = measure(bodies);
+  test::printFigure("error",
+                    std::max((after.linear - linear).norm(), (after.angular - angular).norm()));
   EXPECT_LT((after.linear - linear).norm(), 1e-13);
   EXPECT_LT((after.angular - angular).norm(), 1e-13);
 }
@@ -194,6 +200,12 @@ TEST(MomentumInWorld, FlappingInVacuumKeepsCentreAndAngularMomentum) {
     for (bool symmetric : {true, false}) {
       SCOPED_TRACE(std::to_string(dt) + (symmetric ? " symmetric" : " asymmetric"));
       const VacuumRun r = flapInVacuum(dt, sym, symmetric ? sym : slow, 3.0);
+      const char* stroke = symmetric ? "symmetric" : "asymmetric";
+      test::printFigure(test::figureName("com_drift_%gms_%s", dt * 1000, stroke), r.com_drift);
+      test::printFigure(test::figureName("angular_change_%gms_%s", dt * 1000, stroke),
+                        r.angular_change);
+      test::printFigure(test::figureName("wing_peak_%gms_%s", dt * 1000, stroke),
+                        r.wing_angular_peak);
       ASSERT_GT(r.wing_angular_peak, 1e-4);  // kg m^2/s: the wings do move
       EXPECT_LT(r.com_drift, 1e-12);
       EXPECT_LT(r.angular_change, 1e-12 * r.wing_angular_peak);
@@ -255,6 +267,11 @@ TEST(StepConvergence, FlapUnitClimbAgreesWithTheFineStep) {
                         Case{{50, 12, 0.6}, 0.03, 0.03, 0.05, true}}) {
     const StrokeCommand& stroke = c.stroke;
     const std::vector<double> fine = climbHeights(0.000125, stroke);
+    for (size_t i = 0; i < fine.size(); ++i) {
+      test::printFigure(test::figureName("height_%g/%g/%g_0.125ms_%zus", stroke.downstroke_rate,
+                                         stroke.upstroke_rate, stroke.amplitude, i + 1),
+                        fine[i]);
+    }
     ASSERT_GT(fine[2], 0.1);  // m: it does climb
     for (double dt : {0.002, 0.001, 0.0005}) {
       const std::vector<double> h = climbHeights(dt, stroke);
@@ -265,6 +282,10 @@ TEST(StepConvergence, FlapUnitClimbAgreesWithTheFineStep) {
         SCOPED_TRACE(std::to_string(stroke.downstroke_rate) + " rad/s, step " + std::to_string(dt) +
                      " s, at " + std::to_string(i + 1) + " s");
         const double error = h[i] - fine[i];
+        test::printFigure(
+            test::figureName("height_%g/%g/%g_%gms_%zus", stroke.downstroke_rate,
+                             stroke.upstroke_rate, stroke.amplitude, dt * 1000, i + 1),
+            h[i]);
         std::printf(
             "stroke %.0f/%.0f/%.1f step %g s at %zu s: %.6f m (0.125 ms: %.6f m, %+.2f%%)\n",
             stroke.downstroke_rate, stroke.upstroke_rate, stroke.amplitude, dt, i + 1, h[i],
@@ -292,7 +313,14 @@ TEST(StepConvergence, ClimbErrorIsFirstOrderInTheStepWithFineTurnSubsteps) {
        {StrokeCommand{40, 10, 0.8}, StrokeCommand{60, 10, 0.8}, StrokeCommand{50, 12, 0.6}}) {
     std::vector<double> at3;  // heights at 3 s, steps 1, 0.5, ..., 0.0625 ms
     for (double dt = 0.001; dt > 0.00005; dt /= 2) {
-      at3.push_back(climbHeights(dt, stroke, 0.0000625)[2]);
+      const std::vector<double> h = climbHeights(dt, stroke, 0.0000625);
+      for (size_t i = 0; i < h.size(); ++i) {
+        test::printFigure(
+            test::figureName("height_%g/%g/%g_%gms_%zus", stroke.downstroke_rate,
+                             stroke.upstroke_rate, stroke.amplitude, dt * 1000, i + 1),
+            h[i]);
+      }
+      at3.push_back(h[2]);
     }
     for (size_t k = 0; k + 2 < at3.size(); ++k) {
       const double ratio = (at3[k + 1] - at3[k]) / (at3[k + 2] - at3[k + 1]);

@@ -2,9 +2,11 @@
 // volume, and in the world their contact, terminal speed and buoyancy.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "doc_figure.h"
 #include "flapsim/air_model.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/world.h"
@@ -50,9 +52,12 @@ TEST(RoundSurface, AreasSumToTheTrueSurfaceWithOutwardNormals) {
   const double r = 0.1, l = 0.3;
   const AeroSurface ball = surfaceOf(sphere(r));
   EXPECT_EQ(ball.cells.size(), 12u * 6u);  // roundCellsAround(4) = 12 longitudes, 6 bands
+  test::printFigure("sphere_area_error", std::abs(areaOf(ball) - 4 * M_PI * r * r));
   EXPECT_NEAR(areaOf(ball), 4 * M_PI * r * r, 1e-14);
   const AeroSurface can = surfaceOf(cylinder(r, l));
   EXPECT_EQ(can.cells.size(), 12u * 4u + 2u * 12u);
+  test::printFigure("cylinder_area_error",
+                    std::abs(areaOf(can) - (2 * M_PI * r * l + 2 * M_PI * r * r)));
   EXPECT_NEAR(areaOf(can), 2 * M_PI * r * l + 2 * M_PI * r * r, 1e-14);
   for (const AeroSurface* s : {&ball, &can}) {
     for (const SurfaceCell& c : s->cells) {
@@ -71,9 +76,13 @@ TEST(RoundSurface, SphereDragIsTheLawsIntegralWithinTheFacetError) {
   const double exact = 0.5 * air.density * air.drag_coefficient * v * v * 2.0 / 3.0 * M_PI * r * r;
   // Measured: 12 x 6 cells +1.34 % (down), -0.67 % (x), +0.62 % (oblique, with 1 % of the
   // drag sideways); 48 x 24 cells: +0.21, -0.11, +0.10 %: second order in the facet size.
+  const char* names[] = {"down", "x", "oblique"};
+  int which = 0;
   for (const Vec3& dir : {Vec3(0, 0, -1), Vec3(1, 0, 0), Vec3(1, 2, -3).normalized()}) {
     const Vec3 coarse = dragOf(surfaceOf(sphere(r)), v * dir);
     const Vec3 fine = dragOf(surfaceOf(sphere(r), 16), v * dir);
+    test::printFigure(std::string("coarse_") + names[which], -coarse.dot(dir) / exact - 1.0);
+    test::printFigure(std::string("fine_") + names[which++], -fine.dot(dir) / exact - 1.0);
     const double coarse_error = std::abs(-coarse.dot(dir) / exact - 1.0);
     const double fine_error = std::abs(-fine.dot(dir) / exact - 1.0);
     EXPECT_LT(coarse_error, 0.014) << dir.transpose();
@@ -91,12 +100,15 @@ TEST(RoundSurface, CylinderDragIsTheLawsIntegralWithinTheFacetError) {
   const AirParams air;
   const double q = 0.5 * air.density * air.drag_coefficient * v * v;
   const double cross = q * M_PI / 2 * r * l, end_on = q * M_PI * r * r;
+  double most = 0.0;  // the largest relative error of the drag
   for (const Vec3& dir : {Vec3(1, 0, 0), Vec3(1, 1, 0).normalized(), Vec3(0, 0, 1)}) {
     const double exact = dir.z() != 0.0 ? end_on : cross;
     const Vec3 coarse = dragOf(surfaceOf(cylinder(r, l)), v * dir);
+    most = std::max(most, std::abs(-coarse.dot(dir) / exact - 1.0));
     EXPECT_NEAR(-coarse.dot(dir), exact, 1e-4 * exact) << dir.transpose();
     EXPECT_NEAR(coarse.cross(dir).norm(), 0.0, 1e-4 * exact) << dir.transpose();
   }
+  test::printFigure("largest_relative_error", most);
 }
 
 // A one-link creature of mass m whose collision is `geometry` (URDF), turned by `rpy`.
@@ -121,13 +133,18 @@ TEST(RoundWorld, SphereAndCylindersRestOnTheGroundOnTheirLowestPoints) {
   } cases[] = {{"sphere", roundCreature(R"(<sphere radius="0.05"/>)", 0.5), 0.05},
                {"lying cylinder", roundCreature(can, 0.5, "1.5707963267948966 0 0"), 0.05},
                {"standing cylinder", roundCreature(can, 0.5), 0.15}};
+  double off = 0.0, speed = 0.0;  // the largest height error and speed at rest
   for (const auto& c : cases) {
     World w;  // ground on by default
     w.spawn("c", c.model, at(0, 0, 0.5));
     w.step(4000);
+    off = std::max(off, std::abs(w.rootPose("c").position.z() - c.z));
+    speed = std::max(speed, w.rootTwist("c").linear.norm());
     EXPECT_NEAR(w.rootPose("c").position.z(), c.z, 1e-3) << c.what;
     EXPECT_LT(w.rootTwist("c").linear.norm(), 1e-3) << c.what;
   }
+  test::printFigure("largest_height_error", off);
+  test::printFigure("largest_speed", speed);
 }
 
 // A sphere falling through air reaches sqrt(2 m g / (rho Cd_eff pi r^2)), Cd_eff = 2/3 Cd,
@@ -142,6 +159,8 @@ TEST(RoundWorld, FallingSphereReachesTheTerminalSpeedOfTheLaw) {
   const double cd = 2.0 / 3.0 * p.air.drag_coefficient;
   const double vt = std::sqrt(2 * m * kG / (p.air.density * cd * M_PI * r * r));
   // The facets' drag straight down is 1.34 % high (above): the speed 0.67 % low.
+  test::printFigure("speed", -w.rootTwist("ball").linear.z());
+  test::printFigure("expected", vt);
   EXPECT_NEAR(-w.rootTwist("ball").linear.z(), vt, 0.007 * vt);
 }
 
@@ -156,6 +175,7 @@ TEST(RoundWorld, SphereInWaterIsBuoyedByRhoVg) {
   w.step(1);
   const double volume = 4.0 / 3.0 * M_PI * r * r * r;
   const double a = kG * (1000.0 * volume / m - 1.0);
+  test::printFigure("error", std::abs(w.rootTwist("ball").linear.z() - a * p.step_size));
   EXPECT_NEAR(w.rootTwist("ball").linear.z(), a * p.step_size, 1e-9);
 }
 

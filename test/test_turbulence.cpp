@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "doc_figure.h"
 #include "flapsim/evolve.h"
 #include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
@@ -84,6 +85,8 @@ TurbulenceParams lightAtFiveMetres(std::uint64_t seed) {
 TEST(Turbulence, SpectraAndVariancesAreTheModels) {
   const double spacing = 0.1;
   const Vec3 variance_bound(0.1, 0.1, 0.015);
+  double low_bands = 0.0, high_bands = 0.0;  // the largest band errors over seeds and axes
+  Vec3 variance_error = Vec3::Zero();        // the largest variance errors over the seeds
   for (std::uint64_t seed : {1u, 2u}) {
     const TurbulenceField field(lightAtFiveMetres(seed), seed);
     const std::vector<std::vector<double>> path = pathSamples(field, spacing, 1 << 17);
@@ -96,6 +99,8 @@ TEST(Turbulence, SpectraAndVariancesAreTheModels) {
       int bands = 0;
       for (double low = 1.0 / field.scales().length[axis]; 2.0 * low <= 8.0; low *= 2.0, ++bands) {
         const double ratio = bandDensity(s, low, 2 * low) / bandDensity(model, low, 2 * low);
+        double& worst = bands < 3 ? low_bands : high_bands;
+        worst = std::max(worst, std::abs(ratio - 1.0));
         EXPECT_NEAR(ratio, 1.0, bands < 3 ? 0.12 : 0.04)
             << "seed " << seed << " axis " << axis << " band " << low;
       }
@@ -108,7 +113,14 @@ TEST(Turbulence, SpectraAndVariancesAreTheModels) {
       const double sigma2 = field.scales().sigma[axis] * field.scales().sigma[axis];
       EXPECT_NEAR(square / x.size() / sigma2, 1.0, variance_bound[axis])
           << "seed " << seed << " axis " << axis;
+      variance_error[axis] =
+          std::max(variance_error[axis], std::abs(square / x.size() / sigma2 - 1.0));
     }
+  }
+  test::printFigure("lowest_three_octaves_error", low_bands);
+  test::printFigure("higher_octaves_error", high_bands);
+  for (int axis = 0; axis < 3; ++axis) {
+    test::printFigure(test::figureName("variance_error_%c", "uvw"[axis]), variance_error[axis]);
   }
 }
 
@@ -176,11 +188,14 @@ TEST(Turbulence, ACreatureDriftingWithTheWindFeelsNoChange) {
   const std::vector<Vec3> drifting = feltAir(w, "drifting", 20000, 1000);
   w.reset();
   const std::vector<Vec3> resting = feltAir(w, "resting", 20000, 1000);
-  double moved = 0.0;
+  double moved = 0.0, drifted = 0.0;
   for (size_t i = 1; i < drifting.size(); ++i) {
     EXPECT_LT((drifting[i] - drifting[0]).norm(), 1e-9) << i;
     moved = std::max(moved, (resting[i] - resting[0]).norm());
+    drifted = std::max(drifted, (drifting[i] - drifting[0]).norm());
   }
+  test::printFigure("drifting_change", drifted);
+  test::printFigure("resting_change", moved);
   // light at 5 m: sigma_u 1.5 m/s over 20 m of air (L_u 37 m, L_w 5 m)
   EXPECT_GT(moved, 0.2);
 }
@@ -229,6 +244,9 @@ TEST(Turbulence, AFreePlateIsCarriedByTheGust) {
     fastest = std::max(fastest, w.rootTwist("plate").linear.z());
   }
   const double relative = 2.0 - w.rootTwist("plate").linear.z();
+  test::printFigure("relative_speed", relative);
+  test::printFigure("bound", (mass + added) / (k * 5.0));
+  test::printFigure("fastest", fastest);
   EXPECT_LT(relative, (mass + added) / (k * 5.0));
   EXPECT_GT(relative, 0.0);
   EXPECT_LE(fastest, 2.0);

@@ -1,9 +1,11 @@
 // The world: analytic motion, air in the loop, determinism, and bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "doc_figure.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/world.h"
 #include "test_util.h"
@@ -135,6 +137,8 @@ TEST(World, DensePlateSinksAtTerminalSpeedInWater) {
   w.step(5000);  // its added mass (6.3 kg) makes the approach slow: tanh(t / 0.69 s)
   const double volume = 0.2 * 0.2 * 0.002;
   const double vt = std::sqrt(2 * (0.5 - 1000.0 * volume) * kG / (1000.0 * 1.15 * 0.04));
+  test::printFigure("speed", -w.rootTwist("steel").linear.z());
+  test::printFigure("expected", vt);
   EXPECT_NEAR(-w.rootTwist("steel").linear.z(), vt, 1e-3 * vt);
   EXPECT_NEAR(w.rootPose("steel").position.x(), 0.0, 1e-9);
 }
@@ -247,6 +251,8 @@ TEST(World, SpringJointSwingsAtItsNaturalPeriod) {
   ASSERT_EQ(crossings.size(), 11u);
   const double period = (crossings.back() - crossings.front()) / 10.0;
   const double expected = 2.0 * M_PI * std::sqrt(kFlapHingeInertia / 0.01);
+  test::printFigure("period", period);
+  test::printFigure("expected", expected);
   EXPECT_NEAR(period, expected, 0.005 * expected);
 }
 

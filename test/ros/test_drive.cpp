@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "../doc_figure.h"
 #include "flapsim/ApplyWrench.h"
 #include "flapsim/ClearWrenches.h"
 #include "flapsim/CreatureStates.h"
@@ -388,6 +389,8 @@ TEST_F(Drive, ReconfiguredWindActsWithinOneStep) {
   step(1);
   const double force = 0.5 * kRho * kCd * kPlateArea * 25.0;
   const double push = kRho * kPlateVolume * 5.0;
+  flapsim::test::printFigure("speed", getState("drag").twist.linear.x);
+  flapsim::test::printFigure("expected", (force * 0.001 + push) / kPlateMass);
   EXPECT_NEAR(getState("drag").twist.linear.x, (force * 0.001 + push) / kPlateMass, 1e-9);
 
   const dynamic_reconfigure::Config refused = reconfigure({{"wind_y", std::nan("")}});
