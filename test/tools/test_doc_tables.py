@@ -43,9 +43,6 @@ SEPARATOR = re.compile(r"^\s*\|?\s*:?-{3,}:?\s*(\|\s*:?-{3,}:?\s*)*\|?\s*$")
 # Registered tables whose commands have not been run yet, each with why: name -> reason. Their
 # blocks still hold the figures measured by hand before; a ratchet as NOT_YET_SCRIPTED.
 NOT_YET_MEASURED = {
-    "mesh_spawn_time": "scripted (bench/mesh_spawn_time.py), not yet run",
-    "worker_memory": "scripted (bench/worker_campaign.py), not yet run",
-    "worker_calls": "scripted (bench/worker_campaign.py), not yet run",
     "node_rtf": "scripted (bench/node_rtf.py), to be run on a machine with a load under 1",
     "farm_speed": "scripted (bench/farm_bench.sh), to be run on a machine with a load under 1",
     "farm_projection": "projected from farm_speed's output, written with it",
