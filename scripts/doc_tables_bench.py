@@ -108,6 +108,35 @@ def worker_calls():
                  [CAMPAIGN], rows, said)
 
 
+# --- doc/reliability.md: the edges campaign's commands, answered now ---------------------------
+
+def edges_replay():
+    run = Run("edges_replay", ["bash", "-c", ROS + "bench/edges_replay.py"])
+
+    def rows(out):
+        result = []
+        command = ended = None
+        for line in out[run.key].split("\n"):
+            if line.startswith("$ "):
+                command, ended = line[2:], None
+            elif line.startswith("exit ") or line.startswith("still running"):
+                ended = line
+            elif line.startswith("answer: "):
+                if command is None or ended is None:
+                    raise ValueError(f"edges_replay output: an answer without its command: {line!r}")
+                answer = line[len("answer: "):].replace("|", "\\|")
+                result.append([f"`{command}`", f"`{answer}` ({ended})"])
+                command = None
+        if not result:
+            raise ValueError("edges_replay output: no command answered")
+        return result
+    return Table("edges_replay", "doc/reliability.md", ["command", "answer now"], [run], rows,
+                 f"`{run.command()}` (each command run with `rosrun flapsim` in the directory of "
+                 "the files, against `roslaunch flapsim empty_world.launch paused:=true` on a "
+                 "master of its own; the answer is the line that answers, the whole output is in "
+                 "the raw file)")
+
+
 # --- doc/ros_interface.md: the node's real-time factor against the core's ----------------------
 
 def node_rtf():
@@ -214,4 +243,4 @@ def farm_projection():
                  FARM_RUNS, rows, said)
 
 
-TABLES = [mesh_spawn_time, worker_memory, worker_calls, node_rtf, farm_speed, farm_projection]
+TABLES = [mesh_spawn_time, worker_memory, worker_calls, edges_replay, node_rtf, farm_speed, farm_projection]

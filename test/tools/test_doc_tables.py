@@ -31,8 +31,6 @@ NOT_YET_SCRIPTED = {
      "flapsim / MuJoCo per simulated s |"):
         "bench/vs_mujoco.sh against MuJoCo 3.12 built from source (not installed here), rows "
         "of several dates",
-    ("doc/reliability.md", "| command | answer now |"):
-        "the answers of ROS commands against a running empty_world.launch",
     ("doc/validation.md", "| case | source and number | flapsim | error | where it fails |"):
         "mujoco_wing against MuJoCo 3.12 (the installed build links 2.2.2)",
 }
