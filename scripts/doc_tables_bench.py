@@ -148,8 +148,8 @@ def node_rtf():
             for label, flags in creatures]
 
     def figures(text):
-        node = re.search(r"real-time factor ([0-9.]+)", text)
-        core = re.search(r"^core on the same stretch: .* ([0-9.]+)$", text, re.M)
+        node = re.search(r"wall -> real-time factor ([0-9.]+)", text)
+        core = re.search(r"steps/s, real-time factor ([0-9.]+)", text)
         ratio = re.search(r"^node / core = ([0-9.]+)", text, re.M)
         if not (node and core and ratio):
             raise ValueError("node_rtf output: no node, core and node / core figures")
