@@ -1,6 +1,6 @@
 #!/bin/bash
-# Episodes per second of one robust-preset generation (16 individuals x 8 episodes of the
-# preset's length) in process on 1 and 2 threads and through the episode farm with 1 and 2
+# Episodes per second of one robust-preset generation (the preset's 32 individuals x 12
+# episodes of 20 s) in process on 1 and 2 threads and through the episode farm with 1 and 2
 # one-thread workers, on a master of its own; checks that all four wrote the same
 # fitness.csv. Prints figures; never passes or fails on time.
 #   bash bench/farm_bench.sh [build/devel/lib/flapsim]
@@ -9,7 +9,7 @@ bin="${1:-$(cd "$(dirname "$0")/.." && pwd)/build/devel/lib/flapsim}"
 out="$(mktemp -d)"
 port=$((20000 + RANDOM % 20000))
 export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$out/ros"
-flags="--population 16 --generations 0 --episodes 8 --seed 5 --no-plot"
+flags="--generations 0 --seed 5 --no-plot"
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done

@@ -178,8 +178,9 @@ FARM_ROWS = [("in process, 1 thread", r"^in process, 1 thread\(s\): ([0-9.]+) ep
              ("in process, 2 threads", r"^in process, 2 thread\(s\): ([0-9.]+) episodes/s"),
              ("farm, 1 worker", r"^farm, 1 worker\(s\): ([0-9.]+) episodes/s"),
              ("farm, 2 workers", r"^farm, 2 worker\(s\): ([0-9.]+) episodes/s")]
-# The run projected: generations 0-40 of the population and episodes farm_bench.sh times.
-GENERATIONS, TASKS = 40, 16 * 8
+# The run projected: the robust preset's, generations 0-100 of the generation farm_bench.sh
+# times (32 individuals x 12 episodes).
+GENERATIONS, TASKS = 100, 32 * 12
 
 
 def farm_rates(out):
@@ -198,8 +199,8 @@ def farm_rates(out):
 
 
 def farm_said(out):
-    return ("`bash bench/farm_bench.sh`, twice (generation 0 of `evolve --population 16 "
-            "--generations 0 --episodes 8 --seed 5`, the robust preset; fitness.csv the same in "
+    return ("`bash bench/farm_bench.sh`, twice (generation 0 of `evolve --generations 0 --seed "
+            "5`, the robust preset: 32 individuals x 12 episodes of 20 s; fitness.csv the same in "
             "all four evaluations of each run; " + "; ".join(
                 f"{run.key}: {load_said(out[run.key])}" for run in FARM_RUNS) + ")")
 
