@@ -42,8 +42,6 @@ SEPARATOR = re.compile(r"^\s*\|?\s*:?-{3,}:?\s*(\|\s*:?-{3,}:?\s*)*\|?\s*$")
 # blocks still hold the figures measured by hand before; a ratchet as NOT_YET_SCRIPTED.
 NOT_YET_MEASURED = {
     "node_rtf": "scripted (bench/node_rtf.py), to be run on a machine with a load under 1",
-    "farm_speed": "scripted (bench/farm_bench.sh), to be run on a machine with a load under 1",
-    "farm_projection": "projected from farm_speed's output, written with it",
 }
 
 
