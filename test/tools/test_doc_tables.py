@@ -41,7 +41,6 @@ SEPARATOR = re.compile(r"^\s*\|?\s*:?-{3,}:?\s*(\|\s*:?-{3,}:?\s*)*\|?\s*$")
 # Registered tables whose commands have not been run yet, each with why: name -> reason. Their
 # blocks still hold the figures measured by hand before; a ratchet as NOT_YET_SCRIPTED.
 NOT_YET_MEASURED = {
-    "node_rtf": "scripted (bench/node_rtf.py), to be run on a machine with a load under 1",
 }
 
 
