@@ -104,6 +104,11 @@ struct EpisodeParams {
   // scores the score at the flip less this (m). 0: flips are not detected
   // (the paper's accumulated height).
   double flip_penalty = 0.0;
+  /// The root link frame below this height (m) ends the episode as a flip does, with the
+  /// same penalty: the sky of an episode has no ground, but every scenario has one at 0, and
+  /// a creature that sinks below it would have crashed there (a climb back from under it
+  /// scored what no real flight can). Needs flip_penalty > 0; -inf: off (the paper's).
+  double crash_height = -std::numeric_limits<double>::infinity();
   int episodes = 8;        // per fitness evaluation
   std::uint64_t seed = 1;  // draws the start attitudes
   WorldParams world;       // ground off (see above)
@@ -165,6 +170,7 @@ struct EpisodeSample {
 struct EpisodeResult {
   double fitness = 0.0;  // mean sample score (after a flip: less the penalty)
   bool flipped = false;  // the root's up axis went below the horizon
+  bool crashed = false;  // the root went below EpisodeParams::crash_height
   double min_height = 0.0;
   double final_height = 0.0;  // at t = T
   double max_height = 0.0;

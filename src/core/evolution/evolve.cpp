@@ -64,6 +64,7 @@ EvolveParams robustPreset(int pairs) {
   e.max_altitude = 8.0;
   e.step_sizes = {0.001, 0.0005};  // evolve's default: auto_step_sizes
   e.flip_penalty = 20.0;
+  e.crash_height = 0.0;
   e.episodes = 12;
   return p;
 }

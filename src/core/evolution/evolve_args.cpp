@@ -208,6 +208,19 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
       .real("--flip-penalty", "P", &e.flip_penalty, {0, kMaxFlipPenalty},
             "a flip ends the episode, less P m (0: off)")
       .tag(kSpec)
+      .custom(
+          "--crash-height", {"H"},
+          [&e](const std::vector<std::string>& v) {
+            e.crash_height =
+                v[0] == "off" ? -std::numeric_limits<double>::infinity()
+                              : parseCliReal("--crash-height", v[0], {-kMaxPosition, kMaxPosition});
+          },
+          [&e] {
+            return std::isfinite(e.crash_height) ? formatCliNumber(e.crash_height)
+                                                 : std::string("off");
+          },
+          "the root below H m (the scenarios' ground: 0) ends the episode as a flip does; off")
+      .tag(kSpec)
       .real("--settle", "S", &e.settle_time, {0, kMaxEpisodeDuration},
             "the altitude rms (--preset hover: every figure) counts after S s")
       .tag(kSpec);
@@ -327,7 +340,8 @@ const std::vector<std::string> kNotHoverFlags = {
     "--link-axis",      "--link-stiffness",  "--start-rate",
     "--gust",           "--gust-torque",     "--gust-torque-time",
     "--gust-force",     "--gust-force-time", "--gust-link",
-    "--altitude-noise", "--altitude-hold",   "--gyro-bias"};
+    "--altitude-noise", "--altitude-hold",   "--gyro-bias",
+    "--crash-height"};
 
 void checkHoverFlags(const std::vector<CliSeen>& seen) {
   for (const CliSeen& s : seen) {
