@@ -479,3 +479,45 @@ def bench_tables():
 
 
 bench_tables()
+
+
+def episode_rate():
+    """Episodes per core-second of a robust (and the hover) evolution's first generation
+    (bench/episode_rate.sh), at the steps the preset chooses and at the earlier settings."""
+    names = ["afc_1", "afc_4", "afc_12"]
+    base = ["bench/episode_rate.sh", "--runs", "3", "--population", "16", "--episodes", "4"]
+    now = Run("now", base + names + ["hover"])
+    earlier = Run("earlier", base + names + ["--", "--step-sizes", "0.001,0.0005",
+                                             "--turn-substep", "0.0005", "--crash-height", "off"])
+
+    def parse(text):
+        """{creature: (steps, check s, episodes/core-s)} of the bench's rows."""
+        found = {}
+        for line in text.split("\n"):
+            cells = line.split()
+            if cells and (cells[0].startswith("afc_") or cells[0] == "hover") and len(cells) >= 6:
+                found[cells[0]] = (" ".join(cells[1:-4]), cells[-4], float(cells[-1]))
+        return found
+
+    def rows(out):
+        a, b = parse(out[now.key]), parse(out[earlier.key])
+        result = []
+        for name in names + ["hover"]:
+            if name not in a:
+                raise ValueError(f"episode_rate output: no row for {name}")
+            steps, check, rate = a[name]
+            before = f"{b[name][2]:.1f}" if name in b else "-"
+            ratio = f"{rate / b[name][2]:.2f}x" if name in b else "-"
+            steps = steps.replace("0.002,0.001, 0.002", "2 and 1 ms, 2 ms pieces")
+            result.append([name, steps, check, f"{rate:.1f}", before, ratio])
+        return result
+    register(Table("episode_rate", "doc/performance.md",
+                   ["creature", "steps (chosen)", "choice, CPU s once", "episodes/core-s",
+                    "1 and 0.5 ms, 0.5 ms pieces, no crash end", "ratio"],
+                   [now, earlier], rows,
+                   "`bench/episode_rate.sh --runs 3 --population 16 --episodes 4 NAME...` (one "
+                   "thread, medians of 3 runs; the earlier settings with `-- --step-sizes "
+                   "0.001,0.0005 --turn-substep 0.0005 --crash-height off`)"))
+
+
+episode_rate()

@@ -198,11 +198,11 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
       args.push_back(name);
       for (size_t i = 0; i < flag.metavars.size(); ++i) {
         const std::string& metavar = flag.metavars[i];
-        args.push_back(name == "--gust-link"   ? "wing"
-                       : metavar == "FILE"     ? "f.yaml"
-                       : metavar == "LEVEL"    ? "light"
-                       : name == "--step-size" ? "0.001"
-                                               : "1");
+        args.push_back(name == "--gust-link"                               ? "wing"
+                       : metavar == "FILE"                                 ? "f.yaml"
+                       : metavar == "LEVEL"                                ? "light"
+                       : name == "--step-size" || name == "--turn-substep" ? "0.001"
+                                                                           : "1");
       }
       FlightCheckOptions o;
       CliParser cli = flightCheckCli(o);  // the flags `seen` points to
@@ -327,6 +327,27 @@ TEST(ToolTables, SweepAndMakeCreatureRefuseBadValuesByFlag) {
   EXPECT_EQ(o.params.wing_effort, 3.0);
   EXPECT_EQ(o.output, "x.urdf");
   EXPECT_TRUE(o.params.feathering);
+}
+
+// The turn substep of flight_check and evolve: 0 (off) or at least 1e-7 s, else refused by
+// name; a value given is flown.
+TEST(ToolTables, TurnSubstepIsFlownOrRefusedByName) {
+  FlightCheckOptions o;
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--turn-substep", "-1"}),
+            "--turn-substep: -1 is not in [0, 0.1]");
+  EXPECT_EQ(refusal(flightCheckCli(o), {"--turn-substep", "1e-9"}),
+            "--turn-substep: must be 0 (off) or >= 1e-7 s");
+  flightCheckCli(o).parse({"--turn-substep", "0.002"});
+  EXPECT_EQ(o.params.turn_substep, 0.002);
+  EXPECT_EQ(flightCheckEpisodes(o.params).world.turn_substep, 0.002);
+  try {
+    parseEvolveArgs({"--turn-substep", "1e-9"});
+    ADD_FAILURE() << "evolve took a turn substep of 1e-9 s";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "--turn-substep: turn_substep must be 0 (off) or finite and >= 1e-7 s");
+  }
+  EXPECT_EQ(parseEvolveArgs({"--turn-substep", "0"}).params.episode.world.turn_substep, 0.0);
 }
 
 // Issue 26 item 6: evolve --help showed the paper preset's 10, 200 and 30 s while running

@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <utility>
 #include <vector>
 
 #include "flapsim/evolve.h"
+#include "flapsim/evolve_args.h"
 #include "flapsim/evolve_tool.h"
 #include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
@@ -113,6 +115,50 @@ TEST(Episodes, AFlipEndsTheEpisodeAtThePenalty) {
   const double expected = (before + (n - flip) * (free_run.trace[flip].height - 20.0)) / n;
   EXPECT_NEAR(penalised.fitness, expected, 1e-9);
   EXPECT_EQ(penalised.final_height, free_run.trace[flip].height);
+}
+
+// The root below crash_height (the scenarios' ground, 0) ends the episode as a flip does:
+// (sum of the samples before + the rest x (z there - 20)) / samples. A unit whose wings barely
+// move falls from 1 m; it cannot reach the ground before free fall does, sqrt(2 h / g).
+TEST(Episodes, ACrashBelowTheGroundEndsTheEpisodeAtThePenalty) {
+  EpisodeParams p;
+  p.duration = 5.0;
+  const OpenLoopWingController weak(StrokeCommand{5, 5, 0.1});
+  const EpisodeResult fall = runEpisode(creature(1), weak, 0.02, p, attitudeStart(0.05, 0.0), true);
+  size_t crash = 0;
+  while (crash < fall.trace.size() && fall.trace[crash].height >= 0.0) ++crash;
+  ASSERT_LT(crash, fall.trace.size());
+  EXPECT_GT(fall.trace[crash].time, std::sqrt(2.0 * p.start_height / 9.81));
+  EXPECT_EQ(fall.trace.size(), 250u);  // off by default: the flight goes on below 0
+  EXPECT_FALSE(fall.crashed);
+  double before = 0.0;
+  for (size_t i = 0; i < crash; ++i) before += fall.trace[i].height;
+  p.flip_penalty = 20.0;
+  p.crash_height = 0.0;
+  const EpisodeResult ended =
+      runEpisode(creature(1), weak, 0.02, p, attitudeStart(0.05, 0.0), true);
+  EXPECT_TRUE(ended.crashed);
+  EXPECT_FALSE(ended.flipped);
+  EXPECT_EQ(ended.trace.size(), crash);  // the crashing sample ends it unrecorded
+  EXPECT_EQ(ended.final_height, fall.trace[crash].height);
+  const double n = static_cast<double>(fall.trace.size());
+  EXPECT_NEAR(ended.fitness, (before + (n - crash) * (fall.trace[crash].height - 20.0)) / n, 1e-9);
+  // Refused by name: a crash without a penalty to end it with, and a height that is no number.
+  p.flip_penalty = 0.0;
+  EXPECT_EQ(validateEpisodeParams(p),
+            "crash_height needs flip_penalty > 0 (a crash ends the episode as a flip does)");
+  p.flip_penalty = 20.0;
+  p.crash_height = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_NE(validateEpisodeParams(p).find("crash_height must be"), std::string::npos);
+  // The robust preset crashes at 0; evolve --crash-height off or H sets it, and its spec says so.
+  EXPECT_EQ(robustPreset().episode.crash_height, 0.0);
+  const EvolveOptions off = parseEvolveArgs({"--crash-height", "off", "--step-sizes", "0.001"});
+  EXPECT_EQ(off.params.episode.crash_height, -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(parseEvolveArgs(off.spec_args).params.episode.crash_height,
+            -std::numeric_limits<double>::infinity());
+  EXPECT_EQ(parseEvolveArgs({"--crash-height", "-2", "--step-sizes", "0.001"})
+                .params.episode.crash_height,
+            -2.0);
 }
 
 TEST(Episodes, FitnessIsTheMeanSampledHeight) {

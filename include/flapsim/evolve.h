@@ -18,6 +18,7 @@
 #include "flapsim/ga.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/sensors.h"
+#include "flapsim/step_accuracy.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -103,6 +104,11 @@ struct EpisodeParams {
   // scores the score at the flip less this (m). 0: flips are not detected
   // (the paper's accumulated height).
   double flip_penalty = 0.0;
+  /// The root link frame below this height (m) ends the episode as a flip does, with the
+  /// same penalty: the sky of an episode has no ground, but every scenario has one at 0, and
+  /// a creature that sinks below it would have crashed there (a climb back from under it
+  /// scored what no real flight can). Needs flip_penalty > 0; -inf: off (the paper's).
+  double crash_height = -std::numeric_limits<double>::infinity();
   int episodes = 8;        // per fitness evaluation
   std::uint64_t seed = 1;  // draws the start attitudes
   WorldParams world;       // ground off (see above)
@@ -164,6 +170,7 @@ struct EpisodeSample {
 struct EpisodeResult {
   double fitness = 0.0;  // mean sample score (after a flip: less the penalty)
   bool flipped = false;  // the root's up axis went below the horizon
+  bool crashed = false;  // the root went below EpisodeParams::crash_height
   double min_height = 0.0;
   double final_height = 0.0;  // at t = T
   double max_height = 0.0;
@@ -213,9 +220,11 @@ struct EvolveParams {
   GaParams ga;
   FlapControllerParams controller;
   EpisodeParams episode;  // episode.seed is set from ga.seed by evolveFlapController
-  /// Fly the episodes at the creature's accurate step sizes (evolutionStepSizes) instead of
-  /// episode.step_sizes; parseEvolveArgs finds them once and hands the numbers on.
+  /// Fly the episodes at the creature's accurate step sizes (evolutionStepChoice) instead of
+  /// episode.step_sizes, with the turn substep chosen with them unless turn_substep_given;
+  /// parseEvolveArgs finds them once and hands the numbers on.
   bool auto_step_sizes = false;
+  bool turn_substep_given = false;  // episode.world.turn_substep was set (evolve --turn-substep)
 };
 
 /// The paper's settings (sec. IV.A): 10 individuals, elitism, rank selection,
@@ -283,10 +292,11 @@ int geneCount(const EvolveParams& params);
 /// The task spec of an evolution: episode.seed = evolutionEpisodeSeed(ga.seed).
 /// Throws std::invalid_argument for bad episode or controller parameters.
 EvaluationSpec evaluationSpec(const EvolveParams& params);
-/// The step sizes the episodes fly at: episode.step_sizes, or with auto_step_sizes the
-/// creature's accurate ones (flapsim/step_accuracy.h: accurateStepSizes, at the middle of the
-/// controller's downstroke rates).
-std::vector<double> evolutionStepSizes(const EvolveParams& params);
+/// The step sizes and the turn substep the episodes fly at: episode.step_sizes and
+/// episode.world.turn_substep, or with auto_step_sizes the creature's cheapest accurate ones
+/// (flapsim/step_accuracy.h: accurateStepChoice, at the middle of the controller's downstroke
+/// rates; the turn substep given if turn_substep_given).
+StepChoice evolutionStepChoice(const EvolveParams& params);
 
 /// Runs the GA on the flap-unit network of a `pairs`-unit creature (params.kind kHover: on
 /// the hover controller's gains, each episode runHoverEpisode, flapsim/hover_evolution.h); the

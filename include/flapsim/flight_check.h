@@ -27,7 +27,8 @@ struct FlightCheckParams {
   double duration = 60.0;     // s
   double start_height = 1.0;  // m, root body
   double step_size = 0.001;   // s
-  int threads = 1;            // results do not depend on it
+  double turn_substep = WorldParams().turn_substep;  // s (0: off)
+  int threads = 1;                                   // results do not depend on it
   // Disturbances (EpisodeParams says how each is drawn per start from `seed`).
   double wind = 0.0;  // m/s: steady from t = 0, from a heading drawn per start
   double gust_torque =

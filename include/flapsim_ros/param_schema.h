@@ -1,7 +1,8 @@
 // The simulator node's parameters, each written once: its name as the node reads it, type,
 // default, range, unit, one line of doc and its dynamic_reconfigure name. params.cpp takes
-// its range checks from here; test_param_schema checks config/flapsim.yaml, cfg/Flapsim.cfg
-// and the parameter table of doc/ros_interface.md against it.
+// its range checks from here; test_param_schema checks config/flapsim.yaml, cfg/Flapsim.cfg,
+// the parameter table of doc/ros_interface.md and the defaults of the structs the parser fills
+// (the core's WorldParams and AirParams with theirs, NodeParams) against it.
 #pragma once
 
 #include <string>

@@ -1,11 +1,14 @@
 // Every place a simulator node parameter is written agrees with the one schema
 // (flapsim_ros/param_schema.h): config/flapsim.yaml, cfg/Flapsim.cfg (through the config it
-// generates), doc/ros_interface.md's parameter table, and the node's parser.
+// generates), doc/ros_interface.md's parameter table, the node's parser, and the defaults of
+// the structs it fills (the core's WorldParams, AirParams, TurbulenceParams, DiscreteGust,
+// QuasiSteadyCoefficients and the node's own NodeParams).
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
 #include <boost/any.hpp>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -13,6 +16,7 @@
 #include <vector>
 
 #include "flapsim/FlapsimConfig.h"
+#include "flapsim/turbulence.h"
 #include "flapsim_ros/param_schema.h"
 #include "flapsim_ros/params.h"
 #include "yaml_params.h"
@@ -231,6 +235,155 @@ TEST(ParamSchema, TheParserReadsEveryParameterAndNamesOthers) {
   top["not_in_schema"] = 1;
   EXPECT_EQ(flapsim_ros::parseNodeParams(top).unknown_keys,
             std::vector<std::string>{"not_in_schema"});
+}
+
+// A Vec3 as a YAML list.
+YAML::Node list(const flapsim::Vec3& v) {
+  YAML::Node n(YAML::NodeType::Sequence);
+  for (int i = 0; i < 3; ++i) n.push_back(v[i]);
+  return n;
+}
+
+// The turbulence level whose wind `wind_at_6m` is, or the number if none is.
+YAML::Node turbulenceLevel(double wind_at_6m) {
+  for (const char* level : {"none", "light", "moderate", "severe"}) {
+    if (flapsim::turbulenceLevelWind(level) == wind_at_6m) return YAML::Node(level);
+  }
+  return YAML::Node(wind_at_6m);
+}
+
+using flapsim_ros::NodeParams;
+using Field = std::function<YAML::Node(const NodeParams&)>;
+
+// Per schema parameter, the struct field the node's parser fills from it, as YAML.
+const std::map<std::string, Field> kFields = {
+    {"step_size", [](const NodeParams& p) { return YAML::Node(p.world.step_size); }},
+    {"turn_substep", [](const NodeParams& p) { return YAML::Node(p.world.turn_substep); }},
+    {"publish_rate", [](const NodeParams& p) { return YAML::Node(p.publish_rate); }},
+    {"real_time_factor", [](const NodeParams& p) { return YAML::Node(p.real_time_factor); }},
+    {"max_speed", [](const NodeParams& p) { return YAML::Node(p.world.max_speed); }},
+    {"max_cells", [](const NodeParams& p) { return YAML::Node(p.world.max_cells); }},
+    {"max_steps_per_call", [](const NodeParams& p) { return YAML::Node(p.max_steps_per_call); }},
+    {"urdf_roots",  // the ':'-separated string a launch argument gives ("": the defaults)
+     [](const NodeParams& p) {
+       std::string roots;
+       for (const std::string& r : p.urdf_roots) roots += (roots.empty() ? "" : ":") + r;
+       return YAML::Node(roots);
+     }},
+    {"wing_command_timeout",
+     [](const NodeParams& p) { return YAML::Node(p.wing_command_timeout); }},
+    {"controller_wait_timeout",
+     [](const NodeParams& p) { return YAML::Node(p.controller_wait_timeout); }},
+    {"wing_command_timeout_action",
+     [](const NodeParams& p) {
+       return YAML::Node(p.wing_command_timeout_action == flapsim_ros::CommandTimeoutAction::kHold
+                             ? "hold"
+                             : "release");
+     }},
+    {"view/distance", [](const NodeParams& p) { return YAML::Node(p.view.distance); }},
+    {"view/yaw", [](const NodeParams& p) { return YAML::Node(p.view.yaw); }},
+    {"view/pitch", [](const NodeParams& p) { return YAML::Node(p.view.pitch); }},
+    {"paused", [](const NodeParams& p) { return YAML::Node(p.paused); }},
+    {"world_frame", [](const NodeParams& p) { return YAML::Node(p.world_frame); }},
+    {"gravity", [](const NodeParams& p) { return list(p.world.gravity); }},
+    {"ground", [](const NodeParams& p) { return YAML::Node(p.world.ground); }},
+    {"ground_friction", [](const NodeParams& p) { return YAML::Node(p.world.ground_friction); }},
+    {"solver_iterations",
+     [](const NodeParams& p) { return YAML::Node(p.world.solver_iterations); }},
+    {"threads", [](const NodeParams& p) { return YAML::Node(p.world.threads); }},
+    {"default_wing_effort",
+     [](const NodeParams& p) { return YAML::Node(p.world.default_wing_effort); }},
+    {"air/density", [](const NodeParams& p) { return YAML::Node(p.world.air.density); }},
+    {"air/drag_coefficient",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.drag_coefficient); }},
+    {"air/wind", [](const NodeParams& p) { return list(p.world.air.wind); }},
+    {"air/turbulence/level",
+     [](const NodeParams& p) { return turbulenceLevel(p.world.air.turbulence.wind_at_6m); }},
+    {"air/turbulence/wind_at_6m",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.wind_at_6m); }},
+    {"air/turbulence/height",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.height); }},
+    {"air/turbulence/per_creature",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.per_creature); }},
+    {"air/turbulence/seed",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.seed); }},
+    {"air/gust/velocity", [](const NodeParams& p) { return list(p.world.air.gust.velocity); }},
+    {"air/gust/start", [](const NodeParams& p) { return YAML::Node(p.world.air.gust.start); }},
+    {"air/gust/rise", [](const NodeParams& p) { return YAML::Node(p.world.air.gust.rise); }},
+    {"air/gust/hold", [](const NodeParams& p) { return YAML::Node(p.world.air.gust.hold); }},
+    {"air/buoyancy", [](const NodeParams& p) { return YAML::Node(p.world.air.buoyancy); }},
+    {"air/enabled", [](const NodeParams& p) { return YAML::Node(p.world.air.enabled); }},
+    {"air/added_mass", [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass); }},
+    {"air/added_mass_velocity_products",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass_velocity_products); }},
+    {"air/rotational_lift",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.rotational_lift); }},
+    {"air/centre_of_pressure_shift",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.centre_of_pressure_shift); }},
+    {"air/subdivisions",
+     [](const NodeParams& p) {
+       YAML::Node n(YAML::NodeType::Sequence);
+       n.push_back(p.world.air.subdivisions_u);
+       n.push_back(p.world.air.subdivisions_v);
+       return n;
+     }},
+    {"air/model", [](const NodeParams& p) { return YAML::Node(p.world.air.model); }},
+    {"air/quasi_steady/lift_mean",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.lift_mean); }},
+    {"air/quasi_steady/lift_amplitude",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.lift_amplitude); }},
+    {"air/quasi_steady/lift_frequency",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.lift_frequency); }},
+    {"air/quasi_steady/lift_phase",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.lift_phase); }},
+    {"air/quasi_steady/drag_mean",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.drag_mean); }},
+    {"air/quasi_steady/drag_amplitude",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.drag_amplitude); }},
+    {"air/quasi_steady/drag_frequency",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.drag_frequency); }},
+    {"air/quasi_steady/drag_phase",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.quasi_steady.drag_phase); }},
+    {"markers/enabled", [](const NodeParams& p) { return YAML::Node(p.markers.enabled); }},
+    {"markers/scale", [](const NodeParams& p) { return YAML::Node(p.markers.scale); }},
+    {"markers/per_cell", [](const NodeParams& p) { return YAML::Node(p.markers.per_cell); }},
+    {"markers/width", [](const NodeParams& p) { return YAML::Node(p.markers.width); }},
+    {"imu/orientation_noise",
+     [](const NodeParams& p) { return YAML::Node(p.imu.orientation_noise); }},
+    {"imu/angular_velocity_noise",
+     [](const NodeParams& p) { return YAML::Node(p.imu.angular_velocity_noise); }},
+    {"imu/linear_acceleration_noise",
+     [](const NodeParams& p) { return YAML::Node(p.imu.linear_acceleration_noise); }},
+    {"imu/seed", [](const NodeParams& p) { return YAML::Node(p.imu.seed); }},
+    {"creatures",
+     [](const NodeParams& p) {
+       YAML::Node n(YAML::NodeType::Sequence);
+       for (const flapsim_ros::CreatureSpec& c : p.creatures) n.push_back(c.name);
+       return n;
+     }},
+};
+
+TEST(ParamSchema, TheParserAndTheDefaultConstructedStructsGiveEveryParameterItsSchemaDefault) {
+  XmlRpc::XmlRpcValue nothing;
+  nothing.begin();  // an empty struct: the parser runs, every key missing
+  const std::map<std::string, NodeParams> sources = {
+      {"parsed from an empty parameter set", flapsim_ros::parseNodeParams(nothing)},
+      {"default-constructed", NodeParams()}};
+  for (const ParamSpec& s : nodeParamSchema()) {
+    const auto field = kFields.find(s.name);
+    if (field == kFields.end()) {
+      ADD_FAILURE() << s.name << " has no struct field in this test's table";
+      continue;
+    }
+    const YAML::Node schema = YAML::Load(s.default_value);
+    for (const auto& [how, p] : sources) {
+      const YAML::Node value = field->second(p);
+      EXPECT_TRUE(sameValue(value, schema)) << s.name << ": " << text(value) << " " << how
+                                            << ", the schema's default " << s.default_value;
+    }
+  }
+  EXPECT_EQ(kFields.size(), nodeParamSchema().size()) << "the table names a parameter twice "
+                                                         "or one the schema does not have";
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Checks the size rules of the C++ (.cpp, .h, .hpp, .cc) in src/, include/, bench/ and test/:
 no file over 500 lines (800 in test/), no function and no lambda over 80 lines, no class, struct
-or union body over 300 lines.
+or union over 300 lines counting its body and its member functions defined out of line.
 
 The code is read with its comments, string, raw string and character literals and preprocessor
 lines blanked out, and its braces are matched. A brace opened at namespace or class level (the
@@ -12,6 +12,16 @@ lambda's introducer (`[...]`, `[...](...)`, `[...](...) mutable -> T`) opens a l
 is (a function, an initialiser list, a table), measured from its `[` to its closing brace. A
 brace after a `class`, `struct` or `union` head (not `enum`) opens a class body, measured from
 the first line of its head (`template <...>` included) to its closing brace.
+
+A class's size is its body plus every out-of-line definition of its member functions
+(`T X::f(...) {...}`, `X::X(...) : ... {...}`, `X::~X`, `X::operator=`), in any file of the four
+trees: a function defined at namespace level under a qualified name is attributed to the class
+that name's qualification names (`World::Impl::x` to `World::Impl`; a class nested in another
+is named by both, `Outer::Inner`; leading namespaces are dropped until a class is named, and
+one that names none, such as `detail::f`, is a free function). A name is looked up first among
+the classes of the definition's own file, then among those of the headers; a name that several
+headers define is resolved to the one named as the definition's file (`x.h` for `x.cpp`), else
+left unattributed.
 Prints one line per violation and exits 1 if any; with --gtest_output=xml:FILE also writes a
 gtest-style result for catkin_test_results.
 """
@@ -41,8 +51,10 @@ LAMBDA_END = re.compile(r'\]\s*(<[^;{}]*>\s*)?(\(\s*\)\s*)?' + QUALIFIERS)
 CLASS_NAME = re.compile(r'\s*(template\s*<.*>\s*)?(\[\[.*\]\]\s*)?(typedef\s+)?'
                         r'(class|struct|union)\b\s*(alignas\s*\(\s*\)\s*)?'
                         r'(\[\[[^\]]*\]\]\s*)?(\w+(\s*::\s*\w+)*)?', re.S)
-NAME = re.compile(r'(operator\s*(\(\s*\)|\[\s*\]|[^\s\w(][^\s(]*|\w[\w\s:<>*&]*?)|'
-                  r'(\w+\s*(<[^()<>]*>)?\s*::\s*)*~?\w+)\s*(<[^()]*>)?\s*$')
+QUALIFICATION = r'(\w+\s*(<[^()<>]*>)?\s*::\s*)*'
+NAME = re.compile(r'(' + QUALIFICATION +
+                  r'operator\s*(\(\s*\)|\[\s*\]|[^\s\w(][^\s(]*|\w[\w\s:<>*&]*?)|'
+                  + QUALIFICATION + r'~?\w+)\s*(<[^()]*>)?\s*$')
 
 
 def blank(text):
@@ -204,6 +216,28 @@ def classes(lines):
 def bodies(lines):
     """Yields (what, first line, last line) of every function, lambda and class body in the
     file of `lines`, each as it closes."""
+    for what, first, last, _ in definitions(lines):
+        yield what, first, last
+
+
+def owner(name):
+    """The qualification of the function name `name` without template arguments and blanks
+    (`Foo<T>::Bar::f` -> `Foo::Bar`, `X::operator<` -> `X`), or None if it has none."""
+    cut = name.find('operator')
+    prefix = name[:cut] if cut >= 0 else name[:name.rfind('::') + 2] if '::' in name else ''
+    prefix = re.sub(r'\s+', '', prefix)
+    while re.search(r'<[^<>]*>', prefix):
+        prefix = re.sub(r'<[^<>]*>', '', prefix)
+    prefix = prefix.strip(':')
+    return prefix or None
+
+
+def definitions(lines):
+    """Yields (what, first line, last line, qualified name) of every function, lambda and class
+    body in the file of `lines`, each as it closes. A class's qualified name is its name after
+    those of the classes it is nested in (`Outer::Inner`); a function's is the qualification of
+    its name (`World::Impl` for `World::Impl::x`) if it is defined at namespace level (an
+    out-of-line member's), else None; a lambda's is None."""
     text = blank('\n'.join(lines))
     head, head_lines = [], []
     frames = []  # per open brace: (kind, name, first line, its line, the head before it)
@@ -217,12 +251,14 @@ def bodies(lines):
         elif c == '}' and frames:
             kind, name, first, opened, head, head_lines = frames.pop()
             if kind == 'function':
-                yield f'function {name}', first, number
+                in_class = any(f[0] == 'class' for f in frames)
+                yield f'function {name}', first, number, None if in_class else owner(name)
             elif kind == 'class':
-                yield f'class {name}', first, number
+                outer = [f[1] for f in frames if f[0] == 'class']
+                yield f'class {name}', first, number, '::'.join(outer + [name])
             elif kind == 'lambda':
                 outer = [f[1] for f in frames if f[0] == 'function']
-                yield ('lambda in ' + outer[-1] if outer else 'lambda'), first, number
+                yield ('lambda in ' + outer[-1] if outer else 'lambda'), first, number, None
             if kind in ('lambda', 'init'):  # the statement goes on: `= [] {...};`, `a_{x}, b_(y)`
                 head, head_lines = head + ['{', '}'], head_lines + [opened, number]
             else:
@@ -236,31 +272,100 @@ def bodies(lines):
             number += 1
 
 
+HEADER = ('.h', '.hpp')
+
+
+def resolve(name, rel, bodies_by_name):
+    """The class body (rel, first line, ...) the qualification `name` of a function defined in
+    the file `rel` names, or None: leading namespaces are dropped until a class is named; one
+    in `rel` itself first, else the only header's, else the header named as `rel` (x.h, x.cpp)."""
+    parts = name.split('::')
+    for i in range(len(parts)):
+        found = bodies_by_name.get('::'.join(parts[i:]), [])
+        own = [b for b in found if b[0] == rel]
+        if own:
+            return own[0]
+        headers = [b for b in found if b[0].endswith(HEADER)]
+        if len(headers) > 1:
+            stem = os.path.splitext(os.path.basename(rel))[0]
+            headers = [b for b in headers if os.path.splitext(os.path.basename(b[0]))[0] == stem]
+        if len(headers) == 1:
+            return headers[0]
+        if found:
+            return None
+    return None
+
+
+def class_problems(files):
+    """The classes over MAX_CLASS_LINES in `files` ({rel: lines}), each counted as its body
+    plus the out-of-line definitions of its member functions in any of `files`."""
+    bodies_by_name = {}  # qualified name -> [(rel, first, last, [(rel, lines) of members])]
+    members = []  # (rel, qualification, lines) of every function defined at namespace level
+    for rel, lines in files.items():
+        for what, first, last, name in definitions(lines):
+            if what.startswith('class '):
+                bodies_by_name.setdefault(name, []).append((rel, first, last, []))
+            elif name:
+                members.append((rel, name, last - first + 1))
+    for rel, name, length in members:
+        body = resolve(name, rel, bodies_by_name)
+        if body:
+            body[3].append((rel, length))
+    problems = []
+    for name, found in bodies_by_name.items():
+        for rel, first, last, outside in found:
+            own = last - first + 1
+            total = own + sum(length for _, length in outside)
+            if total <= MAX_CLASS_LINES:
+                continue
+            what = f'{rel}:{first}: class {name} has {total} lines (at most {MAX_CLASS_LINES})'
+            if not outside:
+                problems.append((rel, first, what))
+                continue
+            where = {}
+            for member_rel, length in outside:
+                count, lines = where.get(member_rel, (0, 0))
+                where[member_rel] = (count + 1, lines + length)
+            spread = ', '.join(f'{lines} in {member_rel} ({count} functions)'
+                               for member_rel, (count, lines) in sorted(where.items()))
+            problems.append((rel, first, f'{what} counting its out-of-line members: its body '
+                                         f'{own}, its member functions {spread}'))
+    return [what for _, _, what in sorted(problems)]
+
+
 def file_problems(rel, lines, max_file_lines):
-    """The violations in the file `rel` of `lines`, which may have `max_file_lines`."""
+    """The violations in the file `rel` of `lines`, which may have `max_file_lines`, alone:
+    its classes counted with the member functions it defines out of line itself."""
+    return own_problems(rel, lines, max_file_lines) + class_problems({rel: lines})
+
+
+def own_problems(rel, lines, max_file_lines):
+    """The file's length and its functions' and lambdas' over their limits."""
     problems = []
     if len(lines) > max_file_lines:
         problems.append(f'{rel}: {len(lines)} lines (at most {max_file_lines})')
-    for what, first, last in bodies(lines):
-        limit = MAX_CLASS_LINES if what.startswith('class ') else MAX_FUNCTION_LINES
-        if last - first + 1 > limit:
+    for what, first, last in functions(lines):
+        if last - first + 1 > MAX_FUNCTION_LINES:
             problems.append(f'{rel}:{first}: {what} has {last - first + 1} lines '
-                            f'(at most {limit})')
+                            f'(at most {MAX_FUNCTION_LINES})')
     return problems
 
 
 def check(root):
     problems = []
+    files = {}
     for tree, max_file_lines in MAX_FILE_LINES.items():
-        for folder, dirs, files in os.walk(os.path.join(root, tree)):
+        for folder, dirs, names in os.walk(os.path.join(root, tree)):
             dirs.sort()
-            for f in sorted(files):
+            for f in sorted(names):
                 if f.endswith(CPP):
                     path = os.path.join(folder, f)
                     with open(path, encoding='utf-8') as source:
                         lines = source.read().splitlines()
-                    problems += file_problems(os.path.relpath(path, root), lines, max_file_lines)
-    return problems
+                    rel = os.path.relpath(path, root)
+                    files[rel] = lines
+                    problems += own_problems(rel, lines, max_file_lines)
+    return problems + class_problems(files)
 
 
 def main():

@@ -4,7 +4,11 @@ a class's `public:`, a function defined in a class body, a lambda in a table or 
 a function whose signature spans several lines; include/, bench/ and test/ are scanned (test
 files may have 800 lines). Each on a synthetic snippet one line over the limit (reported) and
 at it (not reported). Class, struct and union bodies are measured too (300 lines: a class, a
-struct in a namespace, a class template, one nested in another), enums are not. With
+struct in a namespace, a class template, one nested in another), enums are not; a class's size
+counts the out-of-line definitions of its member functions in any file (a class under the limit
+in its body and over it with them is reported; `World::Impl::x` is World::Impl's, not World's;
+a template's, a constructor's, a destructor's and an operator's definition are the class's, a
+free function in a namespace is nobody's, two classes of one name in two files are two). With
 --gtest_output=xml:FILE also writes a gtest-style result for
 catkin_test_results.
 """
@@ -14,7 +18,8 @@ import sys
 import tempfile
 import unittest
 
-from code_size import MAX_CLASS_LINES, MAX_FUNCTION_LINES, check, classes, file_problems, functions
+from code_size import (MAX_CLASS_LINES, MAX_FUNCTION_LINES, check, class_problems, classes,
+                       file_problems, functions)
 from gtest_xml import run_unittests
 
 
@@ -137,9 +142,9 @@ class ClassSize(unittest.TestCase):
             return ["class Outer {", " public:"] + class_body(n, "struct Inner {", "  ") + ["};"]
         over = file_problems("include/a.h", outer_and_inner(MAX_CLASS_LINES + 1), 500)
         self.assertEqual([p.split(": ")[1] for p in over],
-                         [f"class Inner has {MAX_CLASS_LINES + 1} lines (at most "
+                         [f"class Outer has {MAX_CLASS_LINES + 4} lines (at most "
                           f"{MAX_CLASS_LINES})",
-                          f"class Outer has {MAX_CLASS_LINES + 4} lines (at most "
+                          f"class Outer::Inner has {MAX_CLASS_LINES + 1} lines (at most "
                           f"{MAX_CLASS_LINES})"])
 
     def test_an_enum_is_not_a_class_and_a_member_function_stays_a_function(self):
@@ -148,6 +153,93 @@ class ClassSize(unittest.TestCase):
         body = ["class X {", " public:"] + function(MAX_FUNCTION_LINES + 1, indent="  ") + ["};"]
         self.assertEqual(list(classes(body)), [("class X", 1, len(body))])
         self.assertEqual([w for w, _, _ in functions(body)], ["function f"])
+
+
+def members(length, owner, names="f"):
+    """Out-of-line member functions `void owner::f0() {...}`, ... of `length` lines in all, none
+    over the function limit."""
+    lines, i = [], 0
+    while length > 0:
+        n = min(length, MAX_FUNCTION_LINES)
+        lines += function(n, (f"void {owner}::{names}{i}() {{",)) if n > 1 else [
+            f"void {owner}::{names}{i}() {{}}"]
+        length, i = length - n, i + 1
+    return lines
+
+
+class OutOfLineMembers(unittest.TestCase):
+    def assert_reported(self, make, what, body):
+        """make(n) ({rel: lines}) has `what` at n = MAX_CLASS_LINES + 1 lines, counted as its
+        `body` and its members, and nothing at MAX_CLASS_LINES."""
+        over = class_problems(make(MAX_CLASS_LINES + 1))
+        self.assertEqual(len(over), 1, over)
+        self.assertIn(f"class {what} has {MAX_CLASS_LINES + 1} lines (at most {MAX_CLASS_LINES})"
+                      f" counting its out-of-line members: its body {body}", over[0])
+        self.assertEqual(class_problems(make(MAX_CLASS_LINES)), [])
+
+    def test_a_class_under_the_limit_in_its_body_is_over_it_with_its_members_elsewhere(self):
+        body = class_body(100, "class Solver {")
+        make = lambda n: {"src/a/solver.h": ["namespace flapsim {"] + body + ["}"],
+                          "src/a/solver.cpp": ["namespace flapsim {"] + members(n - 100, "Solver")
+                          + ["}"]}
+        self.assert_reported(make, "Solver", 100)
+        header = make(MAX_CLASS_LINES + 1)["src/a/solver.h"]
+        self.assertEqual(file_problems("src/a/solver.h", header, 500), [])  # its body alone fits
+        over = class_problems(make(MAX_CLASS_LINES + 1))
+        self.assertTrue(over[0].startswith("src/a/solver.h:2: class Solver"), over)
+        self.assertIn(f"its member functions {MAX_CLASS_LINES + 1 - 100} in src/a/solver.cpp "
+                      "(3 functions)", over[0])
+
+    def test_members_in_several_files_of_several_trees_add_up(self):
+        body = class_body(101, "struct Stage {")
+        make = lambda n: {"include/x/stage.h": body, "src/stage.cpp": members(100, "Stage"),
+                          "test/test_stage.cpp": members(n - 201, "Stage", "g")}
+        self.assert_reported(make, "Stage", 101)
+
+    def test_a_nested_class_s_members_are_its_own_not_the_outer_class_s(self):
+        header = ["class World {", " public:", "  void step();", " private:", "  struct Impl;",
+                  "};"]
+        impl = class_body(50, "struct World::Impl {")
+        make = lambda n: {"include/world.h": header,
+                          "src/world.cpp": impl + members(n - 50, "World::Impl") + members(
+                              3, "World", "step")}
+        self.assert_reported(make, "World::Impl", 50)
+        over = class_problems(make(MAX_CLASS_LINES + 1))
+        self.assertTrue(over[0].startswith("src/world.cpp:1: class World::Impl has"), over)
+        inner = ["class Outer {", " public:"] + class_body(20, "struct Inner {", "  ") + ["};"]
+        make = lambda n: {"include/outer.h": inner, "src/outer.cpp": members(n - 20,
+                                                                              "Outer::Inner")}
+        self.assert_reported(make, "Outer::Inner", 20)
+
+    def test_templates_constructors_destructors_operators_and_namespaces_are_the_class_s(self):
+        head = ["namespace flapsim {", "template <class T>"] + class_body(10, "class Fit {") + [
+            "}"]
+        defined = (function(20, ("template <class T>", "Fit<T>::Fit(int a)", "    : a_(a),",
+                                 "      b_{a} {"))
+                   + function(20, ("template <class T>", "Fit<T>::~Fit() {"))
+                   + function(20, ("template <class T>",
+                                   "Fit<T>& Fit<T>::operator=(const Fit<T>& o) {"))
+                   + function(20, ("template <class T>", "bool flapsim::Fit<T>::operator<(",
+                                   "    const Fit<T>& o) const {"))
+                   + function(80, ("void detail::free() {",)))  # a namespace's: nobody's
+        make = lambda n: {"include/fit.h": head,
+                          "src/fit.cpp": defined + members(n - 91, "flapsim::Fit<T>")}
+        self.assert_reported(make, "Fit", 11)
+
+    def test_classes_of_one_name_in_two_files_are_counted_apart(self):
+        local = ["namespace {"] + class_body(100, "struct Options {") + ["}"]
+        make = lambda n: {"src/a.cpp": local + members(n - 100, "Options"),
+                          "src/b.cpp": local + members(n - 100, "Options")}
+        over = class_problems(make(MAX_CLASS_LINES + 1))
+        self.assertEqual([p.split(":")[0] for p in over], ["src/a.cpp", "src/b.cpp"])
+        self.assertEqual(class_problems(make(MAX_CLASS_LINES)), [])
+
+    def test_a_member_defined_in_its_class_body_is_counted_once(self):
+        body = (["class X {", " public:"] + function(80, indent="  ")
+                + [f"  int a{i}_ = 0;" for i in range(MAX_CLASS_LINES - 83)] + ["};"])
+        self.assertEqual(class_problems({"include/x.h": body, "src/x.cpp": []}), [])
+        over = class_problems({"include/x.h": body, "src/x.cpp": ["void X::g() {}"]})
+        self.assertIn(f"class X has {MAX_CLASS_LINES + 1} lines", over[0])
 
 
 class Trees(unittest.TestCase):
@@ -185,6 +277,15 @@ class Trees(unittest.TestCase):
                           "src/over.cpp: 501 lines (at most 500)",
                           "test/over.cpp: 801 lines (at most 800)",
                           "test/ros/over.cpp: 801 lines (at most 800)"])
+
+    def test_the_tree_s_check_counts_out_of_line_members_in_other_trees(self):
+        self.write("include/x/big.h", class_body(200, "class Big {"))
+        self.write("src/big.cpp", members(MAX_CLASS_LINES + 1 - 200, "Big"))
+        self.write("include/x/fits.h", class_body(200, "class Fits {"))
+        self.write("bench/fits.cpp", members(MAX_CLASS_LINES - 200, "Fits"))
+        self.assertEqual([p.split(": ")[1] for p in check(self.root)],
+                         [f"class Big has {MAX_CLASS_LINES + 1} lines (at most {MAX_CLASS_LINES})"
+                          " counting its out-of-line members"])
 
 
 if __name__ == "__main__":

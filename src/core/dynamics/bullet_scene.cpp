@@ -194,7 +194,7 @@ void ServoWorld::constrainLeanStep() {
     // The solver reads the inertia caches of Bullet's own pass (no velocity change at dt 0;
     // they depend on positions only).
     if (lean_tree_) bulletVelocityStep(mb, 0, info);
-    solveConstraintsAfterServos(info);
+    solveLimitsNearFirst(mb, info);
   } else {
     mb.processDeltaVeeMultiDof2();
   }
@@ -221,6 +221,39 @@ void ServoWorld::bulletVelocityStep(btMultiBody& mb, btScalar h, const btContact
   mb.computeAccelerationsArticulatedBodyAlgorithmMultiDof(h, m_scratch_r, m_scratch_v, m_scratch_m,
                                                           false, info.m_jointFeedbackInWorldSpace,
                                                           info.m_jointFeedbackInJointFrame);
+}
+
+void ServoWorld::solveLimitsNearFirst(btMultiBody& mb, btContactSolverInfo& info) {
+  std::vector<JointLimits*> limits;
+  for (int i = 0; i < m_multiBodyConstraints.size(); ++i) {
+    btMultiBodyConstraint* c = m_multiBodyConstraints[i];
+    if (typeid(*c) == typeid(JointLimits)) limits.push_back(static_cast<JointLimits*>(c));
+  }
+  if (limits.size() != static_cast<size_t>(m_multiBodyConstraints.size()) ||
+      mb.internalNeedsJointFeedback()) {
+    solveConstraintsAfterServos(info);
+    return;
+  }
+  const int n = 6 + mb.getNumDofs();
+  velocities_.assign(mb.getVelocityVector(), mb.getVelocityVector() + n);
+  for (JointLimits* l : limits) l->setNearRowsOnly(true);
+  solveConstraintsAfterServos(info);
+  bool again = false;
+  for (JointLimits* l : limits) {
+    again = again || l->omittedMayReach(info.m_timeStep);
+    l->setNearRowsOnly(false);
+  }
+  if (!again) return;
+  // A joint without a row was sent towards its bound: solve again with every row.
+  mb.setBaseOmega(btVector3(velocities_[0], velocities_[1], velocities_[2]));
+  mb.setBaseVel(btVector3(velocities_[3], velocities_[4], velocities_[5]));
+  for (int l = 0; l < mb.getNumLinks(); ++l) {
+    if (mb.getLink(l).m_dofCount > 0) {
+      mb.setJointVelMultiDof(l, &velocities_[6 + mb.getLink(l).m_dofOffset]);
+    }
+  }
+  mb.clearConstraintForces();
+  solveConstraintsAfterServos(info);
 }
 
 void ServoWorld::solveConstraintsAfterServos(btContactSolverInfo& info) {

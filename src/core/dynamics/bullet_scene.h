@@ -104,11 +104,15 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // The rest of Bullet's velocity stage once the servos acted: islands, the solve of all
   // constraints and contacts, and the solver's velocity change.
   void solveConstraintsAfterServos(btContactSolverInfo& info);
+  // A lean step's limit solve: first with rows for the joints near a bound only, again with
+  // every row if that sent another joint towards its bound (joint_limit.h).
+  void solveLimitsNearFirst(btMultiBody& mb, btContactSolverInfo& info);
   // Bullet's articulated-body pass: velocities += h * accelerations, and its solver caches.
   void bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info);
   std::function<bool()> may_touch_;
   bool lean_ = true;
-  TreeDynamics tree_;  // the lean step's velocity update
+  std::vector<btScalar> velocities_;  // solveLimitsNearFirst's copy before the first solve
+  TreeDynamics tree_;                 // the lean step's velocity update
   bool tree_fresh_ = false;
   // Lean steps leave the colliders behind (only collision detection reads them); the next
   // full step first places them where the multibody is then.

@@ -37,12 +37,23 @@ JointLimits::JointLimits(btMultiBody* body, std::vector<Limit> limits)
   m_maxAppliedImpulse = 1e6;  // as the multibody's own bound (bullet_body.cpp)
 }
 
-bool JointLimits::mayAct(btScalar dt) const {
+bool JointLimits::mayReach(const Limit& l, btScalar dt) const {
   // Every step: Bullet's getJointPos and getJointVel inline (they are not).
+  const Nearer n = nearer(l, m_bodyA->getLink(l.link).m_jointPos[0]);
+  const btScalar approach = -n.direction * jointVel(*m_bodyA, l.link);
+  return n.gap <= kMargin + 2 * dt * std::max<btScalar>(approach, 0);
+}
+
+bool JointLimits::mayAct(btScalar dt) const {
   for (const Limit& l : limits_) {
-    const Nearer n = nearer(l, m_bodyA->getLink(l.link).m_jointPos[0]);
-    const btScalar approach = -n.direction * jointVel(*m_bodyA, l.link);
-    if (n.gap <= kMargin + 2 * dt * std::max<btScalar>(approach, 0)) return true;
+    if (mayReach(l, dt)) return true;
+  }
+  return false;
+}
+
+bool JointLimits::omittedMayReach(btScalar dt) const {
+  for (size_t k = 0; k < omitted_.size(); ++k) {
+    if (omitted_[k] && mayReach(limits_[k], dt)) return true;
   }
   return false;
 }
@@ -69,11 +80,16 @@ void JointLimits::createConstraintRows(btMultiBodyConstraintArray& rows,
                                        const btContactSolverInfo& info) {
   if (m_numDofsFinalized != m_jacSizeBoth) finalizeMultiDof();
   const btScalar dt = info.m_timeStep;
+  omitted_.assign(limits_.size(), 0);
   if (!mayAct(dt)) return;
 
   const btVector3 zero(0, 0, 0);
   for (int row = 0; row < static_cast<int>(limits_.size()); ++row) {
     const Limit& l = limits_[row];
+    if (near_rows_only_ && !mayReach(l, dt)) {
+      omitted_[row] = 1;
+      continue;
+    }
     const Nearer n = nearer(l, m_bodyA->getJointPos(l.link));
     const btMultibodyLink& link = m_bodyA->getLink(l.link);
     btScalar* jacobian = jacobianA(row);

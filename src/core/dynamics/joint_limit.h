@@ -12,7 +12,11 @@
 // step but not cross it (a speculative row), and a joint already beyond is pushed back at
 // the solver's error reduction rate. While any joint could reach a bound in this step, the
 // rows of all limits are solved together (an impulse on one joint moves the others); while
-// none can, there are no rows and no solve.
+// none can, there are no rows and no solve. With near rows only (a lean step's choice), only
+// the joints that could reach a bound get rows; if the solve then sends one of the others
+// towards its bound (omittedMayReach), the step restores the velocities and solves again with
+// every row. Rows for every limit cost the 12-unit chain, whose wings turn within two steps'
+// travel of their stops, more than half its time in closed-loop flight.
 #pragma once
 
 #include <BulletDynamics/Featherstone/btMultiBodyConstraint.h>
@@ -35,6 +39,12 @@ class JointLimits : public btMultiBodyConstraint {
   // velocity: only then does the limit have rows (createConstraintRows).
   bool mayAct(btScalar dt) const;
 
+  // Rows only for the joints that could reach a bound (true), or for all (false, the default).
+  void setNearRowsOnly(bool on) { near_rows_only_ = on; }
+  // Whether a joint left without a row by the last createConstraintRows could now (with the
+  // solve's velocities) reach a bound within a step of `dt`.
+  bool omittedMayReach(btScalar dt) const;
+
   void finalizeMultiDof() override;
   int getIslandIdA() const override;
   int getIslandIdB() const override;
@@ -43,7 +53,12 @@ class JointLimits : public btMultiBodyConstraint {
   void debugDraw(btIDebugDraw*) override {}
 
  private:
+  // Whether `l`'s joint could reach its nearer bound within a step of `dt`.
+  bool mayReach(const Limit& l, btScalar dt) const;
+
   std::vector<Limit> limits_;
+  bool near_rows_only_ = false;
+  std::vector<char> omitted_;  // per limit: no row in the last createConstraintRows
 };
 
 }  // namespace flapsim

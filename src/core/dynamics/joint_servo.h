@@ -10,11 +10,13 @@
 // "Rigid Body Dynamics Algorithms", ch. 9) at impulse level: a driven joint has a
 // prescribed velocity change and contributes its whole subtree's inertia to its parent; a
 // passive or saturated joint has a known impulse. Saturation is found by an active-set
-// loop; each pass costs O(links). Pure functions of the tree at one instant: no Bullet.
+// loop (here); each pass costs O(links) (dynamics/hybrid_sweep.h). Pure functions of the
+// tree at one instant: no Bullet.
 #pragma once
 
 #include <vector>
 
+#include "dynamics/hybrid_sweep.h"
 #include "dynamics/spatial.h"
 
 namespace flapsim {
@@ -116,41 +118,23 @@ class JointServoSolver {
              const ServoTree& tree, ServoSolution& out);
 
  private:
-  enum class Status { kFixed, kFree, kPrescribed };
   // A prescribed joint whose impulse is beyond a bound pushes with that bound instead: made
   // free at it; whether it was.
   bool saturate(size_t k, const ServoDemand& d, double impulse);
   // Throws std::invalid_argument unless every vector has one entry per link.
   void checkArguments(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands,
                       const ServoLoads& loads, const ServoTree& tree) const;
-  // Sizes the scratch, takes the links' inertias and subspaces, and starts every joint's
-  // status (warm from the last solve); returns how many joints are driven.
+  // Starts the solution and every joint's status (warm from the last solve); returns how many
+  // joints are driven.
   int prepare(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands,
-              const ServoLoads& loads, const ServoTree& tree, ServoSolution& out);
+              ServoSolution& out);
   // Passes until no servo changes between driven and pushing with its bound.
   void settleActiveSet(const std::vector<ServoLink>& links, bool fixed_root,
                        const std::vector<ServoDemand>& demands, const ServoLoads& loads, int driven,
                        ServoSolution& out);
-  void pass(const std::vector<ServoLink>& links, bool fixed_root,
-            const std::vector<ServoDemand>& demands, const ServoLoads& loads, ServoSolution& out);
-  void inwardPass(const std::vector<ServoLink>& links, const std::vector<ServoDemand>& demands);
-  void outwardPass(const std::vector<ServoLink>& links, bool fixed_root,
-                   const std::vector<ServoDemand>& demands, ServoSolution& out);
 
-  std::vector<Status> status_;
-  std::vector<double> tau_;        // known impulse of a free joint
+  HybridSweep sweep_;              // the tree of a solve, its joints' statuses and its passes
   std::vector<signed char> side_;  // of a saturated joint: +1 at its upper bound, -1 at its lower
-  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> body_inertia_, articulated_;
-  // The links' spatial inertias in this solve: body_inertia_ or the caller's.
-  const std::vector<Mat6, Eigen::aligned_allocator<Mat6>>* inertia_ = &body_inertia_;
-  bool listed_extra_ = false;  // a pass adds the extra inertias of loads.links itself
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> bias_, s_, u_vec_, dv_;
-  std::vector<double> d_, u_;
-  // A solve with the velocity update (ServoTree::bias): per link, step x its bias force and
-  // step x its joint's velocity-product acceleration; step x joint torque.
-  bool update_ = false;
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> step_bias_, step_coriolis_;
-  std::vector<double> step_torque_;
   // Per link: the sign of its bound if it was saturated in the last solve, else 0. The
   // active set starts from it: the solution is unique, and saturated servos mostly stay so
   // from one step to the next, which then takes one pass instead of two.

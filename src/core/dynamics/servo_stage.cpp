@@ -142,43 +142,10 @@ void ServoStage::velocityChanges(const btMultiBody& mb, const ServoTree& tree) {
 
 Vec6 ServoStage::solveWithFluid(const btMultiBody& mb, const LinkFrames& frames,
                                 const ServoTree& tree, const CreatureFluid& fluid) {
-  // (M + A) (v1 - v0) = M (vb - v0) + servo impulses, with A the fluid's implicit part and
-  // vb Bullet's velocities after this step's forces: solved for v1 - vb, it is the tree with
-  // inertia M + A under the impulses -A (vb - v0) on the aero bodies.
-  const std::vector<AeroBody>& aero = fluid.bodies();
-  const size_t n = links_.size();
   velocityChanges(mb, tree);
-  // Only the aero bodies with implicit drag or added mass have loads (loads_.links).
-  loads_.extra_inertia.resize(n);
-  loads_.impulse.resize(n);
-  loads_.links.clear();
-  drag_.resize(aero.size());
-  change_.resize(aero.size());
-  for (size_t i = 0; i < aero.size(); ++i) {
-    const int k = aero[i].link;
-    change_[i] = change_of_link_[k];
-    if (aero[i].drag_zero && !aero[i].has_added_mass) continue;
-    loads_.links.push_back(k);
-    const Vec3 offset = fromBt(frames.com(k) - frames.com(0));
-    Mat6& extra = loads_.extra_inertia[k];
-    extra.setZero();
-    if (!aero[i].drag_zero) {
-      drag_[i] = spatialToCommonFrame(aero[i].drag, Quat::Identity(), offset);
-      extra += drag_[i];
-    }
-    if (aero[i].has_added_mass) addFactorMatrix(aero[i].added, offset, extra);
-    loads_.impulse[k] = -extra * change_[i];
-  }
-  solver_.solve(links_, model_->fixed_base, demands_, loads_, tree, solution_);
-  // The implicit drag's impulse over the step, -step D (v1 - v0) on each aero body.
-  Vec6 drag_impulse = Vec6::Zero();
-  drag_impulse_.assign(aero.size(), Vec6::Zero());
-  for (size_t i = 0; i < aero.size(); ++i) {
-    if (aero[i].drag_zero) continue;
-    drag_impulse_[i] = -drag_[i] * (change_[i] + solution_.link_velocity_change[aero[i].link]);
-    drag_impulse += drag_impulse_[i];
-  }
-  return drag_impulse;
+  const ServoLoads& loads = fluid_.loads(fluid.bodies(), frames, links_.size(), change_of_link_);
+  solver_.solve(links_, model_->fixed_base, demands_, loads, tree, solution_);
+  return fluid_.dragImpulses(fluid.bodies(), solution_);
 }
 
 Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, TreeDynamics* lean,
@@ -190,7 +157,7 @@ Vec6 ServoStage::solve(btMultiBody& mb, const LinkFrames& frames, TreeDynamics* 
     any = true;
   }
   if (any_implicit_) setImplicitSprings(mb);
-  drag_impulse_.clear();
+  fluid_.clear();
   if (!any && !fluid.active() && !any_implicit_) {
     solution_.impulse.assign(demands_.size(), 0.0);
     solution_.saturated.assign(demands_.size(), false);

@@ -10,6 +10,7 @@
 
 #include <vector>
 
+#include "dynamics/implicit_fluid.h"
 #include "dynamics/joint_servo.h"
 #include "dynamics/motor.h"
 #include "dynamics/spatial.h"
@@ -70,9 +71,7 @@ class ServoStage {
   double startVelocity(int link) const { return start_joint_velocity_[link]; }
   // The implicit drag's impulse on aero body i (CreatureFluid's order) in the last solve
   // [moment about the root COM of the step's start; force], world axes (zero without one).
-  Vec6 dragImpulse(size_t i) const {
-    return i < drag_impulse_.size() ? drag_impulse_[i] : Vec6::Zero();
-  }
+  Vec6 dragImpulse(size_t i) const { return fluid_.dragImpulse(i); }
   bool saturated(size_t link) const {
     return link < solution_.saturated.size() && solution_.saturated[link];
   }
@@ -91,7 +90,8 @@ class ServoStage {
   // no change yet, but the solve's changes hold the step's velocity products, which are
   // taken off here: then minus their sums from the root.
   void velocityChanges(const btMultiBody& mb, const ServoTree& tree);
-  // The servos with the fluid's loads; returns the implicit drag's impulse.
+  // The servos with the fluid's implicit part (dynamics/implicit_fluid.h); returns the implicit
+  // drag's impulse.
   Vec6 solveWithFluid(const btMultiBody& mb, const LinkFrames& frames, const ServoTree& tree,
                       const CreatureFluid& fluid);
   // Each implicit spring's impulse terms in its link's demand (ServoDemand::spring_impulse),
@@ -119,13 +119,8 @@ class ServoStage {
   // beyond the spatial change (TreeDynamics::baseLinearBias()).
   Vec3 base_bias_ = Vec3::Zero();
   // Scratch, kept between steps: no allocation once warm.
-  ServoLoads loads_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_of_link_;
-  // Per aero body: its drag matrix about the root COM, and Bullet's change of its spatial
-  // velocity in this step.
-  std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> drag_impulse_;  // per aero body
+  ImplicitFluidLoads fluid_;  // the fluid's loads of the solve and its drag impulses
 };
 
 // Joint damping is an explicit torque -d qdot, stable while d dt stays well under the joint's

@@ -75,6 +75,13 @@ std::string validateEpisodeParams(const EpisodeParams& p) {
         range("flip_penalty", p.flip_penalty, 0.0, kMaxFlipPenalty, " m")}) {
     if (!err.empty()) return err;
   }
+  if (std::isnan(p.crash_height) || p.crash_height > kMaxPosition) {
+    return "crash_height must be -inf (off) or a height up to " + std::to_string(kMaxPosition) +
+           " m";
+  }
+  if (std::isfinite(p.crash_height) && p.flip_penalty <= 0.0) {
+    return "crash_height needs flip_penalty > 0 (a crash ends the episode as a flip does)";
+  }
   const std::string d = validateDisturbances(p);
   if (!d.empty()) return d;
   if (p.step_sizes.size() > static_cast<size_t>(kMaxStepSizes)) {
@@ -320,8 +327,9 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
     const double t = static_cast<double>(s + 1) * control_period;
     const double score = addSample(result, tally, p, start, root, t);
     result.flipped = result.flipped || result.final_upright < 0.0;
-    if (p.flip_penalty > 0.0 && result.flipped) {
-      // Upside down: the rest of the flight scores the score here less the penalty.
+    result.crashed = result.crashed || root.position.z() < p.crash_height;
+    if (p.flip_penalty > 0.0 && (result.flipped || result.crashed)) {
+      // Upside down or crashed: the rest of the flight scores the score here less the penalty.
       tally.score += static_cast<double>(samples - s) * (score - p.flip_penalty);
       break;
     }

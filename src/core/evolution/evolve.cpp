@@ -64,6 +64,7 @@ EvolveParams robustPreset(int pairs) {
   e.max_altitude = 8.0;
   e.step_sizes = {0.001, 0.0005};  // evolve's default: auto_step_sizes
   e.flip_penalty = 20.0;
+  e.crash_height = 0.0;
   e.episodes = 12;
   return p;
 }
@@ -75,9 +76,10 @@ int geneCount(const EvolveParams& params) {
                                            : FlapUnitController::weightCount(params.controller);
 }
 
-std::vector<double> evolutionStepSizes(const EvolveParams& params) {
-  if (!params.auto_step_sizes || params.kind == EvolveKind::kHover)
-    return params.episode.step_sizes;
+StepChoice evolutionStepChoice(const EvolveParams& params) {
+  if (!params.auto_step_sizes || params.kind == EvolveKind::kHover) {
+    return {params.episode.step_sizes, params.episode.world.turn_substep};
+  }
   const FlapControllerParams& c = params.controller;
   const StrokeCommand stroke{0.5 * (c.min_downstroke_rate + c.max_downstroke_rate), c.upstroke_rate,
                              c.amplitude};
@@ -87,7 +89,8 @@ std::vector<double> evolutionStepSizes(const EvolveParams& params) {
   WorldParams still = params.episode.world;
   still.air.turbulence = TurbulenceParams();
   still.air.gust = DiscreteGust();
-  return accurateStepSizes(model, stroke, still);
+  return accurateStepChoice(model, stroke, still,
+                            params.turn_substep_given ? still.turn_substep : -1.0);
 }
 
 EvaluationSpec evaluationSpec(const EvolveParams& params) {
@@ -97,7 +100,9 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   spec.unit = params.unit;
   spec.controller = params.controller;
   spec.episode = params.episode;
-  spec.episode.step_sizes = evolutionStepSizes(params);
+  const StepChoice steps = evolutionStepChoice(params);
+  spec.episode.step_sizes = steps.step_sizes;
+  spec.episode.world.turn_substep = steps.turn_substep;
   spec.episode.seed = evolutionEpisodeSeed(params.ga.seed);
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);

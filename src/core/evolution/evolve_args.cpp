@@ -192,9 +192,34 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
        [&p, &e] { return p.auto_step_sizes ? std::string("auto") : stepSizesText(e); },
        "step sizes drawn per episode, s, e.g. 0.001,0.0005; auto: the creature's largest "
        "accurate step and its half (flapsim/step_accuracy.h)")
+      .tag(kSpec);
+  t.custom(
+       "--turn-substep", {"S"},
+       [&p, &e](const std::vector<std::string>& v) {
+         e.world.turn_substep = parseCliReal("--turn-substep", v[0], {0, 0.1});
+         const std::string err = validateWorldParams(e.world);
+         if (!err.empty()) throw InputError("--turn-substep: " + err);
+         p.turn_substep_given = true;
+       },
+       [&e] { return formatCliNumber(e.world.turn_substep); },
+       "a step in which a wing turns is cut into pieces of at most S s (0: never); with "
+       "--step-sizes auto chosen with the steps")
       .tag(kSpec)
       .real("--flip-penalty", "P", &e.flip_penalty, {0, kMaxFlipPenalty},
             "a flip ends the episode, less P m (0: off)")
+      .tag(kSpec)
+      .custom(
+          "--crash-height", {"H"},
+          [&e](const std::vector<std::string>& v) {
+            e.crash_height =
+                v[0] == "off" ? -std::numeric_limits<double>::infinity()
+                              : parseCliReal("--crash-height", v[0], {-kMaxPosition, kMaxPosition});
+          },
+          [&e] {
+            return std::isfinite(e.crash_height) ? formatCliNumber(e.crash_height)
+                                                 : std::string("off");
+          },
+          "the root below H m (the scenarios' ground: 0) ends the episode as a flip does; off")
       .tag(kSpec)
       .real("--settle", "S", &e.settle_time, {0, kMaxEpisodeDuration},
             "the altitude rms (--preset hover: every figure) counts after S s")
@@ -315,7 +340,8 @@ const std::vector<std::string> kNotHoverFlags = {
     "--link-axis",      "--link-stiffness",  "--start-rate",
     "--gust",           "--gust-torque",     "--gust-torque-time",
     "--gust-force",     "--gust-force-time", "--gust-link",
-    "--altitude-noise", "--altitude-hold",   "--gyro-bias"};
+    "--altitude-noise", "--altitude-hold",   "--gyro-bias",
+    "--crash-height"};
 
 void checkHoverFlags(const std::vector<CliSeen>& seen) {
   for (const CliSeen& s : seen) {
@@ -344,6 +370,17 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     }
     if (name == "--settle") why = "but with --preset hover (the flap network's fitness has none)";
     if (!why.empty()) throw InputError(name + ": has no effect " + why);
+  }
+}
+
+// `flag`'s value in a spec's arguments: replaced if there, else appended.
+void setSpecArg(std::vector<std::string>& spec, const std::string& flag, const std::string& value) {
+  auto given = std::find(spec.begin(), spec.end(), flag);
+  if (given == spec.end()) {
+    spec.push_back(flag);
+    spec.push_back(value);
+  } else {
+    *(given + 1) = value;
   }
 }
 
@@ -378,14 +415,13 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   if (o.preset != "hover" && o.params.auto_step_sizes) {
     // Found once here; the spec (the farm's workers, a resume) carries the numbers.
     EvolveParams& p = o.params;
-    p.episode.step_sizes = evolutionStepSizes(p);
+    const StepChoice choice = evolutionStepChoice(p);
+    p.episode.step_sizes = choice.step_sizes;
+    p.episode.world.turn_substep = choice.turn_substep;
     p.auto_step_sizes = false;
-    auto given = std::find(o.spec_args.begin(), o.spec_args.end(), "--step-sizes");
-    if (given == o.spec_args.end()) {
-      o.spec_args.push_back("--step-sizes");
-      o.spec_args.push_back(stepSizesText(p.episode));
-    } else {
-      *(given + 1) = stepSizesText(p.episode);
+    setSpecArg(o.spec_args, "--step-sizes", stepSizesText(p.episode));
+    if (!p.turn_substep_given) {
+      setSpecArg(o.spec_args, "--turn-substep", formatCliNumber(choice.turn_substep));
     }
   }
   o.help = table.help();

@@ -1,5 +1,6 @@
 #include "flapsim/evolve_tool.h"
 
+#include <cmath>
 #include <cstdio>
 #include <iomanip>
 #include <map>
@@ -152,6 +153,16 @@ std::string writtenLine(const EvolveOptions& o, const EvolveResult& result, doub
   return line.str();
 }
 
+// What ends a flap network's episode early, as the weights file's header says it.
+std::string sealedEnds(const EpisodeParams& e) {
+  if (e.flip_penalty <= 0.0) return "";
+  std::ostringstream out;
+  out << " (a flip" << (std::isfinite(e.crash_height) ? " or the root below " : "");
+  if (std::isfinite(e.crash_height)) out << e.crash_height << " m";
+  out << " ends one, less " << e.flip_penalty << " m)";
+  return out.str();
+}
+
 // --preset hover: the gains file and fitness.csv.
 std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result, double wall_s,
                               const std::string& evaluated_on) {
@@ -193,7 +204,7 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
          << (params.episode.altitude_hold ? "of -|height - setpoint| - (1 - up-component) (m)"
                                           : "root-body height (m)")
          << " over " << params.episode.episodes << " episodes of " << params.episode.duration
-         << " s: " << result.best_fitness
+         << " s" << sealedEnds(params.episode) << ": " << result.best_fitness
          << "\nWeights: per neuron its input weights then its bias; hidden (tanh) neurons first,"
          << (params.controller.network == FlapNetwork::kMirror
                  ? " then the output (the right wing; the left is the net on mirrored inputs)."

@@ -22,6 +22,7 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.episodes = p.starts;
   episode.seed = p.seed;
   episode.world.step_size = p.step_size;
+  episode.world.turn_substep = p.turn_substep;
   episode.min_wind = episode.max_wind = p.wind;
   episode.gust_torque = p.gust_torque;
   episode.gust_force = p.gust_force;
@@ -178,6 +179,16 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .real("--pitch", "P", &p.max_pitch, {0, M_PI}, "start pitch uniform in +-P rad")
       .real("--duration", "T", &p.duration, {0, kMaxEpisodeDuration, true}, "s")
       .real("--step-size", "DT", &p.step_size, {1e-6, 0.1}, "s")
+      .custom(
+          "--turn-substep", {"S"},
+          [&p](const std::vector<std::string>& v) {
+            p.turn_substep = parseCliReal("--turn-substep", v[0], {0, 0.1});
+            if (p.turn_substep > 0.0 && p.turn_substep < 1e-7) {
+              throw InputError("--turn-substep: must be 0 (off) or >= 1e-7 s");
+            }
+          },
+          [&p] { return formatCliNumber(p.turn_substep); },
+          "a step in which a wing turns is cut into pieces of at most S s (0: never)")
       .integer("--threads", "N", &p.threads, {1, 256},
                "parallel flights; results do not depend on it")
       .tag(kNetworkOnly)
@@ -324,6 +335,7 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
   HoverFlightParams p;
   p.duration = o.params.duration;
   p.world.step_size = o.params.step_size;
+  p.world.turn_substep = o.params.turn_substep;
   p.world.air.wind = Vec3(0.0, o.params.wind, 0.0);
   p.world.air.added_mass_velocity_products = o.params.velocity_products;
   p.world.air.turbulence.wind_at_6m = o.params.turbulence;

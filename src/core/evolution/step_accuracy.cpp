@@ -14,8 +14,12 @@ StepFlight flyOpenLoop(const CreatureModelPtr& model, const StrokeCommand& strok
   w.setWingCommands("c", {}, std::vector<StrokeCommand>(model->wing_joints.size(), stroke));
   StepFlight f;
   f.step = step;
+  f.turn_substep = world.turn_substep;
   const int steps = static_cast<int>(std::lround(kAccuracySeconds / step));
-  w.step(steps);
+  for (int k = 0; k < steps; ++k) {
+    w.step(1);
+    f.substeps += w.stepData("c").substeps;
+  }
   f.finite = !w.divergence("c");
   f.height_change = w.rootPose("c").position.z() - 50.0;
   return f;
@@ -47,17 +51,53 @@ std::vector<StepVerdict> stepVerdicts(const CreatureModelPtr& model, const Strok
   return out;
 }
 
-std::vector<double> accurateStepSizes(const CreatureModelPtr& model, const StrokeCommand& stroke,
-                                      const WorldParams& world) {
-  const std::vector<double> candidates = {0.004, 0.002, 0.001, 0.0005};
-  // The largest first: stop at the first accurate one.
+bool StepCandidate::accurate() const {
+  return at_step.why().empty() && at_half.flight.step > 0.0 && at_half.why().empty();
+}
+
+long StepCandidate::substeps() const { return at_step.flight.substeps + at_half.flight.substeps; }
+
+std::vector<StepCandidate> stepCandidates(const CreatureModelPtr& model,
+                                          const StrokeCommand& stroke, const WorldParams& world,
+                                          double turn_substep) {
+  constexpr double kShortestTurnSubstep = 0.0005;
   const StepFlight reference = flyOpenLoop(model, stroke, world, kReferenceStep);
-  for (double step : candidates) {
-    if (StepVerdict{flyOpenLoop(model, stroke, world, step), reference}.why().empty()) {
-      return {step, step / 2.0};
+  std::vector<StepCandidate> out;
+  for (double h : {0.004, 0.002, 0.001, 0.0005}) {
+    std::vector<double> substeps = {turn_substep};
+    if (turn_substep < 0.0) {
+      substeps.clear();
+      for (double s : {h, h / 2.0, h / 4.0}) {
+        if (s >= kShortestTurnSubstep * (1.0 - 1e-9)) substeps.push_back(s);
+      }
+    }
+    for (double s : substeps) {
+      WorldParams at = world;
+      at.turn_substep = s;
+      StepCandidate c;
+      c.step = h;
+      c.turn_substep = s;
+      c.at_step = StepVerdict{flyOpenLoop(model, stroke, at, h), reference};
+      if (c.at_step.why().empty())
+        c.at_half = StepVerdict{flyOpenLoop(model, stroke, at, h / 2.0), reference};
+      out.push_back(c);
     }
   }
-  return {candidates.back(), candidates.back() / 2.0};
+  return out;
+}
+
+StepChoice accurateStepChoice(const CreatureModelPtr& model, const StrokeCommand& stroke,
+                              const WorldParams& world, double turn_substep) {
+  const StepCandidate* best = nullptr;
+  const std::vector<StepCandidate> all = stepCandidates(model, stroke, world, turn_substep);
+  for (const StepCandidate& c : all) {
+    // In the order tried (larger steps, then larger substeps first): only fewer substeps win.
+    if (c.accurate() && (best == nullptr || c.substeps() < best->substeps())) best = &c;
+  }
+  if (best == nullptr) {
+    return {{0.0005, 0.00025}, turn_substep >= 0.0 ? turn_substep : world.turn_substep};
+  }
+  return {{best->step, best->step / 2.0}, best->turn_substep};
 }
 
 }  // namespace flapsim
