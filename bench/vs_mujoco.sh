@@ -18,10 +18,13 @@
 #   --seconds S: simulated seconds per run (1; a flap unit's second is a few ms of CPU)
 #   MuJoCo: by default Debian's (the catkin build's mujoco_bench). --mujoco PREFIX takes
 #     PREFIX/include/mujoco/mujoco.h and PREFIX/lib/libmujoco.so (an install tree);
-#     --mujoco-include and --mujoco-lib name the two folders apart (a build tree). Then
-#     bench/mujoco_bench.cpp is compiled against them (g++ -O3, linked to the build's
-#     flapsim_core; it opens the MuJoCo library at run time) into build/mujoco_bench/<key>/
-#     and rebuilt when a source changes.
+#     --mujoco-include and --mujoco-lib name the two folders apart (a build tree); without
+#     these flags the environment variables FLAPSIM_MUJOCO_INCLUDE and FLAPSIM_MUJOCO_LIB name
+#     them. Then bench/mujoco_bench.cpp is compiled against them (bench/mujoco_build.sh: g++
+#     -O3, linked to the build's flapsim_core; it opens the MuJoCo library at run time) into
+#     build/mujoco_bench/<key>/ and rebuilt when a source changes. The output names MuJoCo's
+#     version and where it came from, never its folders, and the load average at the start and
+#     the end.
 #   --integrator Euler|RK4|implicit|implicitfast (implicit), --step S in s (0.001),
 #   --jacobian dense|sparse|auto (auto), --check-seconds T (10; 0: no check).
 #   --flapsim-step S, --flapsim-turn-substep S: flapsim's step and turn substep in s
@@ -32,7 +35,10 @@ pairs=5
 seconds=1
 bin="$root/build/devel/lib/flapsim"
 names=()
-mj_include="" mj_lib=""
+# shellcheck source=bench/mujoco_build.sh
+. "$root/bench/mujoco_build.sh"
+mujoco_options "$@"
+set -- ${rest[@]+"${rest[@]}"}
 setting=(--integrator implicit --step 0.001 --jacobian auto)
 check=10
 fsetting=()
@@ -41,16 +47,13 @@ while [ $# -gt 0 ]; do
     --pairs) pairs="$2"; shift 2 ;;
     --seconds) seconds="$2"; shift 2 ;;
     --bin) bin="$2"; shift 2 ;;
-    --mujoco) mj_include="$2/include"; mj_lib="$2/lib"; shift 2 ;;
-    --mujoco-include) mj_include="$2"; shift 2 ;;
-    --mujoco-lib) mj_lib="$2"; shift 2 ;;
     --integrator) setting[1]="$2"; shift 2 ;;
     --step) setting[3]="$2"; shift 2 ;;
     --jacobian) setting[5]="$2"; shift 2 ;;
     --check-seconds) check="$2"; shift 2 ;;
     --flapsim-step) fsetting+=(--step "$2"); shift 2 ;;
     --flapsim-turn-substep) fsetting+=(--turn-substep "$2"); shift 2 ;;
-    -h|--help) sed -n '2,28p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
     -*) echo "vs_mujoco.sh: unknown option '$1'" >&2; exit 2 ;;
     *) names+=("$1"); shift ;;
   esac
@@ -58,32 +61,8 @@ done
 [ ${#names[@]} -gt 0 ] || names=(flap_unit chain_4 chain_6 chain_12 chain_25)
 [ -x "$bin/flapsim_bench" ] || { echo "vs_mujoco.sh: no $bin/flapsim_bench (build first)" >&2; exit 2; }
 
-if [ -z "$mj_include$mj_lib" ]; then
-  mujoco="$bin/mujoco_bench"
-  [ -x "$mujoco" ] || { echo "vs_mujoco.sh: no $mujoco (apt-get install libmujoco-dev, build)" >&2; exit 2; }
-else
-  [ -f "$mj_include/mujoco/mujoco.h" ] || { echo "vs_mujoco.sh: no mujoco/mujoco.h in '$mj_include'" >&2; exit 2; }
-  [ -e "$mj_lib/libmujoco.so" ] || { echo "vs_mujoco.sh: no libmujoco.so in '$mj_lib'" >&2; exit 2; }
-  mj_include="$(cd "$mj_include" && pwd)" mj_lib="$(cd "$mj_lib" && pwd)"
-  core="$(cd "$bin/.." && pwd)"
-  [ -e "$core/libflapsim_core.so" ] || { echo "vs_mujoco.sh: no $core/libflapsim_core.so (build first)" >&2; exit 2; }
-  out="$root/build/mujoco_bench/$(echo "$mj_include $mj_lib" | md5sum | cut -c1-12)"
-  mujoco="$out/mujoco_bench"
-  sources=("$root/bench/mujoco_bench.cpp" "$root/bench/bench_common.h" "$root/bench/mujoco_api.h"
-           "$core/libflapsim_core.so"
-           "$(readlink -f "$mj_lib/libmujoco.so")" "$mj_include/mujoco/mujoco.h")
-  stale=no
-  [ -x "$mujoco" ] || stale=yes
-  for f in "${sources[@]}"; do [ "$f" -nt "$mujoco" ] && stale=yes; done
-  if [ "$stale" = yes ]; then
-    mkdir -p "$out"
-    echo "vs_mujoco.sh: compiling mujoco_bench against $mj_include and $mj_lib into $out" >&2
-    g++ -std=c++17 -O3 -DNDEBUG -Wall -Wextra -o "$mujoco" "$root/bench/mujoco_bench.cpp" \
-      -DFLAPSIM_MUJOCO_LIBRARY="\"$mj_lib/libmujoco.so\"" \
-      -I "$root/include" -isystem /usr/include/eigen3 -isystem "$mj_include" \
-      -L "$core" -lflapsim_core -Wl,-rpath,"$core" -ldl
-  fi
-fi
+mujoco_program mujoco_bench
+mujoco="$program"
 
 # The steps per second of NAME in a benchmark's output (its third column), and the step (s)
 # its header line names ("... steps of X ms").
@@ -93,7 +72,9 @@ median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] 
 flags=(--runs 3 --seconds "$seconds" --cpu-time)
 fflags=("${flags[@]}" "${fsetting[@]}")
 
-echo "MuJoCo: $("$mujoco" "${setting[@]}" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//')"
+load() { python3 -c 'import os, sys; print("load average at the %s: %.2f %.2f %.2f" % ((sys.argv[1],) + os.getloadavg()))' "$1"; }
+load start
+echo "MuJoCo: $("$mujoco" "${setting[@]}" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//') (from $mujoco_source)"
 echo "ratio: flapsim / MuJoCo per simulated second (steps/s x step), CPU time; order: which ran first"
 printf '%-10s %6s %6s %12s %12s %10s %10s %8s\n' creature pair order 'flapsim st/s' 'mujoco st/s' \
   'flapsim s/s' 'mujoco s/s' ratio
@@ -139,3 +120,4 @@ for name in "${names[@]}"; do
     "$(printf '%s\n' "${ours[@]}" | median)" "$(printf '%s\n' "${theirs[@]}" | median)" \
     "$(printf '%s\n' "${ratios[@]}" | median)"
 done
+load end

@@ -521,3 +521,12 @@ def episode_rate():
 
 
 episode_rate()
+
+
+def mujoco_tables():
+    from doc_tables_mujoco import TABLES as MUJOCO
+    for make in MUJOCO:
+        register(make())
+
+
+mujoco_tables()

@@ -27,12 +27,6 @@ REFERENCE = "<!-- table reference -->"
 # A ratchet: a table here is not reported, a new unscripted table is, and an entry whose
 # table is gone, or now written or marked, fails until it is taken off this list.
 NOT_YET_SCRIPTED = {
-    ("doc/performance.md", "| creature (bodies) | MuJoCo | flapsim steps/s | MuJoCo steps/s | "
-     "flapsim / MuJoCo per simulated s |"):
-        "bench/vs_mujoco.sh against MuJoCo 3.12 built from source (not installed here), rows "
-        "of several dates",
-    ("doc/validation.md", "| case | source and number | flapsim | error | where it fails |"):
-        "mujoco_wing against MuJoCo 3.12 (the installed build links 2.2.2)",
 }
 MARKER = re.compile(r"^<!-- (/?)table ([A-Za-z0-9_-]+) -->$")
 FENCE = re.compile(r"^\s*(```|~~~)")
