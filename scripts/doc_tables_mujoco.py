@@ -104,8 +104,8 @@ def mujoco_comparison():
     def said(out):
         texts = [out[r.key] for r in runs]
         sources = {re.search(r"^MuJoCo: .*\(from (.*)\)$", t, re.M).group(1) for t in texts}
-        return (f"`{VS_MUJOCO} --pairs {PAIRS} --seconds S --integrator I --step S "
-                "--flapsim-step S [--flapsim-turn-substep S] NAME` (10 simulated s a run for "
+        return (f"`{VS_MUJOCO} --pairs {PAIRS} --seconds T --integrator I --step S "
+                "--flapsim-step S [--flapsim-turn-substep S] NAME` (T = 10 simulated s a run for "
                 "the flap unit, 2 for the chain; medians of 9 alternating pairs of 3 runs each, "
                 f"CPU time; MuJoCo from {' and '.join(sorted(sources))}; the 1-minute load "
                 f"average {load_range(texts)} over the runs on 2 cores shared with other work)")
