@@ -36,7 +36,7 @@ mujoco_program() {
   tool="$(basename "$0")"
   if [ -z "$mj_include$mj_lib" ]; then
     program="$bin/$name"
-    mujoco_source="the build's (Debian's libmujoco-dev)"
+    mujoco_source="the build's, Debian's libmujoco-dev"
     [ -x "$program" ] || { echo "$tool: no $program (apt-get install libmujoco-dev, build)" >&2; exit 2; }
     return
   fi
