@@ -336,7 +336,7 @@ TEST(ToolTables, TurnSubstepIsFlownOrRefusedByName) {
   EXPECT_EQ(refusal(flightCheckCli(o), {"--turn-substep", "-1"}),
             "--turn-substep: -1 is not in [0, 0.1]");
   EXPECT_EQ(refusal(flightCheckCli(o), {"--turn-substep", "1e-9"}),
-            "--turn-substep: must be 0 (off) or >= 1e-7 s");
+            "--turn-substep: turn_substep must be 0 (off) or finite and >= 1e-7 s");
   flightCheckCli(o).parse({"--turn-substep", "0.002"});
   EXPECT_EQ(o.params.turn_substep, 0.002);
   EXPECT_EQ(flightCheckEpisodes(o.params).world.turn_substep, 0.002);

@@ -45,6 +45,10 @@ std::vector<StepVerdict> stepVerdicts(const CreatureModelPtr& model, const Strok
                                       const WorldParams& world,
                                       const std::vector<double>& candidates);
 
+/// The value of a tool's turn-substep flag `flag` (evolve's and flight_check's --turn-substep):
+/// a number in [0, 0.1] s that WorldParams takes, else an InputError naming the flag.
+double turnSubstepFromFlag(const std::string& flag, const std::string& text);
+
 /// What evolution flies a creature at: two step sizes, h and h / 2, and one turn substep.
 struct StepChoice {
   std::vector<double> step_sizes;

@@ -196,9 +196,7 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
   t.custom(
        "--turn-substep", {"S"},
        [&p, &e](const std::vector<std::string>& v) {
-         e.world.turn_substep = parseCliReal("--turn-substep", v[0], {0, 0.1});
-         const std::string err = validateWorldParams(e.world);
-         if (!err.empty()) throw InputError("--turn-substep: " + err);
+         e.world.turn_substep = turnSubstepFromFlag("--turn-substep", v[0]);
          p.turn_substep_given = true;
        },
        [&e] { return formatCliNumber(e.world.turn_substep); },

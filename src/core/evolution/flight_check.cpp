@@ -182,10 +182,7 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .custom(
           "--turn-substep", {"S"},
           [&p](const std::vector<std::string>& v) {
-            p.turn_substep = parseCliReal("--turn-substep", v[0], {0, 0.1});
-            if (p.turn_substep > 0.0 && p.turn_substep < 1e-7) {
-              throw InputError("--turn-substep: must be 0 (off) or >= 1e-7 s");
-            }
+            p.turn_substep = turnSubstepFromFlag("--turn-substep", v[0]);
           },
           [&p] { return formatCliNumber(p.turn_substep); },
           "a step in which a wing turns is cut into pieces of at most S s (0: never)")

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "flapsim/cli_args.h"
+
 namespace flapsim {
 
 StepFlight flyOpenLoop(const CreatureModelPtr& model, const StrokeCommand& stroke,
@@ -23,6 +25,14 @@ StepFlight flyOpenLoop(const CreatureModelPtr& model, const StrokeCommand& strok
   f.finite = !w.divergence("c");
   f.height_change = w.rootPose("c").position.z() - 50.0;
   return f;
+}
+
+double turnSubstepFromFlag(const std::string& flag, const std::string& text) {
+  WorldParams world;
+  world.turn_substep = parseCliReal(flag, text, {0, 0.1});
+  const std::string err = validateWorldParams(world);
+  if (!err.empty()) throw InputError(flag + ": " + err);
+  return world.turn_substep;
 }
 
 double StepVerdict::relativeError() const {
