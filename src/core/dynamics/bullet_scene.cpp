@@ -224,22 +224,22 @@ void ServoWorld::bulletVelocityStep(btMultiBody& mb, btScalar h, const btContact
 }
 
 void ServoWorld::solveLimitsNearFirst(btMultiBody& mb, btContactSolverInfo& info) {
-  std::vector<JointLimits*> limits;
+  limits_.clear();
   for (int i = 0; i < m_multiBodyConstraints.size(); ++i) {
     btMultiBodyConstraint* c = m_multiBodyConstraints[i];
-    if (typeid(*c) == typeid(JointLimits)) limits.push_back(static_cast<JointLimits*>(c));
+    if (typeid(*c) == typeid(JointLimits)) limits_.push_back(static_cast<JointLimits*>(c));
   }
-  if (limits.size() != static_cast<size_t>(m_multiBodyConstraints.size()) ||
+  if (limits_.size() != static_cast<size_t>(m_multiBodyConstraints.size()) ||
       mb.internalNeedsJointFeedback()) {
     solveConstraintsAfterServos(info);
     return;
   }
   const int n = 6 + mb.getNumDofs();
   velocities_.assign(mb.getVelocityVector(), mb.getVelocityVector() + n);
-  for (JointLimits* l : limits) l->setNearRowsOnly(true);
+  for (JointLimits* l : limits_) l->setNearRowsOnly(true);
   solveConstraintsAfterServos(info);
   bool again = false;
-  for (JointLimits* l : limits) {
+  for (JointLimits* l : limits_) {
     again = again || l->omittedMayReach(info.m_timeStep);
     l->setNearRowsOnly(false);
   }

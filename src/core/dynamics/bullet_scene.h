@@ -18,6 +18,8 @@
 
 namespace flapsim {
 
+class JointLimits;
+
 inline btVector3 toBt(const Vec3& v) { return btVector3(v.x(), v.y(), v.z()); }
 inline btQuaternion toBt(const Quat& q) { return btQuaternion(q.x(), q.y(), q.z(), q.w()); }
 inline btTransform toBt(const Pose& p) {
@@ -111,7 +113,8 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   void bulletVelocityStep(btMultiBody& mb, btScalar h, const btContactSolverInfo& info);
   std::function<bool()> may_touch_;
   bool lean_ = true;
-  std::vector<btScalar> velocities_;  // solveLimitsNearFirst's copy before the first solve
+  std::vector<JointLimits*> limits_;  // solveLimitsNearFirst's scratch: the limits,
+  std::vector<btScalar> velocities_;  // and the velocities before its first solve
   TreeDynamics tree_;                 // the lean step's velocity update
   bool tree_fresh_ = false;
   // Lean steps leave the colliders behind (only collision detection reads them); the next
