@@ -81,7 +81,10 @@ struct AnnControllerParams : LockstepParams {
   std::optional<double> altitude;  // m: the root link frame's height to hold; unset: climb
   double altitude_noise = 0.0;     // m: the altimeter's standard deviation (imu source)
   double velocity_noise = 0.0;     // m/s: the ground-speed sensor's, per axis (imu source)
-  int noise_seed = 0;              // seeds the altimeter's and ground speed's noise
+  /// rad/s: a constant bias added to the gyro's reading (imu source), in the IMU's axes, as
+  /// flight_check's --gyro-bias adds a start's (afc.launch real_air:=true: the one drawn).
+  flapsim::Vec3 gyro_bias = flapsim::Vec3::Zero();
+  int noise_seed = 0;  // seeds the altimeter's and ground speed's noise
   std::string world_frame = "world";
   double rate = 0.0;  // Hz (sim time); 0: 1 / control_period of the weights file
   // Lockstep (LockstepParams; tests, exact replays): read the unit bodies at t from tf.
@@ -93,7 +96,8 @@ struct AnnControllerParams : LockstepParams {
 };
 
 /// Private namespace of ann_controller. Keys: weights (required), creature,
-/// pairs, attitude_source (imu or tf), altitude, altitude_noise, velocity_noise, noise_seed,
+/// pairs, attitude_source (imu or tf), altitude, altitude_noise, velocity_noise, gyro_bias
+/// (three numbers, each within +-1000 rad/s; with attitude_source tf: ParamError), noise_seed,
 /// world_frame,
 /// rate, lockstep, lockstep_duration,
 /// lockstep_wait_for_start, lockstep_creatures, step_service, step_size, wait_timeout.

@@ -221,9 +221,10 @@ std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time&
   if (need_odom && params_.altitude_noise > 0.0) {
     altitude += params_.altitude_noise * normal_(altimeter_rng_);
   }
+  flapsim::ImuReading imu = fromMsg(*r.imu);
+  imu.angular_velocity += params_.gyro_bias;  // as the core's episodes bias it, before the filter
   flapsim::FlapSensing s = flapsim::unitSensing(
-      *r.model, r.bodies, filters_[c].updateAt(fromMsg(*r.imu), r.imu->header.stamp.toNSec()), q,
-      qd, altitude);
+      *r.model, r.bodies, filters_[c].updateAt(imu, r.imu->header.stamp.toNSec()), q, qd, altitude);
   if (need_odom) {  // odometry's twist is in the root's axes
     s.velocity =
         flapsim::groundSpeedReading(fromMsg(r.odom->twist.twist).linear, params_.velocity_noise,

@@ -137,6 +137,13 @@ AnnControllerParams parseAnnControllerParams(const XmlRpcValue& ns,
   inRange(d, "altitude_noise", p.altitude_noise, 0.0, 1e3);
   p.velocity_noise = d.number("velocity_noise", p.velocity_noise);
   inRange(d, "velocity_noise", p.velocity_noise, 0.0, 1e3);
+  p.gyro_bias = d.vec3("gyro_bias", p.gyro_bias);
+  if (!(p.gyro_bias.cwiseAbs().maxCoeff() <= 1e3)) {
+    failParam(d.key("gyro_bias"), "must be three finite numbers, each within +-1000 rad/s");
+  }
+  if (p.attitude_source == AttitudeSource::kTf && d.has("gyro_bias")) {
+    failParam(d.key("gyro_bias"), "is set, but tf (attitude_source) has no gyro to bias");
+  }
   p.noise_seed = d.integer("noise_seed", p.noise_seed);
   p.world_frame = d.string("world_frame", p.world_frame);
   p.rate = d.number("rate", p.rate);

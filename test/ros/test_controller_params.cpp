@@ -9,6 +9,7 @@
 #include "flapsim/hover_gains.h"
 #include "flapsim_ros/controller_params.h"
 #include "flapsim_ros/conversions.h"
+#include "flapsim_ros/disturbance_node.h"
 #include "flapsim_ros/hover_controller_node.h"
 
 namespace flapsim_ros {
@@ -331,6 +332,79 @@ TEST(ControllerMessages, KeepTheFeatherAngle) {
   const flapsim::WingCommand stroke = strokeCommandMsg({strokes[1]});  // one pair: both wings
   EXPECT_EQ(stroke.feather_angle, (std::vector<double>{0.4, 0.4}));
   EXPECT_TRUE(strokeCommandMsg({strokes[0]}).feather_angle.empty());
+}
+
+// The message of the ParamError `f` throws ("" if none).
+template <typename F>
+std::string paramRefusal(F f) {
+  try {
+    f();
+  } catch (const ParamError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(AnnControllerParams, GyroBiasIsThreeFiniteNumbersAndRefusedWithTf) {
+  const XmlRpc::XmlRpcValue w("w");
+  EXPECT_EQ(parseAnnControllerParams(yamlish({{"weights", w}}), "afc").gyro_bias,
+            flapsim::Vec3::Zero());
+  EXPECT_EQ(parseAnnControllerParams(
+                yamlish({{"weights", w}, {"gyro_bias", list({0.01, -0.002, 0.003})}}), "afc")
+                .gyro_bias,
+            flapsim::Vec3(0.01, -0.002, 0.003));
+  for (const XmlRpc::XmlRpcValue& bad : {list({0.01, 0.02}), list({0.0, std::nan(""), 0.0}),
+                                         list({0.0, 0.0, 2e3}), XmlRpc::XmlRpcValue(0.02)}) {
+    const std::string why = paramRefusal([&] {
+      parseAnnControllerParams(yamlish({{"weights", w}, {"gyro_bias", bad}}), "afc");
+    });
+    EXPECT_NE(why.find("parameter 'gyro_bias"), std::string::npos) << why;  // [i]: the item
+  }
+  const std::string tf = paramRefusal([&] {
+    parseAnnControllerParams(yamlish({{"weights", w},
+                                      {"attitude_source", XmlRpc::XmlRpcValue("tf")},
+                                      {"gyro_bias", list({0.01, 0.0, 0.0})}}),
+                             "afc");
+  });
+  EXPECT_NE(tf.find("'gyro_bias': is set, but tf"), std::string::npos) << tf;
+}
+
+TEST(DisturbanceParams, DefaultsAreFlightChecksAndGivenSizesAreTaken) {
+  const DisturbanceParams d = parseDisturbanceParams(XmlRpc::XmlRpcValue(), "afc");
+  EXPECT_EQ(d.creature, "afc");
+  EXPECT_EQ(d.draw.seed, flapsim::FlightCheckParams().seed);
+  EXPECT_EQ(d.draw.duration, flapsim::FlightCheckParams().duration);
+  EXPECT_FALSE(d.draw.torque.has_value());
+  EXPECT_FALSE(d.draw.force.has_value());
+  EXPECT_EQ(d.apply_wrench_service, "/flapsim/apply_wrench");
+  const DisturbanceParams p =
+      parseDisturbanceParams(yamlish({{"creature", XmlRpc::XmlRpcValue("afc3")},
+                                      {"seed", XmlRpc::XmlRpcValue(7)},
+                                      {"duration", XmlRpc::XmlRpcValue(30.0)},
+                                      {"torque", XmlRpc::XmlRpcValue(0.05)},
+                                      {"push", XmlRpc::XmlRpcValue(0)}}),
+                             "ignored");
+  EXPECT_EQ(p.creature, "afc3");
+  EXPECT_EQ(p.draw.seed, 7u);
+  EXPECT_EQ(p.draw.duration, 30.0);
+  EXPECT_EQ(p.draw.torque, 0.05);
+  EXPECT_EQ(p.draw.force, 0.0);
+}
+
+TEST(DisturbanceParams, BadValuesAreRefusedByName) {
+  const std::pair<const char*, XmlRpc::XmlRpcValue> bad[] = {
+      {"seed", XmlRpc::XmlRpcValue(-1)},          {"seed", XmlRpc::XmlRpcValue(1.5)},
+      {"duration", XmlRpc::XmlRpcValue(0.0)},     {"duration", XmlRpc::XmlRpcValue(std::nan(""))},
+      {"torque", XmlRpc::XmlRpcValue(-0.01)},     {"torque", XmlRpc::XmlRpcValue(std::nan(""))},
+      {"push", XmlRpc::XmlRpcValue(-1.0)},        {"push", XmlRpc::XmlRpcValue("strong")},
+      {"wait_timeout", XmlRpc::XmlRpcValue(0.0)}, {"creature", XmlRpc::XmlRpcValue("a b")},
+      {"torqe", XmlRpc::XmlRpcValue(0.1)}};
+  for (const auto& [key, value] : bad) {
+    const std::string why = paramRefusal([&] {
+      parseDisturbanceParams(yamlish({{key, value}}), "afc");
+    });
+    EXPECT_NE(why.find("'" + std::string(key) + "'"), std::string::npos) << key << ": " << why;
+  }
 }
 
 TEST(NamespaceBasename, LastComponent) {

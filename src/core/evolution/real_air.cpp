@@ -1,0 +1,96 @@
+#include "flapsim/real_air.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "flapsim/evolve.h"
+#include "flapsim/world.h"
+
+namespace flapsim {
+
+namespace {
+
+// A magnitude given instead of real air's: finite and >= 0, else InputError naming `name`.
+void checkMagnitude(const std::optional<double>& value, const char* name, double limit,
+                    const char* unit) {
+  if (value && !(*value >= 0.0 && *value <= limit)) {
+    std::ostringstream msg;
+    msg << "real air: " << name << " must be in [0, " << limit << "] " << unit
+        << " (a size: its sign is drawn), not " << *value;
+    throw InputError(msg.str());
+  }
+}
+
+std::string yamlVector(const Vec3& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "[%.17g, %.17g, %.17g]", v.x(), v.y(), v.z());
+  return text;
+}
+
+}  // namespace
+
+RealAirDraws realAirDraws(const CreatureModel& model, const RealAirDrawParams& params) {
+  checkMagnitude(params.torque, "torque", kMaxTorque, "N m");
+  checkMagnitude(params.force, "force", kMaxForce, "N");
+  FlightCheckParams p;
+  p.starts = 1;
+  p.seed = params.seed;
+  p.duration = params.duration;
+  p.real_air = true;
+  p = realAirParams(p, model);
+  if (params.torque) p.gust_torque = *params.torque;
+  if (params.force) p.gust_force = *params.force;
+  const EpisodeParams episode = flightCheckEpisodes(p);
+  const EpisodeStart start = episodeStarts(episode, &model).front();
+  RealAirDraws d;
+  d.wind = start.wind;
+  d.gyro_bias = start.gyro_bias;
+  d.torque = start.torque_sign * p.gust_torque;
+  d.torque_time = start.torque_time;
+  d.torque_duration = episode.gust_torque_duration;
+  d.force = start.force_sign * p.gust_force;
+  d.force_time = start.force_time;
+  d.force_duration = episode.gust_force_duration;
+  d.force_link = start.force_link;
+  return d;
+}
+
+std::string describeRealAirDraws(const RealAirDraws& d) {
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "wind [%.3f, %.3f, %.3f] m/s (%.2f m/s, heading %.1f deg from +x)\n"
+                "gyro bias [%.4f, %.4f, %.4f] rad/s (%.4f rad/s)\n"
+                "roll torque %+.4f N m about the root's x axis at t = %.3f s for %.2f s\n"
+                "push %+.4f N (vertical) on %s at t = %.3f s for %.2f s",
+                d.wind.x(), d.wind.y(), d.wind.z(), d.wind.norm(),
+                std::atan2(d.wind.y(), d.wind.x()) * 180.0 / M_PI, d.gyro_bias.x(), d.gyro_bias.y(),
+                d.gyro_bias.z(), d.gyro_bias.norm(), d.torque, d.torque_time, d.torque_duration,
+                d.force, d.force_link.empty() ? "(no link)" : d.force_link.c_str(), d.force_time,
+                d.force_duration);
+  return text;
+}
+
+CliParser realAirPrintCli(RealAirPrintOptions& o) {
+  CliParser t(
+      "usage: disturbance --print WHAT --urdf FILE [--seed S] [--duration T]",
+      "Prints what the disturbance node draws for a creature (flight_check --real-air --seed S "
+      "--duration T, its first start), without ROS: afc.launch real_air:=true sets the "
+      "simulator's air/wind and the controller's ~gyro_bias from it. As a ROS node (no "
+      "--print) it applies the roll torque and the push at their times (doc/ros_interface.md).");
+  t.text("--print", "WHAT", &o.print, "what to print: wind, gyro_bias (YAML lists) or all",
+         {"wind", "gyro_bias", "all"})
+      .text("--urdf", "FILE", &o.urdf, "the creature's URDF (required)")
+      .seed("--seed", "S", &o.draw.seed, "the seed (flight_check --seed)")
+      .real("--duration", "T", &o.draw.duration, {0, kMaxEpisodeDuration, true},
+            "the flight, s: the gusts' times are drawn in its 10-60 %");
+  return t;
+}
+
+std::string realAirPrint(const RealAirPrintOptions& options, const RealAirDraws& draws) {
+  if (options.print == "wind") return yamlVector(draws.wind) + "\n";
+  if (options.print == "gyro_bias") return yamlVector(draws.gyro_bias) + "\n";
+  return describeRealAirDraws(draws) + "\n";
+}
+
+}  // namespace flapsim

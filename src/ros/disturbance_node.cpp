@@ -1,0 +1,214 @@
+#include "flapsim_ros/disturbance_node.h"
+
+#include <ros/names.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "flapsim/ApplyWrench.h"
+#include "flapsim/GetState.h"
+#include "flapsim/evolve.h"
+#include "flapsim/world.h"
+#include "flapsim_ros/controller_params.h"  // namespaceBasename
+#include "flapsim_ros/conversions.h"
+
+namespace flapsim_ros {
+
+namespace {
+
+using XmlRpc::XmlRpcValue;
+
+// `value` within [lo, hi] (or (lo, hi] if `open_lo`), else ParamError naming `key`.
+void requireRange(const ParamReader& d, const std::string& key, double value, double lo, double hi,
+                  bool open_lo, const std::string& unit) {
+  if (!((open_lo ? value > lo : value >= lo) && value <= hi)) {
+    std::ostringstream msg;
+    msg << "must be in " << (open_lo ? "(" : "[") << lo << ", " << hi << "] " << unit << ", not "
+        << value;
+    failParam(d.key(key), msg.str());
+  }
+}
+
+geometry_msgs::Vector3 vectorMsg(const flapsim::Vec3& v) {
+  geometry_msgs::Vector3 m;
+  m.x = v.x();
+  m.y = v.y();
+  m.z = v.z();
+  return m;
+}
+
+}  // namespace
+
+DisturbanceParams parseDisturbanceParams(const XmlRpcValue& ns,
+                                         const std::string& default_creature) {
+  XmlRpcValue empty;
+  empty.begin();  // an empty struct: nothing set
+  const ParamReader d(ns.getType() == XmlRpcValue::TypeInvalid ? empty : ns, "");
+  DisturbanceParams p;
+  p.creature = d.string("creature", default_creature);
+  const std::string err = validateCreatureName(p.creature);
+  if (!err.empty()) failParam(d.key("creature"), "'" + p.creature + "': " + err);
+  const int seed = d.integer("seed", static_cast<int>(p.draw.seed));
+  if (seed < 0) failParam(d.key("seed"), "must be an integer >= 0, not " + std::to_string(seed));
+  p.draw.seed = static_cast<std::uint64_t>(seed);
+  p.draw.duration = d.number("duration", p.draw.duration);
+  requireRange(d, "duration", p.draw.duration, 0.0, flapsim::kMaxEpisodeDuration, true, "s");
+  if (d.has("torque")) {
+    p.draw.torque = d.number("torque", 0.0);
+    requireRange(d, "torque", *p.draw.torque, 0.0, flapsim::kMaxTorque, false,
+                 "N m (a size: its sign is drawn)");
+  }
+  if (d.has("push")) {
+    p.draw.force = d.number("push", 0.0);
+    requireRange(d, "push", *p.draw.force, 0.0, flapsim::kMaxForce, false,
+                 "N (a size: its sign is drawn)");
+  }
+  p.apply_wrench_service = d.string("apply_wrench_service", p.apply_wrench_service);
+  p.get_state_service = d.string("get_state_service", p.get_state_service);
+  p.wait_timeout = d.number("wait_timeout", p.wait_timeout);
+  requireRange(d, "wait_timeout", p.wait_timeout, 0.0, 1e6, true, "s");
+  d.rejectUnknown();
+  return p;
+}
+
+DisturbanceNode::DisturbanceNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh)
+    : nh_(nh), pnh_(pnh) {
+  XmlRpcValue ns;
+  if (!pnh_.getParam(pnh_.getNamespace(), ns)) ns = XmlRpcValue();
+  params_ = parseDisturbanceParams(ns, namespaceBasename(nh_.getNamespace()));
+  const std::string simulator = ros::names::parentNamespace(
+      ros::names::parentNamespace(ros::names::resolve(params_.apply_wrench_service)));
+  description_key_ =
+      ros::names::append(ros::names::append(simulator, params_.creature), "robot_description");
+  applied_pub_ = pnh_.advertise<geometry_msgs::WrenchStamped>("applied", 2, /*latch=*/true);
+}
+
+bool DisturbanceNode::run() {
+  for (const std::string& s : {params_.apply_wrench_service, params_.get_state_service}) {
+    if (!ros::service::waitForService(s, ros::Duration(params_.wait_timeout))) {
+      ROS_ERROR_STREAM("disturbance: no service " << s << " within " << params_.wait_timeout
+                                                  << " s (~wait_timeout)");
+      return false;
+    }
+  }
+  apply_wrench_ = nh_.serviceClient<flapsim::ApplyWrench>(params_.apply_wrench_service);
+  get_state_ = nh_.serviceClient<flapsim::GetState>(params_.get_state_service);
+  clock_sub_ = nh_.subscribe("/clock", 100, &DisturbanceNode::onClock, this);
+  ros::spin();
+  return true;
+}
+
+bool DisturbanceNode::draw() {
+  if (model_) return true;
+  std::string urdf;
+  if (!nh_.getParam(description_key_, urdf)) return false;
+  model_ = flapsim::parseCreatureModel(urdf, description_key_);
+  draws_ = flapsim::realAirDraws(*model_, params_.draw);
+  torque_.time = draws_.torque_time;
+  push_.time = draws_.force_time;
+  ROS_INFO_STREAM("disturbance: real air for '"
+                  << params_.creature << "' (flight_check --real-air --seed " << params_.draw.seed
+                  << " --duration " << params_.draw.duration << ", its first start):\n"
+                  << flapsim::describeRealAirDraws(draws_)
+                  << "\n(applied here: the torque and the push; the wind, the gyro bias, the "
+                     "turbulence and the noises are the simulator's and the controller's)");
+  return true;
+}
+
+void DisturbanceNode::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {
+  const double t = msg->clock.toSec();
+  if (t < last_time_) {  // a reset: the disturbances still to come happen again
+    for (Pending* p : {&torque_, &push_}) p->applied = p->applied && p->time <= t;
+  }
+  last_time_ = t;
+  try {
+    if (!draw()) {
+      // Past the earliest time a disturbance can be drawn at (EpisodeParams' gust window).
+      if (!warned_ && t > flapsim::EpisodeParams().gust_window_start * params_.draw.duration) {
+        ROS_ERROR_STREAM("disturbance: no " << description_key_ << " at t = " << t
+                                            << " s: nothing drawn, nothing applied yet");
+        warned_ = true;
+      }
+      return;
+    }
+    if (!torque_.applied && t >= torque_.time) {
+      torque_.applied = true;
+      if (draws_.torque != 0.0) applyTorque(msg->clock);
+    }
+    if (!push_.applied && t >= push_.time) {
+      push_.applied = true;
+      if (draws_.force != 0.0) applyPush(msg->clock);
+    }
+  } catch (const std::exception& e) {
+    ROS_ERROR_STREAM("disturbance: " << e.what());
+  }
+}
+
+bool DisturbanceNode::applyTorque(const ros::Time& now) {
+  flapsim::ApplyWrench call;
+  call.request.model_name = params_.creature;
+  call.request.reference_frame = params_.creature;  // the root link's axes at the call
+  call.request.wrench.torque.x = draws_.torque;
+  call.request.duration = ros::Duration(draws_.torque_duration);
+  if (!apply_wrench_.call(call) || !call.response.success) {
+    ROS_ERROR_STREAM("disturbance: the roll torque at t = " << now << " s failed: "
+                                                            << call.response.status_message);
+    return false;
+  }
+  geometry_msgs::WrenchStamped applied;
+  applied.header.stamp = now;
+  applied.header.frame_id = params_.creature + "/" + model_->links[0].name;
+  applied.wrench.torque.x = draws_.torque;
+  applied_pub_.publish(applied);
+  ROS_INFO_STREAM("disturbance: roll torque " << draws_.torque << " N m at t = " << now
+                                              << " s (drawn " << torque_.time << " s) for "
+                                              << draws_.torque_duration << " s");
+  return true;
+}
+
+bool DisturbanceNode::applyPush(const ros::Time& now) {
+  const int link = model_->findLink(draws_.force_link);
+  if (link < 0) {
+    throw flapsim::InputError(description_key_ + " has no link '" + draws_.force_link + "'");
+  }
+  flapsim::GetState state;
+  state.request.model_name = params_.creature;
+  state.request.link_name = draws_.force_link;
+  if (!get_state_.call(state) || !state.response.success) {
+    ROS_ERROR_STREAM("disturbance: the push at t = " << now << " s failed: no state of "
+                                                     << draws_.force_link << ": "
+                                                     << state.response.status_message);
+    return false;
+  }
+  const flapsim::Pose pose = fromMsg(state.response.pose);  // the link frame in the world
+  const flapsim::Vec3 com = model_->links[link].urdfCom();  // in the link frame
+  const flapsim::Vec3 force(0.0, 0.0, draws_.force);
+  flapsim::ApplyWrench call;
+  call.request.model_name = params_.creature;
+  call.request.body_name = draws_.force_link;  // reference_frame empty: the world
+  const flapsim::Vec3 at = pose.apply(com);
+  call.request.reference_point.x = at.x();
+  call.request.reference_point.y = at.y();
+  call.request.reference_point.z = at.z();
+  call.request.wrench.force.z = draws_.force;
+  call.request.duration = ros::Duration(draws_.force_duration);
+  if (!apply_wrench_.call(call) || !call.response.success) {
+    ROS_ERROR_STREAM(
+        "disturbance: the push at t = " << now << " s failed: " << call.response.status_message);
+    return false;
+  }
+  // In the pushed link's frame, about its origin.
+  const flapsim::Vec3 local = pose.orientation.conjugate() * force;
+  geometry_msgs::WrenchStamped applied;
+  applied.header.stamp = now;
+  applied.header.frame_id = params_.creature + "/" + draws_.force_link;
+  applied.wrench.force = vectorMsg(local);
+  applied.wrench.torque = vectorMsg(com.cross(local));
+  applied_pub_.publish(applied);
+  ROS_INFO_STREAM("disturbance: push " << draws_.force << " N on " << draws_.force_link
+                                       << " at t = " << now << " s (drawn " << push_.time
+                                       << " s) for " << draws_.force_duration << " s");
+  return true;
+}
+
+}  // namespace flapsim_ros

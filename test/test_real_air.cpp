@@ -1,0 +1,177 @@
+// Real air's draws for one flight (flapsim/real_air.h): those of flight_check --real-air's first
+// start, deterministic, with realAirParams' magnitudes; bad parameters refused by name; the
+// text `disturbance --print` writes.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "flapsim/evolve.h"
+#include "flapsim/flight_check.h"
+#include "flapsim/real_air.h"
+#include "test_util.h"
+
+namespace flapsim {
+namespace {
+
+// The message of the InputError `f` throws ("" if none).
+template <typename F>
+std::string refusal(F f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RealAirDraws, TheSameSeedDrawsTheSameAndAnotherSeedOthers) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  RealAirDrawParams p;
+  p.seed = 7;
+  const RealAirDraws a = realAirDraws(*afc, p), b = realAirDraws(*afc, p);
+  EXPECT_EQ(a.wind, b.wind);
+  EXPECT_EQ(a.gyro_bias, b.gyro_bias);
+  EXPECT_EQ(a.torque, b.torque);
+  EXPECT_EQ(a.torque_time, b.torque_time);
+  EXPECT_EQ(a.force, b.force);
+  EXPECT_EQ(a.force_time, b.force_time);
+  EXPECT_EQ(a.force_link, b.force_link);
+  p.seed = 8;
+  const RealAirDraws c = realAirDraws(*afc, p);
+  EXPECT_NE(a.torque_time, c.torque_time);
+  EXPECT_NE(a.force_time, c.force_time);
+  EXPECT_NE(a.wind, c.wind);
+  EXPECT_NE(a.gyro_bias, c.gyro_bias);
+}
+
+// afc_1: 0.043 N m and 0.90 N (flight_check.h), for 0.5 s and 0.2 s, at times in 10-60 % of the
+// flight; the wind 1 m/s, horizontal; the gyro bias at most 0.02 rad/s; a wing pushed.
+TEST(RealAirDraws, MagnitudesAreRealAirParamsOfAfc1AndTimesInTheWindow) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  const FlightCheckParams real = realAirParams(FlightCheckParams(), *afc);
+  std::vector<std::string> links;
+  for (std::uint64_t seed = 0; seed < 20; ++seed) {
+    RealAirDrawParams p;
+    p.seed = seed;
+    const RealAirDraws d = realAirDraws(*afc, p);
+    EXPECT_EQ(std::abs(d.torque), real.gust_torque);
+    EXPECT_NEAR(std::abs(d.torque), 0.043, 0.0005);
+    EXPECT_EQ(std::abs(d.force), real.gust_force);
+    EXPECT_NEAR(std::abs(d.force), 0.90, 0.005);
+    EXPECT_EQ(d.torque_duration, 0.5);
+    EXPECT_EQ(d.force_duration, 0.2);
+    EXPECT_GE(d.torque_time, 6.0);
+    EXPECT_LE(d.torque_time, 36.0);
+    EXPECT_GE(d.force_time, 6.0);
+    EXPECT_LE(d.force_time, 36.0);
+    EXPECT_NEAR(d.wind.norm(), 1.0, 1e-12);
+    EXPECT_EQ(d.wind.z(), 0.0);
+    EXPECT_LE(d.gyro_bias.norm(), 0.02);
+    EXPECT_TRUE(d.force_link == "unit0_wing_left" || d.force_link == "unit0_wing_right")
+        << d.force_link;
+    links.push_back(d.force_link + (d.torque > 0 ? "+" : "-"));
+  }
+  std::sort(links.begin(), links.end());
+  EXPECT_GE(std::unique(links.begin(), links.end()) - links.begin(), 3)
+      << "both wings and both signs are drawn";
+}
+
+// The draws are those flight_check --real-air flies on its first start, whatever --starts.
+TEST(RealAirDraws, AreTheFirstStartOfFlightCheckRealAir) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  FlightCheckParams check;
+  check.seed = 31;
+  check.starts = 5;
+  check.duration = 30.0;
+  check.real_air = true;
+  const FlightCheckParams real = realAirParams(check, *afc);
+  const EpisodeStart first = episodeStarts(flightCheckEpisodes(real), afc.get()).front();
+  RealAirDrawParams p;
+  p.seed = 31;
+  p.duration = 30.0;
+  const RealAirDraws d = realAirDraws(*afc, p);
+  EXPECT_EQ(d.wind, first.wind);
+  EXPECT_EQ(d.gyro_bias, first.gyro_bias);
+  EXPECT_EQ(d.torque, first.torque_sign * real.gust_torque);
+  EXPECT_EQ(d.torque_time, first.torque_time);
+  EXPECT_EQ(d.force, first.force_sign * real.gust_force);
+  EXPECT_EQ(d.force_time, first.force_time);
+  EXPECT_EQ(d.force_link, first.force_link);
+  EXPECT_GE(d.torque_time, 3.0);
+  EXPECT_LE(d.torque_time, 18.0);
+}
+
+TEST(RealAirDraws, GivenSizesReplaceRealAirsAndKeepTheDrawnSignsAndTimes) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  RealAirDrawParams p;
+  const RealAirDraws real = realAirDraws(*afc, p);
+  p.torque = 0.1;
+  p.force = 0.0;
+  const RealAirDraws given = realAirDraws(*afc, p);
+  EXPECT_EQ(given.torque, std::copysign(0.1, real.torque));
+  EXPECT_EQ(given.torque_time, real.torque_time);
+  EXPECT_EQ(given.force, 0.0);
+  EXPECT_EQ(given.force_time, real.force_time);
+  EXPECT_EQ(given.wind, real.wind);
+  EXPECT_EQ(given.gyro_bias, real.gyro_bias);
+}
+
+TEST(RealAirDraws, BadParametersAreRefusedByName) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  RealAirDrawParams p;
+  p.torque = -0.1;
+  EXPECT_NE(refusal([&] { realAirDraws(*afc, p); }).find("torque must be in [0, "),
+            std::string::npos);
+  p.torque = std::nan("");
+  EXPECT_NE(refusal([&] { realAirDraws(*afc, p); }).find("torque"), std::string::npos);
+  p.torque.reset();
+  p.force = -1.0;
+  EXPECT_NE(refusal([&] { realAirDraws(*afc, p); }).find("force must be in [0, "),
+            std::string::npos);
+  p.force.reset();
+  p.duration = 0.0;
+  EXPECT_NE(refusal([&] { realAirDraws(*afc, p); }).find("duration must be in (0, "),
+            std::string::npos);
+}
+
+TEST(RealAirPrint, TheWindAndGyroBiasAreYamlListsOfEveryBit) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  RealAirPrintOptions o;
+  const RealAirDraws d = realAirDraws(*afc, o.draw);
+  for (const std::string what : {"wind", "gyro_bias"}) {
+    o.print = what;
+    const std::string text = realAirPrint(o, d);
+    const Vec3 want = what == "wind" ? d.wind : d.gyro_bias;
+    ASSERT_EQ(text.front(), '[') << text;
+    char* end = nullptr;
+    const double x = std::strtod(text.c_str() + 1, &end);
+    const double y = std::strtod(end + 1, &end);
+    const double z = std::strtod(end + 1, &end);
+    EXPECT_EQ(std::string(end), "]\n");
+    EXPECT_EQ(Vec3(x, y, z), want) << text;
+  }
+  o.print = "all";
+  EXPECT_NE(realAirPrint(o, d).find("push"), std::string::npos);
+}
+
+TEST(RealAirPrint, FlagsAreCheckedByName) {
+  RealAirPrintOptions o;
+  CliParser cli = realAirPrintCli(o);
+  EXPECT_NE(refusal([&] { cli.parse({"--print", "storm"}); }).find("--print"), std::string::npos);
+  EXPECT_NE(refusal([&] {
+              cli.parse({"--duration", "-1"});
+            }).find("--duration"),
+            std::string::npos);
+  cli.parse({"--print", "wind", "--seed", "12", "--urdf", "x.urdf", "--duration", "30"});
+  EXPECT_EQ(o.print, "wind");
+  EXPECT_EQ(o.draw.seed, 12u);
+  EXPECT_EQ(o.urdf, "x.urdf");
+  EXPECT_EQ(o.draw.duration, 30.0);
+}
+
+}  // namespace
+}  // namespace flapsim
