@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "flapsim/ApplyWrench.h"
 #include "flapsim/real_air.h"
 
 namespace flapsim_ros {
@@ -39,8 +40,10 @@ DisturbanceParams parseDisturbanceParams(const XmlRpc::XmlRpcValue& ns,
 /// push (vertical in the world at the pushed link's centre of mass, which flapsim/get_state
 /// gives) at the first /clock at or after their times, each for its duration. Publishes each
 /// wrench applied on ~applied (geometry_msgs/WrenchStamped, latched: stamped with the sim time
-/// of the call, in the frame of the link it acts on, about that frame's origin). When sim time
-/// goes back (a reset) the disturbances to come are applied again.
+/// of the state read just before the call, in the frame of the link it acts on, about that
+/// frame's origin). The wrench acts from the step after the simulator answers the call: in
+/// lockstep the controller may step the simulator meanwhile, so a run is not reproducible to
+/// the bit. When sim time goes back (a reset) the disturbances to come are applied again.
 class DisturbanceNode {
  public:
   /// Throws ParamError on bad parameters.
@@ -60,8 +63,13 @@ class DisturbanceNode {
   void onClock(const rosgraph_msgs::Clock::ConstPtr& msg);
   /// Draws once the creature's description is there; false while it is not.
   bool draw();
-  bool applyTorque(const ros::Time& now);
-  bool applyPush(const ros::Time& now);
+  /// Link `link` of the creature in the world (flapsim/get_state), `stamp` the sim time of that
+  /// state; nullopt (logged) if the simulator does not answer it.
+  std::optional<flapsim::Pose> linkPose(const std::string& link, ros::Time& stamp);
+  /// Calls apply_wrench for the creature; false (logged, naming `what`) if it fails.
+  bool apply(flapsim::ApplyWrench& call, const char* what);
+  bool applyTorque();
+  bool applyPush();
 
   ros::NodeHandle nh_, pnh_;
   DisturbanceParams params_;

@@ -133,80 +133,86 @@ void DisturbanceNode::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {
     }
     if (!torque_.applied && t >= torque_.time) {
       torque_.applied = true;
-      if (draws_.torque != 0.0) applyTorque(msg->clock);
+      if (draws_.torque != 0.0) applyTorque();
     }
     if (!push_.applied && t >= push_.time) {
       push_.applied = true;
-      if (draws_.force != 0.0) applyPush(msg->clock);
+      if (draws_.force != 0.0) applyPush();
     }
   } catch (const std::exception& e) {
     ROS_ERROR_STREAM("disturbance: " << e.what());
   }
 }
 
-bool DisturbanceNode::applyTorque(const ros::Time& now) {
-  flapsim::ApplyWrench call;
+std::optional<flapsim::Pose> DisturbanceNode::linkPose(const std::string& link, ros::Time& stamp) {
+  flapsim::GetState state;
+  state.request.model_name = params_.creature;
+  state.request.link_name = link;
+  if (!get_state_.call(state) || !state.response.success) {
+    ROS_ERROR_STREAM("disturbance: no state of " << params_.creature << "::" << link << " from "
+                                                 << params_.get_state_service << ": "
+                                                 << state.response.status_message);
+    return std::nullopt;
+  }
+  stamp = state.response.header.stamp;
+  return fromMsg(state.response.pose);  // the link frame in the world
+}
+
+bool DisturbanceNode::apply(flapsim::ApplyWrench& call, const char* what) {
   call.request.model_name = params_.creature;
+  if (apply_wrench_.call(call) && call.response.success) return true;
+  ROS_ERROR_STREAM("disturbance: the " << what << " failed: " << call.response.status_message);
+  return false;
+}
+
+bool DisturbanceNode::applyTorque() {
+  const std::string& root = model_->links[0].name;
+  ros::Time stamp;
+  if (!linkPose(root, stamp)) return false;
+  flapsim::ApplyWrench call;
   call.request.reference_frame = params_.creature;  // the root link's axes at the call
   call.request.wrench.torque.x = draws_.torque;
   call.request.duration = ros::Duration(draws_.torque_duration);
-  if (!apply_wrench_.call(call) || !call.response.success) {
-    ROS_ERROR_STREAM("disturbance: the roll torque at t = " << now << " s failed: "
-                                                            << call.response.status_message);
-    return false;
-  }
+  if (!apply(call, "roll torque")) return false;
   geometry_msgs::WrenchStamped applied;
-  applied.header.stamp = now;
-  applied.header.frame_id = params_.creature + "/" + model_->links[0].name;
+  applied.header.stamp = stamp;
+  applied.header.frame_id = params_.creature + "/" + root;
   applied.wrench.torque.x = draws_.torque;
   applied_pub_.publish(applied);
-  ROS_INFO_STREAM("disturbance: roll torque " << draws_.torque << " N m at t = " << now
+  ROS_INFO_STREAM("disturbance: roll torque " << draws_.torque << " N m at t = " << stamp
                                               << " s (drawn " << torque_.time << " s) for "
                                               << draws_.torque_duration << " s");
   return true;
 }
 
-bool DisturbanceNode::applyPush(const ros::Time& now) {
+bool DisturbanceNode::applyPush() {
   const int link = model_->findLink(draws_.force_link);
   if (link < 0) {
     throw flapsim::InputError(description_key_ + " has no link '" + draws_.force_link + "'");
   }
-  flapsim::GetState state;
-  state.request.model_name = params_.creature;
-  state.request.link_name = draws_.force_link;
-  if (!get_state_.call(state) || !state.response.success) {
-    ROS_ERROR_STREAM("disturbance: the push at t = " << now << " s failed: no state of "
-                                                     << draws_.force_link << ": "
-                                                     << state.response.status_message);
-    return false;
-  }
-  const flapsim::Pose pose = fromMsg(state.response.pose);  // the link frame in the world
+  ros::Time stamp;
+  const std::optional<flapsim::Pose> pose = linkPose(draws_.force_link, stamp);
+  if (!pose) return false;
   const flapsim::Vec3 com = model_->links[link].urdfCom();  // in the link frame
-  const flapsim::Vec3 force(0.0, 0.0, draws_.force);
+  const flapsim::Vec3 at = pose->apply(com);
   flapsim::ApplyWrench call;
-  call.request.model_name = params_.creature;
   call.request.body_name = draws_.force_link;  // reference_frame empty: the world
-  const flapsim::Vec3 at = pose.apply(com);
   call.request.reference_point.x = at.x();
   call.request.reference_point.y = at.y();
   call.request.reference_point.z = at.z();
   call.request.wrench.force.z = draws_.force;
   call.request.duration = ros::Duration(draws_.force_duration);
-  if (!apply_wrench_.call(call) || !call.response.success) {
-    ROS_ERROR_STREAM(
-        "disturbance: the push at t = " << now << " s failed: " << call.response.status_message);
-    return false;
-  }
+  if (!apply(call, "push")) return false;
   // In the pushed link's frame, about its origin.
-  const flapsim::Vec3 local = pose.orientation.conjugate() * force;
+  const flapsim::Vec3 local = pose->orientation.conjugate() * flapsim::Vec3(0.0, 0.0, draws_.force);
   geometry_msgs::WrenchStamped applied;
-  applied.header.stamp = now;
+  applied.header.stamp = stamp;
   applied.header.frame_id = params_.creature + "/" + draws_.force_link;
   applied.wrench.force = vectorMsg(local);
   applied.wrench.torque = vectorMsg(com.cross(local));
   applied_pub_.publish(applied);
   ROS_INFO_STREAM("disturbance: push " << draws_.force << " N on " << draws_.force_link
-                                       << " at t = " << now << " s (drawn " << push_.time
+                                       << " at t = " << stamp << " s (drawn " << push_.time
                                        << " s) for " << draws_.force_duration << " s");
   return true;
 }

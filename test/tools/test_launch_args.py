@@ -4,7 +4,8 @@ a doc; every argument one can set is a row of doc/ros_interface.md's "Launch arg
 whose files column names exactly the files that declare it (one name, one meaning); a vector
 argument (`wind`) defaults to three numbers and reaches the node as a list of three numbers
 (loaded with roslaunch's own loader, no master: with its default, with wind:="0 1 0", and
-wind:=1 refused). Argument: the devel prefix (the loader runs with its setup.bash). With
+wind:=1 refused); afc.launch real_air:=true sets the air, the noises and the disturbance node,
+and refuses wind, turbulence, imu_noise and altitude_noise beside it. Argument: the devel prefix (the loader runs with its setup.bash). With
 --gtest_output=xml:FILE also writes a gtest-style result for catkin_test_results.
 """
 import glob
@@ -173,6 +174,40 @@ class LaunchArgs(unittest.TestCase):
                     self.assertTrue("error" in params, f"a single number is not a vector: "
                                     f"{VECTOR_PARAMS[name]} = {params.get(VECTOR_PARAMS[name])!r}")
                     self.assertIn(f"{name} must be three numbers", params["error"])
+
+    @unittest.skipIf(DEVEL is None, "no devel prefix given")
+    def test_real_air_sets_the_air_the_noises_and_the_disturbance_and_refuses_what_it_sets(self):
+        cases = [("afc", ["real_air:=true", "altitude:=4"]), ("afc", ["real_air:=true",
+                 "real_air_seed:=5"]), ("afc", [])]
+        refused = {"wind": "0 1 0", "turbulence": "moderate", "imu_noise": "0.1",
+                   "altitude_noise": "0.1"}
+        cases += [("afc", ["real_air:=true", f"{n}:={v}"]) for n, v in sorted(refused.items())]
+        results = self.load(cases)
+        drawn, other, plain = results[:3]
+        for params in (drawn, other):
+            self.assertNotIn("error", params)
+            wind = params["/flapsim/air/wind"]
+            self.assertEqual(len(wind), 3, wind)
+            self.assertAlmostEqual(wind[0] ** 2 + wind[1] ** 2, 1.0, places=12)  # 1 m/s
+            self.assertEqual(wind[2], 0)
+            bias = params["/afc/ann_controller/gyro_bias"]
+            self.assertEqual(len(bias), 3, bias)
+            self.assertLessEqual(sum(b * b for b in bias), 0.02 ** 2)
+            self.assertEqual(params["/flapsim/air/turbulence/level"], "light")
+            self.assertEqual(params["/flapsim/imu/orientation_noise"], 0.05)
+            self.assertEqual(params["/flapsim/imu/angular_velocity_noise"], 0.05)
+            self.assertEqual(params["/afc/ann_controller/altitude_noise"], 0.05)
+        self.assertEqual(drawn["/flapsim/air/turbulence/height"], 4.0)  # the altitude held
+        self.assertEqual(drawn["/afc/disturbance/seed"], 2024)
+        self.assertEqual(other["/afc/disturbance/seed"], 5)
+        self.assertNotEqual(drawn["/flapsim/air/wind"], other["/flapsim/air/wind"])
+        self.assertNotIn("/afc/disturbance/seed", plain)
+        self.assertNotIn("/afc/ann_controller/gyro_bias", plain)
+        for (_, args), params in zip(cases[3:], results[3:]):
+            with self.subTest(args=args):
+                name = args[1].split(":=")[0]
+                self.assertIn("error", params, f"{args} was taken")
+                self.assertIn(f"leave {name} unset, not {args[1]}", params["error"])
 
     def load(self, cases):
         """Each (file stem, args) loaded as roslaunch loads it: its parameters, or its error."""

@@ -20,6 +20,7 @@ TOOLS = [
     ("flight_check", "--help", "usage: flight_check"),
     ("make_creature", "--help", "usage: make_creature"),
     ("sweep", "--help", "usage: sweep"),
+    ("disturbance", "--help", "usage: disturbance"),
     ("flapsim_bench", "--help", "usage: flapsim_bench"),
     ("spawn_creature", "-h", "Spawns a creature into a running flapsim"),
     ("render_movie.py", "--help", "usage: render_movie.py"),
