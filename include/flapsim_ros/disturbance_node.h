@@ -50,7 +50,7 @@ class DisturbanceNode {
   DisturbanceNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
 
   /// Waits for the services (false if they do not come within wait_timeout), then spins until
-  /// shutdown.
+  /// shutdown. Throws InputError for a creature it cannot disturb (no flap unit, no wing).
   bool run();
 
  private:
@@ -82,6 +82,7 @@ class DisturbanceNode {
   Pending torque_, push_;
   double last_time_ = 0.0;  // s: the latest /clock
   bool warned_ = false;     // that the description was missing at a disturbance's time
+  std::string fatal_;       // why it cannot go on (from a callback), for run()
 };
 
 }  // namespace flapsim_ros

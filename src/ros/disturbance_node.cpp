@@ -1,5 +1,6 @@
 #include "flapsim_ros/disturbance_node.h"
 
+#include <ros/callback_queue.h>
 #include <ros/names.h>
 
 #include <cmath>
@@ -93,8 +94,12 @@ bool DisturbanceNode::run() {
   }
   apply_wrench_ = nh_.serviceClient<flapsim::ApplyWrench>(params_.apply_wrench_service);
   get_state_ = nh_.serviceClient<flapsim::GetState>(params_.get_state_service);
+  draw();  // at once if the creature is there (its description is set when it is spawned)
   clock_sub_ = nh_.subscribe("/clock", 100, &DisturbanceNode::onClock, this);
-  ros::spin();
+  while (ros::ok() && fatal_.empty()) {
+    ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.1));
+  }
+  if (!fatal_.empty()) throw flapsim::InputError(fatal_);  // the node's fatal cause
   return true;
 }
 
@@ -140,7 +145,7 @@ void DisturbanceNode::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {
       if (draws_.force != 0.0) applyPush();
     }
   } catch (const std::exception& e) {
-    ROS_ERROR_STREAM("disturbance: " << e.what());
+    fatal_ = e.what();  // a creature it cannot disturb: run() ends with it
   }
 }
 

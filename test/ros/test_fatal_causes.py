@@ -26,6 +26,9 @@ CASES = [
     ("hover_controller", ["_creature:=hover", "_altitude:=nan"], "hover_controller: "),
     ("hover_controller", ["_creature:=hover", "_height_gain:=nan"], "hover_controller: "),
     ("hover_controller", ["_creature:="], "hover_controller: parameter 'creature'"),
+    ("disturbance", ["_creature:=afc", "_torque:=-0.1"], "disturbance: parameter 'torque'"),
+    ("ann_controller", ["_creature:=fu", "_weights:=w", "_gyro_bias:=[0.01, 0.02]"],
+     "ann_controller: parameter 'gyro_bias'"),
 ]
 
 
