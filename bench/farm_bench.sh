@@ -2,14 +2,21 @@
 # Episodes per second of one robust-preset generation (the preset's 32 individuals x 12
 # episodes of 20 s) in process on 1 and 2 threads and through the episode farm with 1 and 2
 # one-thread workers, on a master of its own; checks that all four wrote the same
-# fitness.csv. Prints figures; never passes or fails on time.
-#   bash bench/farm_bench.sh [build/devel/lib/flapsim]
+# fitness.csv. Flags after `--` go to every evolve (another creature or preset, e.g. `-- --pairs
+# 12 --init config/afc_1_extended_weights.yaml`, or `-- --preset hover`); each line then gives
+# the generation's wall time too. Prints figures; never passes or fails on time.
+#   bash bench/farm_bench.sh [build/devel/lib/flapsim] [-- EVOLVE_FLAGS...]
 set -euo pipefail
-bin="${1:-$(cd "$(dirname "$0")/.." && pwd)/build/devel/lib/flapsim}"
+bin="$(cd "$(dirname "$0")/.." && pwd)/build/devel/lib/flapsim"
+if [ $# -gt 0 ] && [ "$1" != "--" ]; then bin="$1"; shift; fi
+if [ $# -gt 0 ]; then
+  [ "$1" = "--" ] || { echo "farm_bench.sh: '$1': the evolve flags go after --" >&2; exit 2; }
+  shift
+fi
 out="$(mktemp -d)"
 port=$((20000 + RANDOM % 20000))
 export ROS_MASTER_URI="http://localhost:$port" ROS_HOME="$out/ros"
-flags="--generations 0 --seed 5 --no-plot"
+flags=(--generations 0 --seed 5 --no-plot "$@")
 pids=()
 cleanup() {
   for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; done
@@ -18,12 +25,16 @@ cleanup() {
 }
 trap cleanup EXIT
 
-rate() { grep -o '[0-9.]* episodes/s' "$1" | head -1; }
+# The generation's episodes per second, and evolve's wall time (the generation's, and the robust
+# preset's step choice, made once before it).
+rate() {
+  echo "$(grep -o '[0-9.]* episodes/s' "$1" | head -1), $(grep -o 'wall time [0-9.]* s' "$1" | head -1)"
+}
 load() { python3 -c 'import os, sys; print("load average at the %s: %.2f %.2f %.2f" % ((sys.argv[1],) + os.getloadavg()))' "$1"; }
 load start
 
 for t in 1 2; do
-  "$bin/evolve" $flags --threads "$t" --out "$out/threads$t" > "$out/threads$t.log"
+  "$bin/evolve" "${flags[@]}" --threads "$t" --out "$out/threads$t" > "$out/threads$t.log"
   echo "in process, $t thread(s): $(rate "$out/threads$t.log")"
 done
 
@@ -40,7 +51,7 @@ for n in 1 2; do
     rosservice list 2>/dev/null | grep -q "bench_$n/evaluate_episodes" && break
     sleep 0.1
   done
-  "$bin/evolve" $flags --farm --farm-wait 30 --out "$out/farm$n" > "$out/farm$n.log" 2>&1
+  "$bin/evolve" "${flags[@]}" --farm --farm-wait 30 --out "$out/farm$n" > "$out/farm$n.log" 2>&1
   echo "farm, $n worker(s): $(rate "$out/farm$n.log") ($(grep -o '[0-9][0-9]* workers ' "$out/farm$n.log" | head -1)up)"
 done
 

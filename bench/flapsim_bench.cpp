@@ -65,7 +65,7 @@ struct Scenario {
   std::string name;
   std::function<void(World&)> setup;
   int bodies = 0;
-  int cells = 0;  // air cells at the world's default grid (set by fromUrdf only)
+  int cells = 0;  // air cells at the world's default grid
 };
 
 // Air cells of a creature's aero links at the default air parameters (what the air model
@@ -84,7 +84,7 @@ int airCells(const flapsim::CreatureModel& model) {
 
 Scenario flapper(const std::string& name, int pairs) {
   CreatureModelPtr model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(pairs, name));
-  Scenario s{name, nullptr, static_cast<int>(model->links.size())};
+  Scenario s{name, nullptr, static_cast<int>(model->links.size()), airCells(*model)};
   s.setup = [model](World& w) {
     w.spawn("c", model, Pose{Vec3(0, 0, 50), Quat::Identity()});
     w.setWingCommands("c", {},
@@ -114,7 +114,7 @@ std::vector<Scenario> scenarios() {
        [plate](World& w) {
          w.spawn("c", plate, Pose{Vec3(0, 0, 50), Quat(Eigen::AngleAxisd(0.3, Vec3::UnitY()))});
        },
-       1});
+       1, airCells(*plate)});
   auto copter = flapsim::loadCreatureModel(urdfPath("bamboo_copter.urdf"));
   out.push_back({"bamboo_copter",
                  [copter](World& w) {
@@ -122,7 +122,7 @@ std::vector<Scenario> scenarios() {
                    spin.angular = Vec3(0, 0, 150);
                    w.spawn("c", copter, Pose{Vec3(0, 0, 50), Quat::Identity()}, spin);
                  },
-                 3});
+                 3, airCells(*copter)});
   for (const flapsim_bench::BenchCreature& c : flapsim_bench::benchCreatures()) {
     out.push_back(flapper(c.name, c.units));
   }
@@ -356,8 +356,8 @@ void timeScenarios(const Options& o, const WorldParams& at_step, int steps) {
   if (!o.json) {
     std::printf("flapsim_bench: %d runs of %g s simulated (%d steps of %g ms), medians\n", o.runs,
                 o.seconds, steps, dt * 1e3);
-    std::printf("%-14s %7s %14s %10s %10s %12s %9s %8s\n", "creature", "bodies", "steps/s", "RTF",
-                "air share", "us/body/step", "P+ (W)", "W/kg");
+    std::printf("%-14s %7s %14s %10s %10s %12s %9s %8s %10s\n", "creature", "bodies", "steps/s",
+                "RTF", "air share", "us/body/step", "P+ (W)", "W/kg", "air cells");
   } else {
     std::printf("{\n  \"step_size\": %g,\n  \"runs\": %d,\n  \"steps\": %d,\n  \"creatures\": [\n",
                 dt, o.runs, steps);
@@ -379,12 +379,13 @@ void timeScenarios(const Options& o, const WorldParams& at_step, int steps) {
       std::printf(
           "%s    {\"creature\": \"%s\", \"bodies\": %d, \"steps_per_second\": %.0f, "
           "\"real_time_factor\": %.2f, \"air_share\": %.3f, \"us_per_body_step\": %.3f, "
-          "\"positive_power_w\": %.4f, \"positive_power_w_per_kg\": %.1f}",
+          "\"positive_power_w\": %.4f, \"positive_power_w_per_kg\": %.1f, \"air_cells\": %d}",
           first ? "" : ",\n", s.name.c_str(), s.bodies, sps, sps * dt, share, per_body, positive,
-          positive / power.mass);
+          positive / power.mass, s.cells);
     } else {
-      std::printf("%-14s %7d %14.0f %10.1f %9.1f%% %12.3f %9.3f %8.0f\n", s.name.c_str(), s.bodies,
-                  sps, sps * dt, 100.0 * share, per_body, positive, positive / power.mass);
+      std::printf("%-14s %7d %14.0f %10.1f %9.1f%% %12.3f %9.3f %8.0f %10d\n", s.name.c_str(),
+                  s.bodies, sps, sps * dt, 100.0 * share, per_body, positive, positive / power.mass,
+                  s.cells);
     }
     first = false;
   }

@@ -1,5 +1,6 @@
 """The docs' tables measured by the bench programs (bench/): CPU and wall times, memory, the
 answers of commands. The wall-clock ones say the load average their program saw."""
+import json
 import re
 
 from doc_tables import Run, Table
@@ -244,4 +245,93 @@ def farm_projection():
                  FARM_RUNS, rows, said)
 
 
-TABLES = [mesh_spawn_time, worker_memory, worker_calls, edges_replay, node_rtf, farm_speed, farm_projection]
+# --- doc/farm.md: a generation's wall time, creature by creature -----------------------------
+
+SEED_WEIGHTS = "config/afc_1_extended_weights.yaml"
+# (creature, evolve's flags): generation 0 seeded from a shipped controller, so that its
+# episodes fly as a learnt population's do (most to their end), as bench/episode_rate.sh's.
+GENERATION_CREATURES = [
+    ("afc_1", ["--pairs", "1", "--init", SEED_WEIGHTS]),
+    ("afc_4", ["--pairs", "4", "--init", SEED_WEIGHTS]),
+    ("afc_12", ["--pairs", "12", "--init", SEED_WEIGHTS]),
+    ("hover", ["--preset", "hover", "--init", "config/hover_1_gains.yaml"]),
+]
+GENERATION_RUNS = [Run(name, ["bash", "bench/farm_bench.sh", "--"] + flags)
+                   for name, flags in GENERATION_CREATURES]
+
+
+def generation_cells(text, label, pattern):
+    m = re.search(pattern + r", wall time ([0-9.]+) s", text, re.M)
+    if not m:
+        raise ValueError(f"farm_bench.sh: no {label} rate and wall time")
+    return f"{float(m.group(1)):.1f} /s, {float(m.group(2)):.1f} s"
+
+
+def generation_wall_time():
+    def rows(out):
+        result = []
+        for run in GENERATION_RUNS:
+            text = out[run.key]
+            same = "yes" if "fitness.csv the same in all four: yes" in text else "**no**"
+            result.append([run.key] + [generation_cells(text, label, pattern)
+                                       for label, pattern in FARM_ROWS] + [same])
+        return result
+
+    def said(out):
+        return ("`bash bench/farm_bench.sh -- FLAGS` for each creature (FLAGS: "
+                + "; ".join(f"{name} `{' '.join(flags)}`" for name, flags in GENERATION_CREATURES)
+                + "): generation 0 of `evolve --generations 0 --seed 5` with the preset's "
+                "population and episodes (robust: 32 x 12 of 20 s; hover: its own), in process "
+                "and on a farm of one-thread workers on this 2-core machine; the wall time is "
+                "evolve's, the robust preset's step choice (made once per evolution) included ("
+                + "; ".join(f"{run.key}: {load_said(out[run.key])}" for run in GENERATION_RUNS)
+                + ")")
+    return Table("generation_wall_time", "doc/farm.md",
+                 ["creature"] + [f"{label}: episodes/s, wall time" for label, _ in FARM_ROWS]
+                 + ["fitness.csv the same in all four"], GENERATION_RUNS, rows, said)
+
+
+# --- doc/performance.md: what a step costs, creature by creature -------------------------------
+
+STEP_COST = Run("flapsim_bench", ["bin/flapsim_bench", "--runs", "5", "--seconds", "2",
+                                  "--cpu-time", "--json"])
+
+
+def step_cost():
+    def rows(out):
+        data = json.loads(out[STEP_COST.key])
+        result = []
+        for c in data["creatures"]:
+            step_us = 1e6 / c["steps_per_second"]
+            cells = c["air_cells"]
+            per_cell = f"{1e3 * step_us * c['air_share'] / cells:.1f}" if cells else "-"
+            result.append([c["creature"], str(c["bodies"]), str(cells),
+                           f"{c['steps_per_second'] / 1e3:.1f} k", f"{step_us:.2f}",
+                           f"{1e3 * c['us_per_body_step']:.0f}", f"{100 * c['air_share']:.0f} %",
+                           per_cell])
+        flock = data["flock_16"]
+        unit = next(c for c in data["creatures"] if c["creature"] == "flap_unit")
+        result.append(["16 flap units, a flock (1 / 2 threads)", str(16 * unit["bodies"]),
+                       str(16 * unit["air_cells"]),
+                       f"{flock['steps_per_second_1_thread'] / 1e3:.1f} k / "
+                       f"{flock['steps_per_second_2_threads'] / 1e3:.1f} k "
+                       f"(x{flock['speedup']:.2f}, results "
+                       f"{'identical' if flock['identical'] else '**not identical**'})",
+                       f"{1e6 / flock['steps_per_second_1_thread']:.2f} / "
+                       f"{1e6 / flock['steps_per_second_2_threads']:.2f}", "-", "-", "-"])
+        return result
+
+    def said(out):
+        data = json.loads(out[STEP_COST.key])
+        return (f"`{STEP_COST.command()}` (medians of 5 runs of 2 simulated s at 1 ms, CPU time; "
+                "every wing 30/10 rad/s, amplitude 0.8 rad, from 50 m; the air's share from the "
+                "same runs with the air off; the flock in wall time, its 16 creatures stepped on 1 "
+                "and on 2 threads; a finer grid of 8 x 8 cells per face makes the flap "
+                f"unit's step x{data['grid_8x8_step_time_ratio']:.2f})")
+    return Table("step_cost", "doc/performance.md",
+                 ["creature", "bodies", "air cells", "steps/s", "us a step", "ns per body a step",
+                  "air's share", "ns per air cell a step"], [STEP_COST], rows, said)
+
+
+TABLES = [mesh_spawn_time, worker_memory, worker_calls, edges_replay, node_rtf, farm_speed,
+          farm_projection, generation_wall_time, step_cost]

@@ -16,9 +16,9 @@ CREATURES = {"flap_unit": "flap unit (3)", "chain_12": "12 units (36)"}
 #  flapsim's step and turn substep (s; None: its default 0.5 ms)).
 COMPARISONS = [
     ("flap_unit", "same 1 ms step", 10, "implicitfast", 0.001, 0.001, None),
-    ("flap_unit", "fastest that pass", 10, "implicit", 0.004, 0.004, 0.002),
+    ("flap_unit", "fastest that pass", 10, "implicit", 0.0046, 0.004, 0.002),
     ("chain_12", "same 1 ms step", 2, "implicitfast", 0.001, 0.001, None),
-    ("chain_12", "fastest that pass", 2, "implicitfast", 0.001, 0.002, 0.002),
+    ("chain_12", "fastest that pass", 2, "implicitfast", 0.0014, 0.004, 0.004),
 ]
 PAIRS = 9
 
@@ -230,4 +230,69 @@ def mujoco_wing():
                  wing_rows, said)
 
 
-TABLES = [mujoco_comparison, mujoco_wing]
+# --- doc/performance.md: where each side's step stops passing the check ----------------------
+
+BOUNDARY = "bench/step_boundary.sh"
+# (creature, side, integrator (MuJoCo) or None, settings: MuJoCo's steps or flapsim's
+# STEP/PIECES, in s), around each side's fastest setting in the comparison above.
+BOUNDARIES = [
+    ("flap_unit", "mujoco", "implicit", ["0.004", "0.0045", "0.0046", "0.0047", "0.005"]),
+    ("flap_unit", "mujoco", "implicitfast", ["0.002", "0.004"]),
+    ("flap_unit", "flapsim", None, ["0.004/0.002", "0.0042/0.002", "0.0045/0.001", "0.005/0.001",
+                                    "0.006/0.0015", "0.006/0.002", "0.008/0.002"]),
+    ("chain_12", "mujoco", "implicitfast", ["0.0013", "0.0014", "0.00145", "0.0015", "0.002"]),
+    ("chain_12", "mujoco", "implicit", ["0.0011", "0.0012", "0.002"]),
+    ("chain_12", "flapsim", None, ["0.002/0.002", "0.003/0.003", "0.004/0.004", "0.004/0.002",
+                                   "0.005/0.0025", "0.006/0.003"]),
+]
+
+
+def boundary_run(name, side, integrator, settings):
+    argv = ["bash", BOUNDARY, name, side] + ([integrator] if integrator else []) + settings
+    return Run(f"{name}, {side}" + (f" {integrator}" if integrator else ""), argv)
+
+
+def boundary_rows(text):
+    """Rows from step_boundary.sh's lines: creature, setting, verdict, error, within 10%."""
+    rows = []
+    for line in text.split("\n"):
+        m = re.match(r"^(mujoco|flapsim) (\S+) (.+?) \| (.+?) \| ([-0-9.]+) %$", line)
+        if not m:
+            continue
+        side, name, setting, verdict, pct = m.groups()
+        if side == "mujoco":
+            integrator, step = setting.split()
+            shown = f"MuJoCo {integrator}, {ms(float(step))}"
+        else:
+            step, pieces = setting.split("/")
+            shown = f"flapsim {ms(float(step))}, {ms(float(pieces))} turn substeps"
+        stable = verdict == "stable"
+        within = stable and abs(float(pct)) <= 10.0
+        rows.append([CREATURES[name], shown, "passes" if stable else verdict.replace("|", "/"),
+                     f"{float(pct):+.1f} %", "yes" if within else "**no**"])
+    if not rows:
+        raise ValueError("step_boundary.sh output: no settings")
+    return rows
+
+
+def step_boundary():
+    runs = [boundary_run(*b) for b in BOUNDARIES]
+
+    def rows(out):
+        return [row for r in runs for row in boundary_rows(out[r.key])]
+
+    def said(out):
+        versions = {m for r in runs for m in
+                    re.findall(r"^MuJoCo: MuJoCo ([^,]+),", out[r.key], re.M)}
+        return (f"`{BOUNDARY} NAME mujoco INTEGRATOR STEP...` and `{BOUNDARY} NAME flapsim "
+                f"STEP/PIECES...` (MuJoCo {', '.join(sorted(versions))} from "
+                "FLAPSIM_MUJOCO_INCLUDE and FLAPSIM_MUJOCO_LIB; each setting's 10 s check against "
+                "its own simulator at 1/16 ms, as vs_mujoco.sh runs it; the error is the height "
+                "change's at 3 s, as a share of the reference's)")
+    return Table("step_boundary", "doc/performance.md",
+                 ["creature (bodies)", "setting", "the check's verdict",
+                  "height error at 3 s (of the reference's change)",
+                  "within 10 % of its own change"], runs, rows, said)
+
+
+TABLES = [mujoco_comparison, step_boundary, mujoco_wing]

@@ -221,6 +221,54 @@ TEST(WingControllers, ChainPitchTermSlowsTheNoseAndSpeedsTheTailWhileTheNoseIsUp
   EXPECT_DOUBLE_EQ(capped[2].downstroke_rate, 30.0);
 }
 
+// The chain input: unit k of n sees s_k p (s_k = 1 - 2k/(n-1), p the units' mean pitch input),
+// so one network on every unit can beat the nose and the tail differently; a lone unit sees 0.
+TEST(WingControllers, TheChainInputIsThePlaceAlongTheChainTimesItsMeanPitch) {
+  EXPECT_DOUBLE_EQ(chainInput(0, 3, 0.2), 0.2);
+  EXPECT_DOUBLE_EQ(chainInput(1, 3, 0.2), 0.0);
+  EXPECT_DOUBLE_EQ(chainInput(2, 3, 0.2), -0.2);
+  EXPECT_DOUBLE_EQ(chainInput(1, 4, 0.3), 0.3 / 3.0);
+  EXPECT_DOUBLE_EQ(chainInput(0, 1, 0.2), 0.0);
+  FlapControllerParams p;
+  p.chain_input = true;
+  p.network = FlapNetwork::kMirror;
+  ASSERT_EQ(flapInputCount(p), 3);
+  EXPECT_EQ(flapInputNames(p).back(), "chain_position.chain_pitch");
+  // One hidden neuron h = tanh(10 chain input); the output sigmoid(-4 h): a nose up makes the
+  // nose (input > 0) beat slower than half-way and the tail faster, both of a unit's wings
+  // alike (the mirror leaves the chain input as it is).
+  p.hidden = 1;
+  ASSERT_EQ(FlapUnitController::weightCount(p), 4 + 2);
+  const std::vector<double> w = {0, 0, 10, 0, -4, 0};
+  // Units pitched 0.1, 0.05 and 0 rad nose up (negative rotation about y): the mean pitch.
+  std::vector<Quat> bodies;
+  double mean = 0.0;
+  for (double pitch : {0.1, 0.05, 0.0}) {
+    bodies.push_back(Quat(Eigen::AngleAxisd(-pitch, Vec3::UnitY())));
+    mean += std::sin(pitch) / 3.0;
+  }
+  const std::vector<StrokeCommand> c =
+      AnnWingController(FlapUnitController(p, w)).commands(FlapSensing(bodies));
+  ASSERT_EQ(c.size(), 6u);
+  const double middle = 0.5 * (p.min_downstroke_rate + p.max_downstroke_rate);
+  const auto rate = [&](double input) {
+    const double y = 1.0 / (1.0 + std::exp(4.0 * std::tanh(10.0 * input)));
+    return p.min_downstroke_rate + (p.max_downstroke_rate - p.min_downstroke_rate) * y;
+  };
+  for (int side = 0; side < 2; ++side) {
+    EXPECT_NEAR(c[side].downstroke_rate, rate(mean), 1e-12);
+    EXPECT_DOUBLE_EQ(c[2 + side].downstroke_rate, middle);
+    EXPECT_NEAR(c[4 + side].downstroke_rate, rate(-mean), 1e-12);
+  }
+  EXPECT_LT(c[0].downstroke_rate, middle - 5.0);
+  EXPECT_GT(c[4].downstroke_rate, middle + 5.0);
+  // Without the input the same pitches give every unit the same command.
+  p.chain_input = false;
+  const std::vector<StrokeCommand> plain =
+      AnnWingController(FlapUnitController(p, {0, 0, 0, -4, 0})).commands(FlapSensing(bodies));
+  EXPECT_DOUBLE_EQ(plain[0].downstroke_rate, plain[4].downstroke_rate);
+}
+
 // Ground-speed damping: the up the units level to leans against the horizontal velocity
 // (odometry's, in the root's axes) by velocity_gain |v| up to velocity_tilt_limit.
 TEST(GroundSpeedDamping, LeansTheLevelledUpAgainstTheHorizontalVelocityUpToItsLimit) {
@@ -555,6 +603,22 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_THROW(controllerFromYaml("other: 1"), std::runtime_error);
   EXPECT_THROW(controllerFromYaml("flap_unit_controller: {weights: [1, 2}"), std::runtime_error);
   EXPECT_THROW(loadControllerYaml("/nonexistent/weights.yaml"), std::runtime_error);
+}
+
+// The chain input's key is written only when it is on, and a file with it reads back the same.
+TEST(ControllerYaml, TheChainInputIsWrittenOnlyWhenOnAndReadsBack) {
+  EXPECT_EQ(controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights}).find("chain_"),
+            std::string::npos);
+  ControllerSpec chain;
+  chain.params.chain_input = true;
+  chain.weights.assign(static_cast<size_t>(FlapUnitController::weightCount(chain.params)), 0.5);
+  ASSERT_EQ(chain.weights.size(), kWeights.size() + 2);  // a third input to both hidden neurons
+  const std::string chain_yaml = controllerToYaml(chain);
+  EXPECT_NE(chain_yaml.find("chain_input: true"), std::string::npos) << chain_yaml;
+  const ControllerSpec chain_back = controllerFromYaml(chain_yaml, "chain.yaml");
+  EXPECT_TRUE(chain_back.params.chain_input);
+  EXPECT_EQ(chain_back.weights, chain.weights);
+  EXPECT_EQ(flapInputNames(chain_back.params).back(), "chain_position.chain_pitch");
 }
 
 std::string yamlError(const std::string& keys) {

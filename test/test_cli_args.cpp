@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "flapsim/cli_args.h"
+#include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
 #include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
@@ -415,6 +416,18 @@ TEST(ToolTables, EvolveFlagsKeepTheirMeaningAndRefuseByFlag) {
   EXPECT_EQ(refused({"--gust-link", "wing", "--gust-force-time", "0.3", "--altitude", "2", "3",
                      "--altitude-input", "on", "--altitude-noise", "0.1"}),
             "");
+  // The chain's terms on a single unit (the robust preset's --pairs 1).
+  EXPECT_EQ(refused({"--chain-input", "on"}),
+            "--chain-input: has no effect on a single unit (--pairs 1: no chain)");
+  EXPECT_EQ(refused({"--pitch-gain", "2"}),
+            "--pitch-gain: has no effect on a single unit (--pairs 1: no chain)");
+  const EvolveOptions chain = parseEvolveArgs(
+      {"--pairs", "4", "--chain-input", "on", "--step-sizes", "0.001", "--pitch-gain", "0"});
+  EXPECT_TRUE(chain.params.controller.chain_input);
+  EXPECT_EQ(chain.spec_args,
+            (std::vector<std::string>{"--preset", "robust", "--pairs", "4", "--chain-input", "on",
+                                      "--step-sizes", "0.001", "--pitch-gain", "0"}));
+  EXPECT_EQ(evaluationSpecFromArgs(chain.spec_args).controller.chain_input, true);
 }
 
 }  // namespace

@@ -83,6 +83,13 @@ struct FlapControllerParams {
   /// the altimeter's error; +1 without a setpoint (climb, the paper's aim).
   bool altitude_input = false;
   double altitude_scale = 1.0;  // m
+  /// Chain input (an extension for creatures of several units; off: the paper's): unit k of
+  /// n sees s_k p, its place along the chain (s_k = 1 - 2k/(n-1): +1 at the nose, -1 at the
+  /// tail) times the chain's mean pitch input p (world_up . body_forward averaged over the
+  /// units, > 0: nose up), which its neighbours' attitudes make. Every unit's copy of the
+  /// network then sees the chain pitch from where it sits, and evolution can find the
+  /// nose-slow, tail-fast answer the hand-set pitch term (pitch_gain) gives. 0 on one unit.
+  bool chain_input = false;
   int hidden = 2;
   Activation hidden_activation = Activation::kTanh;
   double min_downstroke_rate = 20.0;  // rad/s
@@ -202,9 +209,14 @@ std::vector<double> flapInputs(const Quat& body);
 
 /// The inputs of the network `params` describes, for one unit: flapInputs(body), then with
 /// rate_inputs its body-frame angular velocity / rate_scale (roll, pitch, yaw), then with
-/// altitude_input `altitude_input` (see FlapControllerParams::altitude_input).
+/// altitude_input `altitude_input` (see FlapControllerParams::altitude_input), then with
+/// chain_input `chain_pitch` (chainInput()).
 std::vector<double> flapNetworkInputs(const FlapControllerParams& params, const Quat& body,
-                                      const Vec3& rate, double altitude_input);
+                                      const Vec3& rate, double altitude_input,
+                                      double chain_pitch = 0.0);
+/// The chain input of unit `unit` of `units` for the chain's mean pitch input `pitch`
+/// (FlapControllerParams::chain_input): s_k pitch, 0 for a single unit.
+double chainInput(int unit, int units, double pitch);
 /// Their count, and their names as the weights file lists them.
 int flapInputCount(const FlapControllerParams& params);
 std::vector<std::string> flapInputNames(const FlapControllerParams& params);
@@ -246,9 +258,10 @@ class FlapUnitController {
   static int weightCount(const FlapControllerParams& params);
 
   /// The command for a unit at `body`, turning at `rate` (own axes), with altitude input
-  /// `altitude_input` (altitudeInput()); the last two are read only if the net takes them.
+  /// `altitude_input` (altitudeInput()) and chain input `chain_pitch` (chainInput()); the
+  /// last three are read only if the net takes them.
   WingPairCommand command(const Quat& body, const Vec3& rate = Vec3::Zero(),
-                          double altitude_input = 1.0) const;
+                          double altitude_input = 1.0, double chain_pitch = 0.0) const;
   /// Downstroke rates {right, left} for raw inputs (flapNetworkInputs; for tests and plots).
   std::vector<double> rates(const std::vector<double>& inputs) const;
   /// The strokes of both wings for raw inputs.

@@ -273,13 +273,18 @@ std::vector<double> flapInputs(const Quat& body) {
 }
 
 int flapInputCount(const FlapControllerParams& p) {
-  return 2 + (p.rate_inputs ? 3 : 0) + (p.altitude_input ? 1 : 0);
+  return 2 + (p.rate_inputs ? 3 : 0) + (p.altitude_input ? 1 : 0) + (p.chain_input ? 1 : 0);
+}
+
+double chainInput(int unit, int units, double pitch) {
+  return units < 2 ? 0.0 : chainPosition(unit, units) * pitch;
 }
 
 std::vector<std::string> flapInputNames(const FlapControllerParams& p) {
   std::vector<std::string> names = {"world_up.body_forward", "world_up.body_left"};
   if (p.rate_inputs) names.insert(names.end(), {"roll_rate", "pitch_rate", "yaw_rate"});
   if (p.altitude_input) names.push_back("altitude_error");
+  if (p.chain_input) names.push_back("chain_position.chain_pitch");
   return names;
 }
 
@@ -292,12 +297,13 @@ std::vector<std::string> flapOutputNames(const FlapControllerParams& p) {
 }
 
 std::vector<double> flapNetworkInputs(const FlapControllerParams& p, const Quat& body,
-                                      const Vec3& rate, double altitude_input) {
+                                      const Vec3& rate, double altitude_input, double chain_pitch) {
   std::vector<double> x = flapInputs(body);
   if (p.rate_inputs) {
     for (int i = 0; i < 3; ++i) x.push_back(rate[i] / p.rate_scale);
   }
   if (p.altitude_input) x.push_back(altitude_input);
+  if (p.chain_input) x.push_back(chain_pitch);
   return x;
 }
 
@@ -377,8 +383,8 @@ std::vector<double> FlapUnitController::rates(const std::vector<double>& inputs)
 }
 
 WingPairCommand FlapUnitController::command(const Quat& body, const Vec3& rate,
-                                            double altitude_input) const {
-  return strokes(flapNetworkInputs(params_, body, rate, altitude_input));
+                                            double altitude_input, double chain_pitch) const {
+  return strokes(flapNetworkInputs(params_, body, rate, altitude_input, chain_pitch));
 }
 
 // ---- Layout and wing controllers -------------------------------------------------------------
@@ -436,14 +442,15 @@ std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed
   const double altitude = altitudeInput(p, sensed.altitude, sensed.setpoint);
   const int units = static_cast<int>(bodies.size());
   double pitch = 0.0;
-  if (p.pitch_gain > 0.0 || p.pitch_reflex_angle > 0.0) {
+  if (p.pitch_gain > 0.0 || p.pitch_reflex_angle > 0.0 || p.chain_input) {
     for (const Quat& q : bodies) pitch += flapInputs(q)[0];
     pitch /= std::max(1, units);
   }
   std::vector<StrokeCommand> out;
   out.reserve(2 * bodies.size());
   for (int k = 0; k < units; ++k) {
-    WingPairCommand c = unit_.command(bodies[k], sensed.rates[k], altitude);
+    WingPairCommand c =
+        unit_.command(bodies[k], sensed.rates[k], altitude, chainInput(k, units, pitch));
     const double scale = chainPitchScale(p, k, units, pitch);
     if (scale != 1.0) {
       for (StrokeCommand* s : {&c.left, &c.right}) {

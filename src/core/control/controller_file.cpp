@@ -29,6 +29,7 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   e << YAML::Key << "rate_scale" << YAML::Value << p.rate_scale;
   e << YAML::Key << "altitude_input" << YAML::Value << p.altitude_input;
   e << YAML::Key << "altitude_scale" << YAML::Value << p.altitude_scale;
+  if (p.chain_input) e << YAML::Key << "chain_input" << YAML::Value << p.chain_input;
   e << YAML::Key << "hidden" << YAML::Value << p.hidden;
   e << YAML::Key << "hidden_activation" << YAML::Value << toString(p.hidden_activation);
   e << YAML::Key << "output_activation" << YAML::Value << "sigmoid";
@@ -87,6 +88,7 @@ const std::vector<std::string> kKeys = {"network",
                                         "rate_scale",
                                         "altitude_input",
                                         "altitude_scale",
+                                        "chain_input",
                                         "hidden",
                                         "hidden_activation",
                                         "output_activation",
@@ -146,6 +148,7 @@ ControllerSpec readController(const YAML::Node& c,
   get("rate_scale", p.rate_scale);
   get("altitude_input", p.altitude_input);
   get("altitude_scale", p.altitude_scale);
+  get("chain_input", p.chain_input);
   get("max_upstroke_rate", p.max_upstroke_rate);
   // The lists of inputs and outputs are what the settings above make them: a file whose
   // lists disagree was edited by hand or written by another version.

@@ -247,6 +247,11 @@ void controllerFlags(CliParser& t, EvolveOptions& o) {
       .custom("--altitude-input", {"B"}, onOff("--altitude-input", &c.altitude_input),
               showOnOff(&c.altitude_input), "on/off: the altitude error as an input")
       .tag(kSpec)
+      .custom("--chain-input", {"B"}, onOff("--chain-input", &c.chain_input),
+              showOnOff(&c.chain_input),
+              "on/off: each unit's place along the chain times the chain's pitch as an input, "
+              "for --pairs > 1")
+      .tag(kSpec)
       .real("--com-drop", "M", &p.unit.body_com_drop, {0, 10},
             "the unit's ballast, m below the hinges (the paper's unit: 0)")
       .tag(kSpec)
@@ -330,15 +335,13 @@ EvolveParams presetParams(const std::string& preset) {
 // The flags that mean nothing to the hover controller's evolution (the flap network's, the
 // flap units' and their disturbances'): --preset hover refuses them by name.
 const std::vector<std::string> kNotHoverFlags = {
-    "--pairs",          "--min-rate",        "--max-rate",
-    "--upstroke-rate",  "--amplitude",       "--stroke-offset",
-    "--control-period", "--network",         "--hidden",
-    "--rate-inputs",    "--altitude-input",  "--com-drop",
-    "--phase-lock",     "--pitch-gain",      "--gene-range",
-    "--link-axis",      "--link-stiffness",  "--start-rate",
-    "--gust",           "--gust-torque",     "--gust-torque-time",
-    "--gust-force",     "--gust-force-time", "--gust-link",
-    "--altitude-noise", "--altitude-hold",   "--gyro-bias",
+    "--pairs",       "--min-rate",         "--max-rate",       "--upstroke-rate",
+    "--amplitude",   "--stroke-offset",    "--control-period", "--network",
+    "--hidden",      "--rate-inputs",      "--altitude-input", "--chain-input",
+    "--com-drop",    "--phase-lock",       "--pitch-gain",     "--gene-range",
+    "--link-axis",   "--link-stiffness",   "--start-rate",     "--gust",
+    "--gust-torque", "--gust-torque-time", "--gust-force",     "--gust-force-time",
+    "--gust-link",   "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
     "--crash-height"};
 
 void checkHoverFlags(const std::vector<CliSeen>& seen) {
@@ -367,6 +370,12 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
       why = "without an altitude input (--altitude-input on)";
     }
     if (name == "--settle") why = "but with --preset hover (the flap network's fitness has none)";
+    if (name == "--chain-input" && p.controller.chain_input && p.pairs < 2) {
+      why = "on a single unit (--pairs 1: no chain)";
+    }
+    if (name == "--pitch-gain" && p.controller.pitch_gain > 0.0 && p.pairs < 2) {
+      why = "on a single unit (--pairs 1: no chain)";
+    }
     if (!why.empty()) throw InputError(name + ": has no effect " + why);
   }
 }

@@ -1,0 +1,143 @@
+// Every flag of flight_check's network mode, flown: given on its own to a short flight, each
+// either changes what is flown (a figure of some start differs from the same flight without
+// it) or is refused by name, and --threads changes nothing (its results do not depend on it).
+// The flag tables' rules (test_cli_args: FlightCheckRefusesEveryFlagItsModeWouldIgnore) say
+// which flags each mode refuses; this walk proves that the others act.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "flapsim/controller_file.h"
+#include "flapsim/flight_check.h"
+#include "flapsim/make_creature.h"
+#include "test_util.h"
+
+namespace flapsim {
+namespace {
+
+// What flight_check's main() flies for `args` (its parse, its two refusals, its creature), as
+// the figures of every start; `refused` the refusal instead.
+struct Flown {
+  std::string refused;
+  std::vector<double> figures;
+};
+
+Flown fly(const std::vector<std::string>& args) {
+  FlightCheckOptions o;
+  CliParser cli = flightCheckCli(o);
+  const std::vector<CliSeen> seen = cli.parse(args);
+  Flown f;
+  f.refused = flightCheckUnusedFlag(o, seen);
+  if (!f.refused.empty()) return f;
+  const ControllerSpec spec = loadControllerYaml(o.weights);
+  f.refused = flightCheckUnusedSensorFlag(spec.params, seen);
+  if (!f.refused.empty()) return f;
+  const CreatureModelPtr model = o.urdf.empty()
+                                     ? parseCreatureModel(makeCreatureUrdf(o.pairs, "afc"))
+                                     : loadCreatureModel(o.urdf);
+  for (const FlightCheckRun& r : flightCheck(model, spec, o.params)) {
+    f.figures.insert(f.figures.end(),
+                     {r.start.roll, r.start.pitch, r.final_height, r.min_height, r.min_upright,
+                      r.mean_bank, r.lateral_drift, r.positive_power, r.mass});
+  }
+  return f;
+}
+
+// The short flight every flag is tried on: afc_12's altitude network (it reads the altimeter
+// and has ground-speed damping, so the sensors' noises act) on one unit, two starts of 0.4 s
+// holding 1.1 m, near the start's 1 m (its altitude input, the error over 0.25 m, stays inside
+// its +-1 clamp: holding 5 m or 4 m it is +1 all the flight, and neither the setpoint nor the
+// altimeter's noise would show), with a push on a wing at a drawn time (so that the gust's link
+// and duration act).
+std::vector<std::string> base() {
+  return {"--weights",    test::sourcePath("config/afc_12_altitude_weights.yaml"),
+          "--starts",     "2",
+          "--duration",   "0.4",
+          "--altitude",   "1.1",
+          "--gust-force", "1"};
+}
+
+// `args` with `flag` given `values` (replacing the values it has there, if any).
+std::vector<std::string> with(std::vector<std::string> args, const std::string& flag,
+                              const std::vector<std::string>& values) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] != flag) continue;
+    for (size_t k = 0; k < values.size(); ++k) args[i + 1 + k] = values[k];
+    return args;
+  }
+  args.push_back(flag);
+  args.insert(args.end(), values.begin(), values.end());
+  return args;
+}
+
+TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByName) {
+  const Flown plain = fly(base());
+  ASSERT_EQ(plain.refused, "");
+  ASSERT_EQ(plain.figures.size(), 2u * 9u);
+  // A value other than the base flight's for each flag (the table's metavariables).
+  const std::vector<std::pair<std::string, std::vector<std::string>>> tried = {
+      {"--weights", {test::sourcePath("config/afc_1_real_air_weights.yaml")}},
+      {"--pairs", {"2"}},
+      {"--urdf", {test::sourcePath("urdf/afc_4.urdf")}},
+      {"--starts", {"3"}},
+      {"--seed", {"7"}},
+      {"--roll", {"0.1"}},
+      {"--pitch", {"0.1"}},
+      {"--duration", {"0.3"}},
+      {"--step-size", {"0.0005"}},
+      {"--turn-substep", {"0"}},
+      {"--wind", {"1"}},
+      {"--turbulence", {"light"}},
+      {"--gyro-bias", {"0.02"}},
+      {"--real-air", {}},
+      {"--gust-torque", {"0.05"}},
+      {"--gust-force", {"2"}},
+      {"--gust-link", {"unit0_wing_left"}},
+      {"--gust-time", {"0.1"}},
+      {"--noise", {"0.05"}},
+      {"--altitude-noise", {"0.05"}},
+      {"--velocity-noise", {"0.05"}},
+      {"--velocity-products", {}},
+      {"--altitude", {"1.2"}},
+  };
+  // Every flag of the table is tried, but --threads (below), --hover and its gains.
+  FlightCheckOptions table_options;
+  const CliParser table = flightCheckCli(table_options);
+  std::vector<std::string> walked;
+  for (const CliFlag& flag : table.flags()) {
+    const std::string& name = flag.names[0];
+    if (name == "--threads" || name == "--hover" || name == "--gains" || name == "--write-gains") {
+      continue;
+    }
+    walked.push_back(name);
+  }
+  std::vector<std::string> names;
+  for (const auto& t : tried) names.push_back(t.first);
+  EXPECT_EQ(names, walked);
+
+  for (const auto& [flag, values] : tried) {
+    SCOPED_TRACE(flag);
+    std::vector<std::string> args = with(base(), flag, values);
+    if (flag == "--real-air") {  // it sets the gusts itself: refused with the base's push
+      EXPECT_EQ(fly(args).refused, "--gust-force is set by --real-air (give one or the other)");
+      args =
+          with({"--weights", base()[1], "--starts", "2", "--duration", "0.4", "--altitude", "1.1"},
+               flag, values);
+      const Flown real = fly(args);
+      ASSERT_EQ(real.refused, "");
+      const Flown calm =
+          fly({"--weights", base()[1], "--starts", "2", "--duration", "0.4", "--altitude", "1.1"});
+      EXPECT_NE(real.figures, calm.figures);
+      continue;
+    }
+    const Flown f = fly(args);
+    EXPECT_EQ(f.refused, "");
+    EXPECT_NE(f.figures, plain.figures);
+  }
+  // The threads share the starts out; what each start flies is the same to the bit.
+  EXPECT_EQ(fly(with(base(), "--threads", {"2"})).figures, plain.figures);
+}
+
+}  // namespace
+}  // namespace flapsim
