@@ -370,8 +370,16 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
       why = "without an altitude input (--altitude-input on)";
     }
     if (name == "--settle") why = "but with --preset hover (the flap network's fitness has none)";
+    if (name == "--max-upstroke-rate" && p.controller.max_upstroke_rate > 0.0 &&
+        (p.controller.network != FlapNetwork::kMirror || p.controller.phase_lock)) {
+      throw InputError(name + ": needs --network mirror and --phase-lock off (the net sets the " +
+                       "upstrokes)");
+    }
     if (name == "--chain-input" && p.controller.chain_input && p.pairs < 2) {
       why = "on a single unit (--pairs 1: no chain)";
+    }
+    if ((name == "--link-axis" || name == "--link-stiffness") && p.pairs < 2) {
+      why = "on a single unit (--pairs 1: no links between units)";
     }
     if (name == "--pitch-gain" && p.controller.pitch_gain > 0.0 && p.pairs < 2) {
       why = "on a single unit (--pairs 1: no chain)";

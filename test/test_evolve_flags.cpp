@@ -1,0 +1,156 @@
+// Every flag of evolve's flap presets, run: given on its own to a tiny evolution, each either
+// changes what evolves (the generations' fitness or the best weights differ from the same run
+// without it) or is refused by name. The tool's own flags (threads, files, the farm) do not
+// change what evolves and are left out; test_cli_args checks their meaning. The rules that
+// refuse a flag another leaves without effect are in evolve_args.cpp (checkDependentFlags).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <sstream>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "flapsim/evolve.h"
+#include "flapsim/evolve_args.h"
+
+namespace flapsim {
+namespace {
+
+struct Evolved {
+  std::string refused;
+  std::vector<double> figures;  // each generation's best and mean, then the best weights
+};
+
+Evolved evolveWith(const std::vector<std::string>& args) {
+  Evolved e;
+  EvolveOptions o;
+  try {
+    o = parseEvolveArgs(args, /*threads=*/1);
+  } catch (const InputError& error) {
+    e.refused = error.what();
+    return e;
+  }
+  EvolveResult r;
+  try {
+    r = evolveFlapController(o.params);
+  } catch (const std::exception& error) {  // refused, but not as the flags were read
+    e.refused = std::string("evolveFlapController: ") + error.what();
+    return e;
+  }
+  for (const GenerationStats& g : r.history) e.figures.insert(e.figures.end(), {g.best, g.mean});
+  e.figures.insert(e.figures.end(), r.best_weights.begin(), r.best_weights.end());
+  return e;
+}
+
+// A tiny robust-preset evolution: 4 individuals, one generation after the first, 2 episodes of
+// 1 s at 1 ms.
+const std::vector<std::string> kBase = {"--population", "4",    "--generations", "1",
+                                        "--episodes",   "2",    "--duration",    "1",
+                                        "--step-sizes", "0.001"};
+
+std::vector<std::string> with(std::vector<std::string> args, const std::string& flag,
+                              const std::vector<std::string>& values) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] != flag) continue;
+    for (size_t k = 0; k < values.size(); ++k) args[i + 1 + k] = values[k];
+    return args;
+  }
+  args.push_back(flag);
+  args.insert(args.end(), values.begin(), values.end());
+  return args;
+}
+
+TEST(EvolveFlags, EveryFlagOfTheFlapPresetsChangesWhatEvolvesOrIsRefusedByName) {
+  const Evolved plain = evolveWith(kBase);
+  ASSERT_EQ(plain.refused, "");
+  // (flag, values, what the run must do: "" changes what evolves, "near" the same with altitude
+  // setpoints near the 1 m start (the altitude input, the error over 1 m, is clamped at +1 with
+  // the preset's 2-8 m, and the altimeter's noise does not show), else the refusal's text).
+  const std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> tried = {
+      {"--preset", {"paper"}, ""},
+      {"--pairs", {"2"}, ""},
+      {"--generations", {"2"}, ""},
+      {"--population", {"6"}, ""},
+      {"--seed", {"2"}, ""},
+      {"--duration", {"0.8"}, ""},
+      {"--episodes", {"3"}, ""},
+      {"--min-rate", {"25"}, ""},
+      {"--max-rate", {"55"}, ""},
+      {"--upstroke-rate", {"12"}, ""},
+      {"--max-upstroke-rate", {"40"}, "--max-upstroke-rate: needs --network mirror"},
+      {"--amplitude", {"1.0"}, ""},
+      {"--stroke-offset", {"0.1"}, ""},
+      {"--control-period", {"0.01"}, ""},
+      {"--roll", {"0.1", "0.3"}, ""},
+      {"--pitch", {"0.2"}, ""},
+      {"--link-axis", {"pitch"}, "--link-axis: has no effect on a single unit"},
+      {"--link-stiffness", {"3"}, "--link-stiffness: has no effect on a single unit"},
+      {"--start-rate", {"2"}, ""},
+      {"--gust", {"1"}, ""},
+      {"--wind", {"0.5", "1"}, ""},
+      {"--noise", {"0.05"}, ""},
+      {"--altitude-noise", {"0.1"}, "near"},
+      {"--gyro-bias", {"0.02"}, ""},
+      {"--turbulence", {"light"}, ""},
+      {"--gust-torque", {"0.1"}, ""},
+      {"--gust-torque-time", {"0.2"}, ""},
+      {"--gust-force", {"0.5"}, ""},
+      {"--gust-force-time", {"0.1"}, ""},
+      {"--gust-link", {"unit0_wing_left"}, ""},
+      {"--altitude", {"1", "3"}, ""},
+      {"--altitude-hold", {"off"}, ""},
+      {"--step-sizes", {"0.0005"}, ""},
+      {"--turn-substep", {"0.001"}, ""},
+      {"--flip-penalty", {"5"}, ""},
+      {"--crash-height", {"1.5"}, ""},
+      {"--settle", {"3"}, "--settle: has no effect"},
+      {"--network", {"paper"}, ""},
+      {"--hidden", {"3"}, ""},
+      {"--rate-inputs", {"off"}, ""},
+      {"--altitude-input", {"off"}, ""},
+      {"--chain-input", {"on"}, "--chain-input: has no effect on a single unit"},
+      {"--com-drop", {"0.03"}, ""},
+      {"--phase-lock", {"off"}, ""},
+      {"--pitch-gain", {"1"}, "--pitch-gain: has no effect on a single unit"},
+      {"--gene-range", {"5"}, ""},
+      {"--air-model", {"quasi_steady"}, ""},
+      {"--velocity-products", {"on"}, ""},
+  };
+  // Every flag of the table is tried but the tool's own.
+  const std::vector<std::string> tool = {
+      "--threads", "--out",          "--weights",   "--no-plot",       "--resume",    "--init",
+      "--farm",    "--farm-timeout", "--farm-wait", "--farm-inflight", "--farm-batch"};
+  std::vector<std::string> listed, walked;
+  std::istringstream usage(evolveUsage());
+  for (std::string line; std::getline(usage, line);) {
+    if (line.rfind("  --", 0) != 0) continue;
+    const std::string name = line.substr(2, line.find(' ', 2) - 2);
+    if (std::find(tool.begin(), tool.end(), name) == tool.end()) listed.push_back(name);
+  }
+  for (const auto& t : tried) walked.push_back(std::get<0>(t));
+  EXPECT_EQ(walked, listed);
+  for (const auto& [flag, values, refusal] : tried) {
+    SCOPED_TRACE(flag);
+    if (refusal == "near") {  // the altitude input acts inside its clamp: setpoints near 1 m
+      const std::vector<std::string> near = with(kBase, "--altitude", {"0.9", "1.1"});
+      EXPECT_NE(evolveWith(with(near, flag, values)).figures, evolveWith(near).figures);
+      continue;
+    }
+    const Evolved e = evolveWith(with(kBase, flag, values));
+    if (refusal.empty()) {
+      EXPECT_EQ(e.refused, "");
+      EXPECT_NE(e.figures, plain.figures);
+    } else {
+      EXPECT_EQ(e.refused.rfind(refusal, 0), 0u) << e.refused;
+    }
+  }
+  // The flip penalty and the crash height act only on a flip or a crash: from starts rolled
+  // 1.5 rad (nearly on their backs) some episode flips within its second.
+  const std::vector<std::string> rolled = with(kBase, "--roll", {"1.5", "1.5"});
+  EXPECT_NE(evolveWith(with(rolled, "--flip-penalty", {"5"})).figures, evolveWith(rolled).figures);
+}
+
+}  // namespace
+}  // namespace flapsim
