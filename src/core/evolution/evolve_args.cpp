@@ -372,8 +372,7 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--settle") why = "but with --preset hover (the flap network's fitness has none)";
     if (name == "--max-upstroke-rate" && p.controller.max_upstroke_rate > 0.0 &&
         (p.controller.network != FlapNetwork::kMirror || p.controller.phase_lock)) {
-      throw InputError(name + ": needs --network mirror and --phase-lock off (the net sets the " +
-                       "upstrokes)");
+      why = "without --network mirror and --phase-lock off (the net would set no upstroke)";
     }
     if (name == "--chain-input" && p.controller.chain_input && p.pairs < 2) {
       why = "on a single unit (--pairs 1: no chain)";
