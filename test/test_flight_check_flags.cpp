@@ -1,8 +1,9 @@
-// Every flag of flight_check's network mode, flown: given on its own to a short flight, each
-// either changes what is flown (a figure of some start differs from the same flight without
-// it) or is refused by name, and --threads changes nothing (its results do not depend on it).
-// The flag tables' rules (test_cli_args: FlightCheckRefusesEveryFlagItsModeWouldIgnore) say
-// which flags each mode refuses; this walk proves that the others act.
+// Every flag of flight_check's network mode (and of its hover mode, below), flown: given on its own
+// to a short flight, each either changes what is flown (a figure of some start differs from the
+// same flight without it) or is refused by name, and --threads changes nothing (its results do not
+// depend on it). The flag tables' rules (test_cli_args:
+// FlightCheckRefusesEveryFlagItsModeWouldIgnore) say which flags each mode refuses; this walk
+// proves that the others act.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -11,6 +12,7 @@
 #include "flapsim/controller_file.h"
 #include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
+#include "flapsim/text_file.h"
 #include "test_util.h"
 
 namespace flapsim {
@@ -137,6 +139,51 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
   }
   // The threads share the starts out; what each start flies is the same to the bit.
   EXPECT_EQ(fly(with(base(), "--threads", {"2"})).figures, plain.figures);
+}
+
+// flight_check --hover: its report for `args` (the tool's parse and refusal), or the refusal.
+std::string flyHoverCheck(const std::vector<std::string>& args) {
+  FlightCheckOptions o;
+  CliParser cli = flightCheckCli(o);
+  const std::vector<CliSeen> seen = cli.parse(args);
+  const std::string refused = flightCheckUnusedFlag(o, seen);
+  if (!refused.empty()) return "refused: " + refused;
+  bool ok = false;
+  return hoverCheckReport(
+      o.urdf.empty() ? parseCreatureModel(makeHoverUrdf("hover")) : loadCreatureModel(o.urdf), o,
+      ok);
+}
+
+// The hover mode the same way: each of its flags changes the report of a flight of 10.5 s (its
+// figures count after 10 s), but --write-gains, which writes a file.
+TEST(FlightCheckFlags, EveryFlagOfTheHoverModeChangesItsFlight) {
+  const std::vector<std::string> base = {"--hover", "--duration", "10.5"};
+  const std::string plain = flyHoverCheck(base);
+  ASSERT_EQ(plain.find("refused"), std::string::npos) << plain;
+  // Another hover creature (hover_1.urdf is make_creature's own: the same flight).
+  HoverParams heavier;
+  heavier.body_mass = 0.017;
+  const std::string urdf = ::testing::TempDir() + "/hover_heavier.urdf";
+  writeTextFile(urdf, makeHoverUrdf("hover", heavier));
+  const std::vector<std::pair<std::string, std::vector<std::string>>> tried = {
+      {"--urdf", {urdf}},
+      {"--roll", {"0.1"}},
+      {"--pitch", {"0.1"}},
+      {"--duration", {"10.4"}},
+      {"--step-size", {"0.0005"}},
+      {"--turn-substep", {"0"}},
+      {"--gains", {test::sourcePath("config/hover_1_gains.yaml")}},
+      {"--wind", {"1"}},
+      {"--turbulence", {"light"}},
+      {"--velocity-products", {}},
+      {"--altitude", {"2.5"}},
+  };
+  for (const auto& [flag, values] : tried) {
+    SCOPED_TRACE(flag);
+    const std::string report = flyHoverCheck(with(base, flag, values));
+    EXPECT_EQ(report.find("refused"), std::string::npos) << report;
+    EXPECT_NE(report, plain);
+  }
 }
 
 }  // namespace
