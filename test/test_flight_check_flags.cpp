@@ -1,7 +1,7 @@
-// Every flag of flight_check's network mode (and of its hover mode, below), flown: given on its own
-// to a short flight, each either changes what is flown (a figure of some start differs from the
-// same flight without it) or is refused by name, and --threads changes nothing (its results do not
-// depend on it). The flag tables' rules (test_cli_args:
+// Every flag of flight_check's network mode (and of its hover mode, below), flown: given on its
+// own to a short flight, each either changes what is flown (a figure of some start differs from
+// the same flight without it) or is refused by name, and --threads changes nothing (its results
+// do not depend on it). The flag tables' rules (test_cli_args:
 // FlightCheckRefusesEveryFlagItsModeWouldIgnore) say which flags each mode refuses; this walk
 // proves that the others act.
 #include <gtest/gtest.h>
