@@ -215,11 +215,10 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
     }
     return names;
   };
-  EXPECT_EQ(refused(true),
-            std::vector<std::string>({"--weights", "--pairs", "--starts", "--seed", "--threads",
-                                      "--gyro-bias", "--real-air", "--gust-torque", "--gust-force",
-                                      "--gust-link", "--gust-time", "--noise", "--altitude-noise",
-                                      "--velocity-noise"}));
+  EXPECT_EQ(refused(true), std::vector<std::string>(
+                               {"--weights", "--pairs", "--starts", "--seed", "--threads",
+                                "--gyro-bias", "--gust-torque", "--gust-force", "--gust-link",
+                                "--gust-time", "--noise", "--altitude-noise", "--velocity-noise"}));
   // Without a gust (the walk gives one flag at a time), its link and duration do nothing.
   EXPECT_EQ(refused(false),
             std::vector<std::string>({"--gains", "--write-gains", "--gust-link", "--gust-time"}));
@@ -227,7 +226,17 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
   CliParser cli = flightCheckCli(o);
   EXPECT_EQ(flightCheckUnusedFlag(o, cli.parse({"--hover", "--noise", "0.1"})),
             "--noise has no effect with --hover (one flight of the hover controller: no "
-            "network, no held-out starts, gusts or sensor noise)");
+            "network, no held-out starts, gusts or sensor noise but those of --real-air)");
+  // The hover creature's held-out starts come with real air.
+  FlightCheckOptions h;
+  CliParser hover = flightCheckCli(h);
+  EXPECT_EQ(flightCheckUnusedFlag(
+                h, hover.parse({"--hover", "--real-air", "--starts", "3", "--seed", "5"})),
+            "");
+  FlightCheckOptions hw;
+  CliParser hover_wind = flightCheckCli(hw);
+  EXPECT_EQ(flightCheckUnusedFlag(hw, hover_wind.parse({"--hover", "--real-air", "--wind", "1"})),
+            "--wind is set by --real-air (give one or the other)");
   // --real-air sets the wind, turbulence, gusts and sensors itself.
   for (const char* set : {"--wind", "--turbulence", "--gust-torque", "--gust-force", "--gust-time",
                           "--noise", "--altitude-noise", "--gyro-bias"}) {

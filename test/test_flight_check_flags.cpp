@@ -141,17 +141,20 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
   EXPECT_EQ(fly(with(base(), "--threads", {"2"})).figures, plain.figures);
 }
 
-// flight_check --hover: its report for `args` (the tool's parse and refusal), or the refusal.
+// flight_check --hover: its report for `args` (the tool's parse, refusal and two reports), or
+// the refusal.
 std::string flyHoverCheck(const std::vector<std::string>& args) {
   FlightCheckOptions o;
   CliParser cli = flightCheckCli(o);
   const std::vector<CliSeen> seen = cli.parse(args);
   const std::string refused = flightCheckUnusedFlag(o, seen);
   if (!refused.empty()) return "refused: " + refused;
+  const CreatureModelPtr model =
+      o.urdf.empty() ? parseCreatureModel(makeHoverUrdf("hover")) : loadCreatureModel(o.urdf);
+  int failed = 0;
+  if (o.params.real_air) return hoverRealAirReport(o, hoverRealAirCheck(model, o), failed);
   bool ok = false;
-  return hoverCheckReport(
-      o.urdf.empty() ? parseCreatureModel(makeHoverUrdf("hover")) : loadCreatureModel(o.urdf), o,
-      ok);
+  return hoverCheckReport(model, o, ok);
 }
 
 // The hover mode the same way: each of its flags changes the report of a flight of 10.5 s (its
@@ -177,6 +180,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheHoverModeChangesItsFlight) {
       {"--turbulence", {"light"}},
       {"--velocity-products", {}},
       {"--altitude", {"2.5"}},
+      {"--real-air", {}},
   };
   for (const auto& [flag, values] : tried) {
     SCOPED_TRACE(flag);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 
+#include "flapsim/flight_check.h"
 #include "flapsim/hover_flight.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/text_file.h"
@@ -155,6 +156,58 @@ TEST(FigureOfMerit, IdealPowerAndSweptDisk) {
   EXPECT_DOUBLE_EQ(idealHoverPower(2.0, 1.0, 1.0), 2.0);
   const double area = strokeDiskArea(*test::loadUrdf("afc_1.urdf"), 1.2);
   EXPECT_NEAR(area, 2 * 1.2 * (0.35 * 0.35 + 0.001 * 0.001), 1e-12);
+}
+
+// flight_check --hover --real-air: the hover creature's starts are flight_check's real-air
+// draws (the push 4 x the whole creature's weight: it is its own unit; the torque 0.5 x weight
+// x half-span), each disturbance acts on the flight, and the threads change nothing.
+TEST(HoverRealAir, FliesRealAirsDrawsWithEveryDisturbanceActing) {
+  const CreatureModelPtr model = parseCreatureModel(makeHoverUrdf("hover"));
+  FlightCheckOptions o;
+  o.hover = true;
+  o.params.real_air = true;
+  o.params.starts = 2;
+  o.params.duration = 10.5;
+  const FlightCheckParams real = realAirParams(o.params, *model);
+  const double weight = model->totalMass() * 9.81;
+  EXPECT_DOUBLE_EQ(real.gust_force, 4.0 * weight);
+  EXPECT_DOUBLE_EQ(real.gust_torque, 0.25 * weight * creatureSpan(*model));
+  const std::vector<HoverCheckRun> runs = hoverRealAirCheck(model, o);
+  ASSERT_EQ(runs.size(), 2u);
+  FlightCheckParams drawn = real;
+  drawn.altitude = 3.0;
+  const std::vector<EpisodeStart> starts = episodeStarts(flightCheckEpisodes(drawn), model.get());
+  for (size_t i = 0; i < runs.size(); ++i) {
+    EXPECT_EQ(runs[i].start.wind, starts[i].wind);
+    EXPECT_EQ(runs[i].start.force_link, starts[i].force_link);
+    EXPECT_NEAR(runs[i].start.wind.norm(), 1.0, 1e-12);
+    EXPECT_GT(runs[i].start.gyro_bias.norm(), 0.0);
+  }
+  o.params.threads = 2;
+  const std::vector<HoverCheckRun> two = hoverRealAirCheck(model, o);
+  EXPECT_EQ(two[1].flight.altitude_rms, runs[1].flight.altitude_rms);
+  EXPECT_EQ(two[1].flight.drift, runs[1].flight.drift);
+  // Each of the gusts, the gyro bias and the altimeter's noise moves the flight.
+  HoverFlightParams f;
+  f.duration = 10.5;
+  f.gusts = flightCheckEpisodes(drawn);
+  f.gust_start = starts[0];
+  f.gust_start.torque_time = f.gust_start.force_time = 0.5;
+  const auto drift = [&](const HoverFlightParams& q) {
+    return flyHover(model, hoverCheckController(o), q).drift;
+  };
+  const Vec3 all = drift(f);
+  HoverFlightParams calm = f;
+  calm.gusts.reset();
+  EXPECT_NE(drift(calm), all);
+  HoverFlightParams no_torque = f, no_push = f, no_bias = f, no_altimeter = f;
+  no_torque.gusts->gust_torque = 0.0;
+  no_push.gusts->gust_force = 0.0;
+  no_bias.gust_start.gyro_bias = Vec3::Zero();
+  no_altimeter.gusts->altitude_noise = 0.0;
+  for (const HoverFlightParams* q : {&no_torque, &no_push, &no_bias, &no_altimeter}) {
+    EXPECT_NE(drift(*q), all);
+  }
 }
 
 }  // namespace

@@ -148,6 +148,15 @@ struct EpisodeStart {
 /// A start at `roll` and `pitch` (rad), everything else still.
 EpisodeStart attitudeStart(double roll, double pitch);
 
+/// The gusts of `start` due at control update `update` (of `control_period`; a gust is due at
+/// the update whose period holds its time), applied to `creature` in `world`: its horizontal
+/// wind step, the roll torque about the root's x axis as it points then and the vertical push
+/// on its link's centre of mass, with `params`' sizes and durations (none if 0). runEpisode's,
+/// and flyHover's with HoverFlightParams::gusts.
+void applyEpisodeGusts(World& world, const std::string& creature, const CreatureModel& model,
+                       const EpisodeParams& params, const EpisodeStart& start, std::int64_t update,
+                       double control_period);
+
 /// The turbulence an episode from `start` flies in: `base` (the episodes' air) with a
 /// realisation of its own (its seed mixed with the start's noise seed) and, if it is on, its
 /// intensities and scales at `height` (within the model's range).

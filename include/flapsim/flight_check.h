@@ -137,4 +137,25 @@ std::string hoverCheckGainsFile(const FlightCheckOptions& options);
 std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOptions& options,
                              bool& ok);
 
+/// One held-out start of flight_check --hover --real-air: the flight and what it flew from.
+struct HoverCheckRun {
+  HoverFlightResult flight;
+  EpisodeStart start;
+  /// The real-air bar: no flip, up-component above 0.5 and altitude rms under 0.3 m after the
+  /// settling time, mean bank under 5 deg.
+  bool passed() const;
+};
+
+/// flight_check --hover --real-air: flies `model` under hoverCheckController(options) from each
+/// of the held-out starts of realAirParams(options.params) (tilted up to --roll and --pitch,
+/// wind 1 m/s from a drawn heading, light turbulence, the roll torque and the push on a drawn
+/// wing at drawn times, IMU noise, a drawn gyro bias, altimeter noise), holding the altitude
+/// (3 m unless given) from it, on `options.params.threads` threads (results do not depend on it).
+std::vector<HoverCheckRun> hoverRealAirCheck(const CreatureModelPtr& model,
+                                             const FlightCheckOptions& options);
+
+/// Their table: a line per start and a summary; `failed` gets the starts that did not pass.
+std::string hoverRealAirReport(const FlightCheckOptions& options,
+                               const std::vector<HoverCheckRun>& runs, int& failed);
+
 }  // namespace flapsim

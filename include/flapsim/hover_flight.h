@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "flapsim/creature_model.h"
+#include "flapsim/evolve.h"
 #include "flapsim/hover_controller.h"
 #include "flapsim/sensors.h"
 #include "flapsim/world.h"
@@ -26,7 +27,14 @@ struct HoverFlightParams {
   ImuNoise imu_noise;
   std::uint64_t noise_seed = 0;
   bool end_on_flip = false;  // the root's up axis below the horizon ends the flight
-  WorldParams world;         // its air's wind included (ground off by default)
+  /// An episode's disturbances beyond the wind and the IMU's noise (flight_check --hover
+  /// --real-air; none by default, and none in the hover preset's episodes): with `gusts`, the
+  /// gusts of `gust_start` at their times (applyEpisodeGusts, with gusts' sizes and
+  /// durations), the gyro bias of `gust_start` added to the IMU's angular velocity, and the
+  /// altimeter's noise of `gusts` (altitude_noise, m) on the height the controller reads.
+  std::optional<EpisodeParams> gusts;
+  EpisodeStart gust_start;
+  WorldParams world;  // its air's wind included (ground off by default)
   HoverFlightParams() { world.ground = false; }
 };
 
@@ -45,6 +53,9 @@ struct HoverFlightResult {
   /// m: rms of the height less the setpoint over the steps after the settling time (NaN if
   /// none).
   double altitude_rms = 0.0;
+  /// rad: the mean over the steps after the settling time of the root's bank,
+  /// asin(world_up . body_left) (> 0: right side low).
+  double mean_bank = 0.0;
   bool flipped = false;       // the root's up axis went below the horizon (end_on_flip: it ended)
   Vec3 drift = Vec3::Zero();  // m: the root's horizontal offset from its start at the end
   double mass = 0.0;          // kg

@@ -2,7 +2,8 @@
 // start, whether it flipped, its lowest up-component, its final and lowest height, the
 // fraction of time upright and its motors' power. Exit status 0 if every start passes (no
 // flip, up-component never below 0.5, final height above the start), 1 if one does not, 2 on
-// bad arguments. --hover flies the hover creature instead (flapsim::hoverCheckReport).
+// bad arguments. --hover flies the hover creature instead (flapsim::hoverCheckReport;
+// with --real-air from held-out starts, flapsim::hoverRealAirCheck).
 #include "flapsim/flight_check.h"
 
 #include <algorithm>
@@ -40,12 +41,17 @@ int main(int argc, char** argv) {
         flapsim::writeTextFile(o.write_gains, flapsim::hoverCheckGainsFile(o));
         std::cout << "wrote " << o.write_gains << "\n";
       }
-      bool ok = false;
-      std::cout << flapsim::hoverCheckReport(
+      const flapsim::CreatureModelPtr hover =
           o.urdf.empty() ? flapsim::parseCreatureModel(flapsim::makeHoverUrdf("hover"),
                                                        "make_creature --layout hover")
-                         : flapsim::loadCreatureModel(o.urdf),
-          o, ok);
+                         : flapsim::loadCreatureModel(o.urdf);
+      if (o.params.real_air) {  // from held-out starts
+        int failed = 0;
+        std::cout << flapsim::hoverRealAirReport(o, flapsim::hoverRealAirCheck(hover, o), failed);
+        return failed == 0 ? 0 : 1;
+      }
+      bool ok = false;
+      std::cout << flapsim::hoverCheckReport(hover, o, ok);
       return ok ? 0 : 1;
     }
     const flapsim::ControllerSpec spec = flapsim::loadControllerYaml(o.weights);

@@ -119,6 +119,38 @@ EpisodeStart attitudeStart(double roll, double pitch) {
   return s;
 }
 
+void applyEpisodeGusts(World& world, const std::string& name, const CreatureModel& model,
+                       const EpisodeParams& p, const EpisodeStart& start, std::int64_t s,
+                       double control_period) {
+  auto due = [&](double time) {
+    return static_cast<double>(s) == std::floor(time / control_period);
+  };
+  if (due(start.gust_time) && start.gust.squaredNorm() > 0.0) {
+    AirParams air = world.params().air;
+    air.wind += start.gust;
+    world.setAirParams(air);
+  }
+  if (p.gust_torque != 0.0 && due(start.torque_time)) {
+    ExternalWrench w;
+    w.torque =
+        start.torque_sign * p.gust_torque * (world.rootPose(name).orientation * Vec3::UnitX());
+    w.duration = p.gust_torque_duration;
+    world.applyWrench(name, w);
+  }
+  if (p.gust_force != 0.0 && due(start.force_time)) {
+    const int link = model.findLink(start.force_link);
+    if (link < 0) {
+      throw InputError("episode: '" + model.name + "' has no link '" + start.force_link + "'");
+    }
+    ExternalWrench w;
+    w.link = start.force_link;
+    w.force = Vec3(0.0, 0.0, start.force_sign * p.gust_force);
+    w.point = world.state(name).link_poses[link].apply(model.links[link].urdfCom());
+    w.duration = p.gust_force_duration;
+    world.applyWrench(name, w);
+  }
+}
+
 std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureModel* model) {
   Rng rng(mixSeed(p.seed, 0x57A27ULL));
   std::vector<EpisodeStart> starts(std::max(p.episodes, 0));
@@ -212,39 +244,6 @@ FlapSensing sense(const World& world, const std::string& name, const CreatureMod
   return s;
 }
 
-// The gusts of `start` due at sample `s` (the step of their time), applied to the world.
-void applyGusts(World& world, const std::string& name, const CreatureModel& model,
-                const EpisodeParams& p, const EpisodeStart& start, std::int64_t s,
-                double control_period) {
-  auto due = [&](double time) {
-    return static_cast<double>(s) == std::floor(time / control_period);
-  };
-  if (due(start.gust_time) && start.gust.squaredNorm() > 0.0) {
-    AirParams air = world.params().air;
-    air.wind += start.gust;
-    world.setAirParams(air);
-  }
-  if (p.gust_torque != 0.0 && due(start.torque_time)) {
-    ExternalWrench w;
-    w.torque =
-        start.torque_sign * p.gust_torque * (world.rootPose(name).orientation * Vec3::UnitX());
-    w.duration = p.gust_torque_duration;
-    world.applyWrench(name, w);
-  }
-  if (p.gust_force != 0.0 && due(start.force_time)) {
-    const int link = model.findLink(start.force_link);
-    if (link < 0) {
-      throw InputError("episode: '" + model.name + "' has no link '" + start.force_link + "'");
-    }
-    ExternalWrench w;
-    w.link = start.force_link;
-    w.force = Vec3(0.0, 0.0, start.force_sign * p.gust_force);
-    w.point = world.state(name).link_poses[link].apply(model.links[link].urdfCom());
-    w.duration = p.gust_force_duration;
-    world.applyWrench(name, w);
-  }
-}
-
 // The running sums of an episode's samples.
 struct Tally {
   double score = 0.0;
@@ -315,7 +314,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   result.min_height = std::numeric_limits<double>::infinity();
   Tally tally;
   for (std::int64_t s = 0; s < samples; ++s) {
-    applyGusts(world, name, *model, p, start, s, control_period);
+    applyEpisodeGusts(world, name, *model, p, start, s, control_period);
     FlapSensing sensed =
         sense(world, name, *model, bodies, p, start.gyro_bias, noise, filter, control_period);
     sensed.setpoint = start.altitude;

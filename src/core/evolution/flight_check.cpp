@@ -71,7 +71,8 @@ double creatureSpan(const CreatureModel& model) {
 
 FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model) {
   const double weight = model.totalMass() * 9.81;
-  const int units = flapUnitLayout(model).units();
+  // The pushed wing's unit: a flap unit of a chain, or the whole of any other creature.
+  const int units = model.findLink("unit0_body") >= 0 ? flapUnitLayout(model).units() : 1;
   p.wind = 1.0;
   p.turbulence = turbulenceLevelWind("light");
   p.gust_torque = 0.5 * weight * 0.5 * creatureSpan(model);
@@ -110,9 +111,11 @@ std::string turbulenceNote(double wind_at_6m) {
   return note;
 }
 
-// Tags of the flags that only one of flight_check's modes flies with.
+// Tags of the flags that only one of flight_check's modes flies with, and of those of the
+// held-out starts: the network's, and with --hover only real air's.
 const char* const kNetworkOnly = "network";
 const char* const kHoverOnly = "hover";
+const char* const kStarts = "starts";
 
 // The air's and the sensors' flags: wind, turbulence, gusts, noise, the real-air row.
 void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
@@ -134,8 +137,7 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
             "real air, all at once: wind 1 m/s, light turbulence, a roll torque (0.5 x weight x "
             "half-span) for 0.5 s and a push on a drawn wing (4 x its unit's weight) for 0.2 s "
             "at drawn times, IMU noise 0.05, a gyro bias up to 0.02 rad/s, altimeter noise "
-            "0.05 m")
-      .tag(kNetworkOnly)
+            "0.05 m (--hover too: from held-out starts)")
       .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
             "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
       .tag(kNetworkOnly)
@@ -172,9 +174,9 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
       .tag(kNetworkOnly)
       .text("--urdf", "FILE", &o.urdf, "a creature of flap units from a URDF file")
       .integer("--starts", "N", &p.starts, {1, kMaxEpisodes}, "held-out starts")
-      .tag(kNetworkOnly)
+      .tag(kStarts)
       .seed("--seed", "S", &p.seed, "their seed (it also draws headings, gust times, wings)")
-      .tag(kNetworkOnly)
+      .tag(kStarts)
       .real("--roll", "R", &p.max_roll, {0, M_PI}, "start roll uniform in +-R rad")
       .real("--pitch", "P", &p.max_pitch, {0, M_PI}, "start pitch uniform in +-P rad")
       .real("--duration", "T", &p.duration, {0, kMaxEpisodeDuration, true}, "s")
@@ -188,7 +190,7 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
           "a step in which a wing turns is cut into pieces of at most S s (0: never)")
       .integer("--threads", "N", &p.threads, {1, 256},
                "parallel flights; results do not depend on it")
-      .tag(kNetworkOnly)
+      .tag(kStarts)
       .flag("--hover", &o.hover, true,
             "fly the hover creature (make_creature --layout hover, or --urdf) under its "
             "controller instead, started --roll, --pitch tilted (0 unless given)")
@@ -211,16 +213,16 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
 std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector<CliSeen>& seen) {
   for (const CliSeen& given : seen) {
     const std::string& name = given.flag->names[0];
-    if (o.hover && given.flag->tag == kNetworkOnly) {
+    const FlightCheckParams& p = o.params;
+    if (o.hover &&
+        (given.flag->tag == kNetworkOnly || (given.flag->tag == kStarts && !p.real_air))) {
       return name +
              " has no effect with --hover (one flight of the hover controller: no network, "
-             "no held-out starts, gusts or sensor noise)";
+             "no held-out starts, gusts or sensor noise but those of --real-air)";
     }
     if (!o.hover && given.flag->tag == kHoverOnly) {
       return name + " is for --hover only (the network's flights have no hover gains)";
     }
-    if (o.hover) continue;
-    const FlightCheckParams& p = o.params;
     for (const char* set :
          {"--wind", "--turbulence", "--gust-torque", "--gust-force", "--gust-link", "--gust-time",
           "--noise", "--altitude-noise", "--gyro-bias"}) {

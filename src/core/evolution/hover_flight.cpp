@@ -28,15 +28,24 @@ std::string validateHoverFlightParams(const HoverFlightParams& p) {
 
 namespace {
 
-// The controller's sensors: the root's IMU (with the flight's noise) and its odometry.
-HoverSensors hoverSensors(const CreatureState& s, const ImuNoise& noise, Rng& rng) {
+// The controller's sensors: the root's IMU (with the flight's noise, and the gyro bias of its
+// disturbances) and its odometry (with the altimeter's noise on the height, from a generator
+// of its own so that the IMU's draws stay as they were).
+HoverSensors hoverSensors(const CreatureState& s, const HoverFlightParams& p, Rng& rng,
+                          Rng& altimeter) {
   const ImuReading imu =
-      imuReading(s, Vec3::Zero(), Vec3::Zero(), noise, [&rng] { return rng.normal(); });
+      imuReading(s, Vec3::Zero(), Vec3::Zero(), p.imu_noise, [&rng] { return rng.normal(); });
   HoverSensors sensors;
   sensors.orientation = imu.orientation;
   sensors.angular_velocity = imu.angular_velocity;
   sensors.position = s.link_poses[0].position;
   sensors.velocity = s.link_twists[0].linear;
+  if (p.gusts) {
+    sensors.angular_velocity += p.gust_start.gyro_bias;
+    if (p.gusts->altitude_noise > 0.0) {
+      sensors.position.z() += p.gusts->altitude_noise * altimeter.normal();
+    }
+  }
   return sensors;
 }
 
@@ -45,7 +54,7 @@ struct HoverFigures {
   HoverFlightResult& r;
   double altitude;
   double stroke_low = std::numeric_limits<double>::infinity(), stroke_high = -stroke_low;
-  double stroke_time = 0.0, squares = 0.0;
+  double stroke_time = 0.0, squares = 0.0, bank = 0.0;
   long samples = 0;
 
   void add(const Pose& pose, double step, double frequency) {
@@ -53,6 +62,7 @@ struct HoverFigures {
     r.min_height = std::min(r.min_height, z);
     r.max_height = std::max(r.max_height, z);
     r.min_upright = std::min(r.min_upright, (pose.orientation * Vec3::UnitZ()).z());
+    bank += std::asin(std::clamp((pose.orientation * Vec3::UnitY()).z(), -1.0, 1.0));
     squares += (z - altitude) * (z - altitude);
     ++samples;
     stroke_low = std::min(stroke_low, z);
@@ -80,6 +90,7 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   world.spawn(name, model, start);
   HoverController control(controller);
   Rng rng(p.noise_seed);
+  Rng altimeter(mixSeed(p.noise_seed, 0xA171ULL));
   const std::vector<std::string> wings = {kHoverWingJoints[0], kHoverWingJoints[1]};
   const int steps = static_cast<int>(std::lround(p.control_period / p.world.step_size));
   const int updates = static_cast<int>(std::lround(p.duration / p.control_period));
@@ -94,8 +105,11 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   double frequency_sum = 0.0;
   int counted = 0;
   for (int u = 0; u < updates && !(p.end_on_flip && r.flipped); ++u) {
+    if (p.gusts) {
+      applyEpisodeGusts(world, name, *model, *p.gusts, p.gust_start, u, p.control_period);
+    }
     const auto strokes =
-        control.update(hoverSensors(world.state(name), p.imu_noise, rng), p.control_period);
+        control.update(hoverSensors(world.state(name), p, rng, altimeter), p.control_period);
     world.setWingCommands(name, wings, {strokes[0], strokes[1]});
     const double frequency = strokes[0].downstroke_rate / (4.0 * strokes[0].amplitude);
     for (int k = 0; k < steps; ++k) {
@@ -123,6 +137,7 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   r.mean_frequency = counted > 0 ? frequency_sum / counted : 0.0;
   r.altitude_rms = figures.samples > 0 ? std::sqrt(figures.squares / figures.samples)
                                        : std::numeric_limits<double>::quiet_NaN();
+  r.mean_bank = figures.samples > 0 ? figures.bank / figures.samples : 0.0;
   r.start_sag = std::max(0.0, std::min(start.position.z(), controller.altitude) - r.lowest_height);
   r.drift = world.rootPose(name).position - start.position;
   r.drift.z() = 0.0;
