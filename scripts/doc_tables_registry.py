@@ -206,10 +206,59 @@ def real_air():
                    "` with its conditions, at 1 ms and with `--step-size 0.0005`"))
 
 
+
+def meets_real_air_bar(row):
+    """Issue 40's bar for one start: no flip, up-component above 0.5 after settling, altitude
+    rms under 0.3 m, mean bank under 5 deg."""
+    return (row["flipped"] == "no" and row["up_set"] > 0.5 and row["alt_rms"] is not None
+            and row["alt_rms"] < 0.3 and abs(row["bank"]) < 5.0)
+
+
+def real_air_bar():
+    """Every creature with a controller that holds an altitude, in real air, against the bar."""
+    flyers = [
+        ("afc_1, `config/afc_1_real_air_weights.yaml` (evolved)",
+         ["--weights", "config/afc_1_real_air_weights.yaml"]),
+        ("afc_12, `config/afc_12_altitude_weights.yaml` (afc_1's altitude network, hand-set "
+         "chain terms)", ["--weights", "config/afc_12_altitude_weights.yaml", "--pairs", "12"]),
+        ("hover_1, `config/hover_1_gains.yaml` (evolved gains)",
+         ["--hover", "--gains", "config/hover_1_gains.yaml"]),
+    ]
+    steps = (1, 0.5)
+    runs = [Run(key(label, step), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
+                + ["--real-air"] + step_argv(step))
+            for label, flags in flyers for step in steps]
+
+    def rows(out):
+        result = []
+        for label, _ in flyers:
+            for step in steps:
+                text = out[key(label, step)]
+                r = starts(text)
+                rms = [x["alt_rms"] for x in r if x["alt_rms"] is not None]
+                result.append([label, step_cell(step), str(flips(r)),
+                               f"{lowest(r, 'up_set'):.3f}",
+                               f"{max(rms):.2f} m" if rms else "-",
+                               f"{max_abs_bank(r):.1f} deg",
+                               f"**{sum(meets_real_air_bar(x) for x in r)} of {len(r)}**",
+                               f"{sum(x['P+/m'] for x in r) / len(r):.0f} W/kg"])
+        return result
+    register(Table("real_air_bar", FLIGHT_DOC,
+                   ["creature, controller", "step", "flips", "lowest up after 10 s",
+                    "largest alt. rms after 10 s", "largest abs mean bank", "meet the bar",
+                    "mean power"], runs, rows,
+                   f"each row `{FLIGHT_CHECK} FLAGS --altitude 5 {' '.join(WIDE_STARTS)} "
+                   "--real-air` with the step's `--step-size` (FLAGS: the controller's, "
+                   "`--hover --gains FILE` for the hover creature); the bar: no flip, lowest "
+                   "up-component above 0.5 after 10 s, altitude rms under 0.3 m, mean bank "
+                   "under 5 deg"))
+
+
 held_out_starts()
 steady_wind()
 steady_wind_hover()
 real_air()
+real_air_bar()
 register_flight_table("afc_1_altitude_climbing", "config/afc_1_altitude_weights.yaml", 1, (1, 0.5),
                       CONDITIONS + HOLD_CONDITIONS)
 register_flight_table("afc_1_altitude_hold", "config/afc_1_altitude_weights.yaml", 1, (1, 0.5),

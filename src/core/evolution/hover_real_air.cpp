@@ -49,9 +49,10 @@ std::vector<HoverCheckRun> hoverRealAirCheck(const CreatureModelPtr& model,
 std::string hoverRealAirReport(const FlightCheckOptions& o, const std::vector<HoverCheckRun>& runs,
                                int& failed) {
   constexpr double kDeg = 180.0 / M_PI;
+  // As flight_check's network table: one word a column (heights after the settling time).
   std::string out =
-      "start    roll   pitch      wind flipped up_set  lowest_up   height after 10 s  alt_rms"
-      "    bank    drift    P+/m  result\n";
+      "start    roll   pitch      wind flipped up_set lowest_up   min_z   max_z  alt_rms    bank"
+      "    drift      P+/m result\n";
   failed = 0;
   double power = 0.0;
   for (size_t i = 0; i < runs.size(); ++i) {
@@ -59,13 +60,15 @@ std::string hoverRealAirReport(const FlightCheckOptions& o, const std::vector<Ho
     const HoverFlightResult& f = r.flight;
     const Vec3& w = r.start.wind;
     char line[256];
+    char wind[32];
+    std::snprintf(wind, sizeof wind, "%.1f@%.0f°", w.norm(), std::atan2(w.y(), w.x()) * kDeg);
     std::snprintf(line, sizeof line,
-                  "%-5zu %6.1f° %6.1f° %4.1f@%4.0f° %7s %6.3f %10.3f %7.2f to %5.2fm %7.3fm %6.2f° "
-                  "%7.2fm %5.0fW/kg  %s\n",
-                  i, r.start.roll * kDeg, r.start.pitch * kDeg, w.norm(),
-                  std::atan2(w.y(), w.x()) * kDeg, f.flipped ? "yes" : "no", f.min_upright,
-                  f.lowest_upright, f.min_height, f.max_height, f.altitude_rms, f.mean_bank * kDeg,
-                  f.drift.norm(), f.specificPower(), r.passed() ? "pass" : "FAIL");
+                  "%-5zu %6.1f° %6.1f° %9s %7s %6.3f %9.3f %6.2fm %6.2fm %7.3fm %6.2f° %7.2fm "
+                  "%6.0fW/kg %s\n",
+                  i, r.start.roll * kDeg, r.start.pitch * kDeg, wind, f.flipped ? "yes" : "no",
+                  f.min_upright, f.lowest_upright, f.min_height, f.max_height, f.altitude_rms,
+                  f.mean_bank * kDeg, f.drift.norm(), f.specificPower(),
+                  r.passed() ? "pass" : "FAIL");
     out += line;
     if (!r.passed()) ++failed;
     power += f.specificPower() / static_cast<double>(runs.size());
