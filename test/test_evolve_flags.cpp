@@ -14,9 +14,12 @@
 
 #include "flapsim/evolve.h"
 #include "flapsim/evolve_args.h"
+#include "test_util.h"
 
 namespace flapsim {
 namespace {
+
+using test::withFlag;
 
 struct Evolved {
   std::string refused;
@@ -49,18 +52,6 @@ Evolved evolveWith(const std::vector<std::string>& args) {
 const std::vector<std::string> kBase = {"--population", "4",    "--generations", "1",
                                         "--episodes",   "2",    "--duration",    "1",
                                         "--step-sizes", "0.001"};
-
-std::vector<std::string> with(std::vector<std::string> args, const std::string& flag,
-                              const std::vector<std::string>& values) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] != flag) continue;
-    for (size_t k = 0; k < values.size(); ++k) args[i + 1 + k] = values[k];
-    return args;
-  }
-  args.push_back(flag);
-  args.insert(args.end(), values.begin(), values.end());
-  return args;
-}
 
 // (flag, values, what the run must do: "" changes what evolves, "near" the same with altitude
 // setpoints near the 1 m start (the altitude input, the error over 1 m, is clamped at +1 with
@@ -145,11 +136,11 @@ TEST(EvolveFlags, EveryFlagOfTheFlapPresetsChangesWhatEvolvesOrIsRefusedByName) 
   for (const auto& [flag, values, refusal] : tried) {
     SCOPED_TRACE(flag);
     if (refusal == "near") {  // the altitude input acts inside its clamp: setpoints near 1 m
-      const std::vector<std::string> near = with(kBase, "--altitude", {"0.9", "1.1"});
-      EXPECT_NE(evolveWith(with(near, flag, values)).figures, evolveWith(near).figures);
+      const std::vector<std::string> near = withFlag(kBase, "--altitude", {"0.9", "1.1"});
+      EXPECT_NE(evolveWith(withFlag(near, flag, values)).figures, evolveWith(near).figures);
       continue;
     }
-    const Evolved e = evolveWith(with(kBase, flag, values));
+    const Evolved e = evolveWith(withFlag(kBase, flag, values));
     if (refusal.empty()) {
       EXPECT_EQ(e.refused, "");
       EXPECT_NE(e.figures, plain.figures);
@@ -159,8 +150,9 @@ TEST(EvolveFlags, EveryFlagOfTheFlapPresetsChangesWhatEvolvesOrIsRefusedByName) 
   }
   // The flip penalty and the crash height act only on a flip or a crash: from starts rolled
   // 1.5 rad (nearly on their backs) some episode flips within its second.
-  const std::vector<std::string> rolled = with(kBase, "--roll", {"1.5", "1.5"});
-  EXPECT_NE(evolveWith(with(rolled, "--flip-penalty", {"5"})).figures, evolveWith(rolled).figures);
+  const std::vector<std::string> rolled = withFlag(kBase, "--roll", {"1.5", "1.5"});
+  EXPECT_NE(evolveWith(withFlag(rolled, "--flip-penalty", {"5"})).figures,
+            evolveWith(rolled).figures);
 }
 
 }  // namespace

@@ -18,6 +18,8 @@
 namespace flapsim {
 namespace {
 
+using test::withFlag;
+
 // What flight_check's main() flies for `args` (its parse, its two refusals, its creature), as
 // the figures of every start; `refused` the refusal instead.
 struct Flown {
@@ -58,19 +60,6 @@ std::vector<std::string> base() {
           "--duration",   "0.4",
           "--altitude",   "1.1",
           "--gust-force", "1"};
-}
-
-// `args` with `flag` given `values` (replacing the values it has there, if any).
-std::vector<std::string> with(std::vector<std::string> args, const std::string& flag,
-                              const std::vector<std::string>& values) {
-  for (size_t i = 0; i < args.size(); ++i) {
-    if (args[i] != flag) continue;
-    for (size_t k = 0; k < values.size(); ++k) args[i + 1 + k] = values[k];
-    return args;
-  }
-  args.push_back(flag);
-  args.insert(args.end(), values.begin(), values.end());
-  return args;
 }
 
 TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByName) {
@@ -120,12 +109,12 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
 
   for (const auto& [flag, values] : tried) {
     SCOPED_TRACE(flag);
-    std::vector<std::string> args = with(base(), flag, values);
+    std::vector<std::string> args = withFlag(base(), flag, values);
     if (flag == "--real-air") {  // it sets the gusts itself: refused with the base's push
       EXPECT_EQ(fly(args).refused, "--gust-force is set by --real-air (give one or the other)");
-      args =
-          with({"--weights", base()[1], "--starts", "2", "--duration", "0.4", "--altitude", "1.1"},
-               flag, values);
+      args = withFlag(
+          {"--weights", base()[1], "--starts", "2", "--duration", "0.4", "--altitude", "1.1"}, flag,
+          values);
       const Flown real = fly(args);
       ASSERT_EQ(real.refused, "");
       const Flown calm =
@@ -138,7 +127,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
     EXPECT_NE(f.figures, plain.figures);
   }
   // The threads share the starts out; what each start flies is the same to the bit.
-  EXPECT_EQ(fly(with(base(), "--threads", {"2"})).figures, plain.figures);
+  EXPECT_EQ(fly(withFlag(base(), "--threads", {"2"})).figures, plain.figures);
 }
 
 // flight_check --hover: its report for `args` (the tool's parse, refusal and two reports), or
@@ -184,7 +173,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheHoverModeChangesItsFlight) {
   };
   for (const auto& [flag, values] : tried) {
     SCOPED_TRACE(flag);
-    const std::string report = flyHoverCheck(with(base, flag, values));
+    const std::string report = flyHoverCheck(withFlag(base, flag, values));
     EXPECT_EQ(report.find("refused"), std::string::npos) << report;
     EXPECT_NE(report, plain);
   }

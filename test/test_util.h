@@ -15,6 +15,20 @@ inline std::string sourcePath(const std::string& relative) {
   return std::string(FLAPSIM_SOURCE_DIR) + "/" + relative;
 }
 
+// A tool's arguments `args` with `flag` given `values`: those it has there replaced, else the
+// flag appended with them (the flag walks of test_evolve_flags and test_flight_check_flags).
+inline std::vector<std::string> withFlag(std::vector<std::string> args, const std::string& flag,
+                                         const std::vector<std::string>& values) {
+  for (size_t i = 0; i < args.size(); ++i) {
+    if (args[i] != flag) continue;
+    for (size_t k = 0; k < values.size(); ++k) args[i + 1 + k] = values[k];
+    return args;
+  }
+  args.push_back(flag);
+  args.insert(args.end(), values.begin(), values.end());
+  return args;
+}
+
 inline CreatureModelPtr loadUrdf(const std::string& name) {
   return loadCreatureModel(sourcePath("urdf/" + name));
 }
