@@ -38,14 +38,15 @@ DisturbanceParams parseDisturbanceParams(const XmlRpc::XmlRpcValue& ns,
 /// Reads the creature from <simulator>/<creature>/robot_description (the simulator's namespace:
 /// apply_wrench_service's), draws real air's disturbances for it (logged), and hands both
 /// wrenches to flapsim/apply_wrench ahead, each with its drawn time as start_time and its drawn
-/// duration: the simulator starts each at the first step that starts at or after its time, so
-/// a lockstep flight is the same to the bit run after run. The roll torque is about the root
+/// duration: the simulator starts each at the first step that starts at or after its time,
+/// the same step run after run, however the calls travel. The roll torque is about the root
 /// link's x axis as it points then, the push vertical in the world at the pushed link's centre
 /// of mass then (flapsim/get_state; the point moves with the link, so it is still the centre
 /// of mass when the push starts). It does so at start-up, before it subscribes to /clock, when
 /// the creature is there (afc.launch's flight starts only once this node receives /clock, so
 /// the simulator is held meanwhile); else at the first /clock at which it is there. A drawn time
-/// already past then is not applied late: it logs an error naming the wrench and both times.
+/// already past then is not applied late: it logs an error naming the wrench and both times
+/// (and one if the simulator answers a start a step or more after the drawn time).
 /// Publishes each wrench on ~applied (geometry_msgs/WrenchStamped, latched) at the first /clock
 /// at or after its start: stamped with the sim time of the step it started at (the simulator's
 /// answer), in the frame of the link it acts on as that frame was when it was handed over,
@@ -93,6 +94,7 @@ class DisturbanceNode {
   ros::NodeHandle nh_, pnh_;
   DisturbanceParams params_;
   std::string description_key_;  // <simulator>/<creature>/robot_description
+  std::string step_size_key_;    // the simulator node's step_size parameter
   ros::ServiceClient apply_wrench_, get_state_;
   ros::Subscriber clock_sub_;
   ros::Publisher applied_pub_;

@@ -77,8 +77,10 @@ DisturbanceNode::DisturbanceNode(const ros::NodeHandle& nh, const ros::NodeHandl
   XmlRpcValue ns;
   if (!pnh_.getParam(pnh_.getNamespace(), ns)) ns = XmlRpcValue();
   params_ = parseDisturbanceParams(ns, namespaceBasename(nh_.getNamespace()));
-  const std::string simulator = ros::names::parentNamespace(
-      ros::names::parentNamespace(ros::names::resolve(params_.apply_wrench_service)));
+  const std::string node = ros::names::parentNamespace(  // the simulator node's private one
+      ros::names::resolve(params_.apply_wrench_service));
+  step_size_key_ = ros::names::append(node, "step_size");
+  const std::string simulator = ros::names::parentNamespace(node);
   description_key_ =
       ros::names::append(ros::names::append(simulator, params_.creature), "robot_description");
   applied_pub_ = pnh_.advertise<geometry_msgs::WrenchStamped>("applied", 2, /*latch=*/true);
@@ -219,6 +221,13 @@ bool DisturbanceNode::apply(flapsim::ApplyWrench& call, Pending& p) {
     return false;
   }
   p.applied.header.stamp = call.response.start_time;
+  double step = 0.0;  // a step or more after the drawn time: the simulator had passed it
+  if (nh_.getParam(step_size_key_, step) &&
+      (call.response.start_time.toSec() - p.time) >= step - flapsim::kWrenchStartTolerance) {
+    ROS_ERROR_STREAM("disturbance: the " << p.what << " drawn at t = " << p.time
+                                         << " s starts late, at t = " << call.response.start_time
+                                         << " s: the simulator had passed its time");
+  }
   ROS_INFO_STREAM("disturbance: " << p.what << " drawn at t = " << p.time
                                   << " s: " << call.response.status_message << ", for "
                                   << call.request.duration.toSec() << " s");

@@ -7,7 +7,8 @@
 // simulator's flapsim/apply_wrench answered it would start at, published once sim time got
 // there). The flight from `~settle` to `~end` s of sim time on /afc/odom (height about
 // `~altitude`, lowest up-component, per 5 s) is printed, and the root's pose at `~end` to the
-// bit (%a), to compare runs: the same launch gives the same flight.
+// bit (%a), to compare runs (which still differ: the IMU's noise turns on when subscribers
+// connect, doc/scenarios.md#real-air).
 #include <geometry_msgs/WrenchStamped.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
