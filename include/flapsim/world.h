@@ -148,6 +148,10 @@ struct ExternalWrench {
   Vec3 torque = Vec3::Zero();  // N m, world frame, added to the force's moment
   Vec3 point = Vec3::Zero();   // where the force acts, world frame, at the time of the call
   double duration = 0.0;       // s of sim time (whole steps); < 0: until cleared
+  /// s of sim time: it acts from the first step that starts at or after it (within
+  /// kWrenchStartTolerance), its duration counted from there; 0 or a time already passed: from
+  /// the next step. Force, torque and point are still taken at the call.
+  double start_time = 0.0;
 };
 
 /// Largest magnitudes of an external wrench, its longest duration, and the most wrenches
@@ -156,6 +160,8 @@ constexpr double kMaxForce = 1e6;           // N
 constexpr double kMaxTorque = 1e6;          // N m
 constexpr double kMaxWrenchDuration = 1e9;  // s
 constexpr int kMaxWrenches = 1000;
+/// A step starting this close before a wrench's start_time counts as starting at it.
+constexpr double kWrenchStartTolerance = 1e-9;  // s
 
 /// Last air wrench on each link (about its COM), and optionally per cell.
 struct LinkAero {
@@ -296,17 +302,19 @@ class World {
   /// unknown creature or link, a non-finite or out-of-range value, a wrong count, a joint
   /// position outside its limits, a moving fixed base) and changes nothing.
   void setState(const std::string& creature, const StateRequest& request);
-  /// Applies `wrench` to a link of a creature from the next step on, for
-  /// round(duration / step_size) steps (at least one: a duration shorter than a step, 0
-  /// included, acts for one step, as in gazebo_msgs/ApplyBodyWrench; at most
-  /// kMaxWrenchDuration; < 0: until cleared). The point moves with the link. Counted in the
-  /// momentum balance like the air. At most kMaxWrenches act on a creature at a time. Throws
+  /// Applies `wrench` to a link of a creature from the next step on, or from the first step
+  /// that starts at or after its start_time, for round(duration / step_size) steps (at least
+  /// one: a duration shorter than a step, 0 included, acts for one step, as in
+  /// gazebo_msgs/ApplyBodyWrench; at most kMaxWrenchDuration; < 0: until cleared). The point
+  /// moves with the link from the call on; the directions stay fixed in the world. Counted in
+  /// the momentum balance like the air. At most kMaxWrenches act or wait on a creature at a
+  /// time. Returns the sim time of the step it acts from (if the step size stays). Throws
   /// InputError naming the culprit and changes nothing.
-  void applyWrench(const std::string& creature, const ExternalWrench& wrench);
+  double applyWrench(const std::string& creature, const ExternalWrench& wrench);
   /// Removes the external wrenches of a creature (empty: of every creature), and of one of
   /// its links only if `link` is given. Returns how many were removed.
   int clearWrenches(const std::string& creature = "", const std::string& link = "");
-  /// External wrenches still acting on a creature.
+  /// External wrenches still acting on a creature, or waiting for their start_time.
   int wrenchCount(const std::string& creature) const;
   /// Acceleration of the root link's centre of mass over the last step, world frame (zero
   /// before the first step after a spawn, reset or setState, and while frozen).

@@ -270,6 +270,7 @@ flapsim::ExternalWrench fromMsg(const flapsim::ApplyWrench::Request& req) {
   w.force = flapsim::Vec3(req.wrench.force.x, req.wrench.force.y, req.wrench.force.z);
   w.torque = flapsim::Vec3(req.wrench.torque.x, req.wrench.torque.y, req.wrench.torque.z);
   w.duration = req.duration.toSec();
+  w.start_time = req.start_time.toSec();
   return w;
 }
 

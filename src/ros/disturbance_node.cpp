@@ -77,8 +77,10 @@ DisturbanceNode::DisturbanceNode(const ros::NodeHandle& nh, const ros::NodeHandl
   XmlRpcValue ns;
   if (!pnh_.getParam(pnh_.getNamespace(), ns)) ns = XmlRpcValue();
   params_ = parseDisturbanceParams(ns, namespaceBasename(nh_.getNamespace()));
-  const std::string simulator = ros::names::parentNamespace(
-      ros::names::parentNamespace(ros::names::resolve(params_.apply_wrench_service)));
+  const std::string node = ros::names::parentNamespace(  // the simulator node's private one
+      ros::names::resolve(params_.apply_wrench_service));
+  step_size_key_ = ros::names::append(node, "step_size");
+  const std::string simulator = ros::names::parentNamespace(node);
   description_key_ =
       ros::names::append(ros::names::append(simulator, params_.creature), "robot_description");
   applied_pub_ = pnh_.advertise<geometry_msgs::WrenchStamped>("applied", 2, /*latch=*/true);
@@ -94,7 +96,18 @@ bool DisturbanceNode::run() {
   }
   apply_wrench_ = nh_.serviceClient<flapsim::ApplyWrench>(params_.apply_wrench_service);
   get_state_ = nh_.serviceClient<flapsim::GetState>(params_.get_state_service);
-  draw();  // at once if the creature is there (its description is set when it is spawned)
+  torque_.what = "roll torque";
+  push_.what = "push";
+  // Ahead of the flight if the creature is there: its state answered means it was spawned
+  // (its description is set then), and the flight waits for this node to receive /clock.
+  ros::Time now;
+  if (linkPose("", now, false) && draw()) {
+    handOver();
+  } else {
+    ROS_INFO_STREAM("disturbance: no creature '" << params_.creature
+                                                 << "' yet: its wrenches at the first /clock "
+                                                    "at which it is there");
+  }
   clock_sub_ = nh_.subscribe("/clock", 100, &DisturbanceNode::onClock, this);
   while (ros::ok() && fatal_.empty()) {
     ros::getGlobalCallbackQueue()->callAvailable(ros::WallDuration(0.1));
@@ -111,6 +124,9 @@ bool DisturbanceNode::draw() {
   draws_ = flapsim::realAirDraws(*model_, params_.draw);
   torque_.time = draws_.torque_time;
   push_.time = draws_.force_time;
+  torque_.wanted = draws_.torque != 0.0;
+  push_.wanted = draws_.force != 0.0;
+  for (Pending* p : {&torque_, &push_}) p->handed = !p->wanted;  // none: nothing to hand over
   ROS_INFO_STREAM("disturbance: real air for '"
                   << params_.creature << "' (flight_check --real-air --seed " << params_.draw.seed
                   << " --duration " << params_.draw.duration << ", its first start):\n"
@@ -122,8 +138,12 @@ bool DisturbanceNode::draw() {
 
 void DisturbanceNode::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {
   const double t = msg->clock.toSec();
-  if (t < last_time_) {  // a reset: the disturbances still to come happen again
-    for (Pending* p : {&torque_, &push_}) p->applied = p->applied && p->time <= t;
+  if (t < last_time_) {  // a reset dropped the wrenches waiting: those still to come again
+    for (Pending* p : {&torque_, &push_}) {
+      if (!p->wanted || p->time < t) continue;
+      p->handed = p->started = false;
+      p->applied = geometry_msgs::WrenchStamped();
+    }
   }
   last_time_ = t;
   try {
@@ -136,70 +156,97 @@ void DisturbanceNode::onClock(const rosgraph_msgs::Clock::ConstPtr& msg) {
       }
       return;
     }
-    if (!torque_.applied && t >= torque_.time) {
-      torque_.applied = true;
-      if (draws_.torque != 0.0) applyTorque();
-    }
-    if (!push_.applied && t >= push_.time) {
-      push_.applied = true;
-      if (draws_.force != 0.0) applyPush();
+    if (!torque_.handed || !push_.handed) handOver();
+    for (Pending* p : {&torque_, &push_}) {
+      const ros::Time& start = p->applied.header.stamp;
+      if (p->started || start.isZero() || msg->clock < start) continue;
+      p->started = true;
+      applied_pub_.publish(p->applied);
     }
   } catch (const std::exception& e) {
     fatal_ = e.what();  // a creature it cannot disturb: run() ends with it
   }
 }
 
-std::optional<flapsim::Pose> DisturbanceNode::linkPose(const std::string& link, ros::Time& stamp) {
+bool DisturbanceNode::handOver() {
+  ros::Time now;  // the sim time they are handed over at
+  if (!linkPose(model_->links[0].name, now, true)) return false;
+  if (!torque_.handed) {
+    torque_.handed = true;
+    if (stillToCome(torque_, now)) handTorque();
+  }
+  if (!push_.handed) {
+    if (model_->findLink(draws_.force_link) < 0) {
+      throw flapsim::InputError(description_key_ + " has no link '" + draws_.force_link + "'");
+    }
+    ros::Time stamp;
+    const std::optional<flapsim::Pose> wing = linkPose(draws_.force_link, stamp, true);
+    if (!wing) return false;
+    push_.handed = true;
+    if (stillToCome(push_, now)) handPush(*wing);
+  }
+  return true;
+}
+
+bool DisturbanceNode::stillToCome(const Pending& p, const ros::Time& now) const {
+  if (p.time >= now.toSec() - flapsim::kWrenchStartTolerance) return true;
+  ROS_ERROR_STREAM("disturbance: the " << p.what << " drawn at t = " << p.time
+                                       << " s is not applied: sim time was already " << now.toSec()
+                                       << " s when it could be handed over");
+  return false;
+}
+
+std::optional<flapsim::Pose> DisturbanceNode::linkPose(const std::string& link, ros::Time& stamp,
+                                                       bool loud) {
   flapsim::GetState state;
   state.request.model_name = params_.creature;
   state.request.link_name = link;
   if (!get_state_.call(state) || !state.response.success) {
-    ROS_ERROR_STREAM("disturbance: no state of " << params_.creature << "::" << link << " from "
-                                                 << params_.get_state_service << ": "
-                                                 << state.response.status_message);
+    if (loud) {
+      ROS_ERROR_STREAM("disturbance: no state of " << params_.creature << "::" << link << " from "
+                                                   << params_.get_state_service << ": "
+                                                   << state.response.status_message);
+    }
     return std::nullopt;
   }
   stamp = state.response.header.stamp;
   return fromMsg(state.response.pose);  // the link frame in the world
 }
 
-bool DisturbanceNode::apply(flapsim::ApplyWrench& call, const char* what) {
+bool DisturbanceNode::apply(flapsim::ApplyWrench& call, Pending& p) {
   call.request.model_name = params_.creature;
-  if (apply_wrench_.call(call) && call.response.success) return true;
-  ROS_ERROR_STREAM("disturbance: the " << what << " failed: " << call.response.status_message);
-  return false;
+  call.request.start_time = ros::Time(p.time);
+  if (!apply_wrench_.call(call) || !call.response.success) {
+    ROS_ERROR_STREAM("disturbance: the " << p.what << " failed: " << call.response.status_message);
+    return false;
+  }
+  p.applied.header.stamp = call.response.start_time;
+  double step = 0.0;  // a step or more after the drawn time: the simulator had passed it
+  if (nh_.getParam(step_size_key_, step) &&
+      (call.response.start_time.toSec() - p.time) >= step - flapsim::kWrenchStartTolerance) {
+    ROS_ERROR_STREAM("disturbance: the " << p.what << " drawn at t = " << p.time
+                                         << " s starts late, at t = " << call.response.start_time
+                                         << " s: the simulator had passed its time");
+  }
+  ROS_INFO_STREAM("disturbance: " << p.what << " drawn at t = " << p.time
+                                  << " s: " << call.response.status_message << ", for "
+                                  << call.request.duration.toSec() << " s");
+  return true;
 }
 
-bool DisturbanceNode::applyTorque() {
-  const std::string& root = model_->links[0].name;
-  ros::Time stamp;
-  if (!linkPose(root, stamp)) return false;
+void DisturbanceNode::handTorque() {
   flapsim::ApplyWrench call;
   call.request.reference_frame = params_.creature;  // the root link's axes at the call
   call.request.wrench.torque.x = draws_.torque;
   call.request.duration = ros::Duration(draws_.torque_duration);
-  if (!apply(call, "roll torque")) return false;
-  geometry_msgs::WrenchStamped applied;
-  applied.header.stamp = stamp;
-  applied.header.frame_id = params_.creature + "/" + root;
-  applied.wrench.torque.x = draws_.torque;
-  applied_pub_.publish(applied);
-  ROS_INFO_STREAM("disturbance: roll torque " << draws_.torque << " N m at t = " << stamp
-                                              << " s (drawn " << torque_.time << " s) for "
-                                              << draws_.torque_duration << " s");
-  return true;
+  if (!apply(call, torque_)) return;
+  torque_.applied.header.frame_id = params_.creature + "/" + model_->links[0].name;
+  torque_.applied.wrench.torque.x = draws_.torque;
 }
 
-bool DisturbanceNode::applyPush() {
-  const int link = model_->findLink(draws_.force_link);
-  if (link < 0) {
-    throw flapsim::InputError(description_key_ + " has no link '" + draws_.force_link + "'");
-  }
-  ros::Time stamp;
-  const std::optional<flapsim::Pose> pose = linkPose(draws_.force_link, stamp);
-  if (!pose) return false;
-  const flapsim::Vec3 com = model_->links[link].urdfCom();  // in the link frame
-  const flapsim::Vec3 at = pose->apply(com);
+void DisturbanceNode::handPush(const flapsim::Pose& wing) {
+  const flapsim::Vec3 com = model_->links[model_->findLink(draws_.force_link)].urdfCom();
+  const flapsim::Vec3 at = wing.apply(com);  // the link's centre of mass in the world
   flapsim::ApplyWrench call;
   call.request.body_name = draws_.force_link;  // reference_frame empty: the world
   call.request.reference_point.x = at.x();
@@ -207,19 +254,12 @@ bool DisturbanceNode::applyPush() {
   call.request.reference_point.z = at.z();
   call.request.wrench.force.z = draws_.force;
   call.request.duration = ros::Duration(draws_.force_duration);
-  if (!apply(call, "push")) return false;
-  // In the pushed link's frame, about its origin.
-  const flapsim::Vec3 local = pose->orientation.conjugate() * flapsim::Vec3(0.0, 0.0, draws_.force);
-  geometry_msgs::WrenchStamped applied;
-  applied.header.stamp = stamp;
-  applied.header.frame_id = params_.creature + "/" + draws_.force_link;
-  applied.wrench.force = vectorMsg(local);
-  applied.wrench.torque = vectorMsg(com.cross(local));
-  applied_pub_.publish(applied);
-  ROS_INFO_STREAM("disturbance: push " << draws_.force << " N on " << draws_.force_link
-                                       << " at t = " << stamp << " s (drawn " << push_.time
-                                       << " s) for " << draws_.force_duration << " s");
-  return true;
+  if (!apply(call, push_)) return;
+  // In the pushed link's frame as it was at the call, about its origin.
+  const flapsim::Vec3 local = wing.orientation.conjugate() * flapsim::Vec3(0.0, 0.0, draws_.force);
+  push_.applied.header.frame_id = params_.creature + "/" + draws_.force_link;
+  push_.applied.wrench.force = vectorMsg(local);
+  push_.applied.wrench.torque = vectorMsg(com.cross(local));
 }
 
 }  // namespace flapsim_ros

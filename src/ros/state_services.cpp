@@ -1,5 +1,7 @@
 #include "flapsim_ros/state_services.h"
 
+#include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "flapsim_ros/request_names.h"
@@ -128,11 +130,14 @@ bool StateServices::onApplyWrench(flapsim::ApplyWrench::Request& req,
     const ReferenceFrame frame = referenceFrame(req.reference_frame, req.name);
     flapsim::ExternalWrench w = fromMsg(req);
     if (!frame.name.empty()) w = toWorld(w, frame.motion.pose);
-    world_.applyWrench(req.name, w);
+    const double from = world_.applyWrench(req.name, w), h = world_.params().step_size;
+    // That step's sim time as /clock stamps it (in whole steps of whole nanoseconds).
+    res.start_time =
+        simTime(static_cast<std::uint64_t>(std::llround(from / h)), stepNanoseconds(h));
     res.status_message = "wrench on '" + req.name + "'" +
                          (req.link.empty() ? "" : " link '" + req.link + "'") +
                          (frame.name.empty() ? "" : " given in " + frame.name) +
-                         " from t = " + formatTime(simNow(world_)) + " s";
+                         " acts from t = " + formatTime(res.start_time) + " s";
   });
 }
 

@@ -615,6 +615,26 @@ TEST(ReferenceFrame, AWrenchInALinkFrameActsAtThatLinksOrigin) {
   EXPECT_EQ(world.duration, 0.5);
 }
 
+// apply_wrench's request in core terms: gazebo's start_time (sim time) becomes the wrench's
+// start_time in s, zero (the default: the next step) stays zero.
+TEST(Conversions, ApplyWrenchRequestKeepsItsStartTimeAndDuration) {
+  flapsim::ApplyWrench::Request req;
+  req.link = "wing";
+  req.reference_point.x = 0.5;
+  req.wrench.force.z = 2.0;
+  req.wrench.torque.x = -1.0;
+  req.duration = ros::Duration(0, 200000000);
+  EXPECT_EQ(flapsim_ros::fromMsg(req).start_time, 0.0);
+  req.start_time = ros::Time(6, 410000000);
+  const flapsim::ExternalWrench w = flapsim_ros::fromMsg(req);
+  EXPECT_NEAR(w.start_time, 6.41, 1e-12);
+  EXPECT_NEAR(w.duration, 0.2, 1e-12);
+  EXPECT_EQ(w.link, "wing");
+  EXPECT_EQ(w.point, Vec3(0.5, 0, 0));
+  EXPECT_EQ(w.force, Vec3(0, 0, 2));
+  EXPECT_EQ(w.torque, Vec3(-1, 0, 0));
+}
+
 TEST(Conversions, AeroMarkersAreScaledArrows) {
   flapsim::LinkAero a;
   a.link = 2;

@@ -208,10 +208,16 @@ TEST_F(Interfaces, GazeboFieldNamesAndCreatureLinkForms) {
   const auto applied = applyWrench(w);
   ASSERT_TRUE(applied.success) << applied.status_message;
   EXPECT_NE(applied.status_message.find("wrench on 'plate' link 'plate'"), std::string::npos);
+  // One that waits for its start_time (gazebo's): the reply says when it will act.
+  w.start_time = ros::Time(1000, 0);
+  const auto waiting = applyWrench(w);
+  ASSERT_TRUE(waiting.success) << waiting.status_message;
+  EXPECT_NE(waiting.status_message.find(" acts from t = 1000.000000000 s"), std::string::npos)
+      << waiting.status_message;
   flapsim::ClearWrenches::Request c;
   c.body_name = "plate::plate";
   const auto cleared = callService<flapsim::ClearWrenches>("/flapsim/clear_wrenches", c);
-  EXPECT_EQ(cleared.status_message, "cleared 1 wrench(es)");
+  EXPECT_EQ(cleared.status_message, "cleared 2 wrench(es)");
   // Spawn and delete by model_name and model_xml.
   std::string urdf;
   ASSERT_TRUE(ros::param::get("/plate/robot_description", urdf));

@@ -26,6 +26,8 @@ struct ActiveWrench {
   int link = 0;
   Vec3 force = Vec3::Zero(), torque = Vec3::Zero(), offset = Vec3::Zero();
   std::int64_t steps_left = -1;  // < 0: until cleared
+  double start_time = 0.0;       // s: acts from the first step starting at or after it
+  bool started = false;          // decided at each step's start (creature_step.cpp)
 };
 
 // What the user asked for, and what the world found.

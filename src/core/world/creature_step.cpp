@@ -41,6 +41,7 @@ namespace {
 void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s) {
   btMultiBody& mb = s.body.multiBody();
   for (const ActiveWrench& w : wrenches) {
+    if (!w.started) continue;  // waiting for its start time
     const BodyKinematics kin = s.body.frames().kinematics(w.link);
     const Vec3 arm = kin.orientation * w.offset;
     const Wrench about_com{w.force, w.torque + arm.cross(w.force)};
@@ -88,10 +89,15 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   }
 }
 
-// One step of every wrench taken; those whose time is up removed.
+// The wrenches whose start time this step (starting at `time`) reaches start acting.
+void startDue(std::vector<ActiveWrench>& wrenches, double time) {
+  for (ActiveWrench& w : wrenches) w.started = w.started || startsWrench(time, w.start_time);
+}
+
+// One step of every wrench acting taken; those whose time is up removed.
 void countDown(std::vector<ActiveWrench>& wrenches) {
   for (ActiveWrench& w : wrenches) {
-    if (w.steps_left > 0) --w.steps_left;
+    if (w.started && w.steps_left > 0) --w.steps_left;
   }
   wrenches.erase(std::remove_if(wrenches.begin(), wrenches.end(),
                                 [](const ActiveWrench& w) { return w.steps_left == 0; }),
@@ -99,6 +105,27 @@ void countDown(std::vector<ActiveWrench>& wrenches) {
 }
 
 }  // namespace
+
+ActiveWrench activeWrench(const ExternalWrench& w, int link, const BodyKinematics& kin,
+                          double step_size) {
+  const double steps = w.duration < 0.0 ? -1.0 : std::max(1.0, std::round(w.duration / step_size));
+  ActiveWrench a;
+  a.link = link;
+  a.force = w.force;
+  a.torque = w.torque;
+  a.offset = kin.orientation.conjugate() * (w.point - kin.com);
+  a.steps_left = static_cast<std::int64_t>(steps);
+  a.start_time = w.start_time;
+  return a;
+}
+
+std::uint64_t firstWrenchStep(double start_time, double step_size, std::uint64_t next) {
+  const double k = std::ceil((start_time - kWrenchStartTolerance) / step_size);
+  std::uint64_t n = k > static_cast<double>(next) ? static_cast<std::uint64_t>(k) : next;
+  while (n > next && startsWrench(static_cast<double>(n - 1) * step_size, start_time)) --n;
+  while (!startsWrench(static_cast<double>(n) * step_size, start_time)) ++n;
+  return n;
+}
 
 Vec3 creatureAirVelocity(const CreatureSim& s, const AirParams& air, double time) {
   Vec3 velocity = air.wind + gustVelocity(air.gust, time);
@@ -116,6 +143,7 @@ void stepInSteadyAir(CreatureRecord& r, CreatureSim& s, const StepContext& c,
   s.before.take(s.body.multiBody());
   s.power.beginStep();
   s.record.beginStep(s.body.frames(), c.params.step_size);
+  startDue(r.wrenches, c.time);  // wrenches
   const double dt = c.params.step_size, most = c.params.turn_substep;
   const StrokeTurn turn =
       most > 0.0 ? strokeTurn(*r.model, r.drives, s.servos, s.body.multiBody(), dt) : StrokeTurn();

@@ -61,6 +61,22 @@ struct StepContext {
 // creature's realisation of the turbulence (World::airVelocity).
 Vec3 creatureAirVelocity(const CreatureSim& sim, const AirParams& air, double time);
 
+// `w` on model link `link` as the external stage applies it: its point in the link's COM frame
+// as the link is now (`kin`), its duration in whole steps of `step_size` (as
+// gazebo_msgs/ApplyBodyWrench: shorter than a step, 0 included, is one step), its start time.
+ActiveWrench activeWrench(const ExternalWrench& w, int link, const BodyKinematics& kin,
+                          double step_size);
+
+// Whether a step starting at `step_start` (s) starts a wrench waiting for `start_time`: at
+// or after it, within kWrenchStartTolerance (decided per step, never per substep).
+inline bool startsWrench(double step_start, double start_time) {
+  return step_start >= start_time - kWrenchStartTolerance;
+}
+
+// The number of the first step, from `next` on, that starts a wrench of `start_time` when
+// step k starts at k * step_size.
+std::uint64_t firstWrenchStep(double start_time, double step_size, std::uint64_t next);
+
 // One step of a creature; `number` is the world's step count after it (for the watchdog's
 // verdict).
 void stepCreature(CreatureRecord& record, CreatureSim& sim, const StepContext& context,

@@ -237,26 +237,19 @@ class World::Impl {
     r.root_acceleration.setZero();
   }
 
-  void applyWrench(const std::string& creature, const ExternalWrench& w) {
+  double applyWrench(const std::string& creature, const ExternalWrench& w) {
     const size_t c = index(creature);
     CreatureRecord& r = records_[c];
     const int k = w.link.empty() ? 0 : r.model->findFrame(w.link).link;
     if (k < 0) throw InputError("creature '" + creature + "' has no link '" + w.link + "'");
-    // As gazebo_msgs/ApplyBodyWrench: shorter than a step (0 included) is one step.
-    const double steps =
-        w.duration < 0.0 ? -1.0 : std::max(1.0, std::round(w.duration / params_.step_size));
     if (r.wrenches.size() >= static_cast<size_t>(kMaxWrenches)) {
       throw InputError("creature '" + creature + "' has " + std::to_string(kMaxWrenches) +
                        " wrenches acting, the limit: clear some first");
     }
-    const BodyKinematics kin = sims_[c]->body.frames().kinematics(k);
-    ActiveWrench a;
-    a.link = k;
-    a.force = w.force;
-    a.torque = w.torque;
-    a.offset = kin.orientation.conjugate() * (w.point - kin.com);
-    a.steps_left = static_cast<std::int64_t>(steps);
-    r.wrenches.push_back(a);
+    r.wrenches.push_back(
+        activeWrench(w, k, sims_[c]->body.frames().kinematics(k), params_.step_size));
+    return static_cast<double>(firstWrenchStep(w.start_time, params_.step_size, time_steps_)) *
+           params_.step_size;
   }
 
   int clearWrenches(const std::string& creature, const std::string& link) {
@@ -453,11 +446,11 @@ void World::setState(const std::string& creature, const StateRequest& request) {
   impl_->setState(creature, request);
 }
 
-void World::applyWrench(const std::string& creature, const ExternalWrench& wrench) {
+double World::applyWrench(const std::string& creature, const ExternalWrench& wrench) {
   impl_->model(creature);  // InputError if unknown
   const std::string err = checkWrench(wrench);
   if (!err.empty()) refuse(creature, "wrench " + err);
-  impl_->applyWrench(creature, wrench);
+  return impl_->applyWrench(creature, wrench);
 }
 
 int World::clearWrenches(const std::string& creature, const std::string& link) {

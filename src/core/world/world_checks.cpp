@@ -93,6 +93,10 @@ const Rule<ExternalWrench> kWrenchRules[] = {
        return std::isfinite(w.duration) && w.duration <= kMaxWrenchDuration;
      },
      "duration must be finite and at most 1e9 s (< 0: until cleared)"},
+    {[](const ExternalWrench& w) {
+       return std::isfinite(w.start_time) && std::abs(w.start_time) <= kMaxWrenchDuration;
+     },
+     "start_time must be finite and within +-1e9 s (s of sim time; 0: the next step)"},
 };
 
 }  // namespace

@@ -21,7 +21,7 @@ std::string checkTwist(const Twist& twist, double max_speed);
 // a joint's limits (positions) or +-kMaxSpin (velocities).
 std::string checkJointValues(const CreatureModel& m, const std::vector<double>& values,
                              const std::string& what, bool positions);
-// An external wrench's force, torque, point and duration.
+// An external wrench's force, torque, point, duration and start time.
 std::string checkWrench(const ExternalWrench& wrench);
 // At most `max_cells` air cells on creature `name` under `air`, else a message naming it, its
 // count and its largest link.
