@@ -115,17 +115,23 @@ SystemMomentum plateMomentum(const World& w, const CreatureModel& m) {
   return systemMomentum(test::bodyMotions(m, w.state("p")));
 }
 
+// A push of 0.3 N along x at plate "p"'s origin, starting at `start` s.
+ExternalWrench pushOnPlate(const World& w, double start) {
+  ExternalWrench push;
+  push.force = Vec3(0.3, 0.0, 0.0);
+  push.point = w.state("p").link_poses[0].position;
+  push.start_time = start;
+  return push;
+}
+
 // A push on a plate in vacuum: nothing while it waits, then its full impulse over its
 // duration counted from its start (50 steps from 0.1 s, not from the call at 0).
 TEST(WrenchStart, TheDurationCountsFromTheStart) {
   World w(stillVacuum());
   auto m = loadUrdf("plate.urdf");
   w.spawn("p", m, at(0, 0, 5));
-  ExternalWrench push;
-  push.force = Vec3(0.3, 0.0, 0.0);
-  push.point = w.state("p").link_poses[0].position;
+  ExternalWrench push = pushOnPlate(w, 0.1);
   push.duration = 0.05;
-  push.start_time = 0.1;
   EXPECT_EQ(w.applyWrench("p", push), 100 * 0.001);
   w.step(100);
   EXPECT_EQ(plateMomentum(w, *m).linear.x(), 0.0);  // waited: nothing acted
@@ -141,10 +147,7 @@ TEST(WrenchStart, ClearWrenchesAndResetDropAWaitingWrench) {
   World w(stillVacuum());
   auto m = loadUrdf("plate.urdf");
   w.spawn("p", m, at(0, 0, 5));
-  ExternalWrench push;
-  push.force = Vec3(0.3, 0.0, 0.0);
-  push.point = w.state("p").link_poses[0].position;
-  push.start_time = 0.05;
+  const ExternalWrench push = pushOnPlate(w, 0.05);
   w.applyWrench("p", push);
   EXPECT_EQ(w.clearWrenches("p"), 1);
   w.applyWrench("p", push);
