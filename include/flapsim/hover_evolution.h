@@ -65,11 +65,15 @@ double hoverFitnessBound(const EpisodeParams& params);
 /// settling time must be shorter than the duration.
 std::string validateHoverEpisodes(const EpisodeParams& params);
 
+/// The flight of a hover episode holding `altitude`: from params.start_height tilted
+/// start.roll and start.pitch, in the steady wind start.wind and the episode's turbulence, at
+/// start.step_size (the world's if 0), with params.imu_noise (seeded with start.noise_seed), for
+/// params.duration, its figures after params.settle_time; a flip ends it.
+HoverFlightParams hoverEpisodeFlight(const EpisodeParams& params, const EpisodeStart& start,
+                                     double altitude);
+
 /// One hover episode: flyHover of `controller` holding start.altitude (the controller's
-/// altitude without one), from params.start_height tilted start.roll and start.pitch, in the
-/// steady wind start.wind, at start.step_size (the world's if 0), with params.imu_noise
-/// (seeded with start.noise_seed), for params.duration, its figures after
-/// params.settle_time; a flip ends it.
+/// altitude without one), its flight hoverEpisodeFlight's.
 HoverFlightResult runHoverEpisode(const CreatureModelPtr& model,
                                   const HoverControllerParams& controller,
                                   const EpisodeParams& params, const EpisodeStart& start);

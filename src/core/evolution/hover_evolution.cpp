@@ -88,25 +88,30 @@ std::string validateHoverEpisodes(const EpisodeParams& params) {
   return "the hover episodes' settling time must be shorter than their duration (--settle)";
 }
 
-HoverFlightResult runHoverEpisode(const CreatureModelPtr& model,
-                                  const HoverControllerParams& controller,
-                                  const EpisodeParams& params, const EpisodeStart& start) {
-  HoverControllerParams c = controller;
-  c.altitude = start.altitude.value_or(controller.altitude);
+HoverFlightParams hoverEpisodeFlight(const EpisodeParams& params, const EpisodeStart& start,
+                                     double altitude) {
   HoverFlightParams f;
   f.duration = params.duration;
   f.settle = params.settle_time;
   f.world = params.world;
   if (start.step_size > 0.0) f.world.step_size = start.step_size;
   f.world.air.wind = start.wind;
-  f.world.air.turbulence = episodeTurbulence(params.world.air.turbulence, start, c.altitude);
+  f.world.air.turbulence = episodeTurbulence(params.world.air.turbulence, start, altitude);
   f.start_roll = start.roll;
   f.start_pitch = start.pitch;
   f.start_height = params.start_height;
   f.imu_noise = params.imu_noise;
   f.noise_seed = start.noise_seed;
   f.end_on_flip = true;
-  return flyHover(model, c, f);
+  return f;
+}
+
+HoverFlightResult runHoverEpisode(const CreatureModelPtr& model,
+                                  const HoverControllerParams& controller,
+                                  const EpisodeParams& params, const EpisodeStart& start) {
+  HoverControllerParams c = controller;
+  c.altitude = start.altitude.value_or(controller.altitude);
+  return flyHover(model, c, hoverEpisodeFlight(params, start, c.altitude));
 }
 
 EvolveParams hoverPreset() {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "flapsim/flight_check.h"
+#include "flapsim/hover_evolution.h"
 #include "flapsim/hover_flight.h"
 
 namespace flapsim {
@@ -26,18 +27,11 @@ std::vector<HoverCheckRun> hoverRealAirCheck(const CreatureModelPtr& model,
   std::vector<HoverCheckRun> runs(starts.size());
   parallelMap(static_cast<int>(starts.size()), p.threads, [&](int i) {
     const EpisodeStart& start = starts[static_cast<size_t>(i)];
-    HoverFlightParams f;
-    f.duration = p.duration;
-    f.world.step_size = p.step_size;
-    f.world.turn_substep = p.turn_substep;
-    f.world.air.wind = start.wind;
-    f.world.air.added_mass_velocity_products = p.velocity_products;
-    f.world.air.turbulence =
-        episodeTurbulence(episode.world.air.turbulence, start, controller.altitude);
-    f.start_roll = start.roll;
-    f.start_pitch = start.pitch;
-    f.imu_noise = episode.imu_noise;
-    f.noise_seed = start.noise_seed;
+    // The hover episode's flight (the evolution's), from the altitude held, flown to its end,
+    // with real air's gusts, gyro bias and altimeter noise.
+    HoverFlightParams f = hoverEpisodeFlight(episode, start, controller.altitude);
+    f.start_height.reset();
+    f.end_on_flip = false;
     f.gusts = episode;
     f.gust_start = start;
     runs[static_cast<size_t>(i)] = HoverCheckRun{flyHover(model, controller, f), start};
