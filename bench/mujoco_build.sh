@@ -5,6 +5,9 @@
 #   mujoco_program NAME   sets `program` to NAME (mujoco_bench or mujoco_wing) for that MuJoCo,
 #                         compiling it if needed, and `mujoco_source` to where MuJoCo came from
 #                         (without its path: stored outputs name no folder outside the checkout)
+#   mujoco_line PROGRAM [SETTING...]
+#                         prints "MuJoCo: <version, integrator, step, Jacobian> (from <source>)"
+#                         from a run of 1 ms of sim time of mujoco_bench PROGRAM at SETTING
 # MuJoCo: by default Debian's (libmujoco-dev, 2.2.2: the programs the catkin build made, in
 # $bin). Another one (MuJoCo 3 built from source, say): --mujoco PREFIX takes
 # PREFIX/include/mujoco/mujoco.h and PREFIX/lib/libmujoco.so (an install tree); --mujoco-include
@@ -63,4 +66,10 @@ mujoco_program() {
       -I "$root/include" -isystem /usr/include/eigen3 -isystem "$mj_include" \
       -L "$core" -lflapsim_core -Wl,-rpath,"$core" -ldl
   fi
+}
+
+mujoco_line() {
+  local program="$1"
+  shift
+  echo "MuJoCo: $("$program" "$@" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//') (from $mujoco_source)"
 }

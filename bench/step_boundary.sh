@@ -45,7 +45,7 @@ case "$side" in
     mujoco_program mujoco_bench
     integrator="$1"
     shift
-    echo "MuJoCo: $("$program" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//') (from $mujoco_source)"
+    mujoco_line "$program"
     for step in "$@"; do
       out="$("$program" --integrator "$integrator" --step "$step" --check "$check" --only "$name")"
       echo "mujoco $name $integrator $step | $(verdict "$out")"

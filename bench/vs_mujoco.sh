@@ -74,7 +74,7 @@ fflags=("${flags[@]}" "${fsetting[@]}")
 
 load() { python3 -c 'import os, sys; print("load average at the %s: %.2f %.2f %.2f" % ((sys.argv[1],) + os.getloadavg()))' "$1"; }
 load start
-echo "MuJoCo: $("$mujoco" "${setting[@]}" --runs 1 --seconds 0.001 --only flap_unit | head -1 | sed 's/^mujoco_bench: //; s/, [0-9]* runs of.*//') (from $mujoco_source)"
+mujoco_line "$mujoco" "${setting[@]}"
 echo "ratio: flapsim / MuJoCo per simulated second (steps/s x step), CPU time; order: which ran first"
 printf '%-10s %6s %6s %12s %12s %10s %10s %8s\n' creature pair order 'flapsim st/s' 'mujoco st/s' \
   'flapsim s/s' 'mujoco s/s' ratio
