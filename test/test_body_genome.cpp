@@ -13,8 +13,8 @@ namespace {
 
 std::vector<double> middleGenome() { return std::vector<double>(kBodyGeneCount, 0.0); }
 
-// The middle of every gene but max_power's: 0.345 W per motor, 5.95 g of motors in a 29 g body
-// (the middle's 1.5 W motors, 26 g, do not fit it with the 10 g payload).
+// The middle of every gene but max_power's: 0.645 W per motor, 11.1 g of motors in a 29 g body
+// (the middle's 3.025 W motors, 52 g, do not fit it with the 10 g payload).
 std::vector<double> closingGenome() {
   std::vector<double> genes = middleGenome();
   genes[3] = -0.8;
@@ -57,7 +57,7 @@ TEST(BodyGenome, TheMotorsTorqueSpeedLinePeaksAtItsRatedPower) {
   const HoverParams p = bodyFromGenes(genes, MassBudget());
   const double v = 0.5 * p.no_load_speed;
   EXPECT_NEAR(p.stall_torque * (1.0 - v / p.no_load_speed) * v, p.max_power, 1e-12);
-  EXPECT_NEAR(p.max_power, 0.05 + 0.7 * (3.0 - 0.05), 1e-12);
+  EXPECT_NEAR(p.max_power, 0.05 + 0.7 * (6.0 - 0.05), 1e-12);
 }
 
 // The motors weigh their rated power over the specific power: 2 x 1 W at 116 W/kg is 17.24 g;
@@ -128,7 +128,7 @@ TEST(BodyGenome, EachRefusalNamesItsCulpritAndBuildsNothing) {
   EXPECT_NE(refusal(std::vector<double>(8, 0.0), budget).find("8 genes, a body genome has 9"),
             std::string::npos);
   genes = middleGenome();
-  genes[3] = 1.0;   // 2 x 3 W: 51.7 g of motors
+  genes[3] = 1.0;   // 2 x 6 W: 103 g of motors
   genes[6] = -1.0;  // an 8 g body
   EXPECT_NE(refusal(genes, budget).find("mass budget does not close"), std::string::npos);
   MassBudget bad = budget;

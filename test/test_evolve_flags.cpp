@@ -97,6 +97,10 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--flip-penalty", {"5"}, ""},
       {"--crash-height", {"1.5"}, ""},
       {"--settle", {"3"}, "--settle: has no effect"},
+      {"--payload", {"0.005"}, "--payload: has no effect but with --preset morph"},
+      {"--motor-specific-power",
+       {"300"},
+       "--motor-specific-power: has no effect but with --preset morph"},
       {"--network", {"paper"}, ""},
       {"--hidden", {"3"}, ""},
       {"--rate-inputs", {"off"}, ""},
@@ -114,8 +118,8 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
 // The flags evolve's usage lists, but the tool's own (threads, files, the farm).
 std::vector<std::string> listedFlags() {
   const std::vector<std::string> tool = {
-      "--threads", "--out",          "--weights",   "--no-plot",       "--resume",    "--init",
-      "--farm",    "--farm-timeout", "--farm-wait", "--farm-inflight", "--farm-batch"};
+      "--threads",   "--out",  "--weights",      "--no-plot",   "--resume",        "--init",
+      "--init-body", "--farm", "--farm-timeout", "--farm-wait", "--farm-inflight", "--farm-batch"};
   std::vector<std::string> listed;
   std::istringstream usage(evolveUsage());
   for (std::string line; std::getline(usage, line);) {

@@ -145,7 +145,7 @@ TEST(HoverEvolution, BadGenomesKindsAndFlagsAreRefusedByName) {
   EXPECT_EQ(message([] {
               parseEvolveArgs({"--preset", "helicopter"});
             }),
-            "--preset: 'helicopter' is not one of robust, paper, hover");
+            "--preset: 'helicopter' is not one of robust, paper, hover, morph");
   EXPECT_EQ(message([] {
               parseEvolveArgs({"--preset", "hover", "--hidden", "4"});
             }),

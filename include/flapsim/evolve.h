@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "flapsim/ann.h"
+#include "flapsim/body_genome.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/creature_model.h"
 #include "flapsim/ga.h"
@@ -218,8 +219,10 @@ double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& co
 constexpr int kMaxEvolvePairs = 64;
 
 /// What an evolution evolves: the flap-unit network (the paper's; evolve's robust and paper
-/// presets) or the hover controller's gains (evolve --preset hover, flapsim/hover_evolution.h).
-enum class EvolveKind { kFlap, kHover };
+/// presets), the hover controller's gains (evolve --preset hover, flapsim/hover_evolution.h),
+/// or those gains and the hover creature's body together (evolve --preset morph,
+/// flapsim/morph_evolution.h).
+enum class EvolveKind { kFlap, kHover, kMorph };
 
 /// Everything an evolution needs.
 struct EvolveParams {
@@ -234,6 +237,7 @@ struct EvolveParams {
   /// parseEvolveArgs finds them once and hands the numbers on.
   bool auto_step_sizes = false;
   bool turn_substep_given = false;  // episode.world.turn_substep was set (evolve --turn-substep)
+  MassBudget budget;                // kMorph: what the bodies' masses are made of
 };
 
 /// The paper's settings (sec. IV.A): 10 individuals, elitism, rank selection,

@@ -22,8 +22,9 @@ struct EvolveOptions {
   std::string weights_path;  // empty: out_dir/weights.yaml
   bool plot = true;
   bool help = false;
-  std::string resume_dir;  // --resume DIR
-  std::string init_path;   // --init FILE: generation 0 seeded with its weights (GaParams)
+  std::string resume_dir;      // --resume DIR
+  std::string init_path;       // --init FILE: generation 0 seeded with its weights (GaParams)
+  std::string init_body_path;  // --init-body FILE (--preset morph): and with its body genes
   // --farm: evaluate on the flapsim_worker nodes under /flapsim_farm.
   bool farm = false;
   double farm_timeout = 60.0;  // s: a call not answered by then is sent elsewhere

@@ -38,7 +38,7 @@ const std::vector<BodyGene>& bodyGenes() {
       {"wing_span", &P::wing_span, 0.06, 0.24, "m"},
       {"wing_chord", &P::wing_chord, 0.02, 0.09, "m"},
       {"stroke_limit", &P::stroke_limit, 0.6, 1.5, "rad"},
-      {"max_power", &P::max_power, 0.05, 3.0, "W"},
+      {"max_power", &P::max_power, 0.05, 6.0, "W"},
       {"no_load_speed", &P::no_load_speed, 50.0, 600.0, "rad/s"},
       {"hinge_stiffness", &P::hinge_stiffness, 0.0, 0.1, "N m/rad"},
       {"body_mass", &P::body_mass, 0.008, 0.05, "kg"},

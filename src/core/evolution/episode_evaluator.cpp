@@ -6,6 +6,7 @@
 #include "flapsim/evolve_args.h"
 #include "flapsim/ga.h"
 #include "flapsim/hover_evolution.h"
+#include "flapsim/morph_evolution.h"
 
 namespace flapsim {
 
@@ -14,13 +15,13 @@ double episodeWork(const EvaluationSpec& spec) {
   for (size_t k = 0; k < spec.episode.step_sizes.size(); ++k) {
     smallest = k == 0 ? spec.episode.step_sizes[k] : std::min(smallest, spec.episode.step_sizes[k]);
   }
-  const int pairs = spec.kind == EvolveKind::kHover ? 1 : spec.pairs;
+  const int pairs = hoverKind(spec.kind) ? 1 : spec.pairs;
   return pairs * std::ceil(spec.episode.duration / smallest);
 }
 
 double fitnessBound(const EvaluationSpec& spec) {
   const EpisodeParams& e = spec.episode;
-  if (spec.kind == EvolveKind::kHover) return hoverFitnessBound(e);
+  if (hoverKind(spec.kind)) return hoverFitnessBound(e);
   return std::abs(e.start_height) + e.world.max_speed * e.duration + e.flip_penalty;
 }
 
@@ -30,14 +31,18 @@ EpisodeRunner::EpisodeRunner(const EvaluationSpec& spec) : spec_(spec) {
   if (err.empty() && (spec.pairs < 1 || spec.pairs > kMaxEvolvePairs)) {
     err = "pairs must be in [1, " + std::to_string(kMaxEvolvePairs) + "]";
   }
-  if (err.empty() && spec.kind == EvolveKind::kHover) err = validateHoverEpisodes(spec.episode);
+  if (err.empty() && hoverKind(spec.kind)) err = validateHoverEpisodes(spec.episode);
+  if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMassBudget(spec.budget);
   if (!err.empty()) throw InputError("evaluation spec: " + err);
-  const bool hover = spec.kind == EvolveKind::kHover;
+  // A morph's bodies are its genomes': each episode builds its own (its starts are drawn on
+  // hover_1, whose link names, all the draws read, every body shares).
+  const bool hover = hoverKind(spec.kind);
   model_ =
       hover ? parseCreatureModel(makeHoverUrdf("hover"), "make_creature --layout hover")
             : parseCreatureModel(makeCreatureUrdf(spec.pairs, "afc", spec.unit), "make_creature");
   starts_ = episodeStarts(spec.episode, model_.get());
-  weight_count_ = hover ? kHoverGeneCount : FlapUnitController::weightCount(spec.controller);
+  weight_count_ =
+      hover ? hoverKindGeneCount(spec.kind) : FlapUnitController::weightCount(spec.controller);
   // An estimate, for caches: the model's records with their names and boxes, the starts.
   bytes_ = sizeof(*this) + model_->links.size() * (sizeof(LinkModel) + 512) +
            model_->joints.size() * (sizeof(JointModel) + 256) +
@@ -49,8 +54,9 @@ std::string EpisodeRunner::check(const EpisodeTask& task) const {
     return std::to_string(task.weights.size()) + " weights, the controller has " +
            std::to_string(weight_count_);
   }
-  if (spec_.kind == EvolveKind::kHover) {
-    const std::string err = checkHoverGenes(task.weights);
+  if (hoverKind(spec_.kind)) {
+    const std::string err = spec_.kind == EvolveKind::kMorph ? checkMorphGenes(task.weights)
+                                                             : checkHoverGenes(task.weights);
     if (!err.empty()) return err;
   }
   for (size_t i = 0; i < task.weights.size(); ++i) {
@@ -66,6 +72,9 @@ std::string EpisodeRunner::check(const EpisodeTask& task) const {
 double EpisodeRunner::evaluate(const EpisodeTask& task) const {
   const std::string err = check(task);
   if (!err.empty()) throw TaskError("task: " + err);
+  if (spec_.kind == EvolveKind::kMorph) {
+    return morphEpisodeFitness(task.weights, spec_.episode, starts_[task.episode], spec_.budget);
+  }
   if (spec_.kind == EvolveKind::kHover) {
     const HoverFlightResult r = runHoverEpisode(model_, hoverParamsFromGenes(task.weights),
                                                 spec_.episode, starts_[task.episode]);

@@ -14,6 +14,7 @@
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/hover_evolution.h"
 #include "flapsim/make_creature.h"
+#include "flapsim/morph_evolution.h"
 #include "flapsim/step_accuracy.h"
 
 namespace flapsim {
@@ -72,12 +73,12 @@ EvolveParams robustPreset(int pairs) {
 std::uint64_t evolutionEpisodeSeed(std::uint64_t ga_seed) { return mixSeed(ga_seed, 0xE915ULL); }
 
 int geneCount(const EvolveParams& params) {
-  return params.kind == EvolveKind::kHover ? kHoverGeneCount
-                                           : FlapUnitController::weightCount(params.controller);
+  return hoverKind(params.kind) ? hoverKindGeneCount(params.kind)
+                                : FlapUnitController::weightCount(params.controller);
 }
 
 StepChoice evolutionStepChoice(const EvolveParams& params) {
-  if (!params.auto_step_sizes || params.kind == EvolveKind::kHover) {
+  if (!params.auto_step_sizes || hoverKind(params.kind)) {
     return {params.episode.step_sizes, params.episode.world.turn_substep};
   }
   const FlapControllerParams& c = params.controller;
@@ -100,13 +101,15 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   spec.unit = params.unit;
   spec.controller = params.controller;
   spec.episode = params.episode;
+  spec.budget = params.budget;
   const StepChoice steps = evolutionStepChoice(params);
   spec.episode.step_sizes = steps.step_sizes;
   spec.episode.world.turn_substep = steps.turn_substep;
   spec.episode.seed = evolutionEpisodeSeed(params.ga.seed);
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);
-  if (err.empty() && spec.kind == EvolveKind::kHover) err = validateHoverEpisodes(spec.episode);
+  if (err.empty() && hoverKind(spec.kind)) err = validateHoverEpisodes(spec.episode);
+  if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMassBudget(spec.budget);
   if (!err.empty()) throw std::invalid_argument("evolve: " + err);
   return spec;
 }

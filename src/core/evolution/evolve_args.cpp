@@ -9,6 +9,7 @@
 #include "flapsim/cli_args.h"
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/hover_evolution.h"
+#include "flapsim/morph_evolution.h"
 
 namespace flapsim {
 
@@ -17,9 +18,10 @@ namespace {
 const char* const kSpec = "spec";  // the tag of the flags that define the evolution
 
 const char* const kNotes =
-    "Defaults in parentheses are those of the preset given (robust unless --preset paper or\n"
-    "hover; hover evolves the hover controller's gains, and refuses the flags of the flap\n"
-    "network and of the flap units' disturbances)\n"
+    "Defaults in parentheses are those of the preset given (robust unless --preset paper,\n"
+    "hover or morph; hover evolves the hover controller's gains, morph those gains and the\n"
+    "hover creature's body together, and both refuse the flags of the flap network and of\n"
+    "the flap units' disturbances)\n"
     "and the flags before --help. A checkpoint is written to DIR/checkpoint.txt after every\n"
     "generation; --resume DIR continues it with its own flags, then the ones given.\n";
 
@@ -29,7 +31,7 @@ void specFlags(CliParser& t, EvolveOptions& o) {
   FlapControllerParams& c = p.controller;
   t.custom(
        "--preset", {"NAME"}, [](const std::vector<std::string>&) {},  // applied first
-       [&o] { return o.preset; }, "robust, paper or hover; the flags below change it")
+       [&o] { return o.preset; }, "robust, paper, hover or morph; the flags below change it")
       .integer("--pairs", "N", &p.pairs, {1, kMaxEvolvePairs}, "wing pairs of the creature")
       .tag(kSpec)
       .integer("--generations", "G", &p.ga.generations, {0, kMaxGenerations},
@@ -221,6 +223,12 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .real("--settle", "S", &e.settle_time, {0, kMaxEpisodeDuration},
             "the altitude rms (--preset hover: every figure) counts after S s")
+      .tag(kSpec)
+      .real("--payload", "KG", &p.budget.payload, {0, 1e3, true},
+            "--preset morph: the body's fixed payload beside its motors")
+      .tag(kSpec)
+      .real("--motor-specific-power", "W_PER_KG", &p.budget.motor_specific_power, {0, 1e6, true},
+            "--preset morph: the stroke motors' rated power per kg (116: a geared micro motor)")
       .tag(kSpec);
 }
 
@@ -286,12 +294,16 @@ void runFlags(CliParser& t, EvolveOptions& o) {
             "parallel episodes; results do not depend on it")
       .text("--out", "DIR", &o.out_dir, "output directory")
       .text("--weights", "FILE", &o.weights_path,
-            "weights YAML (empty: DIR/weights.yaml; --preset hover: the gains, DIR/gains.yaml)")
+            "weights YAML (empty: DIR/weights.yaml; --preset hover, morph: the gains, "
+            "DIR/gains.yaml)")
       .flag("--no-plot", &o.plot, false, "do not run gnuplot")
       .text("--resume", "DIR", &o.resume_dir, "continue the run of DIR/checkpoint.txt")
       .text("--init", "FILE", &o.init_path,
             "seed generation 0 with this weights file (its network must be the evolution's; "
-            "--preset hover: a gains file)")
+            "--preset hover, morph: a gains file)")
+      .text("--init-body", "FILE", &o.init_body_path,
+            "--preset morph: seed generation 0 with this body file (evolve --preset morph's "
+            "DIR/body.yaml)")
       .flag("--farm", &o.farm, true, "evaluate on the flapsim_worker nodes under /flapsim_farm")
       .real("--farm-timeout", "S", &o.farm_timeout, {0, 1e6, true},
             "a call unanswered after S s is sent to another worker")
@@ -317,8 +329,9 @@ std::string presetOf(const std::vector<std::string>& args) {
   for (size_t i = 0; i + 1 < args.size(); ++i) {
     if (args[i] == "--preset") preset = args[i + 1];
   }
-  if (preset != "robust" && preset != "paper" && preset != "hover") {
-    throw InputError("--preset: " + quoteValue(preset) + " is not one of robust, paper, hover");
+  if (preset != "robust" && preset != "paper" && preset != "hover" && preset != "morph") {
+    throw InputError("--preset: " + quoteValue(preset) +
+                     " is not one of robust, paper, hover, morph");
   }
   return preset;
 }
@@ -327,6 +340,7 @@ std::string presetOf(const std::vector<std::string>& args) {
 EvolveParams presetParams(const std::string& preset) {
   if (preset == "paper") return paperPreset();
   if (preset == "hover") return hoverPreset();
+  if (preset == "morph") return morphPreset();
   EvolveParams p = robustPreset();
   p.auto_step_sizes = true;
   return p;
@@ -344,11 +358,20 @@ const std::vector<std::string> kNotHoverFlags = {
     "--gust-link",   "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
     "--crash-height"};
 
-void checkHoverFlags(const std::vector<CliSeen>& seen) {
+// The presets that evolve the hover controller (and with morph its body).
+bool hoverPresetName(const std::string& preset) { return preset == "hover" || preset == "morph"; }
+
+void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen) {
   for (const CliSeen& s : seen) {
     const std::string& name = s.flag->names.front();
     if (std::find(kNotHoverFlags.begin(), kNotHoverFlags.end(), name) != kNotHoverFlags.end()) {
-      throw InputError(name + ": not a flag of --preset hover (the hover controller's gains)");
+      throw InputError(name + ": not a flag of --preset " + preset +
+                       (preset == "hover" ? " (the hover controller's gains)"
+                                          : " (the hover controller's gains and body)"));
+    }
+    if ((name == "--init-body" || name == "--payload" || name == "--motor-specific-power") &&
+        preset != "morph") {
+      throw InputError(name + ": for --preset morph only (the body's)");
     }
   }
 }
@@ -369,7 +392,11 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--altitude-noise" && !p.controller.altitude_input) {
       why = "without an altitude input (--altitude-input on)";
     }
-    if (name == "--settle") why = "but with --preset hover (the flap network's fitness has none)";
+    if (name == "--settle")
+      why = "but with --preset hover or morph (the flap network's fitness has none)";
+    if (name == "--init-body" || name == "--payload" || name == "--motor-specific-power") {
+      why = "but with --preset morph (the flap network has no body)";
+    }
     if (name == "--max-upstroke-rate" && p.controller.max_upstroke_rate > 0.0 &&
         (p.controller.network != FlapNetwork::kMirror || p.controller.phase_lock)) {
       why = "without --network mirror and --phase-lock off (the net would set no upstroke)";
@@ -408,8 +435,8 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   o.spec_args = {"--preset", o.preset};
   CliParser table = evolveTable(o);
   const std::vector<CliSeen> seen = table.parse(args, /*skip_remaps=*/true, later_wins);
-  if (o.preset == "hover") {
-    checkHoverFlags(seen);
+  if (hoverPresetName(o.preset)) {
+    checkHoverFlags(o.preset, seen);
   } else {
     checkDependentFlags(o.params, seen);
   }
@@ -426,7 +453,7 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
     o.spec_args.push_back(s->flag->names.front());
     o.spec_args.insert(o.spec_args.end(), s->values.begin(), s->values.end());
   }
-  if (o.preset != "hover" && o.params.auto_step_sizes) {
+  if (!hoverPresetName(o.preset) && o.params.auto_step_sizes) {
     // Found once here; the spec (the farm's workers, a resume) carries the numbers.
     EvolveParams& p = o.params;
     const StepChoice choice = evolutionStepChoice(p);
@@ -440,7 +467,7 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   }
   o.help = table.help();
   if (o.weights_path.empty()) {
-    o.weights_path = o.out_dir + (o.preset == "hover" ? "/gains.yaml" : "/weights.yaml");
+    o.weights_path = o.out_dir + (hoverPresetName(o.preset) ? "/gains.yaml" : "/weights.yaml");
   }
   return o;
 }
@@ -479,8 +506,8 @@ void checkSpecArgs(const std::vector<std::string>& spec_args) {
     }
   }
   const std::vector<CliSeen> seen = table.parse(spec_args);
-  if (o.preset == "hover") {
-    checkHoverFlags(seen);
+  if (hoverPresetName(o.preset)) {
+    checkHoverFlags(o.preset, seen);
   } else {
     checkDependentFlags(o.params, seen);
   }

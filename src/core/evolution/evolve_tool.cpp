@@ -11,6 +11,7 @@
 #include "flapsim/hover_evolution.h"
 #include "flapsim/hover_gains.h"
 #include "flapsim/make_creature.h"
+#include "flapsim/morph_evolution.h"
 
 namespace flapsim {
 
@@ -33,9 +34,25 @@ void seedFromGainsFile(EvolveOptions& o) {
   o.params.ga.initial_genes = genes;
 }
 
+// --preset morph: --init's gains (the hand-designed ones without it), then --init-body's body
+// genes (the middle of every bound without it).
+void seedMorph(EvolveOptions& o) {
+  std::vector<double> genes(kMorphGeneCount, 0.0);
+  if (!o.init_path.empty()) {
+    seedFromGainsFile(o);
+    std::copy(o.params.ga.initial_genes.begin(), o.params.ga.initial_genes.end(), genes.begin());
+  }
+  if (!o.init_body_path.empty()) {
+    const std::vector<double> body = loadBodyGenes(o.init_body_path);
+    std::copy(body.begin(), body.end(), genes.begin() + kHoverGeneCount);
+  }
+  o.params.ga.initial_genes = genes;
+}
+
 // --init FILE: the file's network must be the one evolved (same form, inputs, hidden layer
 // and weight count); its weights seed generation 0.
 void seedFromWeightsFile(EvolveOptions& o) {
+  if (o.params.kind == EvolveKind::kMorph) return seedMorph(o);
   if (o.params.kind == EvolveKind::kHover) return seedFromGainsFile(o);
   const ControllerSpec init = loadControllerYaml(o.init_path);
   const FlapControllerParams& want = o.params.controller;
@@ -93,7 +110,7 @@ void seedFromWeightsFile(EvolveOptions& o) {
 EvolveOptions resolveEvolveOptions(const std::vector<std::string>& args, int threads,
                                    std::optional<EvolveCheckpoint>& resume) {
   EvolveOptions o = parseEvolveArgs(args, threads);
-  if (!o.init_path.empty() && !o.help) seedFromWeightsFile(o);
+  if ((!o.init_path.empty() || !o.init_body_path.empty()) && !o.help) seedFromWeightsFile(o);
   if (o.resume_dir.empty() || o.help) return o;
   // The run's own flags, then the directory, then this command line's.
   EvolveCheckpoint c = readCheckpointFile(o.resume_dir + "/checkpoint.txt");
@@ -109,6 +126,7 @@ std::string evolveCommand(const EvolveOptions& o) {
   std::string command = "evolve";
   for (const auto& a : o.spec_args) command += " " + a;
   if (!o.init_path.empty()) command += " --init " + o.init_path;
+  if (!o.init_body_path.empty()) command += " --init-body " + o.init_body_path;
   return command;
 }
 
@@ -163,12 +181,32 @@ std::string sealedEnds(const EpisodeParams& e) {
   return out.str();
 }
 
-// --preset hover: the gains file and fitness.csv.
+// --preset morph: the best's body file and URDF (its gains are written as hover's). The
+// lines written, or why the body was refused.
+std::string writeMorphBody(const EvolveOptions& o, const EvolveResult& result,
+                           const std::map<std::string, std::string>& metadata) {
+  const MassBudget& budget = o.params.budget;
+  const MorphIndividual m =
+      morphFromGenes(result.best_weights, HoverControllerParams().altitude, budget);
+  const std::string body = o.out_dir + "/body.yaml", urdf = o.out_dir + "/creature.urdf";
+  writeTextFile(body, bodyToYaml(m.body_params, budget,
+                                 "Hover creature's body evolved with its controller (" +
+                                     o.weights_path + ").\nReproduce: " + evolveCommand(o) +
+                                     " --out <dir>\nBuild it: the URDF beside it (" + urdf + ")",
+                                 metadata));
+  if (!m.body.model) return ", " + body + " (" + m.body.refusal + ": no URDF)";
+  writeTextFile(urdf, m.body.urdf);
+  return ", " + body + ", " + urdf;
+}
+
+// --preset hover and morph: the gains file and fitness.csv (morph: and its body).
 std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result, double wall_s,
                               const std::string& evaluated_on) {
   const EpisodeParams& e = o.params.episode;
+  const bool morph = o.params.kind == EvolveKind::kMorph;
   std::ostringstream header;
   header << "Hover controller gains (flapsim::HoverController) evolved "
+         << (morph ? "with the creature's body (body.yaml, creature.urdf beside it) " : "")
          << (evaluated_on == "farm" ? "on the farm" : evaluated_on)
          << ".\nReproduce: " << evolveCommand(o) << " --out <dir>\n"
          << "Fitness = mean of -(altitude rms after " << e.settle_time << " s + "
@@ -180,19 +218,24 @@ std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result
          << (e.first_start_level ? ", the first level in still air" : "") << ": "
          << result.best_fitness
          << "\nLoad it as hover_controller's private parameters (hover.launch gains:=FILE); "
-         << "measure it with flight_check --hover --gains FILE.";
-  writeTextFile(o.weights_path,
-                hoverGainsToYaml(hoverParamsFromGenes(result.best_weights), header.str(),
-                                 runMetadata(o, result, wall_s, evaluated_on)));
+         << "measure it with flight_check --hover "
+         << (morph ? "--urdf " + o.out_dir + "/creature.urdf " : "") << "--gains FILE.";
+  const auto metadata = runMetadata(o, result, wall_s, evaluated_on);
+  const HoverControllerParams gains =
+      morph ? morphFromGenes(result.best_weights, HoverControllerParams().altitude, o.params.budget)
+                  .controller
+            : hoverParamsFromGenes(result.best_weights);
+  writeTextFile(o.weights_path, hoverGainsToYaml(gains, header.str(), metadata));
   writeTextFile(o.out_dir + "/fitness.csv", fitnessCsv(result.history));
-  return writtenLine(o, result, wall_s, o.out_dir + "/fitness.csv");
+  const std::string body = morph ? writeMorphBody(o, result, metadata) : "";
+  return writtenLine(o, result, wall_s, o.out_dir + "/fitness.csv" + body);
 }
 
 }  // namespace
 
 std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& result, double wall_s,
                                const std::string& evaluated_on) {
-  if (o.params.kind == EvolveKind::kHover) {
+  if (hoverKind(o.params.kind)) {
     return writeHoverOutputs(o, result, wall_s, evaluated_on);
   }
   const EvolveParams& params = o.params;

@@ -1,0 +1,71 @@
+// Co-evolution of the hover creature's body and controller (issue 44, evolve --preset morph):
+// a genome is the hover controller's kHoverGeneCount gains followed by the body's
+// kBodyGeneCount genes (flapsim/body_genome.h). An episode builds the body (buildBody under the
+// default MassBudget) and flies it as the hover preset's episodes do; a body the budget or
+// make_creature refuses scores the worst an episode can, so the run goes on with the others.
+// ROS-free; no clock.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "flapsim/body_genome.h"
+#include "flapsim/hover_evolution.h"
+
+namespace flapsim {
+
+constexpr int kMorphGeneCount = kHoverGeneCount + kBodyGeneCount;
+
+/// Whether an evolution of `kind` flies the hover creature's controller (kHover, kMorph).
+inline bool hoverKind(EvolveKind kind) {
+  return kind == EvolveKind::kHover || kind == EvolveKind::kMorph;
+}
+/// The genes an individual of `kind` has among the hover kinds' (kHoverGeneCount or
+/// kMorphGeneCount).
+int hoverKindGeneCount(EvolveKind kind);
+
+/// Empty if `genes` is a morph genome (the hover genes, then the body genes, each within
+/// +-1), else a message naming the first culprit.
+std::string checkMorphGenes(const std::vector<double>& genes);
+
+/// The rad a morph's controller keeps its wings' stroke (amplitude + |offset|) inside the
+/// body's stroke limit: its max_stroke is the limit less this (hover_1's 1.45 of 1.5).
+constexpr double kMorphStrokeMargin = 0.05;
+
+/// An individual of a morph genome: its body built (or refused) and its controller holding
+/// `altitude`, the controller's max_stroke the body's stroke limit less kMorphStrokeMargin.
+struct MorphIndividual {
+  HoverParams body_params;
+  BodyBuild body;
+  HoverControllerParams controller;
+};
+/// checkMorphGenes first (InputError naming the gene).
+MorphIndividual morphFromGenes(const std::vector<double>& genes, double altitude,
+                               const MassBudget& budget = MassBudget(),
+                               const std::string& name = "morph");
+
+/// One episode of a morph genome: the hover preset's (runHoverEpisode) with the individual's
+/// body (under `budget`) and controller; a refused body scores -hoverFitnessBound(params).
+double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
+                           const EpisodeStart& start, const MassBudget& budget);
+
+/// evolve --preset morph: the hover preset's episodes, GA and fitness (its power term weighs
+/// the mechanical power per kg of the whole creature), on kMorphGeneCount genes.
+EvolveParams morphPreset();
+
+/// The body file of evolve --preset morph (OUT/body.yaml): the body genes' fields of `params`
+/// as a YAML map, `header` lines first and the masses under `budget` and `metadata` after them
+/// as comments.
+std::string bodyToYaml(const HoverParams& params, const MassBudget& budget,
+                       const std::string& header = "",
+                       const std::map<std::string, std::string>& metadata = {});
+/// The body genes of a body file's text: every gene's field given, each within its bounds.
+/// Throws InputError naming `source` and the culprit (not a map, an unknown or missing key,
+/// a value not a finite number or outside its gene's bounds).
+std::vector<double> bodyGenesFromYaml(const std::string& text,
+                                      const std::string& source = "<string>");
+/// Reads (at most 64 KiB) and parses a body file.
+std::vector<double> loadBodyGenes(const std::string& path);
+
+}  // namespace flapsim

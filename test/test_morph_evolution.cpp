@@ -1,0 +1,209 @@
+// Co-evolution of the hover creature's body and controller (evolve --preset morph,
+// flapsim/morph_evolution.h): the genome's two parts, the body file, refused bodies scored as
+// the worst episode while the run goes on, and the same bits whatever evaluates the tasks.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <optional>
+
+#include "flapsim/episode_evaluator.h"
+#include "flapsim/evolve_args.h"
+#include "flapsim/evolve_tool.h"
+#include "flapsim/hover_gains.h"
+#include "flapsim/morph_evolution.h"
+#include "flapsim/text_file.h"
+
+namespace flapsim {
+namespace {
+
+// hover_1 as a genome: its evolved gains, and its body, whose stroke motors (stall 0.06 N m,
+// no-load 300 rad/s) peak at 4.5 W; the genome's stall torque is theirs.
+std::vector<double> flyingGenome() {
+  std::vector<double> genes = hoverGenesFromParams(
+      loadHoverGainsYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/hover_1_gains.yaml"));
+  HoverParams body;
+  body.max_power = 4.5;
+  for (double g : bodyGenesFromParams(body)) genes.push_back(g);
+  return genes;
+}
+
+// A budget hover_1's body closes: 2 x 4.5 W at 1000 W/kg (9 g, far lighter than any motor the
+// default's source lists) and a 6 g payload in its 16 g body.
+const std::vector<std::string> kLightMotors = {"--payload", "0.006", "--motor-specific-power",
+                                               "1000"};
+MassBudget lightMotors() {
+  MassBudget b;
+  b.payload = 0.006;
+  b.motor_specific_power = 1000.0;
+  return b;
+}
+
+// Two short episodes of the morph preset, on that budget.
+EvaluationSpec shortSpec() {
+  std::vector<std::string> args = {"--preset", "morph",    "--episodes", "2",      "--duration",
+                                   "4",        "--settle", "2",          "--seed", "4"};
+  args.insert(args.end(), kLightMotors.begin(), kLightMotors.end());
+  return evaluationSpecFromArgs(args);
+}
+
+TEST(MorphEvolution, TheGenomeIsTheControllersGenesThenTheBodysEachCheckedByName) {
+  const std::vector<double> genes = flyingGenome();
+  ASSERT_EQ(genes.size(), static_cast<size_t>(kMorphGeneCount));
+  EXPECT_EQ(checkMorphGenes(genes), "");
+  std::vector<double> bad = genes;
+  bad[2] = 1.25;
+  EXPECT_EQ(checkMorphGenes(bad), "gene 2 (feather) is not a number in [-1, 1]");
+  bad = genes;
+  bad[kHoverGeneCount + 1] = -3.0;
+  EXPECT_EQ(checkMorphGenes(bad), "body gene 1 (wing_chord) is -3, not a number in [-1, 1]");
+  bad.pop_back();
+  EXPECT_EQ(checkMorphGenes(bad),
+            "24 genes, a morph genome has 25 (16 of the controller, 9 of the body)");
+  // The individual: the body's genes build it, the controller's stroke stays 0.05 rad inside
+  // its stroke limit.
+  const MorphIndividual m = morphFromGenes(genes, 3.0, lightMotors());
+  EXPECT_EQ(m.body.refusal, "");
+  EXPECT_DOUBLE_EQ(m.body_params.max_power, 4.5);
+  EXPECT_NEAR(m.body_params.stall_torque, HoverParams().stall_torque, 1e-15);
+  EXPECT_DOUBLE_EQ(m.controller.max_stroke, m.body_params.stroke_limit - 0.05);
+  EXPECT_NEAR(m.controller.trim_frequency, 13.321546513237099, 1e-12);  // the gains file's
+  EXPECT_EQ(m.controller.altitude, 3.0);
+}
+
+// A body the budget refuses scores the worst an episode can, exactly; one that flies scores
+// above it; the same bits on any thread count and through the runner.
+TEST(MorphEvolution, ARefusedBodyScoresTheWorstEpisodeAndTheRunGoesOnWithTheOthers) {
+  const EvaluationSpec spec = shortSpec();
+  ASSERT_EQ(spec.kind, EvolveKind::kMorph);
+  const EpisodeRunner runner(spec);
+  ASSERT_EQ(runner.weightCount(), kMorphGeneCount);
+  const std::vector<double> flying = flyingGenome();
+  std::vector<double> refused = flying;
+  refused[kHoverGeneCount + 6] = -1.0;  // an 8 g body for 6 g of payload and 9 g of motors
+  ASSERT_NE(
+      morphFromGenes(refused, 3.0, lightMotors()).body.refusal.find("mass budget does not close"),
+      std::string::npos);
+  std::vector<EpisodeTask> tasks;
+  for (const auto& g : {flying, refused}) {
+    for (int k = 0; k < 2; ++k) tasks.push_back(EpisodeTask{g, k});
+  }
+  const std::vector<double> one = InProcessEvaluator(spec, 1).evaluate(tasks);
+  const std::vector<double> two = InProcessEvaluator(spec, 2).evaluate(tasks);
+  EXPECT_EQ(one, two);
+  EXPECT_EQ(runner.evaluate(tasks[0]), one[0]);
+  EXPECT_EQ(one[2], -fitnessBound(spec));
+  EXPECT_EQ(one[3], -fitnessBound(spec));
+  // hover_1 holds its setpoint (the first episode level in still air, the second tilted in
+  // wind): -0.24 and -0.28, most of it the power term (0.5 x 46 W/kg / 100), where a refused
+  // body scores -fitnessBound (-359.5).
+  EXPECT_GT(one[0], -0.3);
+  EXPECT_GT(one[1], -0.3);
+  // A gene out of its range is a task that does not fit, refused by name.
+  std::vector<double> out_of_range = flying;
+  out_of_range[kHoverGeneCount] = 2.0;
+  EXPECT_NE(runner.check(EpisodeTask{out_of_range, 0}).find("body gene 0 (wing_span)"),
+            std::string::npos);
+}
+
+// The body file reads back as the genes it was written from; bad files are refused by key.
+TEST(MorphEvolution, ABodyFileReadsBackItsGenesAndBadOnesAreRefusedByKey) {
+  const std::vector<double> all = flyingGenome();
+  const std::vector<double> genes(all.begin() + kHoverGeneCount, all.end());
+  const HoverParams body = bodyFromGenes(genes, MassBudget());
+  const std::string text = bodyToYaml(body, MassBudget(), "a header");
+  const std::vector<double> back = bodyGenesFromYaml(text, "body.yaml");
+  ASSERT_EQ(back.size(), genes.size());
+  for (size_t i = 0; i < genes.size(); ++i) EXPECT_NEAR(back[i], genes[i], 1e-15) << i;
+  EXPECT_NE(text.find("# masses: "), std::string::npos);
+  auto refusal = [](const std::string& yaml) {
+    try {
+      bodyGenesFromYaml(yaml, "b.yaml");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  std::string missing = text.substr(0, text.find("com_drop")) + "hinge_below_top: 0.02\n";
+  EXPECT_EQ(refusal(missing), "b.yaml: 'com_drop' is missing");
+  std::string wide = text;
+  wide.replace(wide.find("wing_span: "), 15, "wing_span: 0.5 ");
+  EXPECT_EQ(refusal(wide), "b.yaml: 'wing_span' is 0.5, not in [0.06, 0.24] m");
+  EXPECT_EQ(refusal(text + "wing_mass: 0.001\n"), "b.yaml: unknown key 'wing_mass'");
+}
+
+// A tiny morph evolution: in process on 2 threads and through an evaluator answering in
+// reverse order (as a farm may), the same history and best genome, bit for bit; seeded from
+// a gains file and a body file, generation 0's first individual is those genes.
+TEST(MorphEvolution, ATinyRunIsTheSameBitsInProcessAndThroughAnotherEvaluatorAndSeedsFromFiles) {
+  const std::string dir = ::testing::TempDir() + "/morph_seed";
+  std::filesystem::create_directories(dir);
+  const std::vector<double> seed = flyingGenome();
+  const std::vector<double> body(seed.begin() + kHoverGeneCount, seed.end());
+  writeTextFile(dir + "/body.yaml", bodyToYaml(bodyFromGenes(body, MassBudget()), MassBudget()));
+  writeTextFile(dir + "/gains.yaml", hoverGainsToYaml(hoverParamsFromGenes(std::vector<double>(
+                                         seed.begin(), seed.begin() + kHoverGeneCount))));
+  std::optional<EvolveCheckpoint> none;
+  std::vector<std::string> args = {"--preset",      "morph",
+                                   "--population",  "4",
+                                   "--generations", "1",
+                                   "--episodes",    "2",
+                                   "--duration",    "2",
+                                   "--settle",      "1",
+                                   "--seed",        "3",
+                                   "--init",        dir + "/gains.yaml",
+                                   "--init-body",   dir + "/body.yaml"};
+  args.insert(args.end(), kLightMotors.begin(), kLightMotors.end());
+  EvolveOptions o = resolveEvolveOptions(args, 2, none);
+  ASSERT_EQ(o.params.ga.initial_genes.size(), seed.size());
+  for (size_t i = 0; i < seed.size(); ++i)
+    EXPECT_NEAR(o.params.ga.initial_genes[i], seed[i], 1e-15);
+  const EvolveResult in_process = evolveFlapController(o.params);
+  class Reverse : public EpisodeEvaluator {
+   public:
+    explicit Reverse(const EvaluationSpec& s) : runner_(s) {}
+    std::vector<double> evaluate(const std::vector<EpisodeTask>& tasks) override {
+      std::vector<double> out(tasks.size());
+      for (size_t i = tasks.size(); i-- > 0;) out[i] = runner_.evaluate(tasks[i]);
+      return out;
+    }
+    int workersUp() const override { return 1; }
+
+   private:
+    EpisodeRunner runner_;
+  } reverse(evaluationSpec(o.params));
+  EvolveHooks hooks;
+  hooks.evaluator = &reverse;
+  const EvolveResult other = evolveFlapController(o.params, hooks);
+  ASSERT_EQ(in_process.history.size(), other.history.size());
+  for (size_t g = 0; g < other.history.size(); ++g) {
+    EXPECT_EQ(in_process.history[g].best, other.history[g].best) << g;
+    EXPECT_EQ(in_process.history[g].mean, other.history[g].mean) << g;
+  }
+  EXPECT_EQ(in_process.best_weights, other.best_weights);
+  EXPECT_GT(in_process.history[0].best, -fitnessBound(evaluationSpec(o.params)));
+}
+
+// The flags that mean nothing to a morph (the flap network's) are refused by name, and
+// --init-body outside --preset morph.
+TEST(MorphEvolution, FlapFlagsAndABodySeedOutsideMorphAreRefusedByName) {
+  auto refusal = [](const std::vector<std::string>& args) {
+    try {
+      parseEvolveArgs(args, 1);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal({"--preset", "morph", "--hidden", "4"}),
+            "--hidden: not a flag of --preset morph (the hover controller's gains and body)");
+  EXPECT_EQ(refusal({"--preset", "hover", "--init-body", "b.yaml"}),
+            "--init-body: for --preset morph only (the body's)");
+  EXPECT_EQ(refusal({"--preset", "hover", "--motor-specific-power", "300"}),
+            "--motor-specific-power: for --preset morph only (the body's)");
+  EXPECT_EQ(refusal({"--preset", "robust", "--init-body", "b.yaml"}),
+            "--init-body: has no effect but with --preset morph (the flap network has no body)");
+}
+
+}  // namespace
+}  // namespace flapsim
