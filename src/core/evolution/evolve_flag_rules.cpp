@@ -1,0 +1,78 @@
+#include "evolution/evolve_flag_rules.h"
+
+#include <algorithm>
+
+namespace flapsim {
+
+namespace {
+
+// The flags that mean nothing to the hover controller's evolution (the flap network's, the
+// flap units' and their disturbances'): --preset hover and morph refuse them by name.
+const std::vector<std::string> kNotHoverFlags = {
+    "--pairs",       "--min-rate",         "--max-rate",       "--upstroke-rate",
+    "--amplitude",   "--stroke-offset",    "--control-period", "--network",
+    "--hidden",      "--rate-inputs",      "--altitude-input", "--chain-input",
+    "--com-drop",    "--phase-lock",       "--pitch-gain",     "--gene-range",
+    "--link-axis",   "--link-stiffness",   "--start-rate",     "--gust",
+    "--gust-torque", "--gust-torque-time", "--gust-force",     "--gust-force-time",
+    "--gust-link",   "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
+    "--crash-height"};
+
+}  // namespace
+
+bool hoverPresetName(const std::string& preset) { return preset == "hover" || preset == "morph"; }
+
+void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen) {
+  for (const CliSeen& s : seen) {
+    const std::string& name = s.flag->names.front();
+    if (std::find(kNotHoverFlags.begin(), kNotHoverFlags.end(), name) != kNotHoverFlags.end()) {
+      throw InputError(name + ": not a flag of --preset " + preset +
+                       (preset == "hover" ? " (the hover controller's gains)"
+                                          : " (the hover controller's gains and body)"));
+    }
+    if ((name == "--init-body" || name == "--payload" || name == "--motor-specific-power") &&
+        preset != "morph") {
+      throw InputError(name + ": for --preset morph only (the body's)");
+    }
+  }
+}
+
+// A flap network's evolution: the flags whose effect hangs on another's (a gust's duration
+// or link without the gust, the altitude setpoints and the altimeter's noise without altitude
+// hold or input, the settling time that only the hover preset's fitness counts after) are
+// refused by name when that other leaves them without effect.
+void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen) {
+  const EpisodeParams& e = p.episode;
+  for (const CliSeen& s : seen) {
+    const std::string& name = s.flag->names.front();
+    std::string why;
+    if (name == "--gust-link" && e.gust_force == 0.0) why = "without --gust-force";
+    if (name == "--gust-force-time" && e.gust_force == 0.0) why = "without --gust-force";
+    if (name == "--gust-torque-time" && e.gust_torque == 0.0) why = "without --gust-torque";
+    if (name == "--altitude" && !e.altitude_hold) why = "without --altitude-hold on";
+    if (name == "--altitude-noise" && !p.controller.altitude_input) {
+      why = "without an altitude input (--altitude-input on)";
+    }
+    if (name == "--settle")
+      why = "but with --preset hover or morph (the flap network's fitness has none)";
+    if (name == "--init-body" || name == "--payload" || name == "--motor-specific-power") {
+      why = "but with --preset morph (the flap network has no body)";
+    }
+    if (name == "--max-upstroke-rate" && p.controller.max_upstroke_rate > 0.0 &&
+        (p.controller.network != FlapNetwork::kMirror || p.controller.phase_lock)) {
+      why = "without --network mirror and --phase-lock off (the net would set no upstroke)";
+    }
+    if (name == "--chain-input" && p.controller.chain_input && p.pairs < 2) {
+      why = "on a single unit (--pairs 1: no chain)";
+    }
+    if ((name == "--link-axis" || name == "--link-stiffness") && p.pairs < 2) {
+      why = "on a single unit (--pairs 1: no links between units)";
+    }
+    if (name == "--pitch-gain" && p.controller.pitch_gain > 0.0 && p.pairs < 2) {
+      why = "on a single unit (--pairs 1: no chain)";
+    }
+    if (!why.empty()) throw InputError(name + ": has no effect " + why);
+  }
+}
+
+}  // namespace flapsim
