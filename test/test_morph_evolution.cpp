@@ -96,7 +96,7 @@ TEST(MorphEvolution, ARefusedBodyScoresTheWorstEpisodeAndTheRunGoesOnWithTheOthe
   EXPECT_EQ(one[3], -fitnessBound(spec));
   // hover_1 holds its setpoint (the first episode level in still air, the second tilted in
   // wind): -0.24 and -0.28, most of it the power term (0.5 x 46 W/kg / 100), where a refused
-  // body scores -fitnessBound (-359.5).
+  // body scores -fitnessBound (-359.5 - 78.5, the 4 s free fall).
   EXPECT_GT(one[0], -0.3);
   EXPECT_GT(one[1], -0.3);
   // A gene out of its range is a task that does not fit, refused by name.
@@ -104,6 +104,24 @@ TEST(MorphEvolution, ARefusedBodyScoresTheWorstEpisodeAndTheRunGoesOnWithTheOthe
   out_of_range[kHoverGeneCount] = 2.0;
   EXPECT_NE(runner.check(EpisodeTask{out_of_range, 0}).find("body gene 0 (wing_span)"),
             std::string::npos);
+}
+
+// The fall term: nothing within the hover fitness's 10 m of sag, then 1 per m up to a free
+// fall over the episode (g T^2 / 2 = 78.48 m in 4 s), and a flip counts as that whole fall.
+TEST(MorphEvolution, TheFallTermCountsTheSinkBeyondTenMetresUpToAFreeFallAndAFlipAsAFreeFall) {
+  EpisodeParams e = morphPreset().episode;
+  e.duration = 4.0;
+  HoverFlightResult r;
+  r.start_sag = 5.0;
+  EXPECT_EQ(morphFallTerm(r, e), 0.0);
+  r.start_sag = 30.0;
+  EXPECT_NEAR(morphFallTerm(r, e), 20.0, 1e-12);
+  r.start_sag = 500.0;
+  EXPECT_NEAR(morphFallTerm(r, e), 78.48, 1e-12);
+  r.start_sag = 1.0;
+  r.flipped = true;
+  EXPECT_NEAR(morphFallTerm(r, e), 78.48, 1e-12);
+  EXPECT_NEAR(morphFitnessBound(e), hoverFitnessBound(e) + 78.48, 1e-12);
 }
 
 // The body file reads back as the genes it was written from; bad files are refused by key.

@@ -45,8 +45,20 @@ MorphIndividual morphFromGenes(const std::vector<double>& genes, double altitude
                                const MassBudget& budget = MassBudget(),
                                const std::string& name = "morph");
 
+/// A morph episode's fall term: the hover fitness caps its sag term at kHoverMaxTerm m of sag,
+/// which every body that cannot lift itself reaches within 2 s, so a random population of
+/// bodies scores alike. A morph episode also loses kMorphFallWeight per m the creature sank
+/// below its start beyond that, up to a free fall's g T^2 / 2 over the episode's T, and a
+/// flipped one (the flight ends at the flip) that whole free fall: a body that lifts part of
+/// its weight scores above one that lifts less, and none gains by flipping early.
+constexpr double kMorphFallWeight = 1.0;  // per m
+double morphFallTerm(const HoverFlightResult& result, const EpisodeParams& params);
+/// The largest |fitness| a morph episode can score: hoverFitnessBound + the free fall's term.
+double morphFitnessBound(const EpisodeParams& params);
+
 /// One episode of a morph genome: the hover preset's (runHoverEpisode) with the individual's
-/// body (under `budget`) and controller; a refused body scores -hoverFitnessBound(params).
+/// body (under `budget`) and controller, less morphFallTerm; a refused body scores
+/// -morphFitnessBound(params).
 double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
                            const EpisodeStart& start, const MassBudget& budget);
 

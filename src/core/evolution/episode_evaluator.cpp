@@ -21,7 +21,8 @@ double episodeWork(const EvaluationSpec& spec) {
 
 double fitnessBound(const EvaluationSpec& spec) {
   const EpisodeParams& e = spec.episode;
-  if (hoverKind(spec.kind)) return hoverFitnessBound(e);
+  if (spec.kind == EvolveKind::kMorph) return morphFitnessBound(e);
+  if (spec.kind == EvolveKind::kHover) return hoverFitnessBound(e);
   return std::abs(e.start_height) + e.world.max_speed * e.duration + e.flip_penalty;
 }
 

@@ -62,12 +62,30 @@ MorphIndividual morphFromGenes(const std::vector<double>& genes, double altitude
   return m;
 }
 
+namespace {
+
+double freeFall(const EpisodeParams& params) {
+  return 0.5 * 9.81 * params.duration * params.duration;
+}
+
+}  // namespace
+
+double morphFallTerm(const HoverFlightResult& r, const EpisodeParams& params) {
+  const double fall = freeFall(params);
+  const double sink = r.flipped ? fall : std::clamp(r.start_sag - kHoverMaxTerm, 0.0, fall);
+  return kMorphFallWeight * sink;
+}
+
+double morphFitnessBound(const EpisodeParams& params) {
+  return hoverFitnessBound(params) + kMorphFallWeight * freeFall(params);
+}
+
 double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
                            const EpisodeStart& start, const MassBudget& budget) {
   const MorphIndividual m = morphFromGenes(genes, HoverControllerParams().altitude, budget);
-  if (!m.body.model) return -hoverFitnessBound(params);
+  if (!m.body.model) return -morphFitnessBound(params);
   const HoverFlightResult r = runHoverEpisode(m.body.model, m.controller, params, start);
-  return hoverEpisodeFitness(r, params.flip_penalty);
+  return hoverEpisodeFitness(r, params.flip_penalty) - morphFallTerm(r, params);
 }
 
 EvolveParams morphPreset() {
