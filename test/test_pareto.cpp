@@ -190,7 +190,8 @@ TEST(Nsga2Zdt1, After300GenerationsAll40WithinGap0p05MeanDistance0p01F1SpansBelo
   EXPECT_GT(end.f1_max, 0.95);
 }
 
-bool sameBits(const ObjectiveTable& a, const ObjectiveTable& b) {
+bool sameBits(const std::vector<std::vector<double>>& a,
+              const std::vector<std::vector<double>>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i) {
     if (a[i].size() != b[i].size() ||

@@ -48,9 +48,10 @@ struct Nsga2Params {
   std::uint64_t seed = 1;
 };
 
-/// The last population, best first (crowdedBetter order), and its Pareto ranks.
+/// The last population, in the order nsga2Survivors kept it (best first; after 0 generations,
+/// as drawn), its objectives and its Pareto ranks among themselves.
 struct Nsga2Result {
-  ObjectiveTable genes;
+  std::vector<std::vector<double>> genes;
   ObjectiveTable objectives;
   std::vector<int> ranks;
 };

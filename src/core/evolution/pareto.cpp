@@ -181,7 +181,7 @@ namespace {
 
 // One generation's individuals and their objectives, side by side.
 struct Population {
-  ObjectiveTable genes;
+  std::vector<std::vector<double>> genes;
   ObjectiveTable objectives;
 };
 
