@@ -12,6 +12,7 @@
 #include "flapsim/evolve_tool.h"
 #include "flapsim/hover_gains.h"
 #include "flapsim/morph_evolution.h"
+#include "flapsim/morph_front.h"
 #include "flapsim/text_file.h"
 
 namespace flapsim {
@@ -122,6 +123,34 @@ TEST(MorphEvolution, TheFallTermCountsTheSinkBeyondTenMetresUpToAFreeFallAndAFli
   r.flipped = true;
   EXPECT_NEAR(morphFallTerm(r, e), 78.48, 1e-12);
   EXPECT_NEAR(morphFitnessBound(e), hoverFitnessBound(e) + 78.48, 1e-12);
+}
+
+// The front's objectives: hover_1 flies its two episodes at about its 45 W/kg with a loss of
+// centimetres, the same bits on 1 and 2 threads; a refused body has no objectives and rank -1,
+// and the CSV names its refusal.
+TEST(MorphFront, HoverOneScoresItsPowerAndARefusedBodyIsLeftOffTheFront) {
+  const EvaluationSpec spec = shortSpec();
+  std::vector<double> refused = flyingGenome();
+  refused[kHoverGeneCount + 6] = -1.0;
+  const std::vector<std::vector<double>> genomes = {flyingGenome(), refused};
+  const std::vector<MorphScore> one = morphScores(genomes, spec, 1);
+  const std::vector<MorphScore> two = morphScores(genomes, spec, 2);
+  ASSERT_EQ(one.size(), 2u);
+  EXPECT_EQ(one[0].power_per_kg, two[0].power_per_kg);
+  EXPECT_EQ(one[0].loss, two[0].loss);
+  EXPECT_EQ(one[0].refusal, "");
+  EXPECT_NEAR(one[0].power_per_kg, 45.5, 3.0);
+  EXPECT_LT(one[0].loss, 0.1);
+  EXPECT_NEAR(one[0].mass, 0.018, 1e-9);
+  EXPECT_NE(one[1].refusal.find("mass budget does not close"), std::string::npos);
+  EXPECT_EQ(morphRanks(one), (std::vector<int>{0, -1}));
+  const std::string csv = morphFrontCsv(genomes, one, morphRanks(one), lightMotors());
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "member,rank,power_w_per_kg,loss_m,mass_g,wing_span,wing_chord,stroke_limit,"
+            "max_power,no_load_speed,hinge_stiffness,body_mass,com_drop,hinge_below_top,"
+            "motors_g,ballast_g,refusal");
+  EXPECT_NE(csv.find(",0.12,0.045,1.5,4.5,300,0.035,0.016,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("1,-1,"), std::string::npos) << csv;
 }
 
 // The body file reads back as the genes it was written from; bad files are refused by key.

@@ -260,6 +260,7 @@ struct EvolveResult {
   std::vector<GenerationStats> history;
   std::vector<double> best_weights;
   double best_fitness = 0.0;
+  std::vector<Individual> population;  // the last generation's, best first
 };
 
 /// The state of an evolution after a generation: enough to continue it bit

@@ -175,6 +175,7 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
   result.history = ga.history();
   result.best_weights = ga.best().genes;
   result.best_fitness = ga.best().fitness;
+  result.population = ga.population();
   return result;
 }
 

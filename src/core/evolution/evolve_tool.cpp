@@ -12,6 +12,7 @@
 #include "flapsim/hover_gains.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/morph_evolution.h"
+#include "flapsim/morph_front.h"
 
 namespace flapsim {
 
@@ -199,6 +200,31 @@ std::string writeMorphBody(const EvolveOptions& o, const EvolveResult& result,
   return ", " + body + ", " + urdf;
 }
 
+// --preset morph: the Pareto front of the last population (its members flown again in
+// process), OUT/front.csv, and each front member's gains and URDF (OUT/front_<k>_...).
+std::string writeMorphFront(const EvolveOptions& o, const EvolveResult& result) {
+  std::vector<std::vector<double>> genomes;
+  for (const Individual& i : result.population) genomes.push_back(i.genes);
+  const std::vector<MorphScore> scores =
+      morphScores(genomes, evaluationSpec(o.params), o.params.ga.threads);
+  const std::vector<int> ranks = morphRanks(scores);
+  const std::string csv = o.out_dir + "/front.csv";
+  writeTextFile(csv, morphFrontCsv(genomes, scores, ranks, o.params.budget));
+  int members = 0;
+  for (size_t k = 0; k < genomes.size(); ++k) {
+    if (ranks[k] != 0) continue;
+    ++members;
+    const MorphIndividual m = morphFromGenes(genomes[k], HoverControllerParams().altitude,
+                                             o.params.budget, "morph_" + std::to_string(k));
+    const std::string stem = o.out_dir + "/front_" + std::to_string(k);
+    writeTextFile(stem + "_gains.yaml",
+                  hoverGainsToYaml(m.controller, "Member " + std::to_string(k) + " of " + csv));
+    writeTextFile(stem + "_creature.urdf", m.body.urdf);
+  }
+  return ", " + csv + " (" + std::to_string(members) + " on the front: " + o.out_dir +
+         "/front_<member>_gains.yaml, _creature.urdf)";
+}
+
 // --preset hover and morph: the gains file and fitness.csv (morph: and its body).
 std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result, double wall_s,
                               const std::string& evaluated_on) {
@@ -227,7 +253,8 @@ std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result
             : hoverParamsFromGenes(result.best_weights);
   writeTextFile(o.weights_path, hoverGainsToYaml(gains, header.str(), metadata));
   writeTextFile(o.out_dir + "/fitness.csv", fitnessCsv(result.history));
-  const std::string body = morph ? writeMorphBody(o, result, metadata) : "";
+  const std::string body =
+      morph ? writeMorphBody(o, result, metadata) + writeMorphFront(o, result) : "";
   return writtenLine(o, result, wall_s, o.out_dir + "/fitness.csv" + body);
 }
 
