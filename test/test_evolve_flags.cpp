@@ -101,6 +101,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--motor-specific-power",
        {"300"},
        "--motor-specific-power: has no effect but with --preset morph"},
+      {"--power-weight", {"2"}, "--power-weight: has no effect but with --preset morph"},
       {"--network", {"paper"}, ""},
       {"--hidden", {"3"}, ""},
       {"--rate-inputs", {"off"}, ""},

@@ -153,6 +153,22 @@ TEST(MorphFront, HoverOneScoresItsPowerAndARefusedBodyIsLeftOffTheFront) {
   EXPECT_NE(csv.find("1,-1,"), std::string::npos) << csv;
 }
 
+// The fitness is the two objectives weighed: at --power-weight 5 a genome's mean episode
+// fitness is -(its loss + 5 x its W/kg / 100), the front's two numbers.
+TEST(MorphFront, TheFitnessIsMinusTheLossLessThePowerAtItsWeight) {
+  std::vector<std::string> args = {"--preset", "morph", "--episodes", "2", "--duration",     "4",
+                                   "--settle", "2",     "--seed",     "4", "--power-weight", "5"};
+  args.insert(args.end(), kLightMotors.begin(), kLightMotors.end());
+  const EvaluationSpec spec = evaluationSpecFromArgs(args);
+  ASSERT_EQ(spec.morph.power_weight, 5.0);
+  const EpisodeRunner runner(spec);
+  const double fitness =
+      0.5 * (runner.evaluate({flyingGenome(), 0}) + runner.evaluate({flyingGenome(), 1}));
+  const MorphScore s = morphScores({flyingGenome()}, spec, 1).front();
+  EXPECT_NEAR(fitness, -(s.loss + 5.0 * s.power_per_kg / 100.0), 1e-12);
+  EXPECT_LT(fitness, -2.0);  // the power term, 5 x 45 W/kg / 100, dominates
+}
+
 // The body file reads back as the genes it was written from; bad files are refused by key.
 TEST(MorphEvolution, ABodyFileReadsBackItsGenesAndBadOnesAreRefusedByKey) {
   const std::vector<double> all = flyingGenome();

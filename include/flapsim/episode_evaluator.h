@@ -25,7 +25,7 @@ struct EvaluationSpec {
   FlapUnitParams unit;
   FlapControllerParams controller;
   EpisodeParams episode;
-  MassBudget budget;  // kMorph: the bodies' (flapsim/body_genome.h)
+  MorphParams morph;  // kMorph: the bodies' budget and the power weight
 };
 
 /// One (individual, episode) task: network weights (kHover: the gain genes) and an index into

@@ -218,6 +218,13 @@ double flapFitness(const CreatureModelPtr& model, const FlapControllerParams& co
 /// Largest creature an evolution flies: units (wing pairs) of makeCreatureUrdf.
 constexpr int kMaxEvolvePairs = 64;
 
+/// What a co-evolution of body and controller (kMorph) needs beyond the hover preset's.
+struct MorphParams {
+  MassBudget budget;  // what the bodies' masses are made of
+  /// m per 100 W/kg: the fitness's power term (the hover preset's 0.5; capped at 10 m).
+  double power_weight = 0.5;
+};
+
 /// What an evolution evolves: the flap-unit network (the paper's; evolve's robust and paper
 /// presets), the hover controller's gains (evolve --preset hover, flapsim/hover_evolution.h),
 /// or those gains and the hover creature's body together (evolve --preset morph,
@@ -237,7 +244,7 @@ struct EvolveParams {
   /// parseEvolveArgs finds them once and hands the numbers on.
   bool auto_step_sizes = false;
   bool turn_substep_given = false;  // episode.world.turn_substep was set (evolve --turn-substep)
-  MassBudget budget;                // kMorph: what the bodies' masses are made of
+  MorphParams morph;  // kMorph: the bodies' mass budget and the fitness's power weight
 };
 
 /// The paper's settings (sec. IV.A): 10 individuals, elitism, rank selection,

@@ -56,11 +56,21 @@ double morphFallTerm(const HoverFlightResult& result, const EpisodeParams& param
 /// The largest |fitness| a morph episode can score: hoverFitnessBound + the free fall's term.
 double morphFitnessBound(const EpisodeParams& params);
 
-/// One episode of a morph genome: the hover preset's (runHoverEpisode) with the individual's
-/// body (under `budget`) and controller, less morphFallTerm; a refused body scores
-/// -morphFitnessBound(params).
+/// The power term of a hover episode's fitness at `weight` m per 100 W/kg, capped at
+/// kHoverMaxTerm (the hover preset's: kHoverPowerWeight).
+double hoverPowerTerm(const HoverFlightResult& result, double weight);
+/// Everything a morph episode penalises but the power (m, >= 0): the hover fitness's other
+/// terms and flip penalty, and morphFallTerm.
+double morphLoss(const HoverFlightResult& result, const EpisodeParams& params);
+
+/// Empty if `params` are valid (validateMassBudget, a finite power weight >= 0), else why not.
+std::string validateMorphParams(const MorphParams& params);
+
+/// One episode of a morph genome: the hover preset's flight (runHoverEpisode) of the
+/// individual's body (under morph.budget) and controller, scored -(morphLoss +
+/// hoverPowerTerm at morph.power_weight); a refused body scores -morphFitnessBound(params).
 double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
-                           const EpisodeStart& start, const MassBudget& budget);
+                           const EpisodeStart& start, const MorphParams& morph);
 
 /// evolve --preset morph: the hover preset's episodes, GA and fitness (its power term weighs
 /// the mechanical power per kg of the whole creature), on kMorphGeneCount genes.

@@ -15,8 +15,7 @@ namespace flapsim {
 /// A genome over the spec's episodes.
 struct MorphScore {
   double power_per_kg = 0.0;  // W/kg: the motors' mean positive power over the episodes' mean
-  /// m: the mean over the episodes of -(morph episode fitness) less its power term
-  /// (kHoverPowerWeight x W/kg / 100, capped at kHoverMaxTerm): minimised.
+  /// m: the mean over the episodes of morphLoss (everything but the power): minimised.
   double loss = 0.0;
   double mass = 0.0;    // kg, the whole creature
   std::string refusal;  // not empty: the body was refused (no objectives)

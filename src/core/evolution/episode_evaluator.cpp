@@ -33,7 +33,7 @@ EpisodeRunner::EpisodeRunner(const EvaluationSpec& spec) : spec_(spec) {
     err = "pairs must be in [1, " + std::to_string(kMaxEvolvePairs) + "]";
   }
   if (err.empty() && hoverKind(spec.kind)) err = validateHoverEpisodes(spec.episode);
-  if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMassBudget(spec.budget);
+  if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMorphParams(spec.morph);
   if (!err.empty()) throw InputError("evaluation spec: " + err);
   // A morph's bodies are its genomes': each episode builds its own (its starts are drawn on
   // hover_1, whose link names, all the draws read, every body shares).
@@ -74,7 +74,7 @@ double EpisodeRunner::evaluate(const EpisodeTask& task) const {
   const std::string err = check(task);
   if (!err.empty()) throw TaskError("task: " + err);
   if (spec_.kind == EvolveKind::kMorph) {
-    return morphEpisodeFitness(task.weights, spec_.episode, starts_[task.episode], spec_.budget);
+    return morphEpisodeFitness(task.weights, spec_.episode, starts_[task.episode], spec_.morph);
   }
   if (spec_.kind == EvolveKind::kHover) {
     const HoverFlightResult r = runHoverEpisode(model_, hoverParamsFromGenes(task.weights),

@@ -101,7 +101,7 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   spec.unit = params.unit;
   spec.controller = params.controller;
   spec.episode = params.episode;
-  spec.budget = params.budget;
+  spec.morph = params.morph;
   const StepChoice steps = evolutionStepChoice(params);
   spec.episode.step_sizes = steps.step_sizes;
   spec.episode.world.turn_substep = steps.turn_substep;
@@ -109,7 +109,7 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);
   if (err.empty() && hoverKind(spec.kind)) err = validateHoverEpisodes(spec.episode);
-  if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMassBudget(spec.budget);
+  if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMorphParams(spec.morph);
   if (!err.empty()) throw std::invalid_argument("evolve: " + err);
   return spec;
 }

@@ -229,12 +229,15 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
 
 // The mass budget of --preset morph's bodies (flapsim/body_genome.h).
 void morphFlags(CliParser& t, EvolveOptions& o) {
-  MassBudget& b = o.params.budget;
+  MassBudget& b = o.params.morph.budget;
   t.real("--payload", "KG", &b.payload, {0, 1e3, true},
          "--preset morph: the body's fixed payload beside its motors")
       .tag(kSpec)
       .real("--motor-specific-power", "W_PER_KG", &b.motor_specific_power, {0, 1e6, true},
             "--preset morph: the stroke motors' rated power per kg (116: a geared micro motor)")
+      .tag(kSpec)
+      .real("--power-weight", "M", &o.params.morph.power_weight, {0, 1e3},
+            "--preset morph: the fitness's power term, m per 100 W/kg")
       .tag(kSpec);
 }
 

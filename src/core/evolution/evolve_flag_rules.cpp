@@ -18,6 +18,12 @@ const std::vector<std::string> kNotHoverFlags = {
     "--gust-link",   "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
     "--crash-height"};
 
+// The flags of --preset morph alone.
+bool morphFlag(const std::string& name) {
+  return name == "--init-body" || name == "--payload" || name == "--motor-specific-power" ||
+         name == "--power-weight";
+}
+
 }  // namespace
 
 bool hoverPresetName(const std::string& preset) { return preset == "hover" || preset == "morph"; }
@@ -30,8 +36,7 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
                        (preset == "hover" ? " (the hover controller's gains)"
                                           : " (the hover controller's gains and body)"));
     }
-    if ((name == "--init-body" || name == "--payload" || name == "--motor-specific-power") &&
-        preset != "morph") {
+    if (morphFlag(name) && preset != "morph") {
       throw InputError(name + ": for --preset morph only (the body's)");
     }
   }
@@ -55,7 +60,7 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     }
     if (name == "--settle")
       why = "but with --preset hover or morph (the flap network's fitness has none)";
-    if (name == "--init-body" || name == "--payload" || name == "--motor-specific-power") {
+    if (morphFlag(name)) {
       why = "but with --preset morph (the flap network has no body)";
     }
     if (name == "--max-upstroke-rate" && p.controller.max_upstroke_rate > 0.0 &&

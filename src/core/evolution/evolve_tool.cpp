@@ -186,7 +186,7 @@ std::string sealedEnds(const EpisodeParams& e) {
 // lines written, or why the body was refused.
 std::string writeMorphBody(const EvolveOptions& o, const EvolveResult& result,
                            const std::map<std::string, std::string>& metadata) {
-  const MassBudget& budget = o.params.budget;
+  const MassBudget& budget = o.params.morph.budget;
   const MorphIndividual m =
       morphFromGenes(result.best_weights, HoverControllerParams().altitude, budget);
   const std::string body = o.out_dir + "/body.yaml", urdf = o.out_dir + "/creature.urdf";
@@ -209,13 +209,13 @@ std::string writeMorphFront(const EvolveOptions& o, const EvolveResult& result) 
       morphScores(genomes, evaluationSpec(o.params), o.params.ga.threads);
   const std::vector<int> ranks = morphRanks(scores);
   const std::string csv = o.out_dir + "/front.csv";
-  writeTextFile(csv, morphFrontCsv(genomes, scores, ranks, o.params.budget));
+  writeTextFile(csv, morphFrontCsv(genomes, scores, ranks, o.params.morph.budget));
   int members = 0;
   for (size_t k = 0; k < genomes.size(); ++k) {
     if (ranks[k] != 0) continue;
     ++members;
     const MorphIndividual m = morphFromGenes(genomes[k], HoverControllerParams().altitude,
-                                             o.params.budget, "morph_" + std::to_string(k));
+                                             o.params.morph.budget, "morph_" + std::to_string(k));
     const std::string stem = o.out_dir + "/front_" + std::to_string(k);
     writeTextFile(stem + "_gains.yaml",
                   hoverGainsToYaml(m.controller, "Member " + std::to_string(k) + " of " + csv));
@@ -248,7 +248,8 @@ std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result
          << (morph ? "--urdf " + o.out_dir + "/creature.urdf " : "") << "--gains FILE.";
   const auto metadata = runMetadata(o, result, wall_s, evaluated_on);
   const HoverControllerParams gains =
-      morph ? morphFromGenes(result.best_weights, HoverControllerParams().altitude, o.params.budget)
+      morph ? morphFromGenes(result.best_weights, HoverControllerParams().altitude,
+                             o.params.morph.budget)
                   .controller
             : hoverParamsFromGenes(result.best_weights);
   writeTextFile(o.weights_path, hoverGainsToYaml(gains, header.str(), metadata));

@@ -80,12 +80,30 @@ double morphFitnessBound(const EpisodeParams& params) {
   return hoverFitnessBound(params) + kMorphFallWeight * freeFall(params);
 }
 
+double hoverPowerTerm(const HoverFlightResult& r, double weight) {
+  return std::min(weight * r.specificPower() / 100.0, kHoverMaxTerm);
+}
+
+double morphLoss(const HoverFlightResult& r, const EpisodeParams& params) {
+  return -(hoverEpisodeFitness(r, params.flip_penalty) + hoverPowerTerm(r, kHoverPowerWeight)) +
+         morphFallTerm(r, params);
+}
+
+std::string validateMorphParams(const MorphParams& params) {
+  const std::string err = validateMassBudget(params.budget);
+  if (!err.empty()) return err;
+  if (!std::isfinite(params.power_weight) || params.power_weight < 0.0) {
+    return "the power weight must be a number >= 0";
+  }
+  return "";
+}
+
 double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
-                           const EpisodeStart& start, const MassBudget& budget) {
-  const MorphIndividual m = morphFromGenes(genes, HoverControllerParams().altitude, budget);
+                           const EpisodeStart& start, const MorphParams& morph) {
+  const MorphIndividual m = morphFromGenes(genes, HoverControllerParams().altitude, morph.budget);
   if (!m.body.model) return -morphFitnessBound(params);
   const HoverFlightResult r = runHoverEpisode(m.body.model, m.controller, params, start);
-  return hoverEpisodeFitness(r, params.flip_penalty) - morphFallTerm(r, params);
+  return -(morphLoss(r, params) + hoverPowerTerm(r, morph.power_weight));
 }
 
 EvolveParams morphPreset() {

@@ -25,7 +25,8 @@ std::vector<MorphScore> morphScores(const std::vector<std::vector<double>>& geno
   std::vector<Flight> flights(genomes.size() * starts.size());
   parallelMap(static_cast<int>(flights.size()), threads, [&](int task) {
     const std::vector<double>& genes = genomes[task / n];
-    const MorphIndividual m = morphFromGenes(genes, HoverControllerParams().altitude, spec.budget);
+    const MorphIndividual m =
+        morphFromGenes(genes, HoverControllerParams().altitude, spec.morph.budget);
     Flight& f = flights[task];
     if (!m.body.model) {
       f.refusal = m.body.refusal;
@@ -34,8 +35,7 @@ std::vector<MorphScore> morphScores(const std::vector<std::vector<double>>& geno
     const HoverFlightResult r = runHoverEpisode(m.body.model, m.controller, e, starts[task % n]);
     f.power_per_kg = r.specificPower();
     f.mass = r.mass;
-    const double power_term = std::min(kHoverPowerWeight * f.power_per_kg / 100.0, kHoverMaxTerm);
-    f.loss = -(hoverEpisodeFitness(r, e.flip_penalty) - morphFallTerm(r, e)) - power_term;
+    f.loss = morphLoss(r, e);
     return 0.0;
   });
   std::vector<MorphScore> scores(genomes.size());
