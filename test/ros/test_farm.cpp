@@ -81,6 +81,50 @@ TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
   EXPECT_EQ(farm.resent(), 0);
 }
 
+// The body and controller co-evolved (--preset morph: the kind and the mass budget travel in
+// the spec's flags): the workers build each genome's body and fly it as the process does, bit
+// for bit, and the last population is the same, so the Pareto front the tool writes from it is
+// the same too.
+TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
+  const std::vector<std::string> spec = {"--preset",
+                                         "morph",
+                                         "--population",
+                                         "4",
+                                         "--generations",
+                                         "1",
+                                         "--episodes",
+                                         "2",
+                                         "--duration",
+                                         "1",
+                                         "--settle",
+                                         "0.5",
+                                         "--seed",
+                                         "5",
+                                         "--payload",
+                                         "0.006",
+                                         "--motor-specific-power",
+                                         "1000"};
+  flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
+  ASSERT_EQ(p.kind, flapsim::EvolveKind::kMorph);
+  ASSERT_EQ(p.morph.budget.motor_specific_power, 1000.0);
+  p.ga.threads = 2;
+  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
+  flapsim_ros::FarmEvaluator farm(nh, spec, flapsim::geneCount(p), flapsim_ros::FarmParams());
+  flapsim::EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
+  expectSameBits(in_process, on_farm);
+  EXPECT_EQ(on_farm.best_weights.size(), 25u);
+  ASSERT_EQ(on_farm.population.size(), in_process.population.size());
+  for (size_t i = 0; i < on_farm.population.size(); ++i) {
+    EXPECT_EQ(on_farm.population[i].genes, in_process.population[i].genes) << i;
+    EXPECT_EQ(on_farm.population[i].fitness, in_process.population[i].fitness) << i;
+  }
+  EXPECT_EQ(farm.resent(), 0);
+}
+
 TEST(Farm, AWorkerKilledMidRunAndOneJoiningGiveTheSameBits) {
   ros::NodeHandle nh;
   const flapsim::EvolveParams p = flapsim::parseEvolveArgs(kSpec).params;
