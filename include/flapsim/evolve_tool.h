@@ -37,7 +37,8 @@ double secondsLeft(const EvolveOptions& options, const GenerationStats& g, int f
 std::string writeEvolveOutputs(const EvolveOptions& options, const EvolveResult& result,
                                double wall_s, const std::string& evaluated_on);
 
-/// Runs gnuplot on gnuplotScript(out_dir, 5, rates); false if it failed (or is missing).
-bool plotEvolveOutputs(const std::string& out_dir, bool rates = true);
+/// Runs gnuplot on gnuplotScript(out_dir, 5, rates) (with `front`: and morphFrontGnuplot);
+/// false if it failed (or is missing).
+bool plotEvolveOutputs(const std::string& out_dir, bool rates = true, bool front = false);
 
 }  // namespace flapsim

@@ -35,4 +35,8 @@ std::string morphFrontCsv(const std::vector<std::vector<double>>& genomes,
                           const std::vector<MorphScore>& scores, const std::vector<int>& ranks,
                           const MassBudget& budget);
 
+/// gnuplot commands drawing `dir`/front.png from `dir`/front.csv: each built member's mean
+/// loss (log scale) against its W/kg, the front's (rank 0) marked.
+std::string morphFrontGnuplot(const std::string& dir);
+
 }  // namespace flapsim

@@ -36,13 +36,15 @@ int main(int argc, char** argv) {
     return 1;
   }
   const bool rates = opt.params.kind == flapsim::EvolveKind::kFlap;
-  if (opt.plot && !flapsim::plotEvolveOutputs(opt.out_dir, rates)) {
+  const bool front = opt.params.kind == flapsim::EvolveKind::kMorph;
+  if (opt.plot && !flapsim::plotEvolveOutputs(opt.out_dir, rates, front)) {
     std::cerr << "evolve: gnuplot failed (apt package gnuplot-nox); no plots\n";
     return 1;
   }
   if (opt.plot) {
     std::cout << "wrote " << opt.out_dir << "/fitness.png"
-              << (rates ? ", " + opt.out_dir + "/rates.png" : std::string()) << "\n";
+              << (rates ? ", " + opt.out_dir + "/rates.png" : std::string())
+              << (front ? ", " + opt.out_dir + "/front.png" : std::string()) << "\n";
   }
   return 0;
 }

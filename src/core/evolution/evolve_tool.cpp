@@ -295,10 +295,12 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
   return writtenLine(o, result, wall_s, o.out_dir + "/fitness.csv, " + o.out_dir + "/rates.csv");
 }
 
-bool plotEvolveOutputs(const std::string& out_dir, bool rates) {
+bool plotEvolveOutputs(const std::string& out_dir, bool rates, bool front) {
   FILE* gp = popen("gnuplot", "w");
   if (gp == nullptr) return false;
-  const bool written = std::fputs(gnuplotScript(out_dir, 5.0, rates).c_str(), gp) >= 0;
+  const std::string script =
+      gnuplotScript(out_dir, 5.0, rates) + (front ? morphFrontGnuplot(out_dir) : "");
+  const bool written = std::fputs(script.c_str(), gp) >= 0;
   return pclose(gp) == 0 && written;
 }
 

@@ -95,4 +95,20 @@ std::string morphFrontCsv(const std::vector<std::vector<double>>& genomes,
   return out.str();
 }
 
+std::string morphFrontGnuplot(const std::string& dir) {
+  std::ostringstream g;
+  g << "set datafile separator ','\n"
+    << "set terminal pngcairo size 800,500 font 'sans,11'\n"
+    << "set grid\nset logscale y\nset key top right\n"
+    << "set output '" << dir << "/front.png'\n"
+    << "set title 'The last population: loss against power (both minimised)'\n"
+    << "set xlabel 'mean positive mechanical power (W/kg)'\n"
+    << "set ylabel 'mean loss: altitude rms, tilt, sag, fall, flips (m)'\n"
+    << "plot '" << dir << "/front.csv' using ($2 == 0 ? $3 : 1/0):4 skip 1 with points pt 7 "
+    << "ps 1.6 title 'front (rank 0)', \\\n"
+    << "     '' using ($2 > 0 ? $3 : 1/0):4 skip 1 with points pt 6 ps 1.2 title 'dominated'\n"
+    << "unset output\n";
+  return g.str();
+}
+
 }  // namespace flapsim
