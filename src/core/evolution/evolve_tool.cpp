@@ -190,11 +190,12 @@ std::string writeMorphBody(const EvolveOptions& o, const EvolveResult& result,
   const MorphIndividual m =
       morphFromGenes(result.best_weights, HoverControllerParams().altitude, budget);
   const std::string body = o.out_dir + "/body.yaml", urdf = o.out_dir + "/creature.urdf";
-  writeTextFile(body, bodyToYaml(m.body_params, budget,
-                                 "Hover creature's body evolved with its controller (" +
-                                     o.weights_path + ").\nReproduce: " + evolveCommand(o) +
-                                     " --out <dir>\nBuild it: the URDF beside it (" + urdf + ")",
-                                 metadata));
+  writeTextFile(body,
+                bodyToYaml(m.body_params, budget,
+                           "Hover creature's body evolved with its controller (the "
+                           "gains file of the run).\nReproduce: " +
+                               evolveCommand(o) + " --out <dir>\nBuilt: creature.urdf beside it",
+                           metadata));
   if (!m.body.model) return ", " + body + " (" + m.body.refusal + ": no URDF)";
   writeTextFile(urdf, m.body.urdf);
   return ", " + body + ", " + urdf;
@@ -217,8 +218,9 @@ std::string writeMorphFront(const EvolveOptions& o, const EvolveResult& result) 
     const MorphIndividual m = morphFromGenes(genomes[k], HoverControllerParams().altitude,
                                              o.params.morph.budget, "morph_" + std::to_string(k));
     const std::string stem = o.out_dir + "/front_" + std::to_string(k);
-    writeTextFile(stem + "_gains.yaml",
-                  hoverGainsToYaml(m.controller, "Member " + std::to_string(k) + " of " + csv));
+    writeTextFile(
+        stem + "_gains.yaml",
+        hoverGainsToYaml(m.controller, "Member " + std::to_string(k) + " of the run's front.csv"));
     writeTextFile(stem + "_creature.urdf", m.body.urdf);
   }
   return ", " + csv + " (" + std::to_string(members) + " on the front: " + o.out_dir +
@@ -236,16 +238,18 @@ std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result
          << (evaluated_on == "farm" ? "on the farm" : evaluated_on)
          << ".\nReproduce: " << evolveCommand(o) << " --out <dir>\n"
          << "Fitness = mean of -(altitude rms after " << e.settle_time << " s + "
-         << kHoverPowerWeight << " x W/kg / 100 + " << kHoverTiltWeight << " x ("
-         << kHoverMinUpright << " - lowest up)+ + " << kHoverStartTiltWeight
-         << " x (cos(start tilt + 10 deg) - lowest up from t = 0)+ + " << kHoverSagWeight
-         << " x (sag below start and setpoint - " << kHoverMaxSag << " m)+, less " << e.flip_penalty
-         << " after a flip) over " << e.episodes << " episodes of " << e.duration << " s"
+         << (morph ? o.params.morph.power_weight : kHoverPowerWeight) << " x W/kg / 100 + "
+         << (morph ? "the sink beyond 10 m of sag (a flip: a free fall) + " : "")
+         << kHoverTiltWeight << " x (" << kHoverMinUpright << " - lowest up)+ + "
+         << kHoverStartTiltWeight << " x (cos(start tilt + 10 deg) - lowest up from t = 0)+ + "
+         << kHoverSagWeight << " x (sag below start and setpoint - " << kHoverMaxSag
+         << " m)+, less " << e.flip_penalty << " after a flip) over " << e.episodes
+         << " episodes of " << e.duration << " s"
          << (e.first_start_level ? ", the first level in still air" : "") << ": "
          << result.best_fitness
          << "\nLoad it as hover_controller's private parameters (hover.launch gains:=FILE); "
-         << "measure it with flight_check --hover "
-         << (morph ? "--urdf " + o.out_dir + "/creature.urdf " : "") << "--gains FILE.";
+         << "measure it with flight_check --hover " << (morph ? "--urdf <dir>/creature.urdf " : "")
+         << "--gains FILE.";
   const auto metadata = runMetadata(o, result, wall_s, evaluated_on);
   const HoverControllerParams gains =
       morph ? morphFromGenes(result.best_weights, HoverControllerParams().altitude,
