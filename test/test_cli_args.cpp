@@ -405,15 +405,16 @@ TEST(ToolTables, EvolveFlagsKeepTheirMeaningAndRefuseByFlag) {
   EXPECT_EQ(refused({"--roll", "0.2", "0.1"}), "--roll: 0.1 is not in [0.2, 3.14159]");
   EXPECT_EQ(refused({"--roll", "0.2"}), "--roll needs a value (HI)");
   EXPECT_EQ(refused({"--phase-lock", "maybe"}), "--phase-lock takes on or off");
-  EXPECT_EQ(refused({"--preset", "fast"}), "--preset: 'fast' is not one of robust, paper, hover, morph");
+  EXPECT_EQ(refused({"--preset", "fast"}),
+            "--preset: 'fast' is not one of robust, paper, hover, morph");
   EXPECT_EQ(refused({"--farm-timeout", "0"}), "--farm-timeout: 0 is not in (0, 1e+06]");
   EXPECT_EQ(refused({"--air-model", "vacuum"}),
             "--air-model: 'vacuum' is not one of pressure, quasi_steady");
   // Flags that did nothing where another left them without effect (the robust preset has
   // gusts, altitude hold and the altitude input; the paper's has none of them).
-  EXPECT_EQ(
-      refused({"--settle", "3"}),
-      "--settle: has no effect but with --preset hover or morph (the flap network's fitness has none)");
+  EXPECT_EQ(refused({"--settle", "3"}),
+            "--settle: has no effect but with --preset hover or morph (the flap network's fitness "
+            "has none)");
   EXPECT_EQ(refused({"--preset", "paper", "--gust-link", "wing"}),
             "--gust-link: has no effect without --gust-force");
   EXPECT_EQ(refused({"--preset", "paper", "--gust-torque-time", "0.3"}),

@@ -12,9 +12,12 @@
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
 #include "flapsim/evolve_tool.h"
+#include "test_util.h"
 
 namespace flapsim {
 namespace {
+
+using test::ReverseEvaluator;
 
 EvolveParams tinyRun() {
   EvolveParams p = robustPreset();
@@ -40,24 +43,6 @@ void expectSameHistory(const std::vector<GenerationStats>& a,
     EXPECT_EQ(a[g].best_genes, b[g].best_genes) << g;
   }
 }
-
-// Evaluates the tasks one at a time in reverse order, on runners of its own, in chunks:
-// as a farm would, answering in any order.
-class ReverseEvaluator : public EpisodeEvaluator {
- public:
-  explicit ReverseEvaluator(const EvaluationSpec& spec) : runner_(spec) {}
-  std::vector<double> evaluate(const std::vector<EpisodeTask>& tasks) override {
-    std::vector<double> out(tasks.size());
-    for (size_t i = tasks.size(); i-- > 0;) out[i] = runner_.evaluate(tasks[i]);
-    tasks_ += static_cast<int>(tasks.size());
-    return out;
-  }
-  int workersUp() const override { return 1; }
-  int tasks_ = 0;
-
- private:
-  EpisodeRunner runner_;
-};
 
 TEST(EpisodeRunner, ATaskFliesTheSameAsRunEpisode) {
   const EvolveParams p = tinyRun();

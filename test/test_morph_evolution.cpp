@@ -14,6 +14,7 @@
 #include "flapsim/morph_evolution.h"
 #include "flapsim/morph_front.h"
 #include "flapsim/text_file.h"
+#include "test_util.h"
 
 namespace flapsim {
 namespace {
@@ -222,19 +223,7 @@ TEST(MorphEvolution, ATinyRunIsTheSameBitsInProcessAndThroughAnotherEvaluatorAnd
   for (size_t i = 0; i < seed.size(); ++i)
     EXPECT_NEAR(o.params.ga.initial_genes[i], seed[i], 1e-15);
   const EvolveResult in_process = evolveFlapController(o.params);
-  class Reverse : public EpisodeEvaluator {
-   public:
-    explicit Reverse(const EvaluationSpec& s) : runner_(s) {}
-    std::vector<double> evaluate(const std::vector<EpisodeTask>& tasks) override {
-      std::vector<double> out(tasks.size());
-      for (size_t i = tasks.size(); i-- > 0;) out[i] = runner_.evaluate(tasks[i]);
-      return out;
-    }
-    int workersUp() const override { return 1; }
-
-   private:
-    EpisodeRunner runner_;
-  } reverse(evaluationSpec(o.params));
+  test::ReverseEvaluator reverse(evaluationSpec(o.params));
   EvolveHooks hooks;
   hooks.evaluator = &reverse;
   const EvolveResult other = evolveFlapController(o.params, hooks);

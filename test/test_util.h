@@ -6,6 +6,7 @@
 
 #include "dynamics/momentum.h"
 #include "flapsim/creature_model.h"
+#include "flapsim/episode_evaluator.h"
 #include "flapsim/world.h"
 
 namespace flapsim {
@@ -14,6 +15,24 @@ namespace test {
 inline std::string sourcePath(const std::string& relative) {
   return std::string(FLAPSIM_SOURCE_DIR) + "/" + relative;
 }
+
+// Evaluates the tasks one at a time in reverse order, on a runner of its own: as a farm would,
+// answering in any order. Counts the tasks it evaluated.
+class ReverseEvaluator : public EpisodeEvaluator {
+ public:
+  explicit ReverseEvaluator(const EvaluationSpec& spec) : runner_(spec) {}
+  std::vector<double> evaluate(const std::vector<EpisodeTask>& tasks) override {
+    std::vector<double> out(tasks.size());
+    for (size_t i = tasks.size(); i-- > 0;) out[i] = runner_.evaluate(tasks[i]);
+    tasks_ += static_cast<int>(tasks.size());
+    return out;
+  }
+  int workersUp() const override { return 1; }
+  int tasks_ = 0;
+
+ private:
+  EpisodeRunner runner_;
+};
 
 // A tool's arguments `args` with `flag` given `values`: those it has there replaced, else the
 // flag appended with them (the flag walks of test_evolve_flags and test_flight_check_flags).

@@ -19,4 +19,7 @@ std::string readTextFile(const std::string& path, std::size_t max_bytes);
 /// `text` as comment lines of a YAML or shell file: each line prefixed with "# ".
 std::string commentLines(const std::string& text);
 
+/// The shortest decimal that reads back as `x`, bit for bit (a number of a YAML file).
+std::string shortestDecimal(double x);
+
 }  // namespace flapsim

@@ -60,6 +60,25 @@ TEST(Farm, ThreeWorkersGiveTheInProcessBits) {
   EXPECT_EQ(farm.resent(), 0);
 }
 
+// The evolution of `spec` (2 threads) in process and on the farm's three workers, both results
+// and the calls the farm sent again.
+struct FarmAndProcess {
+  flapsim::EvolveResult in_process, on_farm;
+  int resent = 0;
+};
+FarmAndProcess evolveBothWays(ros::NodeHandle& nh, const std::vector<std::string>& spec) {
+  FarmAndProcess r;
+  flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
+  p.ga.threads = 2;
+  r.in_process = flapsim::evolveFlapController(p);
+  flapsim_ros::FarmEvaluator farm(nh, spec, flapsim::geneCount(p), flapsim_ros::FarmParams());
+  flapsim::EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  r.on_farm = flapsim::evolveFlapController(p, hooks);
+  r.resent = farm.resent();
+  return r;
+}
+
 // The hover controller's evolution (--preset hover: the kind travels in the spec's flags):
 // the workers fly its gains as the process does, bit for bit.
 TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
@@ -68,17 +87,11 @@ TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
   const std::vector<std::string> spec = {
       "--preset",   "hover", "--population", "3",   "--generations", "1", "--episodes", "2",
       "--duration", "1",     "--settle",     "0.5", "--seed",        "5"};
-  flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
-  ASSERT_EQ(p.kind, flapsim::EvolveKind::kHover);
-  p.ga.threads = 2;
-  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
-  flapsim_ros::FarmEvaluator farm(nh, spec, flapsim::geneCount(p), flapsim_ros::FarmParams());
-  flapsim::EvolveHooks hooks;
-  hooks.evaluator = &farm;
-  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
-  expectSameBits(in_process, on_farm);
-  EXPECT_EQ(on_farm.best_weights.size(), 16u);
-  EXPECT_EQ(farm.resent(), 0);
+  ASSERT_EQ(flapsim::parseEvolveArgs(spec).params.kind, flapsim::EvolveKind::kHover);
+  const FarmAndProcess r = evolveBothWays(nh, spec);
+  expectSameBits(r.in_process, r.on_farm);
+  EXPECT_EQ(r.on_farm.best_weights.size(), 16u);
+  EXPECT_EQ(r.resent, 0);
 }
 
 // The body and controller co-evolved (--preset morph: the kind and the mass budget travel in
@@ -106,23 +119,18 @@ TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
                                          "0.006",
                                          "--motor-specific-power",
                                          "1000"};
-  flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
+  const flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
   ASSERT_EQ(p.kind, flapsim::EvolveKind::kMorph);
   ASSERT_EQ(p.morph.budget.motor_specific_power, 1000.0);
-  p.ga.threads = 2;
-  const flapsim::EvolveResult in_process = flapsim::evolveFlapController(p);
-  flapsim_ros::FarmEvaluator farm(nh, spec, flapsim::geneCount(p), flapsim_ros::FarmParams());
-  flapsim::EvolveHooks hooks;
-  hooks.evaluator = &farm;
-  const flapsim::EvolveResult on_farm = flapsim::evolveFlapController(p, hooks);
-  expectSameBits(in_process, on_farm);
-  EXPECT_EQ(on_farm.best_weights.size(), 25u);
-  ASSERT_EQ(on_farm.population.size(), in_process.population.size());
-  for (size_t i = 0; i < on_farm.population.size(); ++i) {
-    EXPECT_EQ(on_farm.population[i].genes, in_process.population[i].genes) << i;
-    EXPECT_EQ(on_farm.population[i].fitness, in_process.population[i].fitness) << i;
+  const FarmAndProcess r = evolveBothWays(nh, spec);
+  expectSameBits(r.in_process, r.on_farm);
+  EXPECT_EQ(r.on_farm.best_weights.size(), 25u);
+  ASSERT_EQ(r.on_farm.population.size(), r.in_process.population.size());
+  for (size_t i = 0; i < r.on_farm.population.size(); ++i) {
+    EXPECT_EQ(r.on_farm.population[i].genes, r.in_process.population[i].genes) << i;
+    EXPECT_EQ(r.on_farm.population[i].fitness, r.in_process.population[i].fitness) << i;
   }
-  EXPECT_EQ(farm.resent(), 0);
+  EXPECT_EQ(r.resent, 0);
 }
 
 TEST(Farm, AWorkerKilledMidRunAndOneJoiningGiveTheSameBits) {

@@ -3,8 +3,6 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -13,27 +11,13 @@
 
 namespace flapsim {
 
-namespace {
-
-// The shortest decimal that reads back as `x`, bit for bit.
-std::string shortest(double x) {
-  char buf[32];
-  for (int digits = 1; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-    if (std::strtod(buf, nullptr) == x) break;
-  }
-  return buf;
-}
-
-}  // namespace
-
 std::string hoverGainsToYaml(const HoverControllerParams& params, const std::string& header,
                              const std::map<std::string, std::string>& metadata) {
   std::ostringstream out;
   out << commentLines(header);
   for (const HoverParamField& f : hoverParamFields()) {
     if (std::strcmp(f.name, "altitude") != 0)
-      out << f.name << ": " << shortest(params.*f.member) << "\n";
+      out << f.name << ": " << shortestDecimal(params.*f.member) << "\n";
   }
   for (const auto& kv : metadata) out << commentLines(kv.first + ": " + kv.second);
   return out.str();

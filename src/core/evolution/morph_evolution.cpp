@@ -4,9 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <sstream>
 
 #include "flapsim/text_file.h"
@@ -15,16 +12,6 @@
 namespace flapsim {
 
 namespace {
-
-// The shortest decimal that reads back as `x`, bit for bit.
-std::string shortest(double x) {
-  char buf[32];
-  for (int digits = 1; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, x);
-    if (std::strtod(buf, nullptr) == x) break;
-  }
-  return buf;
-}
 
 constexpr std::size_t kMaxBodyFileBytes = 64u << 10;
 
@@ -118,7 +105,7 @@ std::string bodyToYaml(const HoverParams& params, const MassBudget& budget,
   std::ostringstream out;
   out << commentLines(header);
   for (const BodyGene& g : bodyGenes()) {
-    out << g.name << ": " << shortest(params.*g.member) << "  # " << g.unit << ", " << g.min
+    out << g.name << ": " << shortestDecimal(params.*g.member) << "  # " << g.unit << ", " << g.min
         << " to " << g.max << "\n";
   }
   const BodyMass m = bodyMass(params, budget);
@@ -154,8 +141,8 @@ std::vector<double> bodyGenesFromYaml(const std::string& text, const std::string
       throw InputError(source + ": '" + g.name + "' is not a number");
     }
     if (!std::isfinite(value) || value < g.min || value > g.max) {
-      throw InputError(source + ": '" + g.name + "' is " + shortest(value) + ", not in [" +
-                       shortest(g.min) + ", " + shortest(g.max) + "] " + g.unit);
+      throw InputError(source + ": '" + g.name + "' is " + shortestDecimal(value) + ", not in [" +
+                       shortestDecimal(g.min) + ", " + shortestDecimal(g.max) + "] " + g.unit);
     }
     p.*g.member = value;
   }
