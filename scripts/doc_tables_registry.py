@@ -579,3 +579,12 @@ def mujoco_tables():
 
 
 mujoco_tables()
+
+
+def morph_tables():
+    from doc_tables_morph import TABLES as MORPH
+    for make in MORPH:
+        register(make())
+
+
+morph_tables()

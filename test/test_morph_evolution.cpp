@@ -236,6 +236,39 @@ TEST(MorphEvolution, ATinyRunIsTheSameBitsInProcessAndThroughAnotherEvaluatorAnd
   EXPECT_GT(in_process.history[0].best, -fitnessBound(evaluationSpec(o.params)));
 }
 
+// The seeds are part of the run's definition: the checkpoint keeps --init and --init-body, so
+// that the Reproduce line of a resumed run still names them, once.
+TEST(MorphEvolution, AResumedRunsCommandStillNamesItsSeeds) {
+  const std::string dir = ::testing::TempDir() + "/morph_resume";
+  std::filesystem::create_directories(dir);
+  const std::vector<double> seed = flyingGenome();
+  const std::vector<double> body(seed.begin() + kHoverGeneCount, seed.end());
+  writeTextFile(dir + "/body.yaml", bodyToYaml(bodyFromGenes(body, MassBudget()), MassBudget()));
+  std::optional<EvolveCheckpoint> none;
+  const EvolveOptions first = resolveEvolveOptions(
+      {"--preset", "morph", "--generations", "0", "--population", "2", "--episodes", "1",
+       "--duration", "1", "--settle", "0.5", "--init-body", dir + "/body.yaml", "--out", dir},
+      1, none);
+  const std::string seeded = "--init-body " + dir + "/body.yaml";
+  EXPECT_EQ(evolveCommand(first),
+            "evolve --preset morph --generations 0 --population 2 --episodes 1 --duration 1 "
+            "--settle 0.5 " +
+                seeded);
+  EvolveHooks hooks;
+  hooks.on_checkpoint = [&](EvolveCheckpoint c) {
+    c.args = first.spec_args;
+    writeCheckpointFile(dir + "/checkpoint.txt", c);
+  };
+  evolveFlapController(first.params, hooks);
+  std::optional<EvolveCheckpoint> resume;
+  const EvolveOptions resumed =
+      resolveEvolveOptions({"--resume", dir, "--generations", "1"}, 1, resume);
+  ASSERT_TRUE(resume.has_value());
+  const std::string command = evolveCommand(resumed);
+  EXPECT_NE(command.find(seeded), std::string::npos) << command;
+  EXPECT_EQ(command.find(seeded), command.rfind(seeded)) << command;
+}
+
 // The flags that mean nothing to a morph (the flap network's) are refused by name, and
 // --init-body outside --preset morph.
 TEST(MorphEvolution, FlapFlagsAndABodySeedOutsideMorphAreRefusedByName) {

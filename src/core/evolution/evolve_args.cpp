@@ -310,9 +310,11 @@ void runFlags(CliParser& t, EvolveOptions& o) {
       .text("--init", "FILE", &o.init_path,
             "seed generation 0 with this weights file (its network must be the evolution's; "
             "--preset hover, morph: a gains file)")
+      .tag(kSpec)  // kept by the checkpoint, so that a resumed run's Reproduce line names it
       .text("--init-body", "FILE", &o.init_body_path,
             "--preset morph: seed generation 0 with this body file (evolve --preset morph's "
             "DIR/body.yaml)")
+      .tag(kSpec)
       .flag("--farm", &o.farm, true, "evaluate on the flapsim_worker nodes under /flapsim_farm")
       .real("--farm-timeout", "S", &o.farm_timeout, {0, 1e6, true},
             "a call unanswered after S s is sent to another worker")

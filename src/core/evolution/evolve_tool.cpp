@@ -126,9 +126,7 @@ EvolveOptions resolveEvolveOptions(const std::vector<std::string>& args, int thr
 std::string evolveCommand(const EvolveOptions& o) {
   std::string command = "evolve";
   for (const auto& a : o.spec_args) command += " " + a;
-  if (!o.init_path.empty()) command += " --init " + o.init_path;
-  if (!o.init_body_path.empty()) command += " --init-body " + o.init_body_path;
-  return command;
+  return command;  // --init and --init-body among them
 }
 
 double episodesPerSecond(const EvolveOptions& o, const GenerationStats& g, double dt) {
