@@ -30,6 +30,20 @@ std::vector<double> flyingGenome() {
   return genes;
 }
 
+// The body genes of flyingGenome().
+std::vector<double> flyingBody() {
+  const std::vector<double> genes = flyingGenome();
+  return std::vector<double>(genes.begin() + kHoverGeneCount, genes.end());
+}
+
+// flyingBody() written as a body file in `dir` (its path).
+std::string writeFlyingBodyFile(const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const std::string path = dir + "/body.yaml";
+  writeTextFile(path, bodyToYaml(bodyFromGenes(flyingBody(), MassBudget()), MassBudget()));
+  return path;
+}
+
 // A budget hover_1's body closes: 2 x 4.5 W at 1000 W/kg (9 g, far lighter than any motor the
 // default's source lists) and a 6 g payload in its 16 g body.
 const std::vector<std::string> kLightMotors = {"--payload", "0.006", "--motor-specific-power",
@@ -66,9 +80,9 @@ TEST(MorphEvolution, TheGenomeIsTheControllersGenesThenTheBodysEachCheckedByName
   // its stroke limit.
   const MorphIndividual m = morphFromGenes(genes, 3.0, lightMotors());
   EXPECT_EQ(m.body.refusal, "");
-  EXPECT_DOUBLE_EQ(m.body_params.max_power, 4.5);
-  EXPECT_NEAR(m.body_params.stall_torque, HoverParams().stall_torque, 1e-15);
-  EXPECT_DOUBLE_EQ(m.controller.max_stroke, m.body_params.stroke_limit - 0.05);
+  EXPECT_DOUBLE_EQ(m.body.params.max_power, 4.5);
+  EXPECT_NEAR(m.body.params.stall_torque, HoverParams().stall_torque, 1e-15);
+  EXPECT_DOUBLE_EQ(m.controller.max_stroke, m.body.params.stroke_limit - 0.05);
   EXPECT_NEAR(m.controller.trim_frequency, 13.321546513237099, 1e-12);  // the gains file's
   EXPECT_EQ(m.controller.altitude, 3.0);
 }
@@ -172,8 +186,7 @@ TEST(MorphFront, TheFitnessIsMinusTheLossLessThePowerAtItsWeight) {
 
 // The body file reads back as the genes it was written from; bad files are refused by key.
 TEST(MorphEvolution, ABodyFileReadsBackItsGenesAndBadOnesAreRefusedByKey) {
-  const std::vector<double> all = flyingGenome();
-  const std::vector<double> genes(all.begin() + kHoverGeneCount, all.end());
+  const std::vector<double> genes = flyingBody();
   const HoverParams body = bodyFromGenes(genes, MassBudget());
   const std::string text = bodyToYaml(body, MassBudget(), "a header");
   const std::vector<double> back = bodyGenesFromYaml(text, "body.yaml");
@@ -201,22 +214,16 @@ TEST(MorphEvolution, ABodyFileReadsBackItsGenesAndBadOnesAreRefusedByKey) {
 // a gains file and a body file, generation 0's first individual is those genes.
 TEST(MorphEvolution, ATinyRunIsTheSameBitsInProcessAndThroughAnotherEvaluatorAndSeedsFromFiles) {
   const std::string dir = ::testing::TempDir() + "/morph_seed";
-  std::filesystem::create_directories(dir);
+  const std::string body_file = writeFlyingBodyFile(dir);
   const std::vector<double> seed = flyingGenome();
-  const std::vector<double> body(seed.begin() + kHoverGeneCount, seed.end());
-  writeTextFile(dir + "/body.yaml", bodyToYaml(bodyFromGenes(body, MassBudget()), MassBudget()));
   writeTextFile(dir + "/gains.yaml", hoverGainsToYaml(hoverParamsFromGenes(std::vector<double>(
                                          seed.begin(), seed.begin() + kHoverGeneCount))));
   std::optional<EvolveCheckpoint> none;
-  std::vector<std::string> args = {"--preset",      "morph",
-                                   "--population",  "4",
-                                   "--generations", "1",
-                                   "--episodes",    "2",
-                                   "--duration",    "2",
-                                   "--settle",      "1",
-                                   "--seed",        "3",
-                                   "--init",        dir + "/gains.yaml",
-                                   "--init-body",   dir + "/body.yaml"};
+  std::vector<std::string> args = {"--preset",      "morph",  "--population", "4",
+                                   "--generations", "1",      "--episodes",   "2",
+                                   "--duration",    "2",      "--settle",     "1",
+                                   "--seed",        "3",      "--init",       dir + "/gains.yaml",
+                                   "--init-body",   body_file};
   args.insert(args.end(), kLightMotors.begin(), kLightMotors.end());
   EvolveOptions o = resolveEvolveOptions(args, 2, none);
   ASSERT_EQ(o.params.ga.initial_genes.size(), seed.size());
@@ -240,16 +247,13 @@ TEST(MorphEvolution, ATinyRunIsTheSameBitsInProcessAndThroughAnotherEvaluatorAnd
 // that the Reproduce line of a resumed run still names them, once.
 TEST(MorphEvolution, AResumedRunsCommandStillNamesItsSeeds) {
   const std::string dir = ::testing::TempDir() + "/morph_resume";
-  std::filesystem::create_directories(dir);
-  const std::vector<double> seed = flyingGenome();
-  const std::vector<double> body(seed.begin() + kHoverGeneCount, seed.end());
-  writeTextFile(dir + "/body.yaml", bodyToYaml(bodyFromGenes(body, MassBudget()), MassBudget()));
+  const std::string body_file = writeFlyingBodyFile(dir);
   std::optional<EvolveCheckpoint> none;
   const EvolveOptions first = resolveEvolveOptions(
       {"--preset", "morph", "--generations", "0", "--population", "2", "--episodes", "1",
-       "--duration", "1", "--settle", "0.5", "--init-body", dir + "/body.yaml", "--out", dir},
+       "--duration", "1", "--settle", "0.5", "--init-body", body_file, "--out", dir},
       1, none);
-  const std::string seeded = "--init-body " + dir + "/body.yaml";
+  const std::string seeded = "--init-body " + body_file;
   EXPECT_EQ(evolveCommand(first),
             "evolve --preset morph --generations 0 --population 2 --episodes 1 --duration 1 "
             "--settle 0.5 " +

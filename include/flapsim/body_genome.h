@@ -79,6 +79,7 @@ std::string checkMassBudget(const HoverParams& params, const MassBudget& budget)
 
 /// A genome built into a creature, or refused.
 struct BodyBuild {
+  HoverParams params;      // the genome's body (bodyFromGenes), once its genes check out
   std::string urdf;        // the URDF, if built
   CreatureModelPtr model;  // its parsed model, if built
   std::string refusal;     // empty if built; else why not, naming the culprit

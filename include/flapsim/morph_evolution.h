@@ -36,8 +36,7 @@ constexpr double kMorphStrokeMargin = 0.05;
 /// An individual of a morph genome: its body built (or refused) and its controller holding
 /// `altitude`, the controller's max_stroke the body's stroke limit less kMorphStrokeMargin.
 struct MorphIndividual {
-  HoverParams body_params;
-  BodyBuild body;
+  BodyBuild body;  // body.params: the body's HoverParams, built or not
   HoverControllerParams controller;
 };
 /// checkMorphGenes first (InputError naming the gene).
@@ -66,9 +65,18 @@ double morphLoss(const HoverFlightResult& result, const EpisodeParams& params);
 /// Empty if `params` are valid (validateMassBudget, a finite power weight >= 0), else why not.
 std::string validateMorphParams(const MorphParams& params);
 
-/// One episode of a morph genome: the hover preset's flight (runHoverEpisode) of the
-/// individual's body (under morph.budget) and controller, scored -(morphLoss +
-/// hoverPowerTerm at morph.power_weight); a refused body scores -morphFitnessBound(params).
+/// One episode's flight of a morph genome: the hover preset's (runHoverEpisode) of the
+/// individual's body (under `budget`) and controller; no flight if the body was refused.
+struct MorphFlight {
+  std::string refusal;  // not empty: the body was refused, and `result` is empty
+  HoverFlightResult result;
+};
+MorphFlight flyMorphEpisode(const std::vector<double>& genes, const EpisodeParams& params,
+                            const EpisodeStart& start, const MassBudget& budget);
+
+/// One episode of a morph genome, scored: its flight (flyMorphEpisode under morph.budget)
+/// scores -(morphLoss + hoverPowerTerm at morph.power_weight); a refused body scores
+/// -morphFitnessBound(params).
 double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
                            const EpisodeStart& start, const MorphParams& morph);
 

@@ -109,19 +109,19 @@ BodyBuild buildBody(const std::vector<double>& genes, const MassBudget& budget,
   BodyBuild b;
   const std::string prefix = "body '" + name + "': ";
   std::string err = checkBodyGenes(genes);
-  if (err.empty()) err = validateMassBudget(budget);
   if (!err.empty()) {
     b.refusal = prefix + err;
     return b;
   }
-  const HoverParams params = bodyFromGenes(genes, budget);
-  err = checkMassBudget(params, budget);
+  b.params = bodyFromGenes(genes, budget);
+  err = validateMassBudget(budget);
+  if (err.empty()) err = checkMassBudget(b.params, budget);
   if (!err.empty()) {
     b.refusal = prefix + err;
     return b;
   }
   try {
-    std::string urdf = makeHoverUrdf(name, params);
+    std::string urdf = makeHoverUrdf(name, b.params);
     b.model = parseCreatureModel(urdf, "body genome '" + name + "'");
     b.urdf = std::move(urdf);
   } catch (const std::exception& e) {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "flapsim/ann.h"
@@ -182,14 +183,12 @@ std::string sealedEnds(const EpisodeParams& e) {
 
 // --preset morph: the best's body file and URDF (its gains are written as hover's). The
 // lines written, or why the body was refused.
-std::string writeMorphBody(const EvolveOptions& o, const EvolveResult& result,
+std::string writeMorphBody(const EvolveOptions& o, const MorphIndividual& m,
                            const std::map<std::string, std::string>& metadata) {
   const MassBudget& budget = o.params.morph.budget;
-  const MorphIndividual m =
-      morphFromGenes(result.best_weights, HoverControllerParams().altitude, budget);
   const std::string body = o.out_dir + "/body.yaml", urdf = o.out_dir + "/creature.urdf";
   writeTextFile(body,
-                bodyToYaml(m.body_params, budget,
+                bodyToYaml(m.body.params, budget,
                            "Hover creature's body evolved with its controller (the "
                            "gains file of the run).\nReproduce: " +
                                evolveCommand(o) + " --out <dir>\nBuilt: creature.urdf beside it",
@@ -249,15 +248,17 @@ std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result
          << "measure it with flight_check --hover " << (morph ? "--urdf <dir>/creature.urdf " : "")
          << "--gains FILE.";
   const auto metadata = runMetadata(o, result, wall_s, evaluated_on);
+  std::optional<MorphIndividual> best;  // morph: the best's body and controller
+  if (morph) {
+    best = morphFromGenes(result.best_weights, HoverControllerParams().altitude,
+                          o.params.morph.budget);
+  }
   const HoverControllerParams gains =
-      morph ? morphFromGenes(result.best_weights, HoverControllerParams().altitude,
-                             o.params.morph.budget)
-                  .controller
-            : hoverParamsFromGenes(result.best_weights);
+      best ? best->controller : hoverParamsFromGenes(result.best_weights);
   writeTextFile(o.weights_path, hoverGainsToYaml(gains, header.str(), metadata));
   writeTextFile(o.out_dir + "/fitness.csv", fitnessCsv(result.history));
   const std::string body =
-      morph ? writeMorphBody(o, result, metadata) + writeMorphFront(o, result) : "";
+      best ? writeMorphBody(o, *best, metadata) + writeMorphFront(o, result) : "";
   return writtenLine(o, result, wall_s, o.out_dir + "/fitness.csv" + body);
 }
 

@@ -42,10 +42,9 @@ MorphIndividual morphFromGenes(const std::vector<double>& genes, double altitude
   const std::vector<double> controller(genes.begin(), genes.begin() + kHoverGeneCount);
   const std::vector<double> body(genes.begin() + kHoverGeneCount, genes.end());
   MorphIndividual m;
-  m.body_params = bodyFromGenes(body, budget);
   m.body = buildBody(body, budget, name);
   m.controller = hoverParamsFromGenes(controller, altitude);
-  m.controller.max_stroke = m.body_params.stroke_limit - kMorphStrokeMargin;
+  m.controller.max_stroke = m.body.params.stroke_limit - kMorphStrokeMargin;
   return m;
 }
 
@@ -85,12 +84,23 @@ std::string validateMorphParams(const MorphParams& params) {
   return "";
 }
 
+MorphFlight flyMorphEpisode(const std::vector<double>& genes, const EpisodeParams& params,
+                            const EpisodeStart& start, const MassBudget& budget) {
+  const MorphIndividual m = morphFromGenes(genes, HoverControllerParams().altitude, budget);
+  MorphFlight f;
+  if (!m.body.model) {
+    f.refusal = m.body.refusal;
+    return f;
+  }
+  f.result = runHoverEpisode(m.body.model, m.controller, params, start);
+  return f;
+}
+
 double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
                            const EpisodeStart& start, const MorphParams& morph) {
-  const MorphIndividual m = morphFromGenes(genes, HoverControllerParams().altitude, morph.budget);
-  if (!m.body.model) return -morphFitnessBound(params);
-  const HoverFlightResult r = runHoverEpisode(m.body.model, m.controller, params, start);
-  return -(morphLoss(r, params) + hoverPowerTerm(r, morph.power_weight));
+  const MorphFlight f = flyMorphEpisode(genes, params, start, morph.budget);
+  if (!f.refusal.empty()) return -morphFitnessBound(params);
+  return -(morphLoss(f.result, params) + hoverPowerTerm(f.result, morph.power_weight));
 }
 
 EvolveParams morphPreset() {

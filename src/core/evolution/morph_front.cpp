@@ -24,18 +24,14 @@ std::vector<MorphScore> morphScores(const std::vector<std::vector<double>>& geno
   };
   std::vector<Flight> flights(genomes.size() * starts.size());
   parallelMap(static_cast<int>(flights.size()), threads, [&](int task) {
-    const std::vector<double>& genes = genomes[task / n];
-    const MorphIndividual m =
-        morphFromGenes(genes, HoverControllerParams().altitude, spec.morph.budget);
+    const MorphFlight flight =
+        flyMorphEpisode(genomes[task / n], e, starts[task % n], spec.morph.budget);
     Flight& f = flights[task];
-    if (!m.body.model) {
-      f.refusal = m.body.refusal;
-      return 0.0;
-    }
-    const HoverFlightResult r = runHoverEpisode(m.body.model, m.controller, e, starts[task % n]);
-    f.power_per_kg = r.specificPower();
-    f.mass = r.mass;
-    f.loss = morphLoss(r, e);
+    f.refusal = flight.refusal;
+    if (!f.refusal.empty()) return 0.0;
+    f.power_per_kg = flight.result.specificPower();
+    f.mass = flight.result.mass;
+    f.loss = morphLoss(flight.result, e);
     return 0.0;
   });
   std::vector<MorphScore> scores(genomes.size());
