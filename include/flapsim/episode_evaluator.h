@@ -49,6 +49,10 @@ class TaskError : public InputError {
 constexpr int kMaxTasksPerCall = 1024;
 constexpr double kMaxCallWork = 2e6;
 
+/// Empty if `spec`'s episodes, controller and (by its kind) hover episodes and morph params
+/// are valid, else the first message naming what is not (evaluationSpec and EpisodeRunner).
+std::string validateEvaluationSpec(const EvaluationSpec& spec);
+
 /// The work of one episode of `spec`: pairs times the steps of the episode at its smallest
 /// step size.
 double episodeWork(const EvaluationSpec& spec);

@@ -26,14 +26,20 @@ double fitnessBound(const EvaluationSpec& spec) {
   return std::abs(e.start_height) + e.world.max_speed * e.duration + e.flip_penalty;
 }
 
-EpisodeRunner::EpisodeRunner(const EvaluationSpec& spec) : spec_(spec) {
+std::string validateEvaluationSpec(const EvaluationSpec& spec) {
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);
-  if (err.empty() && (spec.pairs < 1 || spec.pairs > kMaxEvolvePairs)) {
-    err = "pairs must be in [1, " + std::to_string(kMaxEvolvePairs) + "]";
-  }
   if (err.empty() && hoverKind(spec.kind)) err = validateHoverEpisodes(spec.episode);
   if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMorphParams(spec.morph);
+  return err;
+}
+
+EpisodeRunner::EpisodeRunner(const EvaluationSpec& spec) : spec_(spec) {
+  std::string err;
+  if (spec.pairs < 1 || spec.pairs > kMaxEvolvePairs) {
+    err = "pairs must be in [1, " + std::to_string(kMaxEvolvePairs) + "]";
+  }
+  if (err.empty()) err = validateEvaluationSpec(spec);
   if (!err.empty()) throw InputError("evaluation spec: " + err);
   // A morph's bodies are its genomes': each episode builds its own (its starts are drawn on
   // hover_1, whose link names, all the draws read, every body shares).

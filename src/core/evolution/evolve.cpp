@@ -106,10 +106,7 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   spec.episode.step_sizes = steps.step_sizes;
   spec.episode.world.turn_substep = steps.turn_substep;
   spec.episode.seed = evolutionEpisodeSeed(params.ga.seed);
-  std::string err = validateEpisodeParams(spec.episode);
-  if (err.empty()) err = validateFlapControllerParams(spec.controller);
-  if (err.empty() && hoverKind(spec.kind)) err = validateHoverEpisodes(spec.episode);
-  if (err.empty() && spec.kind == EvolveKind::kMorph) err = validateMorphParams(spec.morph);
+  const std::string err = validateEvaluationSpec(spec);
   if (!err.empty()) throw std::invalid_argument("evolve: " + err);
   return spec;
 }
