@@ -85,6 +85,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--altitude-noise", {"0.1"}, "near"},
       {"--gyro-bias", {"0.02"}, ""},
       {"--turbulence", {"light"}, ""},
+      {"--real-air", {}, "--real-air: for --preset hover or morph"},
       {"--gust-torque", {"0.1"}, ""},
       {"--gust-torque-time", {"0.2"}, ""},
       {"--gust-force", {"0.5"}, ""},

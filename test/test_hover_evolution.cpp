@@ -13,8 +13,11 @@
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
 #include "flapsim/evolve_tool.h"
+#include "flapsim/flight_check.h"
 #include "flapsim/hover_evolution.h"
 #include "flapsim/hover_gains.h"
+#include "flapsim/make_creature.h"
+#include "flapsim/turbulence.h"
 
 namespace flapsim {
 namespace {
@@ -155,10 +158,75 @@ TEST(HoverEvolution, BadGenomesKindsAndFlagsAreRefusedByName) {
             }),
             "--pairs: not a flag of --preset hover (the hover controller's gains)");
   EXPECT_EQ(message([] {
+              parseEvolveArgs({"--preset", "morph", "--real-air", "--turbulence", "light"});
+            }),
+            "--turbulence is set by --real-air (give one or the other)");
+  EXPECT_EQ(message([] {
+              parseEvolveArgs({"--noise", "0.1", "--preset", "hover", "--real-air"});
+            }),
+            "--noise is set by --real-air (give one or the other)");
+  EXPECT_EQ(message([] { parseEvolveArgs({"--real-air"}); }),
+            "--real-air: for --preset hover or morph (a flap network's episodes take --wind, "
+            "--turbulence, --gust-torque, --gust-force, --noise, --gyro-bias, --altitude-noise)");
+  EXPECT_EQ(message([] {
               evaluationSpecFromArgs({"--preset", "hover", "--settle", "12"});
             }),
             "evolve: the hover episodes' settling time must be shorter than their "
             "duration (--settle)");
+}
+
+// evolve --preset hover --real-air: the episodes fly flight_check --real-air's air (wind 1 m/s,
+// light turbulence, IMU noise 0.05, gyro bias up to 0.02 rad/s, altimeter noise 0.05 m) and its
+// two impulses sized to the body flown: a creature 4 x as heavy gets a push 4 x as strong. An
+// episode is the flight with those gusts, and the impulses act (without them it flies
+// otherwise).
+TEST(HoverEvolution, RealAirEpisodesFlyFlightChecksRealAirSizedToTheBodyFlown) {
+  const EvaluationSpec spec =
+      evaluationSpecFromArgs({"--preset", "hover", "--real-air", "--episodes", "3", "--duration",
+                              "6", "--settle", "3", "--seed", "4"});
+  const EpisodeParams& e = spec.episode;
+  EXPECT_TRUE(e.real_air);
+  EXPECT_EQ(e.min_wind, 1.0);
+  EXPECT_EQ(e.max_wind, 1.0);
+  EXPECT_EQ(e.world.air.turbulence.wind_at_6m, turbulenceLevelWind("light"));
+  EXPECT_EQ(e.imu_noise.orientation, 0.05);
+  EXPECT_EQ(e.imu_noise.angular_velocity, 0.05);
+  EXPECT_EQ(e.gyro_bias, 0.02);
+  EXPECT_EQ(e.altitude_noise, 0.05);
+
+  HoverParams light, heavy;
+  heavy.body_mass =
+      light.body_mass + 3.0 * parseCreatureModel(makeHoverUrdf("h", light))->totalMass();
+  const CreatureModelPtr small = parseCreatureModel(makeHoverUrdf("light", light));
+  const CreatureModelPtr big = parseCreatureModel(makeHoverUrdf("heavy", heavy));
+  const FlightCheckParams check = realAirParams(FlightCheckParams(), *small);
+  const EpisodeParams gusts = realAirGusts(e, *small);
+  EXPECT_EQ(gusts.gust_torque, check.gust_torque);
+  EXPECT_EQ(gusts.gust_force, check.gust_force);
+  EXPECT_EQ(gusts.gust_torque_duration, 0.5);
+  EXPECT_EQ(gusts.gust_force_duration, 0.2);
+  EXPECT_NEAR(realAirGusts(e, *big).gust_force / gusts.gust_force, 4.0, 1e-12);
+
+  const std::vector<EpisodeStart> starts = episodeStarts(e, small.get());
+  const HoverControllerParams hand;
+  for (const EpisodeStart& start : starts) {
+    EXPECT_TRUE(start.force_link == "wing_left_spar" || start.force_link == "wing_right_spar")
+        << start.force_link;
+  }
+  const EpisodeStart& start = starts[1];
+  HoverControllerParams c = hand;
+  c.altitude = *start.altitude;
+  HoverFlightParams f = hoverEpisodeFlight(e, start, c.altitude);
+  f.gusts = gusts;
+  f.gust_start = start;
+  const HoverFlightResult episode = runHoverEpisode(small, hand, e, start);
+  const HoverFlightResult by_hand = flyHover(small, c, f);
+  EXPECT_EQ(episode.lowest_upright, by_hand.lowest_upright);
+  EXPECT_EQ(episode.lowest_height, by_hand.lowest_height);
+  EXPECT_EQ(episode.positive_power, by_hand.positive_power);
+  EpisodeParams calm = e;
+  calm.real_air = false;
+  EXPECT_NE(runHoverEpisode(small, hand, calm, start).lowest_upright, episode.lowest_upright);
 }
 
 // --init: the hand-designed gains file (config/hover_1_hand_gains.yaml, written by

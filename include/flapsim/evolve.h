@@ -89,6 +89,13 @@ struct EpisodeParams {
   std::string gust_link;
   double gust_window_start = 0.1;
   double gust_window_end = 0.6;
+  /// Real air's impulses sized to the creature each episode flies, as flight_check --real-air
+  /// sizes them (realAirImpulses: a roll torque of 0.5 x weight x half-span for 0.5 s, a push
+  /// of 4 x the pushed wing's unit's weight for 0.2 s, on a drawn wing) in place of gust_torque
+  /// and gust_force; with the episode's gyro bias and altimeter noise. The hover and morph
+  /// presets' episodes (evolve --real-air, which also sets real air's wind, turbulence and
+  /// noise: realAirEpisodes), whose bodies differ from one individual to the next.
+  bool real_air = false;
   /// Altitude hold: each episode draws a setpoint uniform in [min_altitude, max_altitude]
   /// (m, the root link frame's height), the controller is asked to hold it
   /// (FlapSensing::setpoint), and a sample scores -|height - setpoint| - tilt_weight (1 -

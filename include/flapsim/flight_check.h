@@ -58,6 +58,24 @@ struct FlightCheckParams {
 /// (afc_1: 0.043 N m and 0.90 N), IMU noise 0.05 rad and 0.05 rad/s, a gyro bias up to
 /// 0.02 rad/s, altimeter noise 0.05 m.
 FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model);
+
+/// Real air's two impulses for `model` (realAirParams'): the roll torque and the push on a wing.
+struct RealAirImpulses {
+  double torque = 0.0;           // N m: 0.5 x weight x half-span
+  double torque_duration = 0.5;  // s
+  double force = 0.0;            // N: 4 x the weight of the pushed wing's unit
+  double force_duration = 0.2;   // s
+};
+RealAirImpulses realAirImpulses(const CreatureModel& model);
+
+/// An evolution's episodes in real air (evolve --real-air, EpisodeParams::real_air):
+/// realAirParams' steady 1 m/s wind from a drawn heading, light turbulence, IMU noise, gyro
+/// bias and altimeter noise set in `e`; the impulses are sized per creature (realAirGusts).
+void setRealAirEpisodes(EpisodeParams& e);
+/// The gusts an episode of `e` (real_air) flies on `model`: `e` with realAirImpulses(model) as
+/// its gust torque and push and their durations.
+EpisodeParams realAirGusts(EpisodeParams e, const CreatureModel& model);
+
 /// The creature's span: the extent along y of its shapes, posed as spawned level (m).
 double creatureSpan(const CreatureModel& model);
 

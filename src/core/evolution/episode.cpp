@@ -178,7 +178,7 @@ std::vector<EpisodeStart> episodeStarts(const EpisodeParams& p, const CreatureMo
     throw InputError("episode: '" + model->name + "' has no link '" + p.gust_link +
                      "' (gust_link)");
   }
-  if (p.gust_force != 0.0 && p.gust_link.empty()) {
+  if ((p.gust_force != 0.0 || p.real_air) && p.gust_link.empty()) {
     if (model == nullptr) throw InputError("episode: a push on a drawn wing needs the creature");
     for (int j : model->wing_joints)
       wings.push_back(model->links[model->joints[j].child_link].name);

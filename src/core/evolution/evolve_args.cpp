@@ -9,6 +9,7 @@
 #include "flapsim/air_model.h"
 #include "flapsim/cli_args.h"
 #include "flapsim/episode_evaluator.h"
+#include "flapsim/flight_check.h"
 #include "flapsim/hover_evolution.h"
 #include "flapsim/morph_evolution.h"
 
@@ -116,6 +117,13 @@ void disturbanceFlags(CliParser& t, EvolveOptions& o) {
           [&e] { return formatCliNumber(e.world.air.turbulence.wind_at_6m) + " m/s at 6 m"; },
           "Dryden turbulence (MIL-F-8785C): none, light, moderate, severe or the wind at 6 m "
           "(m/s); a realisation per episode")
+      .tag(kSpec)
+      .flag("--real-air", &e.real_air, true,
+            "--preset hover, morph: real air, all at once, as flight_check --real-air: wind 1 m/s "
+            "from a drawn heading, light turbulence, a roll torque (0.5 x weight x half-span) "
+            "for 0.5 s and a push on a drawn wing (4 x the weight) for 0.2 s at drawn times, "
+            "sized to each episode's body, IMU noise 0.05, a gyro bias up to 0.02 rad/s, "
+            "altimeter noise 0.05 m")
       .tag(kSpec)
       .real("--gust-torque", "T", &e.gust_torque, {-kMaxTorque, kMaxTorque},
             "a roll torque of T N m at a random time, random sign (0: none)")
@@ -384,6 +392,7 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   } else {
     checkDependentFlags(o.params, seen);
   }
+  if (o.params.episode.real_air) setRealAirEpisodes(o.params.episode);
   std::vector<const CliSeen*> spec;  // each flag once, with its last values
   for (const CliSeen& s : seen) {
     if (s.flag->tag != kSpec) continue;

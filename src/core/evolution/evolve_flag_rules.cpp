@@ -29,8 +29,14 @@ bool morphFlag(const std::string& name) {
 bool hoverPresetName(const std::string& preset) { return preset == "hover" || preset == "morph"; }
 
 void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen) {
+  const bool real_air = std::any_of(seen.begin(), seen.end(), [](const CliSeen& s) {
+    return s.flag->names.front() == "--real-air";
+  });
   for (const CliSeen& s : seen) {
     const std::string& name = s.flag->names.front();
+    if (real_air && (name == "--wind" || name == "--turbulence" || name == "--noise")) {
+      throw InputError(name + " is set by --real-air (give one or the other)");
+    }
     if (std::find(kNotHoverFlags.begin(), kNotHoverFlags.end(), name) != kNotHoverFlags.end()) {
       throw InputError(name + ": not a flag of --preset " + preset +
                        (preset == "hover" ? " (the hover controller's gains)"
@@ -62,6 +68,11 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
       why = "but with --preset hover or morph (the flap network's fitness has none)";
     if (morphFlag(name)) {
       why = "but with --preset morph (the flap network has no body)";
+    }
+    if (name == "--real-air") {
+      throw InputError(
+          "--real-air: for --preset hover or morph (a flap network's episodes take --wind, "
+          "--turbulence, --gust-torque, --gust-force, --noise, --gyro-bias, --altitude-noise)");
     }
     if (name == "--max-upstroke-rate" && p.controller.max_upstroke_rate > 0.0 &&
         (p.controller.network != FlapNetwork::kMirror || p.controller.phase_lock)) {

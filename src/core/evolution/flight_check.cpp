@@ -29,8 +29,8 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.gust_link = p.gust_link;
   episode.gust_torque_duration = episode.gust_force_duration = p.gust_time;
   if (p.real_air) {
-    episode.gust_torque_duration = 0.5;
-    episode.gust_force_duration = 0.2;
+    episode.gust_torque_duration = RealAirImpulses().torque_duration;
+    episode.gust_force_duration = RealAirImpulses().force_duration;
   }
   episode.imu_noise.orientation = episode.imu_noise.angular_velocity = p.noise;
   episode.altitude_noise = p.altitude_noise;
@@ -69,18 +69,55 @@ double creatureSpan(const CreatureModel& model) {
   return high - low;
 }
 
-FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model) {
+namespace {
+
+// Real air's settings beside its impulses (realAirParams, setRealAirEpisodes).
+constexpr double kRealAirWind = 1.0;  // m/s
+constexpr const char* kRealAirTurbulence = "light";
+constexpr double kRealAirImuNoise = 0.05;       // rad and rad/s
+constexpr double kRealAirGyroBias = 0.02;       // rad/s
+constexpr double kRealAirAltitudeNoise = 0.05;  // m
+
+}  // namespace
+
+RealAirImpulses realAirImpulses(const CreatureModel& model) {
   const double weight = model.totalMass() * 9.81;
   // The pushed wing's unit: a flap unit of a chain, or the whole of any other creature.
   const int units = model.findLink("unit0_body") >= 0 ? flapUnitLayout(model).units() : 1;
-  p.wind = 1.0;
-  p.turbulence = turbulenceLevelWind("light");
-  p.gust_torque = 0.5 * weight * 0.5 * creatureSpan(model);
-  p.gust_force = 4.0 * weight / units;
-  p.noise = 0.05;
-  p.gyro_bias = 0.02;
-  p.altitude_noise = 0.05;
+  RealAirImpulses i;
+  i.torque = 0.5 * weight * 0.5 * creatureSpan(model);
+  i.force = 4.0 * weight / units;
+  return i;
+}
+
+FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model) {
+  const RealAirImpulses i = realAirImpulses(model);
+  p.wind = kRealAirWind;
+  p.turbulence = turbulenceLevelWind(kRealAirTurbulence);
+  p.gust_torque = i.torque;
+  p.gust_force = i.force;
+  p.noise = kRealAirImuNoise;
+  p.gyro_bias = kRealAirGyroBias;
+  p.altitude_noise = kRealAirAltitudeNoise;
   return p;
+}
+
+void setRealAirEpisodes(EpisodeParams& e) {
+  e.real_air = true;
+  e.min_wind = e.max_wind = kRealAirWind;
+  e.world.air.turbulence.wind_at_6m = turbulenceLevelWind(kRealAirTurbulence);
+  e.imu_noise.orientation = e.imu_noise.angular_velocity = kRealAirImuNoise;
+  e.gyro_bias = kRealAirGyroBias;
+  e.altitude_noise = kRealAirAltitudeNoise;
+}
+
+EpisodeParams realAirGusts(EpisodeParams e, const CreatureModel& model) {
+  const RealAirImpulses i = realAirImpulses(model);
+  e.gust_torque = i.torque;
+  e.gust_torque_duration = i.torque_duration;
+  e.gust_force = i.force;
+  e.gust_force_duration = i.force_duration;
+  return e;
 }
 
 std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,

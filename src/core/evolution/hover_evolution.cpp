@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "flapsim/flight_check.h"
+
 namespace flapsim {
 
 const std::vector<HoverGene>& hoverGenes() {
@@ -111,7 +113,13 @@ HoverFlightResult runHoverEpisode(const CreatureModelPtr& model,
                                   const EpisodeParams& params, const EpisodeStart& start) {
   HoverControllerParams c = controller;
   c.altitude = start.altitude.value_or(controller.altitude);
-  return flyHover(model, c, hoverEpisodeFlight(params, start, c.altitude));
+  HoverFlightParams f = hoverEpisodeFlight(params, start, c.altitude);
+  if (params.real_air) {
+    // Real air's impulses sized to this creature, with the gyro bias and altimeter noise.
+    f.gusts = realAirGusts(params, *model);
+    f.gust_start = start;
+  }
+  return flyHover(model, c, f);
 }
 
 EvolveParams hoverPreset() {
