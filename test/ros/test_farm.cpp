@@ -94,10 +94,10 @@ TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
   EXPECT_EQ(r.resent, 0);
 }
 
-// The body and controller co-evolved (--preset morph: the kind and the mass budget travel in
-// the spec's flags): the workers build each genome's body and fly it as the process does, bit
-// for bit, and the last population is the same, so the Pareto front the tool writes from it is
-// the same too.
+// The body and controller co-evolved (--preset morph: the kind, the mass budget and real air
+// travel in the spec's flags): the workers build each genome's body and fly it in real air,
+// its impulses sized to that body, as the process does, bit for bit, and the last population
+// is the same, so the Pareto front the tool writes from it is the same too.
 TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
   ros::NodeHandle nh;
   ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
@@ -118,10 +118,12 @@ TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
                                          "--payload",
                                          "0.006",
                                          "--motor-specific-power",
-                                         "1000"};
+                                         "1000",
+                                         "--real-air"};
   const flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
   ASSERT_EQ(p.kind, flapsim::EvolveKind::kMorph);
   ASSERT_EQ(p.morph.budget.motor_specific_power, 1000.0);
+  ASSERT_TRUE(p.episode.real_air);
   const FarmAndProcess r = evolveBothWays(nh, spec);
   expectSameBits(r.in_process, r.on_farm);
   EXPECT_EQ(r.on_farm.best_weights.size(), 25u);
