@@ -1,4 +1,6 @@
 """The registry of the docs' measured tables (scripts/doc_tables.py): name -> Table."""
+import re
+
 from doc_tables import Run, Table
 from doc_tables_flight import (CONDITIONS, FLIGHT_CHECK, HOLD_CONDITIONS, TABLE_HEADER,
                                WIDE_STARTS, flips, height_range, hover_report, lowest,
@@ -223,6 +225,9 @@ def real_air_bar():
          "chain terms)", ["--weights", "config/afc_12_altitude_weights.yaml", "--pairs", "12"]),
         ("hover_1, `config/hover_1_gains.yaml` (evolved gains)",
          ["--hover", "--gains", "config/hover_1_gains.yaml"]),
+        ("`config/morph_116wkg` (body and gains co-evolved)",
+         ["--hover", "--urdf", "config/morph_116wkg/creature.urdf", "--gains",
+          "config/morph_116wkg/gains.yaml"]),
     ]
     steps = (1, 0.5)
     runs = [Run(key(label, step), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
@@ -236,22 +241,28 @@ def real_air_bar():
                 text = out[key(label, step)]
                 r = starts(text)
                 rms = [x["alt_rms"] for x in r if x["alt_rms"] is not None]
+                spin = re.search(r"at ([0-9]+) and ([0-9]+) rad/s", text)
+                if not spin:
+                    raise ValueError("flight_check --real-air output: no spin-up line")
                 result.append([label, step_cell(step), str(flips(r)),
                                f"{lowest(r, 'up_set'):.3f}",
                                f"{max(rms):.2f} m" if rms else "-",
                                f"{max_abs_bank(r):.1f} deg",
                                f"**{sum(meets_real_air_bar(x) for x in r)} of {len(r)}**",
-                               f"{sum(x['P+/m'] for x in r) / len(r):.0f} W/kg"])
+                               f"{sum(x['P+/m'] for x in r) / len(r):.0f} W/kg",
+                               f"{spin.group(1)} / {spin.group(2)} rad/s"])
         return result
     register(Table("real_air_bar", FLIGHT_DOC,
                    ["creature, controller", "step", "flips", "lowest up after 10 s",
                     "largest alt. rms after 10 s", "largest abs mean bank", "meet the bar",
-                    "mean power"], runs, rows,
+                    "mean power", "torque / push, held rigid in vacuum"], runs, rows,
                    f"each row `{FLIGHT_CHECK} FLAGS --altitude 5 {' '.join(WIDE_STARTS)} "
                    "--real-air` with the step's `--step-size` (FLAGS: the controller's, "
                    "`--hover --gains FILE` for the hover creature); the bar: no flip, lowest "
                    "up-component above 0.5 after 10 s, altitude rms under 0.3 m, mean bank "
-                   "under 5 deg"))
+                   "under 5 deg; the last column: the roll rate real air's torque and push "
+                   "would give the creature held rigid in vacuum, its angular impulse over its "
+                   "roll inertia, as flight_check prints it (flapsim::realAirSpinUp)"))
 
 
 held_out_starts()

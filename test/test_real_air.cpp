@@ -12,6 +12,7 @@
 #include "flapsim/evolve.h"
 #include "flapsim/flight_check.h"
 #include "flapsim/real_air.h"
+#include "flapsim/world.h"
 #include "test_util.h"
 
 namespace flapsim {
@@ -136,6 +137,32 @@ TEST(RealAirDraws, BadParametersAreRefusedByName) {
   p.duration = 0.0;
   EXPECT_NE(refusal([&] { realAirDraws(*afc, p); }).find("duration must be in (0, "),
             std::string::npos);
+}
+
+// The plate (0.2 x 0.2 x 0.002 m, 10 g, no wing): real air's torque is 0.5 x m g x 0.1 m, its
+// roll inertia m (b^2 + c^2) / 12, so the torque spins it at 1.5 g b / (b^2 + c^2) = 73.568
+// rad/s whatever its mass; and so it does in vacuum, the torque applied for its 0.5 s. No wing:
+// no push.
+TEST(RealAirSpinUp, ThePlateSpinsAtTheTorquesImpulseOverItsBoxInertia) {
+  const CreatureModelPtr plate = test::loadUrdf("plate.urdf");
+  const RealAirSpinUp s = realAirSpinUp(*plate);
+  const double b = 0.2, c = 0.002;
+  EXPECT_NEAR(s.roll_inertia, 0.01 * (b * b + c * c) / 12.0, 1e-12);
+  EXPECT_NEAR(s.torque_rate, 1.5 * 9.81 * b / (b * b + c * c), 1e-6);  // the URDF: 9 digits
+  EXPECT_EQ(s.push_arm, 0.0);
+  EXPECT_EQ(s.push_rate, 0.0);
+  WorldParams params;
+  params.ground = false;
+  params.air.enabled = false;
+  params.gravity = Vec3::Zero();
+  World world(params);
+  world.spawn("plate", plate, Pose());
+  ExternalWrench torque;
+  torque.torque = Vec3(s.impulses.torque, 0.0, 0.0);
+  torque.duration = s.impulses.torque_duration;
+  world.applyWrench("plate", torque);
+  world.step(600);
+  EXPECT_NEAR(world.state("plate").link_twists[0].angular.x(), s.torque_rate, 1e-9);
 }
 
 TEST(RealAirPrint, TheWindAndGyroBiasAreYamlListsOfEveryBit) {

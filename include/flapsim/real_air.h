@@ -30,6 +30,23 @@ struct RealAirDraws {
   std::string force_link;       // a wing drawn among the creature's
 };
 
+/// How hard real air's two impulses are on a creature: the roll rate each would give it held
+/// rigid (its joints as spawned, level) in vacuum, its angular impulse over the creature's roll
+/// inertia about its centre of mass: the torque's, and the push's on the wing whose centre of
+/// mass lies farthest from the creature's along y. The air's damping and the controller are
+/// what must keep the real rate far below these.
+struct RealAirSpinUp {
+  RealAirImpulses impulses;   // realAirImpulses(model)
+  double roll_inertia = 0.0;  // kg m^2, about the x axis through the centre of mass
+  double push_arm = 0.0;      // m: the pushed wing's centre of mass from the creature's, along y
+  double torque_rate = 0.0;   // rad/s: torque x its duration / roll_inertia
+  double push_rate = 0.0;     // rad/s: push x push_arm x its duration / roll_inertia
+};
+RealAirSpinUp realAirSpinUp(const CreatureModel& model);
+
+/// flight_check --real-air's line about them.
+std::string realAirSpinUpLine(const RealAirSpinUp& s);
+
 /// How to draw them.
 struct RealAirDrawParams {
   std::uint64_t seed = FlightCheckParams().seed;  // flight_check --seed

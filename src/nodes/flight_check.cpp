@@ -11,6 +11,7 @@
 #include <string>
 
 #include "flapsim/make_creature.h"
+#include "flapsim/real_air.h"
 
 int main(int argc, char** argv) {
   flapsim::FlightCheckOptions o;
@@ -47,7 +48,8 @@ int main(int argc, char** argv) {
                          : flapsim::loadCreatureModel(o.urdf);
       if (o.params.real_air) {  // from held-out starts
         int failed = 0;
-        std::cout << flapsim::hoverRealAirReport(o, flapsim::hoverRealAirCheck(hover, o), failed);
+        std::cout << flapsim::hoverRealAirReport(o, flapsim::hoverRealAirCheck(hover, o), failed)
+                  << flapsim::realAirSpinUpLine(flapsim::realAirSpinUp(*hover));
         return failed == 0 ? 0 : 1;
       }
       bool ok = false;
@@ -71,6 +73,7 @@ int main(int argc, char** argv) {
                                             static_cast<int>(model->wing_joints.size() / 2), failed)
               << flapsim::flightPowerSummary(
                      runs, flapsim::strokeDiskArea(*model, spec.params.amplitude));
+    if (o.params.real_air) std::cout << flapsim::realAirSpinUpLine(flapsim::realAirSpinUp(*model));
     return failed == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::cerr << "flight_check: " << e.what() << "\n";

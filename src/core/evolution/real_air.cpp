@@ -1,8 +1,11 @@
 #include "flapsim/real_air.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <sstream>
+#include <vector>
 
 #include "flapsim/evolve.h"
 #include "flapsim/world.h"
@@ -54,6 +57,55 @@ RealAirDraws realAirDraws(const CreatureModel& model, const RealAirDrawParams& p
   d.force_duration = episode.gust_force_duration;
   d.force_link = start.force_link;
   return d;
+}
+
+RealAirSpinUp realAirSpinUp(const CreatureModel& model) {
+  WorldParams params;
+  params.ground = false;
+  params.air.enabled = false;
+  World world(params);
+  world.spawn("c", std::make_shared<CreatureModel>(model), Pose());
+  const CreatureState state = world.state("c");
+  // The links' centres of mass and inertias in the world, and the creature's centre of mass.
+  std::vector<Vec3> com(model.links.size());
+  std::vector<Eigen::Matrix3d> inertia(model.links.size());
+  double mass = 0.0;
+  Vec3 centre = Vec3::Zero();
+  for (size_t k = 0; k < model.links.size(); ++k) {
+    const LinkModel& l = model.links[k];
+    com[k] = state.link_poses[k].apply(l.urdfCom());
+    const Eigen::Matrix3d r = l.fromUrdf(state.link_poses[k]).orientation.toRotationMatrix();
+    inertia[k] = r * l.inertia.asDiagonal() * r.transpose();
+    mass += l.mass;
+    centre += l.mass * com[k];
+  }
+  RealAirSpinUp s;
+  s.impulses = realAirImpulses(model);
+  if (mass <= 0.0) return s;
+  centre /= mass;
+  for (size_t k = 0; k < model.links.size(); ++k) {
+    const Vec3 d = com[k] - centre;
+    s.roll_inertia += inertia[k](0, 0) + model.links[k].mass * (d.y() * d.y() + d.z() * d.z());
+  }
+  for (int j : model.wing_joints) {
+    const int link = model.joints[j].child_link;
+    s.push_arm = std::max(s.push_arm, std::abs(com[link].y() - centre.y()));
+  }
+  if (s.roll_inertia <= 0.0) return s;
+  s.torque_rate = s.impulses.torque * s.impulses.torque_duration / s.roll_inertia;
+  s.push_rate = s.impulses.force * s.push_arm * s.impulses.force_duration / s.roll_inertia;
+  return s;
+}
+
+std::string realAirSpinUpLine(const RealAirSpinUp& s) {
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "real air on this creature: a roll torque of %.4g N m for %g s and a push of %.4g "
+                "N for %g s on a wing %.3g m out, which would spin it, held rigid in vacuum "
+                "(roll inertia %.3g kg m^2), at %.0f and %.0f rad/s\n",
+                s.impulses.torque, s.impulses.torque_duration, s.impulses.force,
+                s.impulses.force_duration, s.push_arm, s.roll_inertia, s.torque_rate, s.push_rate);
+  return text;
 }
 
 std::string describeRealAirDraws(const RealAirDraws& d) {
