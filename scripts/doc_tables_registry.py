@@ -265,11 +265,48 @@ def real_air_bar():
                    "roll inertia, as flight_check prints it (flapsim::realAirSpinUp)"))
 
 
+def real_air_apart():
+    """Real air with its two impulses taken away one at a time (--gust-torque 0, --gust-force
+    0): which of them flips each creature."""
+    flyers = [
+        ("afc_1, `config/afc_1_real_air_weights.yaml`",
+         ["--weights", "config/afc_1_real_air_weights.yaml"]),
+        ("hover_1, `config/hover_1_gains.yaml`",
+         ["--hover", "--urdf", "urdf/hover_1.urdf", "--gains", "config/hover_1_gains.yaml"]),
+        ("`config/morph_116wkg`",
+         ["--hover", "--urdf", "config/morph_116wkg/creature.urdf", "--gains",
+          "config/morph_116wkg/gains.yaml"]),
+    ]
+    variants = [("all of it", []), ("without the push", ["--gust-force", "0"]),
+                ("without the torque", ["--gust-torque", "0"]),
+                ("without either", ["--gust-torque", "0", "--gust-force", "0"])]
+    runs = [Run(key(label, name), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
+                + ["--real-air"] + extra)
+            for label, flags in flyers for name, extra in variants]
+
+    def rows(out):
+        result = []
+        for label, _ in flyers:
+            for name, extra in variants:
+                r = starts(out[key(label, name)])
+                rms = [x["alt_rms"] for x in r if x["alt_rms"] is not None]
+                result.append([label, name + (f" (`{' '.join(extra)}`)" if extra else ""),
+                               str(flips(r)), f"{sum(meets_real_air_bar(x) for x in r)} of {len(r)}",
+                               f"{max(rms):.2f} m" if rms else "-"])
+        return result
+    register(Table("real_air_apart", FLIGHT_DOC,
+                   ["creature, controller", "real air", "flips", "meet the bar",
+                    "largest alt. rms after 10 s"], runs, rows,
+                   f"each row `{FLIGHT_CHECK} FLAGS --altitude 5 {' '.join(WIDE_STARTS)} "
+                   "--real-air` with the row's sizes (FLAGS as in the table above), at 1 ms"))
+
+
 held_out_starts()
 steady_wind()
 steady_wind_hover()
 real_air()
 real_air_bar()
+real_air_apart()
 register_flight_table("afc_1_altitude_climbing", "config/afc_1_altitude_weights.yaml", 1, (1, 0.5),
                       CONDITIONS + HOLD_CONDITIONS)
 register_flight_table("afc_1_altitude_hold", "config/afc_1_altitude_weights.yaml", 1, (1, 0.5),

@@ -34,6 +34,7 @@ Flown fly(const std::vector<std::string>& args) {
   Flown f;
   f.refused = flightCheckUnusedFlag(o, seen);
   if (!f.refused.empty()) return f;
+  takeRealAirSizes(o, seen);
   const ControllerSpec spec = loadControllerYaml(o.weights);
   f.refused = flightCheckUnusedSensorFlag(spec.params, seen);
   if (!f.refused.empty()) return f;
@@ -110,8 +111,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
   for (const auto& [flag, values] : tried) {
     SCOPED_TRACE(flag);
     std::vector<std::string> args = withFlag(base(), flag, values);
-    if (flag == "--real-air") {  // it sets the gusts itself: refused with the base's push
-      EXPECT_EQ(fly(args).refused, "--gust-force is set by --real-air (give one or the other)");
+    if (flag == "--real-air") {  // the base's push is its push's size: flown without it
       args = withFlag(
           {"--weights", base()[1], "--starts", "2", "--duration", "0.4", "--altitude", "1.1"}, flag,
           values);
@@ -130,6 +130,29 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
   EXPECT_EQ(fly(withFlag(base(), "--threads", {"2"})).figures, plain.figures);
 }
 
+// With --real-air, --gust-torque and --gust-force size its two impulses: both 0 fly real air's
+// wind, turbulence and sensors alone, the same bits as those flags given one by one; a push of
+// another size flies otherwise than real air's own.
+TEST(FlightCheckFlags, WithRealAirTheGustFlagsSizeItsImpulses) {
+  const std::vector<std::string> start = {"--weights",  base()[1], "--starts",   "2",
+                                          "--duration", "0.4",     "--altitude", "1.1"};
+  auto with = [&start](std::vector<std::string> more) {
+    std::vector<std::string> args = start;
+    args.insert(args.end(), more.begin(), more.end());
+    return fly(args);
+  };
+  const Flown real = with({"--real-air"});
+  const Flown calm = with({"--real-air", "--gust-torque", "0", "--gust-force", "0"});
+  const Flown by_hand = with({"--wind", "1", "--turbulence", "light", "--noise", "0.05",
+                              "--gyro-bias", "0.02", "--altitude-noise", "0.05"});
+  ASSERT_EQ(real.refused, "");
+  ASSERT_EQ(calm.refused, "");
+  ASSERT_EQ(by_hand.refused, "");
+  EXPECT_EQ(calm.figures, by_hand.figures);
+  EXPECT_NE(calm.figures, real.figures);
+  EXPECT_NE(with({"--real-air", "--gust-force", "2"}).figures, real.figures);
+}
+
 // flight_check --hover: its report for `args` (the tool's parse, refusal and two reports), or
 // the refusal.
 std::string flyHoverCheck(const std::vector<std::string>& args) {
@@ -138,6 +161,7 @@ std::string flyHoverCheck(const std::vector<std::string>& args) {
   const std::vector<CliSeen> seen = cli.parse(args);
   const std::string refused = flightCheckUnusedFlag(o, seen);
   if (!refused.empty()) return "refused: " + refused;
+  takeRealAirSizes(o, seen);
   const CreatureModelPtr model =
       o.urdf.empty() ? parseCreatureModel(makeHoverUrdf("hover")) : loadCreatureModel(o.urdf);
   int failed = 0;

@@ -49,6 +49,9 @@ struct FlightCheckParams {
   /// torque for 0.5 s and a push on a drawn wing for 0.2 s at drawn times, IMU noise, a gyro
   /// bias and altimeter noise.
   bool real_air = false;
+  /// With real_air: this roll torque (N m) and push (N) instead of real air's (0: none; their
+  /// signs are drawn), from flight_check --real-air --gust-torque T / --gust-force F.
+  std::optional<double> real_air_torque, real_air_force;
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
 
@@ -114,6 +117,10 @@ struct FlightCheckOptions {
 
 /// flight_check's flags (flapsim/cli_args.h), over `options`.
 CliParser flightCheckCli(FlightCheckOptions& options);
+
+/// flight_check's --gust-torque and --gust-force given with --real-air (`seen`, the parse of
+/// `o`'s table) become real air's sizes in `o` (FlightCheckParams::real_air_torque, _force).
+void takeRealAirSizes(FlightCheckOptions& o, const std::vector<CliSeen>& seen);
 
 /// Empty if every flag `seen` (flightCheckCli's parse) changes what the mode of `options` flies;
 /// else a message naming the first that would be ignored: the network's flags (--weights,

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
     if (o.weights.empty() && !o.hover) throw flapsim::InputError("--weights FILE is required");
     const std::string unused = flapsim::flightCheckUnusedFlag(o, seen);
     if (!unused.empty()) throw flapsim::InputError(unused);
+    flapsim::takeRealAirSizes(o, seen);
     auto given = [&seen](const std::string& flag) {
       return std::any_of(seen.begin(), seen.end(),
                          [&](const flapsim::CliSeen& s) { return s.flag->names[0] == flag; });

@@ -94,8 +94,8 @@ FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model)
   const RealAirImpulses i = realAirImpulses(model);
   p.wind = kRealAirWind;
   p.turbulence = turbulenceLevelWind(kRealAirTurbulence);
-  p.gust_torque = i.torque;
-  p.gust_force = i.force;
+  p.gust_torque = p.real_air_torque.value_or(i.torque);
+  p.gust_force = p.real_air_force.value_or(i.force);
   p.noise = kRealAirImuNoise;
   p.gyro_bias = kRealAirGyroBias;
   p.altitude_noise = kRealAirAltitudeNoise;
@@ -176,10 +176,12 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
             "at drawn times, IMU noise 0.05, a gyro bias up to 0.02 rad/s, altimeter noise "
             "0.05 m (--hover too: from held-out starts)")
       .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
-            "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn")
+            "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn; with "
+            "--real-air its size instead of real air's (0: none)")
       .tag(kNetworkOnly)
       .real("--gust-force", "N", &p.gust_force, {-1e6, 1e6},
-            "a vertical push (> 0: up) on --gust-link at a time drawn per start")
+            "a vertical push (> 0: up) on --gust-link at a time drawn per start; with "
+            "--real-air its size instead of real air's (0: none)")
       .tag(kNetworkOnly)
       .text("--gust-link", "LINK", &p.gust_link,
             "the link pushed (default: a wing drawn per start, up or down)")
@@ -247,12 +249,27 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
   return t;
 }
 
+void takeRealAirSizes(FlightCheckOptions& o, const std::vector<CliSeen>& seen) {
+  FlightCheckParams& p = o.params;
+  if (!p.real_air) return;
+  for (const CliSeen& given : seen) {
+    const std::string& name = given.flag->names[0];
+    if (name == "--gust-torque") p.real_air_torque = p.gust_torque;
+    if (name == "--gust-force") p.real_air_force = p.gust_force;
+  }
+}
+
 std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector<CliSeen>& seen) {
   for (const CliSeen& given : seen) {
     const std::string& name = given.flag->names[0];
     const FlightCheckParams& p = o.params;
-    if (o.hover &&
-        (given.flag->tag == kNetworkOnly || (given.flag->tag == kStarts && !p.real_air))) {
+    // With --real-air the two impulses' flags give their sizes (the hover's too).
+    const bool real_air_size = p.real_air && (name == "--gust-torque" || name == "--gust-force");
+    if (real_air_size && (name == "--gust-torque" ? p.gust_torque : p.gust_force) < 0.0) {
+      return name + " with --real-air is a size (its sign is drawn): give it >= 0";
+    }
+    if (o.hover && ((given.flag->tag == kNetworkOnly && !real_air_size) ||
+                    (given.flag->tag == kStarts && !p.real_air))) {
       return name +
              " has no effect with --hover (one flight of the hover controller: no network, "
              "no held-out starts, gusts or sensor noise but those of --real-air)";
@@ -260,9 +277,8 @@ std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector
     if (!o.hover && given.flag->tag == kHoverOnly) {
       return name + " is for --hover only (the network's flights have no hover gains)";
     }
-    for (const char* set :
-         {"--wind", "--turbulence", "--gust-torque", "--gust-force", "--gust-link", "--gust-time",
-          "--noise", "--altitude-noise", "--gyro-bias"}) {
+    for (const char* set : {"--wind", "--turbulence", "--gust-link", "--gust-time", "--noise",
+                            "--altitude-noise", "--gyro-bias"}) {
       if (p.real_air && name == set) return name + " is set by --real-air (give one or the other)";
     }
     if (name == "--gust-link" && p.gust_force == 0.0) {

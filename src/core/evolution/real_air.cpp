@@ -41,9 +41,9 @@ RealAirDraws realAirDraws(const CreatureModel& model, const RealAirDrawParams& p
   p.seed = params.seed;
   p.duration = params.duration;
   p.real_air = true;
+  p.real_air_torque = params.torque;
+  p.real_air_force = params.force;
   p = realAirParams(p, model);
-  if (params.torque) p.gust_torque = *params.torque;
-  if (params.force) p.gust_force = *params.force;
   const EpisodeParams episode = flightCheckEpisodes(p);
   const EpisodeStart start = episodeStarts(episode, &model).front();
   RealAirDraws d;
