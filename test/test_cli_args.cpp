@@ -183,6 +183,25 @@ TEST(ToolTables, FlightCheckRefusesANumberWithTrailingText) {
   EXPECT_DOUBLE_EQ(o.params.turbulence, 30.0 * 1852.0 / 3600.0);
 }
 
+// With --real-air, --gust-torque and --gust-force are its impulses' sizes (>= 0: their signs
+// are drawn), on the hover creature too.
+TEST(ToolTables, FlightCheckTakesRealAirsImpulseSizes) {
+  FlightCheckOptions sized;
+  CliParser sizes = flightCheckCli(sized);
+  const std::vector<CliSeen> sizes_seen =
+      sizes.parse({"--hover", "--real-air", "--gust-torque", "0", "--gust-force", "0.5"});
+  EXPECT_EQ(flightCheckUnusedFlag(sized, sizes_seen), "");
+  takeRealAirSizes(sized, sizes_seen);
+  ASSERT_TRUE(sized.params.real_air_torque.has_value());
+  EXPECT_EQ(*sized.params.real_air_torque, 0.0);
+  EXPECT_EQ(sized.params.real_air_force.value_or(-1.0), 0.5);
+  FlightCheckOptions negative;
+  CliParser negative_cli = flightCheckCli(negative);
+  EXPECT_EQ(
+      flightCheckUnusedFlag(negative, negative_cli.parse({"--real-air", "--gust-torque", "-0.1"})),
+      "--gust-torque with --real-air is a size (its sign is drawn): give it >= 0");
+}
+
 // flight_check --hover used to fly the same flight to the bit with and without --noise,
 // --seed, --starts or the gusts. Every flag of the table, given with a value it accepts, is
 // either flown by the mode or refused by name.
@@ -237,8 +256,7 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
   CliParser hover_wind = flightCheckCli(hw);
   EXPECT_EQ(flightCheckUnusedFlag(hw, hover_wind.parse({"--hover", "--real-air", "--wind", "1"})),
             "--wind is set by --real-air (give one or the other)");
-  // --real-air sets the wind, turbulence, gusts and sensors itself; its impulses' sizes may be
-  // given (>= 0: their signs are drawn), on the hover creature too.
+  // --real-air sets the wind, turbulence, gusts' times and sensors itself (sizes: below).
   for (const char* set :
        {"--wind", "--turbulence", "--gust-time", "--noise", "--altitude-noise", "--gyro-bias"}) {
     FlightCheckOptions r;
@@ -247,20 +265,6 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
     EXPECT_EQ(flightCheckUnusedFlag(r, real.parse({"--real-air", set, value})),
               std::string(set) + " is set by --real-air (give one or the other)");
   }
-  FlightCheckOptions sized;
-  CliParser sizes = flightCheckCli(sized);
-  const std::vector<CliSeen> sizes_seen =
-      sizes.parse({"--hover", "--real-air", "--gust-torque", "0", "--gust-force", "0.5"});
-  EXPECT_EQ(flightCheckUnusedFlag(sized, sizes_seen), "");
-  takeRealAirSizes(sized, sizes_seen);
-  ASSERT_TRUE(sized.params.real_air_torque.has_value());
-  EXPECT_EQ(*sized.params.real_air_torque, 0.0);
-  EXPECT_EQ(sized.params.real_air_force.value_or(-1.0), 0.5);
-  FlightCheckOptions negative;
-  CliParser negative_cli = flightCheckCli(negative);
-  EXPECT_EQ(
-      flightCheckUnusedFlag(negative, negative_cli.parse({"--real-air", "--gust-torque", "-0.1"})),
-      "--gust-torque with --real-air is a size (its sign is drawn): give it >= 0");
   FlightCheckOptions g;
   CliParser gust = flightCheckCli(g);
   EXPECT_EQ(flightCheckUnusedFlag(

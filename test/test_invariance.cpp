@@ -359,14 +359,18 @@ TEST(EnergyAudit, InVacuumTheResidualIsFirstOrderInTheStep) {
 // small, what is left halves with the step exactly as a first-order integrator's error does
 // (measured -1.222, -0.614, -0.308, -0.154 % at 1, 0.5, 0.25, 0.125 ms: ratios 0.502, 0.501,
 // 0.501). So the bound is the integrator's, about 1.2 % of the positive work per ms of step.
+// The flap unit's audit in vacuum at `dt`, with turn pieces of dt / 8 (and `gravity`).
+EnergyAuditResult flapUnitInVacuum(double dt, const Vec3& gravity = WorldParams().gravity) {
+  EnergyAuditParams p;
+  p.world.step_size = dt;
+  p.world.turn_substep = dt / 8.0;
+  p.world.air.enabled = false;
+  p.world.gravity = gravity;
+  return auditEnergy(loadUrdf("flap_unit.urdf"), p);
+}
+
 TEST(EnergyAudit, InVacuumTheFlapUnitsResidualWithFineTurnPiecesHalvesWithTheStep) {
-  auto residual = [](double dt) {
-    EnergyAuditParams p;
-    p.world.step_size = dt;
-    p.world.turn_substep = dt / 8.0;
-    p.world.air.enabled = false;
-    return auditEnergy(loadUrdf("flap_unit.urdf"), p).relativeResidual();
-  };
+  auto residual = [](double dt) { return flapUnitInVacuum(dt).relativeResidual(); };
   double last = residual(0.001);
   EXPECT_GT(last, -0.013);
   EXPECT_LT(last, -0.011);
@@ -386,14 +390,7 @@ TEST(EnergyAudit, InVacuumTheFlapUnitsResidualWithFineTurnPiecesHalvesWithTheSte
 // velocity products, which the state does not. (The positive work, what W/kg figures divide,
 // is 1.0 % low at 1 ms: 7.475 J against 7.552 J at 0.125 ms.)
 TEST(EnergyAudit, InVacuumTheFirstOrderResidualIsTheMotorsMeasuredWorkNotTheStatesEnergy) {
-  auto audit = [](double dt) {
-    EnergyAuditParams p;
-    p.world.step_size = dt;
-    p.world.turn_substep = dt / 8.0;
-    p.world.air.enabled = false;
-    p.world.gravity = Vec3::Zero();
-    return auditEnergy(loadUrdf("flap_unit.urdf"), p);
-  };
+  auto audit = [](double dt) { return flapUnitInVacuum(dt, Vec3::Zero()); };
   const EnergyAuditResult r1 = audit(0.001), r05 = audit(0.0005), r025 = audit(0.00025);
   auto kinetic = [](const EnergyAuditResult& r) { return r.end.kinetic - r.start.kinetic; };
   EXPECT_LT(r1.residual(), -0.09);

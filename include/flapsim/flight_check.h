@@ -79,6 +79,9 @@ void setRealAirEpisodes(EpisodeParams& e);
 /// its gust torque and push and their durations.
 EpisodeParams realAirGusts(EpisodeParams e, const CreatureModel& model);
 
+/// The state of `model` spawned level at the origin, at rest, in a world without air or
+/// ground: its links as flapsim poses it before any step.
+CreatureState spawnedLevel(const CreatureModel& model);
 /// The creature's span: the extent along y of its shapes, posed as spawned level (m).
 double creatureSpan(const CreatureModel& model);
 

@@ -45,13 +45,17 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   return episode;
 }
 
-double creatureSpan(const CreatureModel& model) {
+CreatureState spawnedLevel(const CreatureModel& model) {
   WorldParams params;
   params.ground = false;
   params.air.enabled = false;
   World world(params);
   world.spawn("c", std::make_shared<CreatureModel>(model), Pose());
-  const CreatureState state = world.state("c");
+  return world.state("c");
+}
+
+double creatureSpan(const CreatureModel& model) {
+  const CreatureState state = spawnedLevel(model);
   double low = 0.0, high = 0.0;
   for (size_t k = 0; k < model.links.size(); ++k) {
     const Pose link = model.links[k].fromUrdf(state.link_poses[k]);

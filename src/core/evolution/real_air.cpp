@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <memory>
 #include <sstream>
 #include <vector>
 
@@ -60,12 +59,7 @@ RealAirDraws realAirDraws(const CreatureModel& model, const RealAirDrawParams& p
 }
 
 RealAirSpinUp realAirSpinUp(const CreatureModel& model) {
-  WorldParams params;
-  params.ground = false;
-  params.air.enabled = false;
-  World world(params);
-  world.spawn("c", std::make_shared<CreatureModel>(model), Pose());
-  const CreatureState state = world.state("c");
+  const CreatureState state = spawnedLevel(model);
   // The links' centres of mass and inertias in the world, and the creature's centre of mass.
   std::vector<Vec3> com(model.links.size());
   std::vector<Eigen::Matrix3d> inertia(model.links.size());
