@@ -165,6 +165,15 @@ TEST(HoverEvolution, BadGenomesKindsAndFlagsAreRefusedByName) {
               parseEvolveArgs({"--noise", "0.1", "--preset", "hover", "--real-air"});
             }),
             "--noise is set by --real-air (give one or the other)");
+  EXPECT_EQ(message([] {
+              parseEvolveArgs({"--preset", "morph", "--real-air", "--gust-torque", "0.01"});
+            }),
+            "--gust-torque with --real-air in --preset morph takes only 0 (the impulse taken "
+            "away): its size follows each body");
+  EXPECT_EQ(message([] {
+              parseEvolveArgs({"--preset", "hover", "--gust-torque", "0"});
+            }),
+            "--gust-torque: not a flag of --preset hover (the hover controller's gains)");
   EXPECT_EQ(message([] { parseEvolveArgs({"--real-air"}); }),
             "--real-air: for --preset hover or morph (a flap network's episodes take --wind, "
             "--turbulence, --gust-torque, --gust-force, --noise, --gyro-bias, --altitude-noise)");
@@ -227,6 +236,24 @@ TEST(HoverEvolution, RealAirEpisodesFlyFlightChecksRealAirSizedToTheBodyFlown) {
   EpisodeParams calm = e;
   calm.real_air = false;
   EXPECT_NE(runHoverEpisode(small, hand, calm, start).lowest_upright, episode.lowest_upright);
+
+  // --gust-torque 0 and --gust-force 0 take real air's impulses away (no other size: theirs
+  // follow each body): the episode is then the flight with none, its other air the same.
+  const EpisodeParams no_impulses =
+      evaluationSpecFromArgs({"--preset", "hover", "--real-air", "--gust-torque", "0",
+                              "--gust-force", "0", "--episodes", "3", "--duration", "6", "--settle",
+                              "3", "--seed", "4"})
+          .episode;
+  EXPECT_FALSE(no_impulses.real_air_torque);
+  EXPECT_FALSE(no_impulses.real_air_push);
+  EXPECT_EQ(realAirGusts(no_impulses, *big).gust_torque, 0.0);
+  EXPECT_EQ(realAirGusts(no_impulses, *big).gust_force, 0.0);
+  HoverFlightParams none = f;
+  none.gusts = realAirGusts(no_impulses, *small);
+  EXPECT_EQ(runHoverEpisode(small, hand, no_impulses, start).lowest_upright,
+            flyHover(small, c, none).lowest_upright);
+  EXPECT_NE(runHoverEpisode(small, hand, no_impulses, start).lowest_upright,
+            episode.lowest_upright);
 }
 
 // --init: the hand-designed gains file (config/hover_1_hand_gains.yaml, written by

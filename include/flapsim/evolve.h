@@ -96,6 +96,10 @@ struct EpisodeParams {
   /// presets' episodes (evolve --real-air, which also sets real air's wind, turbulence and
   /// noise: realAirEpisodes), whose bodies differ from one individual to the next.
   bool real_air = false;
+  /// With real_air: whether its roll torque and its push act (evolve --real-air --gust-torque 0,
+  /// --gust-force 0 take them away; their sizes follow each body).
+  bool real_air_torque = true;
+  bool real_air_push = true;
   /// Altitude hold: each episode draws a setpoint uniform in [min_altitude, max_altitude]
   /// (m, the root link frame's height), the controller is asked to hold it
   /// (FlapSensing::setpoint), and a sample scores -|height - setpoint| - tilt_weight (1 -

@@ -126,13 +126,15 @@ void disturbanceFlags(CliParser& t, EvolveOptions& o) {
             "altimeter noise 0.05 m")
       .tag(kSpec)
       .real("--gust-torque", "T", &e.gust_torque, {-kMaxTorque, kMaxTorque},
-            "a roll torque of T N m at a random time, random sign (0: none)")
+            "a roll torque of T N m at a random time, random sign (0: none; with --real-air in "
+            "--preset hover or morph: 0 takes real air's away)")
       .tag(kSpec)
       .real("--gust-torque-time", "S", &e.gust_torque_duration, {0, kMaxEpisodeDuration, true},
             "for S s")
       .tag(kSpec)
       .real("--gust-force", "F", &e.gust_force, {-kMaxForce, kMaxForce},
-            "a vertical push of F N on one wing at a random time (0: none)")
+            "a vertical push of F N on one wing at a random time (0: none; with --real-air in "
+            "--preset hover or morph: 0 takes real air's away)")
       .tag(kSpec)
       .real("--gust-force-time", "S", &e.gust_force_duration, {0, kMaxEpisodeDuration, true},
             "for S s")
@@ -392,7 +394,14 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   } else {
     checkDependentFlags(o.params, seen);
   }
-  if (o.params.episode.real_air) setRealAirEpisodes(o.params.episode);
+  if (o.params.episode.real_air) {
+    EpisodeParams& e = o.params.episode;
+    setRealAirEpisodes(e);
+    for (const CliSeen& s : seen) {  // checkHoverFlags: 0, the impulse taken away
+      if (s.flag->names.front() == "--gust-torque") e.real_air_torque = false;
+      if (s.flag->names.front() == "--gust-force") e.real_air_push = false;
+    }
+  }
   std::vector<const CliSeen*> spec;  // each flag once, with its last values
   for (const CliSeen& s : seen) {
     if (s.flag->tag != kSpec) continue;

@@ -37,6 +37,14 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
     if (real_air && (name == "--wind" || name == "--turbulence" || name == "--noise")) {
       throw InputError(name + " is set by --real-air (give one or the other)");
     }
+    if (real_air && (name == "--gust-torque" || name == "--gust-force")) {
+      // 0: real air's impulse taken away (its size follows each body, so no other is given).
+      if (parseCliReal(name, s.values[0], {-1e6, 1e6}) != 0.0) {
+        throw InputError(name + " with --real-air in --preset " + preset +
+                         " takes only 0 (the impulse taken away): its size follows each body");
+      }
+      continue;
+    }
     if (std::find(kNotHoverFlags.begin(), kNotHoverFlags.end(), name) != kNotHoverFlags.end()) {
       throw InputError(name + ": not a flag of --preset " + preset +
                        (preset == "hover" ? " (the hover controller's gains)"

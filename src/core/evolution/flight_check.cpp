@@ -117,9 +117,9 @@ void setRealAirEpisodes(EpisodeParams& e) {
 
 EpisodeParams realAirGusts(EpisodeParams e, const CreatureModel& model) {
   const RealAirImpulses i = realAirImpulses(model);
-  e.gust_torque = i.torque;
+  e.gust_torque = e.real_air_torque ? i.torque : 0.0;
   e.gust_torque_duration = i.torque_duration;
-  e.gust_force = i.force;
+  e.gust_force = e.real_air_push ? i.force : 0.0;
   e.gust_force_duration = i.force_duration;
   return e;
 }
