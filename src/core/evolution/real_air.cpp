@@ -60,16 +60,16 @@ RealAirDraws realAirDraws(const CreatureModel& model, const RealAirDrawParams& p
 
 RealAirSpinUp realAirSpinUp(const CreatureModel& model) {
   const CreatureState state = spawnedLevel(model);
-  // The links' centres of mass and inertias in the world, and the creature's centre of mass.
+  // The links' centres of mass in the world and their own inertias about the world's x axis
+  // (R diag(I) R^T, its xx element), and the creature's centre of mass.
   std::vector<Vec3> com(model.links.size());
-  std::vector<Eigen::Matrix3d> inertia(model.links.size());
-  double mass = 0.0;
+  double mass = 0.0, own = 0.0;
   Vec3 centre = Vec3::Zero();
   for (size_t k = 0; k < model.links.size(); ++k) {
     const LinkModel& l = model.links[k];
     com[k] = state.link_poses[k].apply(l.urdfCom());
     const Eigen::Matrix3d r = l.fromUrdf(state.link_poses[k]).orientation.toRotationMatrix();
-    inertia[k] = r * l.inertia.asDiagonal() * r.transpose();
+    own += r.row(0).cwiseAbs2().dot(l.inertia);
     mass += l.mass;
     centre += l.mass * com[k];
   }
@@ -77,9 +77,10 @@ RealAirSpinUp realAirSpinUp(const CreatureModel& model) {
   s.impulses = realAirImpulses(model);
   if (mass <= 0.0) return s;
   centre /= mass;
+  s.roll_inertia = own;
   for (size_t k = 0; k < model.links.size(); ++k) {
     const Vec3 d = com[k] - centre;
-    s.roll_inertia += inertia[k](0, 0) + model.links[k].mass * (d.y() * d.y() + d.z() * d.z());
+    s.roll_inertia += model.links[k].mass * (d.y() * d.y() + d.z() * d.z());
   }
   for (int j : model.wing_joints) {
     const int link = model.joints[j].child_link;
