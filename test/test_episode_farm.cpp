@@ -239,6 +239,31 @@ TEST(CheckpointLimits, TamperedNumbersAreRefusedByLine) {
   EXPECT_EQ(checkpointError(good + "junk\n"), "checkpoint line 17: unexpected 'junk' after 'end'");
 }
 
+// NSGA-II's individuals carry their objectives after their genes ("objectives K" on the
+// population line): they read back to the bit, and a count of them is checked like the rest.
+TEST(CheckpointLimits, ObjectivesReadBackToTheBitAndABadCountOrWordIsRefusedByLine) {
+  EvolveCheckpoint c = checkpointFromText(tampered("", ""));
+  for (Individual& ind : c.population) ind.objectives = {45.5 + ind.fitness, 1.0 / 3.0};
+  const std::string text = checkpointToText(c);
+  EXPECT_NE(text.find(" objectives 2\n"), std::string::npos) << text;
+  const EvolveCheckpoint back = checkpointFromText(text);
+  for (size_t i = 0; i < c.population.size(); ++i) {
+    EXPECT_EQ(back.population[i].objectives, c.population[i].objectives) << i;
+    EXPECT_EQ(back.population[i].genes, c.population[i].genes) << i;
+  }
+  auto swapped = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return checkpointError(t);
+  };
+  EXPECT_EQ(swapped(" objectives 2", " objectives 9"),
+            "checkpoint line 9: '9' is not an integer in [1, 8] (objectives)");
+  EXPECT_EQ(swapped(" objectives 2", " goals 2"),
+            "checkpoint line 9: expected 'objectives' or the end of the line");
+  EXPECT_NE(swapped(" objectives 2", " objectives 3").find("expected a number (objective)"),
+            std::string::npos);
+}
+
 TEST(CheckpointLimits, APopulationTheGaCouldNotHaveIsRefusedOnResume) {
   EvolveParams p = tinyRun();
   p.ga.generations = 1;

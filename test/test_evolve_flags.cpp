@@ -103,6 +103,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
        {"300"},
        "--motor-specific-power: has no effect but with --preset morph"},
       {"--power-weight", {"2"}, "--power-weight: has no effect but with --preset morph"},
+      {"--selection", {"nsga2"}, "--selection: has no effect but with --preset morph"},
       {"--network", {"paper"}, ""},
       {"--hidden", {"3"}, ""},
       {"--rate-inputs", {"off"}, ""},

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "flapsim/farm_scheduler.h"
+#include "flapsim/morph_evolution.h"
 
 namespace flapsim {
 namespace {
@@ -77,11 +78,14 @@ class FakeFarm : public FarmLink {
       return WorkerReply{};
     }
     for (const EpisodeTask& t : tasks) {
-      const double f = b == Behaviour::kNan    ? std::nan("")
-                       : b == Behaviour::kInf  ? std::numeric_limits<double>::infinity()
-                       : b == Behaviour::kHuge ? 1e308
-                                               : runner_.evaluate(t);
-      r.fitness.push_back(f);
+      std::vector<double> v = runner_.values(t);  // one fitness, or a morph's two objectives
+      for (double& f : v) {
+        f = b == Behaviour::kNan    ? std::nan("")
+            : b == Behaviour::kInf  ? std::numeric_limits<double>::infinity()
+            : b == Behaviour::kHuge ? 1e308
+                                    : f;
+      }
+      r.fitness.insert(r.fitness.end(), v.begin(), v.end());
     }
     if (b == Behaviour::kWrongCount) r.fitness.push_back(1.0);
     return r;
@@ -113,7 +117,20 @@ FarmParams fastParams() {
   return fp;
 }
 
-int weightCount(const EvolveParams& p) { return FlapUnitController::weightCount(p.controller); }
+// A tiny co-evolution selected by NSGA-II: its tasks answer two values each.
+EvolveParams tinyNsga2Run() {
+  EvolveParams p = morphPreset();
+  p.morph.nsga2 = true;
+  p.ga.population = 4;
+  p.ga.generations = 1;
+  p.ga.seed = 3;
+  p.episode.duration = 0.5;
+  p.episode.settle_time = 0.25;
+  p.episode.episodes = 2;
+  return p;
+}
+
+int weightCount(const EvolveParams& p) { return geneCount(p); }
 
 void expectSameBits(const EvolveResult& a, const EvolveResult& b) {
   ASSERT_EQ(a.history.size(), b.history.size());
@@ -126,8 +143,8 @@ void expectSameBits(const EvolveResult& a, const EvolveResult& b) {
 }
 
 // Evolves through a healthy worker and one of `bad` behaviour; returns why `bad` was dropped.
-std::string evolveBesideABadWorker(Behaviour bad, FarmParams fp = fastParams()) {
-  const EvolveParams p = tinyRun();
+std::string evolveBesideABadWorker(Behaviour bad, FarmParams fp = fastParams(),
+                                   const EvolveParams& p = tinyRun()) {
   const EvolveResult in_process = evolveFlapController(p);
   FakeFarm link(evaluationSpec(p));
   link.add("good", Behaviour::kHealthy);
@@ -185,6 +202,33 @@ TEST(FarmScheduler, AWorkerAnsweringInfOrBeyondTheBoundIsDropped) {
 TEST(FarmScheduler, AWorkerAnsweringTheWrongCountIsDropped) {
   EXPECT_NE(evolveBesideABadWorker(Behaviour::kWrongCount).find("answered 2 values for 1 tasks"),
             std::string::npos);
+}
+
+// NSGA-II's tasks answer two values each (W/kg, loss): the farm takes both in task order, and
+// checks each against its own bound.
+TEST(FarmScheduler, TwoValuesPerTaskGiveTheInProcessBitsAndEachValueIsCheckedAgainstItsBound) {
+  const EvolveParams p = tinyNsga2Run();
+  ASSERT_EQ(taskValueCount(evaluationSpec(p)), 2);
+  EXPECT_EQ(taskValueBounds(evaluationSpec(p)),
+            (std::vector<double>{kMaxMorphPower, morphFitnessBound(evaluationSpec(p).episode)}));
+  FakeFarm link(evaluationSpec(p));
+  link.add("w1", Behaviour::kHealthy);
+  link.add("w2", Behaviour::kHealthy);
+  FarmScheduler farm(link, evaluationSpec(p), weightCount(p), fastParams());
+  EvolveHooks hooks;
+  hooks.evaluator = &farm;
+  const EvolveResult in_process = evolveFlapController(p), on_farm = evolveFlapController(p, hooks);
+  expectSameBits(in_process, on_farm);
+  ASSERT_EQ(on_farm.population.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(on_farm.population[i].objectives, in_process.population[i].objectives) << i;
+  }
+  EXPECT_EQ(farm.answered().at("w1") + farm.answered().at("w2"), 4 * 2 + 4 * 2);  // tasks
+  const std::string huge = evolveBesideABadWorker(Behaviour::kHuge, fastParams(), p);
+  EXPECT_NE(huge.find("answered value 1e+308 for task"), std::string::npos) << huge;
+  EXPECT_NE(huge.find("beyond the bound 10000 W/kg"), std::string::npos) << huge;
+  const std::string count = evolveBesideABadWorker(Behaviour::kWrongCount, fastParams(), p);
+  EXPECT_NE(count.find("answered 3 values for 1 tasks of 2 values"), std::string::npos) << count;
 }
 
 TEST(FarmScheduler, ARefusingWorkerIsDroppedAndABatchNoWorkerIsLeftForEndsAtOnce) {

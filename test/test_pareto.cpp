@@ -256,5 +256,112 @@ TEST(Nsga2Driver, BadParamsBoundsAndObjectivesThrowNamingTheField) {
   EXPECT_NE(runtime.find("objective 1 is nan"), std::string::npos) << runtime;
 }
 
+// ZDT1 through the batch class (one call per generation's new genomes).
+BatchObjectivesFunction zdt1Batch(int* calls) {
+  return [calls](const std::vector<std::vector<double>>& genomes) {
+    ++*calls;
+    ObjectiveTable rows;
+    for (const auto& g : genomes) rows.push_back(zdt1(g));
+    return rows;
+  };
+}
+
+// The class a generation at a time is runNsga2 to the bit, one batch per generation (the
+// children alone after generation 0); restored from generation 10's survivors it ends at
+// generation 20 as the uninterrupted run.
+TEST(Nsga2Class, StepByStepItIsRunNsga2AndARestoreAtGeneration10EndsAsTheWholeRun) {
+  Nsga2Params p;
+  p.population = 40;
+  p.generations = 20;
+  p.seed = 7;
+  const std::vector<double> lo(10, 0.0), hi(10, 1.0);
+  int calls = 0;
+  Nsga2 whole(p, lo, hi, zdt1Batch(&calls));
+  std::vector<std::vector<double>> genes_10;
+  ObjectiveTable objectives_10;
+  for (int g = 0; g <= 20; ++g) {
+    whole.step();
+    EXPECT_EQ(whole.generation(), g);
+    EXPECT_EQ(whole.evaluations(), 40);  // generation 0's 40, then 40 children each
+    if (g == 10) genes_10 = whole.genes(), objectives_10 = whole.objectives();
+  }
+  EXPECT_EQ(calls, 21);
+  const Nsga2Result reference = runNsga2(p, lo, hi, zdt1);
+  EXPECT_EQ(whole.genes(), reference.genes);
+  EXPECT_EQ(whole.objectives(), reference.objectives);
+  Nsga2 resumed(p, lo, hi, zdt1Batch(&calls));
+  resumed.restore(10, genes_10, objectives_10);
+  while (resumed.generation() < 20) resumed.step();
+  EXPECT_EQ(resumed.genes(), whole.genes());
+  EXPECT_EQ(resumed.objectives(), whole.objectives());
+}
+
+// Seeded, generation 0 is the initial genes first and the others about them: each gene moved
+// by a Gaussian of mutation_sigma x its range, so the moves' rms is that sigma (0.1 of the
+// range; 39 x 10 draws: within 15 %), clamped to the bounds.
+TEST(Nsga2Class, ASeededGeneration0IsTheSeedThenItMovedByMutationSigmaOfTheRange) {
+  Nsga2Params p;
+  p.population = 40;
+  p.mutation_sigma = 0.1;
+  int calls = 0;
+  std::vector<double> seed(10, 0.5);  // genes 0-4 in [0, 1], 5-9 in [-2, 2], 5 sigma inside
+  std::vector<double> lo10(10, 0.0), hi10(10, 1.0);
+  for (size_t k = 5; k < 10; ++k) lo10[k] = -2.0, hi10[k] = 2.0, seed[k] = 0.0;
+  Nsga2 run(p, lo10, hi10, zdt1Batch(&calls), seed);
+  run.initialize();
+  ASSERT_EQ(run.genes().size(), 40u);
+  EXPECT_EQ(run.genes()[0], seed);
+  double sum[2] = {0.0, 0.0};
+  for (size_t i = 1; i < 40; ++i) {
+    for (size_t k = 0; k < 10; ++k) {
+      const double g = run.genes()[i][k];
+      ASSERT_TRUE(g >= lo10[k] && g <= hi10[k]) << i << " " << k;
+      const double move = (g - seed[k]) / (hi10[k] - lo10[k]);
+      sum[k < 5 ? 0 : 1] += move * move;
+    }
+  }
+  for (double s2 : sum) EXPECT_NEAR(std::sqrt(s2 / (39 * 5)), 0.1, 0.015);
+  auto refusal = [&](std::vector<double> initial) {
+    try {
+      Nsga2(p, lo10, hi10, zdt1Batch(&calls), std::move(initial));
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal(std::vector<double>(3, 0.5)), "NSGA-II: 3 initial genes for bounds of 10");
+  std::vector<double> outside = seed;
+  outside[7] = 2.5;
+  EXPECT_EQ(refusal(outside), "NSGA-II: initial gene 7 (2.5) is not in [-2, 2]");
+}
+
+// A batch that answers another count of rows, or a restore that does not fit, is refused.
+TEST(Nsga2Class, ABatchOfTheWrongCountAndARestoreThatDoesNotFitAreRefusedByName) {
+  Nsga2Params p;
+  p.population = 4;
+  const std::vector<double> lo(2, 0.0), hi(2, 1.0);
+  Nsga2 short_batch(p, lo, hi, [](const std::vector<std::vector<double>>& g) {
+    return ObjectiveTable(g.size() - 1, std::vector<double>{0.0, 0.0});
+  });
+  try {
+    short_batch.initialize();
+    ADD_FAILURE() << "accepted 3 rows for 4 genomes";
+  } catch (const std::runtime_error& e) {
+    EXPECT_EQ(std::string(e.what()), "NSGA-II: generation 0: 3 objective rows for 4 genomes");
+  }
+  int calls = 0;
+  Nsga2 run(p, lo, hi, zdt1Batch(&calls));
+  const std::vector<std::vector<double>> genes(4, {0.5, 0.5});
+  EXPECT_THROW(run.restore(3, genes, ObjectiveTable(3, {1.0, 1.0})), std::invalid_argument);
+  EXPECT_THROW(run.restore(3, std::vector<std::vector<double>>(4, {0.5, 1.5}),
+                           ObjectiveTable(4, {1.0, 1.0})),
+               std::invalid_argument);
+  EXPECT_THROW(run.restore(3, genes, ObjectiveTable(4, {1.0, std::nan("")})),
+               std::invalid_argument);
+  EXPECT_EQ(run.generation(), -1);  // nothing taken
+  run.restore(3, genes, ObjectiveTable(4, {1.0, 1.0}));
+  EXPECT_EQ(run.generation(), 3);
+}
+
 }  // namespace
 }  // namespace flapsim

@@ -62,6 +62,15 @@ double episodeWork(const EvaluationSpec& spec);
 /// beyond it (or not finite) is not an episode's.
 double fitnessBound(const EvaluationSpec& spec);
 
+/// The values an episode of `spec` answers: 1, its fitness; 2 for a morph spec selected by
+/// NSGA-II (MorphParams::nsga2), its motors' W/kg and its loss (morphEpisodeObjectives).
+int taskValueCount(const EvaluationSpec& spec);
+
+/// The largest magnitude each of an episode's values can have (fitnessBound for a fitness;
+/// kMaxMorphPower and morphFitnessBound for the W/kg and loss); a value beyond it (or not
+/// finite) is not an episode's.
+std::vector<double> taskValueBounds(const EvaluationSpec& spec);
+
 /// Evaluates tasks of one spec: the creature model and episode starts are
 /// built once. evaluate() is const and thread-safe; its result depends on the
 /// spec and the task alone (bit for bit, whatever the thread or process).
@@ -71,6 +80,9 @@ class EpisodeRunner {
   explicit EpisodeRunner(const EvaluationSpec& spec);
   /// The episode's fitness. Throws TaskError for a task that does not fit.
   double evaluate(const EpisodeTask& task) const;
+  /// The episode's taskValueCount(spec()) values (its fitness alone, or a morph's objectives).
+  /// Throws TaskError for a task that does not fit.
+  std::vector<double> values(const EpisodeTask& task) const;
   /// Empty if `task` fits the spec, else a message naming what is wrong.
   std::string check(const EpisodeTask& task) const;
   int weightCount() const { return weight_count_; }
@@ -113,9 +125,9 @@ class RunnerCache {
   std::size_t bytes_ = 0;
 };
 
-/// Evaluates a batch of tasks and returns one fitness per task, in task
-/// order. Implementations may run tasks anywhere and in any order; the values
-/// must be those of EpisodeRunner::evaluate.
+/// Evaluates a batch of tasks and returns taskValueCount(spec) values per task (one fitness,
+/// or a morph's two objectives), in task order. Implementations may run tasks anywhere and in
+/// any order; the values must be those of EpisodeRunner::values.
 class EpisodeEvaluator {
  public:
   virtual ~EpisodeEvaluator() = default;

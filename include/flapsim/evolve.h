@@ -234,6 +234,10 @@ struct MorphParams {
   MassBudget budget;  // what the bodies' masses are made of
   /// m per 100 W/kg: the fitness's power term (the hover preset's 0.5; capped at 10 m).
   double power_weight = 0.5;
+  /// Selection by NSGA-II (flapsim/pareto.h) over two objectives, the mean W/kg and the mean
+  /// loss (flapsim/morph_front.h), instead of the GA's by the scalar fitness: each episode
+  /// then answers both (taskValueCount).
+  bool nsga2 = false;
 };
 
 /// What an evolution evolves: the flap-unit network (the paper's; evolve's robust and paper
@@ -296,6 +300,7 @@ struct EvolveCheckpoint {
 /// kMaxHidden neurons: 6 inputs, 2 outputs) and the file's size.
 constexpr int kMaxGenes = 9 * kMaxHidden + 2;
 constexpr std::size_t kMaxCheckpointBytes = 64u << 20;
+constexpr int kMaxObjectives = 8;  // NSGA-II objectives of an individual in a checkpoint
 
 /// Text form (every double as a C99 hex float, so it reads back bit for bit).
 std::string checkpointToText(const EvolveCheckpoint& checkpoint);

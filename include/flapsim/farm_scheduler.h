@@ -32,7 +32,7 @@ struct WorkerReply {
   bool delivered = false;  // the call went through (else the transport failed: worker gone?)
   bool success = false;    // the worker evaluated the tasks (else it refused: `message`)
   std::string message;
-  std::vector<double> fitness;  // one per task, in order
+  std::vector<double> fitness;  // taskValueCount(spec) values per task, in task order
 };
 
 /// The farm's access to its workers, to time and to the log.
@@ -66,7 +66,7 @@ struct FarmParams {
 /// Spreads the tasks of an evolution over the workers of `link`: calls of up to
 /// tasksPerCall() tasks, at most params.inflight in flight per worker, the least loaded
 /// first. A worker whose call fails, times out, is refused, or answers a wrong count or a
-/// fitness that is not finite or beyond fitnessBound(spec) is dropped for the run (named in
+/// value that is not finite or beyond its taskValueBounds(spec) is dropped for the run (named in
 /// a warning and in dropped()) and its calls go to the others; one that comes back under a
 /// new identity is used again. With no worker left, the batch ends (FarmError) at once if
 /// one of them refused it, else after params.wait s without a worker. Results are put in task
@@ -123,7 +123,8 @@ class FarmScheduler : public EpisodeEvaluator {
   int weight_count_;
   FarmParams params_;
   int per_call_ = 1;
-  double bound_ = 0.0;
+  size_t values_ = 1;           // per task: taskValueCount(spec)
+  std::vector<double> bounds_;  // taskValueBounds(spec)
   std::map<std::string, Worker> workers_;
   int resent_ = 0;
   std::map<std::string, int> answered_;

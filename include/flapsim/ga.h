@@ -67,6 +67,7 @@ std::string validateGaParams(const GaParams& params);
 struct Individual {
   std::vector<double> genes;
   double fitness = 0.0;
+  std::vector<double> objectives;  // NSGA-II's (evolve --selection nsga2), else empty
 };
 
 struct GenerationStats {

@@ -80,6 +80,33 @@ MorphFlight flyMorphEpisode(const std::vector<double>& genes, const EpisodeParam
 double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams& params,
                            const EpisodeStart& start, const MorphParams& morph);
 
+/// The largest W/kg a morph episode answers as an objective: what a refused body answers (a
+/// flight's stays far below: the motors' rated 6 W at most over a body of 8 g or more).
+constexpr double kMaxMorphPower = 1e4;
+/// One episode of a morph genome as NSGA-II's two objectives, both minimised: {the motors'
+/// mean positive power per kg of the creature, morphLoss} of its flight (flyMorphEpisode
+/// under morph.budget); a refused body {kMaxMorphPower, morphFitnessBound(params)}, dominated
+/// by every flight.
+std::vector<double> morphEpisodeObjectives(const std::vector<double>& genes,
+                                           const EpisodeParams& params, const EpisodeStart& start,
+                                           const MorphParams& morph);
+/// The fitness of an episode's objectives at `power_weight`: -(loss + the power term capped at
+/// kHoverMaxTerm), morphEpisodeFitness's value to the bit; a refused body's (power
+/// kMaxMorphPower) -loss, i.e. -morphFitnessBound.
+double morphObjectivesFitness(const std::vector<double>& objectives, double power_weight);
+
+class EpisodeEvaluator;
+/// evolve --preset morph --selection nsga2: NSGA-II (flapsim/pareto.h's Nsga2 with the GA's
+/// population, generations, operators, seed and gene bounds, generation 0 seeded from
+/// ga.initial_genes) over each genome's mean objectives over the spec's episodes
+/// (morphEpisodeObjectives, through `evaluator`, two values per task). Each generation's
+/// history figures are the population's fitness, morphObjectivesFitness of its mean objectives
+/// at morph.power_weight (the GA's mean episode fitness, to rounding); the population kept in
+/// NSGA-II's crowded order (front first), each individual with its objectives; best_weights
+/// the fittest. Checkpoints and a resume (hooks) as the GA's: the same bits.
+EvolveResult evolveMorphByNsga2(const EvolveParams& params, const EvaluationSpec& spec,
+                                EpisodeEvaluator& evaluator, const EvolveHooks& hooks);
+
 /// evolve --preset morph: the hover preset's episodes, GA and fitness (its power term weighs
 /// the mechanical power per kg of the whole creature), on kMorphGeneCount genes.
 EvolveParams morphPreset();

@@ -63,13 +63,57 @@ using ObjectivesFunction = std::function<std::vector<double>(const std::vector<d
 std::string validateNsga2Params(const Nsga2Params& params, const std::vector<double>& gene_min,
                                 const std::vector<double>& gene_max);
 
-/// NSGA-II: generation 0 uniform in [gene_min, gene_max]; then each generation, pairs of
-/// parents drawn by binary crowded tournament, crossed (BLX-alpha, with probability
-/// crossover_rate) and mutated gene by gene (Gaussian), clamped to the bounds; the children
-/// evaluated (serially, in order) and nsga2Survivors of parents + children kept. Generation g's
-/// draws all come from one Rng seeded by mixSeed(seed, g): a run is bit-for-bit reproducible.
-/// Throws std::invalid_argument for bad params or bounds, std::runtime_error (naming the
-/// generation and individual) if the objectives' count changes or a value is not finite.
+/// Objective rows of several genomes at once (the caller may parallelise as it likes): one row
+/// per genome, in order, depending on the genome alone.
+using BatchObjectivesFunction =
+    std::function<ObjectiveTable(const std::vector<std::vector<double>>& genomes)>;
+
+/// NSGA-II a generation at a time, for an evolution that evaluates in batches and keeps
+/// checkpoints. Generation 0: uniform in [gene_min, gene_max], or, given initial genes,
+/// individual 0 those genes and every other one them with each gene moved by a Gaussian of
+/// mutation_sigma x the gene's range (clamped), as the GA seeds (ga.h); evaluated as drawn.
+/// Then each generation, pairs of parents drawn by binary crowded tournament, crossed
+/// (BLX-alpha, with probability crossover_rate) and mutated gene by gene (Gaussian), clamped to
+/// the bounds; the children evaluated in one batch and nsga2Survivors of parents + children
+/// kept, in crowded order. Generation g's draws all come from one Rng seeded by
+/// mixSeed(seed, g): a run is bit-for-bit reproducible, also across a restore.
+class Nsga2 {
+ public:
+  /// Throws std::invalid_argument for bad params or bounds, no function, or initial genes of
+  /// another count than the bounds' or outside them (naming the gene).
+  Nsga2(const Nsga2Params& params, std::vector<double> gene_min, std::vector<double> gene_max,
+        BatchObjectivesFunction objectives, std::vector<double> initial_genes = {});
+  /// Draws and evaluates generation 0. Throws std::runtime_error (naming the generation and
+  /// individual) if the function returns another count of rows, a row of another length than
+  /// the first, or a value that is not finite.
+  void initialize();
+  /// The next generation (generation 0 first if there is none yet); throws as initialize().
+  void step();
+  /// Continues from a saved generation: its individuals in the order they were kept, with
+  /// their objectives. Throws std::invalid_argument if the count is not the population, a
+  /// genome is not of the bounds' length or outside them, or the objectives are bad.
+  void restore(int generation, std::vector<std::vector<double>> genes, ObjectiveTable objectives);
+  int generation() const { return generation_; }  // -1 before initialize()
+  const std::vector<std::vector<double>>& genes() const { return genes_; }
+  const ObjectiveTable& objectives() const { return objectives_; }
+  int evaluations() const { return evaluations_; }  // genomes evaluated for the last generation
+  const Nsga2Params& params() const { return params_; }
+
+ private:
+  void evaluateNew(std::vector<std::vector<double>>& genes, ObjectiveTable& objectives);
+  Nsga2Params params_;
+  std::vector<double> lo_, hi_, initial_;
+  BatchObjectivesFunction fn_;
+  int generation_ = -1;
+  int evaluations_ = 0;
+  std::vector<std::vector<double>> genes_;
+  ObjectiveTable objectives_;
+};
+
+/// NSGA-II (the class above, unseeded) run to params.generations, each genome evaluated
+/// serially, in order. Throws std::invalid_argument for bad params or bounds,
+/// std::runtime_error (naming the generation and individual) if the objectives' count changes
+/// or a value is not finite.
 Nsga2Result runNsga2(const Nsga2Params& params, const std::vector<double>& gene_min,
                      const std::vector<double>& gene_max, const ObjectivesFunction& objectives);
 

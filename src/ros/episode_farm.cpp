@@ -79,7 +79,10 @@ flapsim::EvaluateEpisodes::Response evaluateEpisodes(
   res.message = requestTasks(*runner, req, tasks);
   if (!res.message.empty()) return res;
   try {
-    for (const auto& t : tasks) res.fitness.push_back(runner->evaluate(t));
+    for (const auto& t : tasks) {
+      const std::vector<double> v = runner->values(t);
+      res.fitness.insert(res.fitness.end(), v.begin(), v.end());
+    }
   } catch (const std::exception& e) {
     res.fitness.clear();
     res.message = std::string("episode failed: ") + e.what();
@@ -184,7 +187,7 @@ void EpisodeWorkerNode::answer(const flapsim::EvaluateEpisodes::Request* req,
     ROS_WARN_STREAM_THROTTLE(5.0, "flapsim_worker: refused a batch: " << res.message);
   } else {
     std::lock_guard<std::mutex> lock(stats_mutex_);
-    tasks_done_ += res.fitness.size();
+    tasks_done_ += req != nullptr ? req->episodes.size() : res.fitness.size();
   }
 }
 

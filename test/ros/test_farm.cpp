@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "flapsim/evolve_args.h"
+#include "flapsim/morph_evolution.h"
 #include "flapsim_ros/episode_farm.h"
 #include "start_worker.h"
 #include "wait_for.h"
@@ -98,6 +99,16 @@ TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
 // travel in the spec's flags): the workers build each genome's body and fly it in real air,
 // its impulses sized to that body, as the process does, bit for bit, and the last population
 // is the same, so the Pareto front the tool writes from it is the same too.
+// The last populations of both ways the same to the bit: genes, fitness and objectives.
+void expectSamePopulation(const FarmAndProcess& r) {
+  ASSERT_EQ(r.on_farm.population.size(), r.in_process.population.size());
+  for (size_t i = 0; i < r.on_farm.population.size(); ++i) {
+    EXPECT_EQ(r.on_farm.population[i].genes, r.in_process.population[i].genes) << i;
+    EXPECT_EQ(r.on_farm.population[i].fitness, r.in_process.population[i].fitness) << i;
+    EXPECT_EQ(r.on_farm.population[i].objectives, r.in_process.population[i].objectives) << i;
+  }
+}
+
 TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
   ros::NodeHandle nh;
   ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
@@ -127,10 +138,43 @@ TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
   const FarmAndProcess r = evolveBothWays(nh, spec);
   expectSameBits(r.in_process, r.on_farm);
   EXPECT_EQ(r.on_farm.best_weights.size(), 25u);
-  ASSERT_EQ(r.on_farm.population.size(), r.in_process.population.size());
-  for (size_t i = 0; i < r.on_farm.population.size(); ++i) {
-    EXPECT_EQ(r.on_farm.population[i].genes, r.in_process.population[i].genes) << i;
-    EXPECT_EQ(r.on_farm.population[i].fitness, r.in_process.population[i].fitness) << i;
+  expectSamePopulation(r);
+  EXPECT_EQ(r.resent, 0);
+}
+
+TEST(Farm, AnNsga2MorphEvolutionOnThreeWorkersGivesTheInProcessFrontsBits) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
+  const std::vector<std::string> spec = {"--preset",
+                                         "morph",
+                                         "--selection",
+                                         "nsga2",
+                                         "--population",
+                                         "4",
+                                         "--generations",
+                                         "2",
+                                         "--episodes",
+                                         "2",
+                                         "--duration",
+                                         "1",
+                                         "--settle",
+                                         "0.5",
+                                         "--seed",
+                                         "5",
+                                         "--motor-specific-power",
+                                         "1000"};
+  const flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
+  ASSERT_TRUE(p.morph.nsga2);
+  const FarmAndProcess r = evolveBothWays(nh, spec);
+  expectSameBits(r.in_process, r.on_farm);
+  expectSamePopulation(r);
+  // Two objectives per individual came back through the service: W/kg > 0 of a flight, and
+  // a loss, the fitness their combination at the spec's power weight.
+  for (const flapsim::Individual& ind : r.on_farm.population) {
+    ASSERT_EQ(ind.objectives.size(), 2u);
+    EXPECT_GT(ind.objectives[0], 0.0);
+    EXPECT_LT(ind.objectives[0], flapsim::kMaxMorphPower);
+    EXPECT_EQ(ind.fitness, flapsim::morphObjectivesFitness(ind.objectives, p.morph.power_weight));
   }
   EXPECT_EQ(r.resent, 0);
 }

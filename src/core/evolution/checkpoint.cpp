@@ -109,12 +109,19 @@ void readPopulation(CheckpointReader& r, EvolveCheckpoint& c) {
   r.expect(l, "population");
   const long long n = r.integer(l, "individuals", 2, kMaxPopulation);
   const long long genes = r.integer(l, "genes", 1, kMaxGenes);
+  long long objectives = 0;  // NSGA-II's, after the genes
+  std::string word;
+  if (l >> word) {
+    if (word != "objectives") r.fail("expected 'objectives' or the end of the line");
+    objectives = r.integer(l, "objectives", 1, kMaxObjectives);
+  }
   r.done(l);
   for (long long i = 0; i < n; ++i) {
     auto row = r.line("an individual");
     Individual ind;
     ind.fitness = r.real(row, "fitness");
     for (long long g = 0; g < genes; ++g) ind.genes.push_back(r.real(row, "gene"));
+    for (long long m = 0; m < objectives; ++m) ind.objectives.push_back(r.real(row, "objective"));
     r.done(row);
     c.population.push_back(std::move(ind));
   }
@@ -147,10 +154,14 @@ std::string checkpointToText(const EvolveCheckpoint& c) {
       << "seed " << c.seed << "\n"
       << "args " << c.args.size() << "\n";
   for (const auto& a : c.args) out << a << "\n";
-  out << "population " << c.population.size() << " " << genes << "\n";
+  const size_t objectives = c.population.empty() ? 0 : c.population.front().objectives.size();
+  out << "population " << c.population.size() << " " << genes;
+  if (objectives > 0) out << " objectives " << objectives;
+  out << "\n";
   for (const auto& ind : c.population) {
     out << hex(ind.fitness);
     for (double g : ind.genes) out << " " << hex(g);
+    for (double f : ind.objectives) out << " " << hex(f);
     out << "\n";
   }
   out << "history " << c.history.size() << "\n";

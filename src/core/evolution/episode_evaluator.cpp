@@ -26,6 +26,15 @@ double fitnessBound(const EvaluationSpec& spec) {
   return std::abs(e.start_height) + e.world.max_speed * e.duration + e.flip_penalty;
 }
 
+int taskValueCount(const EvaluationSpec& spec) {
+  return spec.kind == EvolveKind::kMorph && spec.morph.nsga2 ? 2 : 1;
+}
+
+std::vector<double> taskValueBounds(const EvaluationSpec& spec) {
+  if (taskValueCount(spec) == 2) return {kMaxMorphPower, morphFitnessBound(spec.episode)};
+  return {fitnessBound(spec)};
+}
+
 std::string validateEvaluationSpec(const EvaluationSpec& spec) {
   std::string err = validateEpisodeParams(spec.episode);
   if (err.empty()) err = validateFlapControllerParams(spec.controller);
@@ -93,6 +102,13 @@ double EpisodeRunner::evaluate(const EpisodeTask& task) const {
       .fitness;
 }
 
+std::vector<double> EpisodeRunner::values(const EpisodeTask& task) const {
+  if (taskValueCount(spec_) == 1) return {evaluate(task)};
+  const std::string err = check(task);
+  if (!err.empty()) throw TaskError("task: " + err);
+  return morphEpisodeObjectives(task.weights, spec_.episode, starts_[task.episode], spec_.morph);
+}
+
 std::shared_ptr<const EpisodeRunner> RunnerCache::get(const std::vector<std::string>& spec_args) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -130,8 +146,18 @@ InProcessEvaluator::InProcessEvaluator(const EvaluationSpec& spec, int threads)
     : runner_(spec), threads_(std::max(1, threads)) {}
 
 std::vector<double> InProcessEvaluator::evaluate(const std::vector<EpisodeTask>& tasks) {
-  return parallelMap(static_cast<int>(tasks.size()), threads_,
-                     [&](int i) { return runner_.evaluate(tasks[i]); });
+  const size_t k = static_cast<size_t>(taskValueCount(runner_.spec()));
+  if (k == 1) {
+    return parallelMap(static_cast<int>(tasks.size()), threads_,
+                       [&](int i) { return runner_.evaluate(tasks[i]); });
+  }
+  std::vector<double> out(tasks.size() * k);
+  parallelMap(static_cast<int>(tasks.size()), threads_, [&](int i) {
+    const std::vector<double> v = runner_.values(tasks[i]);  // each task its own slots
+    std::copy(v.begin(), v.end(), out.begin() + static_cast<long>(i * k));
+    return 0.0;
+  });
+  return out;
 }
 
 }  // namespace flapsim

@@ -126,6 +126,9 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
     own = std::make_unique<InProcessEvaluator>(spec, params.ga.threads);
     evaluator = own.get();
   }
+  if (params.kind == EvolveKind::kMorph && params.morph.nsga2) {
+    return evolveMorphByNsga2(params, spec, *evaluator, hooks);
+  }
   // One task per (individual, episode), so that the workers stay busy even
   // when few children are new; the sums run in a fixed order afterwards.
   const int n_starts = spec.episode.episodes;

@@ -248,6 +248,19 @@ void morphFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .real("--power-weight", "M", &o.params.morph.power_weight, {0, 1e3},
             "--preset morph: the fitness's power term, m per 100 W/kg")
+      .tag(kSpec)
+      .custom(
+          "--selection", {"S"},
+          [&o](const std::vector<std::string>& v) {
+            if (v[0] != "elitist" && v[0] != "nsga2") {
+              throw InputError("--selection: " + quoteValue(v[0]) +
+                               " is not one of elitist, nsga2");
+            }
+            o.params.morph.nsga2 = v[0] == "nsga2";
+          },
+          [&o] { return std::string(o.params.morph.nsga2 ? "nsga2" : "elitist"); },
+          "--preset morph: elitist (the GA on the fitness) or nsga2 (NSGA-II on two objectives, "
+          "W/kg and loss; an even --population)")
       .tag(kSpec);
 }
 
@@ -391,6 +404,13 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   const std::vector<CliSeen> seen = table.parse(args, /*skip_remaps=*/true, later_wins);
   if (hoverPresetName(o.preset)) {
     checkHoverFlags(o.preset, seen);
+    const int n = o.params.ga.population;
+    if (o.params.morph.nsga2 && (n < 4 || n % 2 != 0)) {
+      throw InputError(
+          "--selection nsga2: --population must be even and at least 4 (NSGA-II "
+          "breeds its children in pairs), not " +
+          std::to_string(n));
+    }
   } else {
     checkDependentFlags(o.params, seen);
   }
@@ -470,6 +490,13 @@ void checkSpecArgs(const std::vector<std::string>& spec_args) {
   const std::vector<CliSeen> seen = table.parse(spec_args);
   if (hoverPresetName(o.preset)) {
     checkHoverFlags(o.preset, seen);
+    const int n = o.params.ga.population;
+    if (o.params.morph.nsga2 && (n < 4 || n % 2 != 0)) {
+      throw InputError(
+          "--selection nsga2: --population must be even and at least 4 (NSGA-II "
+          "breeds its children in pairs), not " +
+          std::to_string(n));
+    }
   } else {
     checkDependentFlags(o.params, seen);
   }

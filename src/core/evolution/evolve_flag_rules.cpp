@@ -21,7 +21,12 @@ const std::vector<std::string> kNotHoverFlags = {
 // The flags of --preset morph alone.
 bool morphFlag(const std::string& name) {
   return name == "--init-body" || name == "--payload" || name == "--motor-specific-power" ||
-         name == "--power-weight";
+         name == "--power-weight" || name == "--selection";
+}
+
+// Why a morph flag is the morph preset's alone.
+std::string morphWhy(const std::string& name) {
+  return name == "--selection" ? "its two objectives, W/kg and loss" : "the body's";
 }
 
 }  // namespace
@@ -51,7 +56,7 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
                                           : " (the hover controller's gains and body)"));
     }
     if (morphFlag(name) && preset != "morph") {
-      throw InputError(name + ": for --preset morph only (the body's)");
+      throw InputError(name + ": for --preset morph only (" + morphWhy(name) + ")");
     }
   }
 }
@@ -75,7 +80,8 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--settle")
       why = "but with --preset hover or morph (the flap network's fitness has none)";
     if (morphFlag(name)) {
-      why = "but with --preset morph (the flap network has no body)";
+      why = name == "--selection" ? "but with --preset morph (a flap network has one fitness)"
+                                  : "but with --preset morph (the flap network has no body)";
     }
     if (name == "--real-air") {
       throw InputError(

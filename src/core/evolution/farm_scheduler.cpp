@@ -19,9 +19,9 @@ struct FarmScheduler::Batch {
   std::map<int, Call> calls;
   double idle_since = 0.0;
 
-  Batch(const std::vector<EpisodeTask>& t, size_t per) : tasks(t), per_call(per) {
+  Batch(const std::vector<EpisodeTask>& t, size_t per, size_t values) : tasks(t), per_call(per) {
     const size_t chunks = (t.size() + per - 1) / per;
-    out.assign(t.size(), 0.0);
+    out.assign(t.size() * values, 0.0);
     done.assign(chunks, 0);
     for (size_t c = 0; c < chunks; ++c) pending.push_back(c);
   }
@@ -45,7 +45,8 @@ FarmScheduler::FarmScheduler(FarmLink& link, const EvaluationSpec& spec, int wei
     throw FarmError(msg.str());
   }
   per_call_ = std::min({params_.batch, kMaxTasksPerCall, static_cast<int>(kMaxCallWork / work)});
-  bound_ = fitnessBound(spec_);
+  values_ = static_cast<size_t>(taskValueCount(spec_));
+  bounds_ = taskValueBounds(spec_);
 }
 
 FarmScheduler::~FarmScheduler() { joinAll(); }
@@ -137,22 +138,26 @@ std::deque<std::pair<int, WorkerReply>> FarmScheduler::waitForReplies() {
 
 std::string FarmScheduler::badReply(const Batch& b, const Call& call,
                                     const WorkerReply& reply) const {
-  const size_t expected = b.end(call.chunk) - b.begin(call.chunk);
+  const size_t tasks = b.end(call.chunk) - b.begin(call.chunk), expected = tasks * values_;
   if (!reply.delivered) {
     return "failed a call" + (reply.message.empty() ? "" : " (" + reply.message + ")");
   }
   if (!reply.success) return "refused a call: " + reply.message;
   if (reply.fitness.size() != expected) {
     return "answered " + std::to_string(reply.fitness.size()) + " values for " +
-           std::to_string(expected) + " tasks";
+           std::to_string(tasks) + " tasks" +
+           (values_ == 1 ? "" : " of " + std::to_string(values_) + " values");
   }
   for (size_t k = 0; k < expected; ++k) {
-    const double f = reply.fitness[k];
-    if (!std::isfinite(f) || std::abs(f) > bound_) {
+    const double f = reply.fitness[k], bound = bounds_[k % values_];
+    if (!std::isfinite(f) || std::abs(f) > bound) {
       std::ostringstream msg;
-      msg << "answered fitness " << f << " for task " << b.begin(call.chunk) + k << ", "
-          << (std::isfinite(f) ? "beyond the bound " : "not finite; the bound is ") << bound_
-          << " m of an episode";
+      msg << "answered " << (values_ == 1 ? "fitness " : "value ") << f << " for task "
+          << b.begin(call.chunk) + k / values_ << ", "
+          << (std::isfinite(f) ? "beyond the bound " : "not finite; the bound is ") << bound
+          << (values_ == 1       ? " m of an episode"
+              : k % values_ == 0 ? " W/kg"
+                                 : " m of loss");
       return msg.str();
     }
   }
@@ -176,10 +181,11 @@ void FarmScheduler::receive(Batch& b, int id, WorkerReply reply) {
   b.calls.erase(it);
   workers_[call.worker].inflight = std::max(0, workers_[call.worker].inflight - 1);
   if (b.done[call.chunk]) return;
-  std::copy(reply.fitness.begin(), reply.fitness.end(), b.out.begin() + b.begin(call.chunk));
+  std::copy(reply.fitness.begin(), reply.fitness.end(),
+            b.out.begin() + static_cast<long>(b.begin(call.chunk) * values_));
   b.done[call.chunk] = 1;
   ++b.n_done;
-  answered_[call.worker] += static_cast<int>(reply.fitness.size());
+  answered_[call.worker] += static_cast<int>(reply.fitness.size() / values_);
 }
 
 void FarmScheduler::drop(Batch& b, const std::string& name, const std::string& why, bool refused) {
@@ -232,7 +238,7 @@ void FarmScheduler::checkIdle(Batch& b, double now) {
 }
 
 std::vector<double> FarmScheduler::evaluate(const std::vector<EpisodeTask>& tasks) {
-  Batch b(tasks, static_cast<size_t>(per_call_));
+  Batch b(tasks, static_cast<size_t>(per_call_), values_);
   for (auto& [name, w] : workers_) w.inflight = 0;  // calls of an earlier batch are not waited on
   b.idle_since = link_.now();
   last_wait_warning_ = b.idle_since;

@@ -103,6 +103,21 @@ double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams
   return -(morphLoss(f.result, params) + hoverPowerTerm(f.result, morph.power_weight));
 }
 
+std::vector<double> morphEpisodeObjectives(const std::vector<double>& genes,
+                                           const EpisodeParams& params, const EpisodeStart& start,
+                                           const MorphParams& morph) {
+  const MorphFlight f = flyMorphEpisode(genes, params, start, morph.budget);
+  if (!f.refusal.empty()) return {kMaxMorphPower, morphFitnessBound(params)};
+  return {f.result.specificPower(), morphLoss(f.result, params)};
+}
+
+double morphObjectivesFitness(const std::vector<double>& objectives, double power_weight) {
+  if (objectives.size() != 2) throw InputError("morph objectives: need 2 (W/kg, loss)");
+  const double power = objectives[0], loss = objectives[1];
+  if (power >= kMaxMorphPower) return -loss;
+  return -(loss + std::min(power_weight * power / 100.0, kHoverMaxTerm));
+}
+
 EvolveParams morphPreset() {
   EvolveParams p = hoverPreset();
   p.kind = EvolveKind::kMorph;

@@ -179,34 +179,6 @@ std::string validateNsga2Params(const Nsga2Params& p, const std::vector<double>&
 
 namespace {
 
-// One generation's individuals and their objectives, side by side.
-struct Population {
-  std::vector<std::vector<double>> genes;
-  ObjectiveTable objectives;
-};
-
-// Evaluates the genomes that have no objectives yet; throws naming the generation and
-// individual if a genome gets none, another count than the first genome, or a value not finite.
-void evaluate(const ObjectivesFunction& fn, int generation, Population& pop) {
-  for (size_t i = pop.objectives.size(); i < pop.genes.size(); ++i) {
-    std::vector<double> f = fn(pop.genes[i]);
-    std::ostringstream where;
-    where << "NSGA-II: generation " << generation << ", individual " << i << ": ";
-    if (f.empty()) throw std::runtime_error(where.str() + "no objectives");
-    if (!pop.objectives.empty() && f.size() != pop.objectives[0].size()) {
-      where << f.size() << " objectives, the first genome had " << pop.objectives[0].size();
-      throw std::runtime_error(where.str());
-    }
-    for (size_t m = 0; m < f.size(); ++m) {
-      if (!std::isfinite(f[m])) {
-        where << "objective " << m << " is " << f[m];
-        throw std::runtime_error(where.str());
-      }
-    }
-    pop.objectives.push_back(std::move(f));
-  }
-}
-
 // The GA's operators (ga.cpp) with per-gene bounds.
 class Variation {
  public:
@@ -241,54 +213,170 @@ class Variation {
 
 }  // namespace
 
+Nsga2::Nsga2(const Nsga2Params& params, std::vector<double> gene_min, std::vector<double> gene_max,
+             BatchObjectivesFunction objectives, std::vector<double> initial_genes)
+    : params_(params),
+      lo_(std::move(gene_min)),
+      hi_(std::move(gene_max)),
+      initial_(std::move(initial_genes)),
+      fn_(std::move(objectives)) {
+  const std::string err = validateNsga2Params(params_, lo_, hi_);
+  if (!err.empty()) throw std::invalid_argument("NSGA-II: " + err);
+  if (!fn_) throw std::invalid_argument("NSGA-II: no objectives function");
+  if (!initial_.empty() && initial_.size() != lo_.size()) {
+    throw std::invalid_argument("NSGA-II: " + std::to_string(initial_.size()) +
+                                " initial genes for bounds of " + std::to_string(lo_.size()));
+  }
+  for (size_t k = 0; k < initial_.size(); ++k) {
+    if (!(initial_[k] >= lo_[k] && initial_[k] <= hi_[k])) {
+      std::ostringstream msg;
+      msg << "NSGA-II: initial gene " << k << " (" << initial_[k] << ") is not in [" << lo_[k]
+          << ", " << hi_[k] << "]";
+      throw std::invalid_argument(msg.str());
+    }
+  }
+}
+
+// Evaluates the genomes that have no objectives yet, in one batch.
+void Nsga2::evaluateNew(std::vector<std::vector<double>>& genes, ObjectiveTable& objectives) {
+  const size_t first = objectives.size();
+  const std::vector<std::vector<double>> fresh(genes.begin() + static_cast<long>(first),
+                                               genes.end());
+  ObjectiveTable rows = fn_(fresh);
+  const int generation = generation_ + 1;
+  if (rows.size() != fresh.size()) {
+    throw std::runtime_error("NSGA-II: generation " + std::to_string(generation) + ": " +
+                             std::to_string(rows.size()) + " objective rows for " +
+                             std::to_string(fresh.size()) + " genomes");
+  }
+  for (size_t j = 0; j < rows.size(); ++j) {
+    const std::vector<double>& f = rows[j];
+    std::ostringstream where;
+    where << "NSGA-II: generation " << generation << ", individual " << first + j << ": ";
+    if (f.empty()) throw std::runtime_error(where.str() + "no objectives");
+    const size_t count = objectives.empty() ? rows[0].size() : objectives[0].size();
+    if (f.size() != count) {
+      where << f.size() << " objectives, the first genome had " << count;
+      throw std::runtime_error(where.str());
+    }
+    for (size_t m = 0; m < f.size(); ++m) {
+      if (!std::isfinite(f[m])) {
+        where << "objective " << m << " is " << f[m];
+        throw std::runtime_error(where.str());
+      }
+    }
+  }
+  for (std::vector<double>& f : rows) objectives.push_back(std::move(f));
+  evaluations_ = static_cast<int>(fresh.size());
+}
+
+void Nsga2::initialize() {
+  const size_t n = static_cast<size_t>(params_.population);
+  Rng rng(mixSeed(params_.seed, 0));
+  std::vector<std::vector<double>> genes;
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<double> g(lo_.size());
+    for (size_t k = 0; k < g.size(); ++k) {
+      if (initial_.empty()) {
+        g[k] = rng.uniform(lo_[k], hi_[k]);
+      } else {
+        const double sigma = params_.mutation_sigma * (hi_[k] - lo_[k]);
+        g[k] =
+            std::clamp(i == 0 ? initial_[k] : initial_[k] + sigma * rng.normal(), lo_[k], hi_[k]);
+      }
+    }
+    genes.push_back(std::move(g));
+  }
+  ObjectiveTable objectives;
+  evaluateNew(genes, objectives);
+  genes_ = std::move(genes);
+  objectives_ = std::move(objectives);
+  generation_ = 0;
+}
+
+void Nsga2::step() {
+  if (generation_ < 0) {
+    initialize();
+    return;
+  }
+  const int g = generation_ + 1;
+  const size_t n = static_cast<size_t>(params_.population);
+  const Variation variation(params_, lo_, hi_);
+  Rng rng(mixSeed(params_.seed, static_cast<std::uint64_t>(g)));
+  const std::vector<int> ranks = paretoRanks(objectives_);
+  const std::vector<double> crowding = crowdingDistances(objectives_, ranks);
+  auto tournament = [&]() -> const std::vector<double>& {
+    const int a = static_cast<int>(rng.index(n));
+    const int b = static_cast<int>(rng.index(n));
+    return genes_[crowdedBetter(a, b, ranks, crowding) ? a : b];
+  };
+  std::vector<std::vector<double>> all = genes_;  // parents, then their children
+  ObjectiveTable all_objectives = objectives_;
+  while (all.size() < 2 * n) {
+    std::vector<double> a = tournament();
+    std::vector<double> b = tournament();
+    if (rng.bernoulli(params_.crossover_rate)) variation.blend(a, b, rng);
+    variation.mutate(a, rng);
+    variation.mutate(b, rng);
+    all.push_back(std::move(a));
+    all.push_back(std::move(b));
+  }
+  evaluateNew(all, all_objectives);
+  std::vector<std::vector<double>> next;
+  ObjectiveTable next_objectives;
+  for (int i : nsga2Survivors(all_objectives, static_cast<int>(n))) {
+    next.push_back(std::move(all[i]));
+    next_objectives.push_back(std::move(all_objectives[i]));
+  }
+  genes_ = std::move(next);
+  objectives_ = std::move(next_objectives);
+  generation_ = g;
+}
+
+void Nsga2::restore(int generation, std::vector<std::vector<double>> genes,
+                    ObjectiveTable objectives) {
+  if (generation < 0 || generation > kMaxGenerations) {
+    throw std::invalid_argument("NSGA-II restore: generation " + std::to_string(generation) +
+                                " is not in [0, " + std::to_string(kMaxGenerations) + "]");
+  }
+  if (genes.size() != static_cast<size_t>(params_.population) ||
+      objectives.size() != genes.size()) {
+    throw std::invalid_argument("NSGA-II restore: " + std::to_string(genes.size()) +
+                                " genomes and " + std::to_string(objectives.size()) +
+                                " objective rows for a population of " +
+                                std::to_string(params_.population));
+  }
+  checkObjectives(objectives, "NSGA-II restore");
+  for (size_t i = 0; i < genes.size(); ++i) {
+    bool inside = genes[i].size() == lo_.size();
+    for (size_t k = 0; inside && k < lo_.size(); ++k) {
+      inside = genes[i][k] >= lo_[k] && genes[i][k] <= hi_[k];
+    }
+    if (!inside) {
+      throw std::invalid_argument("NSGA-II restore: genome " + std::to_string(i) +
+                                  " is not of the bounds' length or is outside them");
+    }
+  }
+  genes_ = std::move(genes);
+  objectives_ = std::move(objectives);
+  generation_ = generation;
+  evaluations_ = 0;
+}
+
 Nsga2Result runNsga2(const Nsga2Params& params, const std::vector<double>& gene_min,
                      const std::vector<double>& gene_max, const ObjectivesFunction& objectives) {
-  const std::string err = validateNsga2Params(params, gene_min, gene_max);
-  if (!err.empty()) throw std::invalid_argument("NSGA-II: " + err);
   if (!objectives) throw std::invalid_argument("NSGA-II: no objectives function");
-  const size_t n = static_cast<size_t>(params.population);
-  const Variation variation(params, gene_min, gene_max);
-
-  Population pop;
-  Rng rng0(mixSeed(params.seed, 0));
-  for (size_t i = 0; i < n; ++i) {
-    std::vector<double> genes(gene_min.size());
-    for (size_t k = 0; k < genes.size(); ++k) genes[k] = rng0.uniform(gene_min[k], gene_max[k]);
-    pop.genes.push_back(std::move(genes));
-  }
-  evaluate(objectives, 0, pop);
-
-  for (int g = 1; g <= params.generations; ++g) {
-    Rng rng(mixSeed(params.seed, static_cast<std::uint64_t>(g)));
-    const std::vector<int> ranks = paretoRanks(pop.objectives);
-    const std::vector<double> crowding = crowdingDistances(pop.objectives, ranks);
-    auto tournament = [&]() -> const std::vector<double>& {
-      const int a = static_cast<int>(rng.index(n));
-      const int b = static_cast<int>(rng.index(n));
-      return pop.genes[crowdedBetter(a, b, ranks, crowding) ? a : b];
-    };
-    Population all = pop;  // parents, then their children
-    while (all.genes.size() < 2 * n) {
-      std::vector<double> a = tournament();
-      std::vector<double> b = tournament();
-      if (rng.bernoulli(params.crossover_rate)) variation.blend(a, b, rng);
-      variation.mutate(a, rng);
-      variation.mutate(b, rng);
-      all.genes.push_back(std::move(a));
-      all.genes.push_back(std::move(b));
-    }
-    evaluate(objectives, g, all);
-    Population next;
-    for (int i : nsga2Survivors(all.objectives, static_cast<int>(n))) {
-      next.genes.push_back(std::move(all.genes[i]));
-      next.objectives.push_back(std::move(all.objectives[i]));
-    }
-    pop = std::move(next);
-  }
+  Nsga2 run(params, gene_min, gene_max, [&objectives](const std::vector<std::vector<double>>& g) {
+    ObjectiveTable rows;
+    for (const std::vector<double>& genes : g) rows.push_back(objectives(genes));
+    return rows;
+  });
+  run.initialize();
+  while (run.generation() < params.generations) run.step();
   Nsga2Result result;
-  result.ranks = paretoRanks(pop.objectives);
-  result.genes = std::move(pop.genes);
-  result.objectives = std::move(pop.objectives);
+  result.ranks = paretoRanks(run.objectives());
+  result.genes = run.genes();
+  result.objectives = run.objectives();
   return result;
 }
 

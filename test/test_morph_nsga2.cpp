@@ -1,0 +1,176 @@
+// Co-evolution selected by NSGA-II (evolve --preset morph --selection nsga2): an episode's two
+// objectives against its flight and the GA's fitness, the tasks' two values per task on any
+// thread count, the last population in crowded order, a resume to the bit, and the flag's
+// refusals.
+#include <gtest/gtest.h>
+
+#include <optional>
+
+#include "flapsim/episode_evaluator.h"
+#include "flapsim/evolve_args.h"
+#include "flapsim/evolve_tool.h"
+#include "flapsim/make_creature.h"
+#include "flapsim/morph_evolution.h"
+#include "flapsim/pareto.h"
+#include "morph_fixtures.h"
+
+namespace flapsim {
+namespace {
+
+using test::flyingGenome;
+using test::lightMotors;
+using test::shortSpec;
+
+// hover_1's genome and one whose body the budget refuses (an 8 g body for 6 g of payload and
+// 9 g of motors).
+std::vector<double> refusedGenome() {
+  std::vector<double> g = flyingGenome();
+  g[kHoverGeneCount + 6] = -1.0;
+  return g;
+}
+
+// An episode's objectives are its flight's W/kg and loss, and their fitness at the spec's
+// power weight is the GA's episode fitness to the bit; a refused body answers the bounds.
+TEST(MorphNsga2, AnEpisodesObjectivesAreItsFlightsAndTheirFitnessIsTheGasToTheBit) {
+  const EvaluationSpec ga = shortSpec({"--power-weight", "3"});
+  const EvaluationSpec nsga2 = shortSpec({"--power-weight", "3", "--selection", "nsga2"});
+  ASSERT_TRUE(nsga2.morph.nsga2);
+  EXPECT_EQ(taskValueCount(ga), 1);
+  EXPECT_EQ(taskValueCount(nsga2), 2);
+  const EpisodeRunner by_ga(ga), by_nsga2(nsga2);
+  // The starts as the runner draws them: on hover_1, whose link names every body shares.
+  const CreatureModelPtr hover_1 = parseCreatureModel(makeHoverUrdf("hover"), "hover_1");
+  const std::vector<EpisodeStart> starts = episodeStarts(nsga2.episode, hover_1.get());
+  for (int k = 0; k < 2; ++k) {
+    const EpisodeTask task{flyingGenome(), k};
+    const std::vector<double> v = by_nsga2.values(task);
+    const MorphFlight f = flyMorphEpisode(task.weights, nsga2.episode, starts[k], lightMotors());
+    ASSERT_EQ(v.size(), 2u);
+    EXPECT_EQ(v[0], f.result.specificPower()) << k;
+    EXPECT_EQ(v[1], morphLoss(f.result, nsga2.episode)) << k;
+    EXPECT_NEAR(v[0], 45.5, 3.0) << k;  // hover_1's W/kg (hovering.md's gallery)
+    EXPECT_EQ(morphObjectivesFitness(v, 3.0), by_ga.evaluate(task)) << k;
+    EXPECT_EQ(by_ga.values(task), std::vector<double>{by_ga.evaluate(task)});
+  }
+  const std::vector<double> refused = by_nsga2.values({refusedGenome(), 0});
+  EXPECT_EQ(refused, (std::vector<double>{kMaxMorphPower, morphFitnessBound(nsga2.episode)}));
+  EXPECT_EQ(morphObjectivesFitness(refused, 3.0), by_ga.evaluate({refusedGenome(), 0}));
+  EXPECT_EQ(morphObjectivesFitness(refused, 3.0), -fitnessBound(ga));
+}
+
+// In process, the tasks answer two values each, in task order, the same on one thread or two.
+TEST(MorphNsga2, TheTasksAnswerTwoValuesEachInTaskOrderOnOneThreadOrTwo) {
+  const EvaluationSpec spec = shortSpec({"--selection", "nsga2"});
+  const std::vector<EpisodeTask> tasks = {
+      {flyingGenome(), 0}, {refusedGenome(), 1}, {flyingGenome(), 1}};
+  const std::vector<double> one = InProcessEvaluator(spec, 1).evaluate(tasks);
+  const std::vector<double> two = InProcessEvaluator(spec, 2).evaluate(tasks);
+  EXPECT_EQ(one, two);
+  ASSERT_EQ(one.size(), 6u);
+  const EpisodeRunner runner(spec);
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    EXPECT_EQ(std::vector<double>(one.begin() + 2 * i, one.begin() + 2 * i + 2),
+              runner.values(tasks[i]))
+        << i;
+  }
+  EXPECT_EQ(one[2], kMaxMorphPower);
+}
+
+// A tiny run: the last population in NSGA-II's crowded order (its Pareto ranks never fall
+// along it), each individual with its mean objectives and their fitness, the best the
+// fittest; the history's figures that fitness's; run again from its generation-1 checkpoint,
+// it ends as the uninterrupted run to the bit.
+std::vector<std::string> tinyArgs() {
+  std::vector<std::string> a = {
+      "--preset",      "morph", "--selection", "nsga2", "--population", "4",
+      "--generations", "2",     "--episodes",  "1",     "--duration",   "2",
+      "--settle",      "1",     "--seed",      "3",     "--init-body"};
+  a.push_back(test::writeFlyingBodyFile(::testing::TempDir() + "/morph_nsga2"));
+  a.insert(a.end(), test::kLightMotors.begin(), test::kLightMotors.end());
+  return a;
+}
+
+TEST(MorphNsga2, TheLastPopulationIsInCrowdedOrderAndAResumeEndsAsTheUninterruptedRun) {
+  std::optional<EvolveCheckpoint> none;
+  const EvolveParams p = resolveEvolveOptions(tinyArgs(), 2, none).params;
+  std::optional<EvolveCheckpoint> at_1;
+  EvolveHooks hooks;
+  hooks.on_checkpoint = [&](const EvolveCheckpoint& c) {
+    if (c.generation == 1) at_1 = checkpointFromText(checkpointToText(c));
+  };
+  const EvolveResult whole = evolveFlapController(p, hooks);
+  ASSERT_EQ(whole.history.size(), 3u);
+  ASSERT_EQ(whole.population.size(), 4u);
+  ObjectiveTable objectives;
+  size_t fittest = 0;
+  for (size_t i = 0; i < 4; ++i) {
+    const Individual& ind = whole.population[i];
+    ASSERT_EQ(ind.objectives.size(), 2u);
+    EXPECT_EQ(ind.fitness, morphObjectivesFitness(ind.objectives, p.morph.power_weight));
+    objectives.push_back(ind.objectives);
+    if (ind.fitness > whole.population[fittest].fitness) fittest = i;
+  }
+  const std::vector<int> ranks = paretoRanks(objectives);
+  EXPECT_EQ(ranks[0], 0);
+  for (size_t i = 1; i < 4; ++i) EXPECT_LE(ranks[i - 1], ranks[i]) << i;
+  EXPECT_EQ(whole.best_weights, whole.population[fittest].genes);
+  EXPECT_EQ(whole.history.back().best, whole.population[fittest].fitness);
+  // Generation 0 holds the seed (the hand gains on hover_1's body): its best is at least the
+  // seed's own fitness over the run's one episode.
+  ASSERT_EQ(p.ga.initial_genes.size(), static_cast<size_t>(kMorphGeneCount));
+  const EpisodeRunner runner(evaluationSpec(p));
+  const double seed = morphObjectivesFitness(runner.values({p.ga.initial_genes, 0}),
+                                             p.morph.power_weight);
+  EXPECT_GE(whole.history[0].best, seed);
+  EXPECT_GT(seed, -fitnessBound(evaluationSpec(p)));  // a flight, not a refused body
+
+  ASSERT_TRUE(at_1.has_value());
+  ASSERT_EQ(at_1->population.front().objectives.size(), 2u);
+  EvolveHooks resume;
+  resume.resume = &*at_1;
+  const EvolveResult resumed = evolveFlapController(p, resume);
+  ASSERT_EQ(resumed.history.size(), whole.history.size());
+  for (size_t g = 0; g < whole.history.size(); ++g) {
+    EXPECT_EQ(resumed.history[g].best, whole.history[g].best) << g;
+    EXPECT_EQ(resumed.history[g].mean, whole.history[g].mean) << g;
+  }
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(resumed.population[i].genes, whole.population[i].genes) << i;
+    EXPECT_EQ(resumed.population[i].objectives, whole.population[i].objectives) << i;
+  }
+  // The GA's checkpoint (no objectives) does not resume NSGA-II.
+  EvolveCheckpoint ga = *at_1;
+  for (Individual& ind : ga.population) ind.objectives.clear();
+  resume.resume = &ga;
+  try {
+    evolveFlapController(p, resume);
+    ADD_FAILURE() << "resumed from a checkpoint without objectives";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("no NSGA-II objectives"), std::string::npos) << e.what();
+  }
+}
+
+TEST(MorphNsga2, SelectionOutsideMorphAnOddPopulationAndAnUnknownNameAreRefusedByName) {
+  auto refusal = [](const std::vector<std::string>& args) {
+    try {
+      parseEvolveArgs(args, 1);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal({"--preset", "hover", "--selection", "nsga2"}),
+            "--selection: for --preset morph only (its two objectives, W/kg and loss)");
+  EXPECT_EQ(refusal({"--preset", "robust", "--selection", "nsga2"}),
+            "--selection: has no effect but with --preset morph (a flap network has one fitness)");
+  EXPECT_EQ(refusal({"--preset", "morph", "--selection", "pareto"}),
+            "--selection: 'pareto' is not one of elitist, nsga2");
+  EXPECT_EQ(refusal({"--preset", "morph", "--selection", "nsga2", "--population", "5"}),
+            "--selection nsga2: --population must be even and at least 4 (NSGA-II breeds its "
+            "children in pairs), not 5");
+  EXPECT_EQ(refusal({"--preset", "morph", "--selection", "elitist", "--population", "5"}),
+            "accepted");
+}
+
+}  // namespace
+}  // namespace flapsim
