@@ -237,33 +237,6 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec);
 }
 
-// The mass budget of --preset morph's bodies (flapsim/body_genome.h).
-void morphFlags(CliParser& t, EvolveOptions& o) {
-  MassBudget& b = o.params.morph.budget;
-  t.real("--payload", "KG", &b.payload, {0, 1e3, true},
-         "--preset morph: the body's fixed payload beside its motors")
-      .tag(kSpec)
-      .real("--motor-specific-power", "W_PER_KG", &b.motor_specific_power, {0, 1e6, true},
-            "--preset morph: the stroke motors' rated power per kg (116: a geared micro motor)")
-      .tag(kSpec)
-      .real("--power-weight", "M", &o.params.morph.power_weight, {0, 1e3},
-            "--preset morph: the fitness's power term, m per 100 W/kg")
-      .tag(kSpec)
-      .custom(
-          "--selection", {"S"},
-          [&o](const std::vector<std::string>& v) {
-            if (v[0] != "elitist" && v[0] != "nsga2") {
-              throw InputError("--selection: " + quoteValue(v[0]) +
-                               " is not one of elitist, nsga2");
-            }
-            o.params.morph.nsga2 = v[0] == "nsga2";
-          },
-          [&o] { return std::string(o.params.morph.nsga2 ? "nsga2" : "elitist"); },
-          "--preset morph: elitist (the GA on the fitness) or nsga2 (NSGA-II on two objectives, "
-          "W/kg and loss; an even --population)")
-      .tag(kSpec);
-}
-
 void controllerFlags(CliParser& t, EvolveOptions& o) {
   EvolveParams& p = o.params;
   FlapControllerParams& c = p.controller;
@@ -352,7 +325,7 @@ CliParser evolveTable(EvolveOptions& o) {
   CliParser t("usage: evolve [options]", kNotes);
   specFlags(t, o);
   robustFlags(t, o);
-  morphFlags(t, o);
+  morphFlags(t, o, kSpec);
   controllerFlags(t, o);
   runFlags(t, o);
   return t;
@@ -403,14 +376,7 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
   CliParser table = evolveTable(o);
   const std::vector<CliSeen> seen = table.parse(args, /*skip_remaps=*/true, later_wins);
   if (hoverPresetName(o.preset)) {
-    checkHoverFlags(o.preset, seen);
-    const int n = o.params.ga.population;
-    if (o.params.morph.nsga2 && (n < 4 || n % 2 != 0)) {
-      throw InputError(
-          "--selection nsga2: --population must be even and at least 4 (NSGA-II "
-          "breeds its children in pairs), not " +
-          std::to_string(n));
-    }
+    checkHoverFlags(o.preset, seen, o.params);
   } else {
     checkDependentFlags(o.params, seen);
   }
@@ -489,14 +455,7 @@ void checkSpecArgs(const std::vector<std::string>& spec_args) {
   }
   const std::vector<CliSeen> seen = table.parse(spec_args);
   if (hoverPresetName(o.preset)) {
-    checkHoverFlags(o.preset, seen);
-    const int n = o.params.ga.population;
-    if (o.params.morph.nsga2 && (n < 4 || n % 2 != 0)) {
-      throw InputError(
-          "--selection nsga2: --population must be even and at least 4 (NSGA-II "
-          "breeds its children in pairs), not " +
-          std::to_string(n));
-    }
+    checkHoverFlags(o.preset, seen, o.params);
   } else {
     checkDependentFlags(o.params, seen);
   }

@@ -31,9 +31,37 @@ std::string morphWhy(const std::string& name) {
 
 }  // namespace
 
+// The mass budget of --preset morph's bodies (flapsim/body_genome.h).
+void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag) {
+  MassBudget& b = o.params.morph.budget;
+  t.real("--payload", "KG", &b.payload, {0, 1e3, true},
+         "--preset morph: the body's fixed payload beside its motors")
+      .tag(spec_tag)
+      .real("--motor-specific-power", "W_PER_KG", &b.motor_specific_power, {0, 1e6, true},
+            "--preset morph: the stroke motors' rated power per kg (116: a geared micro motor)")
+      .tag(spec_tag)
+      .real("--power-weight", "M", &o.params.morph.power_weight, {0, 1e3},
+            "--preset morph: the fitness's power term, m per 100 W/kg")
+      .tag(spec_tag)
+      .custom(
+          "--selection", {"S"},
+          [&o](const std::vector<std::string>& v) {
+            if (v[0] != "elitist" && v[0] != "nsga2") {
+              throw InputError("--selection: " + quoteValue(v[0]) +
+                               " is not one of elitist, nsga2");
+            }
+            o.params.morph.nsga2 = v[0] == "nsga2";
+          },
+          [&o] { return std::string(o.params.morph.nsga2 ? "nsga2" : "elitist"); },
+          "--preset morph: elitist (the GA on the fitness) or nsga2 (NSGA-II on two objectives, "
+          "W/kg and loss; an even --population)")
+      .tag(spec_tag);
+}
+
 bool hoverPresetName(const std::string& preset) { return preset == "hover" || preset == "morph"; }
 
-void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen) {
+void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen,
+                     const EvolveParams& params) {
   const bool real_air = std::any_of(seen.begin(), seen.end(), [](const CliSeen& s) {
     return s.flag->names.front() == "--real-air";
   });
@@ -58,6 +86,13 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
     if (morphFlag(name) && preset != "morph") {
       throw InputError(name + ": for --preset morph only (" + morphWhy(name) + ")");
     }
+  }
+  const int n = params.ga.population;
+  if (params.morph.nsga2 && (n < 4 || n % 2 != 0)) {
+    throw InputError(
+        "--selection nsga2: --population must be even and at least 4 (NSGA-II breeds its "
+        "children in pairs), not " +
+        std::to_string(n));
   }
 }
 

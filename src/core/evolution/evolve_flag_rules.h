@@ -1,5 +1,6 @@
 // The rules by which evolve refuses a flag that would change nothing: the flap network's flags
-// under the hover presets, and the flags whose effect hangs on another's. Private to
+// under the hover presets, and the flags whose effect hangs on another's; and the flags of the
+// morph preset alone. Private to
 // flapsim_core (evolve_args.cpp).
 #pragma once
 
@@ -8,6 +9,7 @@
 
 #include "flapsim/cli_args.h"
 #include "flapsim/evolve.h"
+#include "flapsim/evolve_args.h"
 
 namespace flapsim {
 
@@ -16,8 +18,13 @@ bool hoverPresetName(const std::string& preset);
 
 /// Throws InputError naming the first flag `seen` that means nothing to `preset` (hover or
 /// morph): the flap network's, the flap units' and their disturbances', the body's outside
-/// morph.
-void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen);
+/// morph; or an odd population (or under 4) for NSGA-II's selection in `params`.
+void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen,
+                     const EvolveParams& params);
+
+/// The flags of --preset morph alone, tagged `spec_tag`: its bodies' mass budget
+/// (flapsim/body_genome.h), the fitness's power weight and the selection.
+void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag);
 
 /// A flap network's evolution: throws InputError naming the first flag `seen` whose effect
 /// hangs on another's that `p` leaves without effect.
