@@ -4,6 +4,8 @@
 // refusals.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <filesystem>
 #include <optional>
 
 #include "flapsim/episode_evaluator.h"
@@ -12,7 +14,9 @@
 #include "flapsim/make_creature.h"
 #include "flapsim/morph_evolution.h"
 #include "flapsim/pareto.h"
+#include "flapsim/text_file.h"
 #include "morph_fixtures.h"
+#include "test_util.h"
 
 namespace flapsim {
 namespace {
@@ -119,8 +123,8 @@ TEST(MorphNsga2, TheLastPopulationIsInCrowdedOrderAndAResumeEndsAsTheUninterrupt
   // seed's own fitness over the run's one episode.
   ASSERT_EQ(p.ga.initial_genes.size(), static_cast<size_t>(kMorphGeneCount));
   const EpisodeRunner runner(evaluationSpec(p));
-  const double seed = morphObjectivesFitness(runner.values({p.ga.initial_genes, 0}),
-                                             p.morph.power_weight);
+  const double seed =
+      morphObjectivesFitness(runner.values({p.ga.initial_genes, 0}), p.morph.power_weight);
   EXPECT_GE(whole.history[0].best, seed);
   EXPECT_GT(seed, -fitnessBound(evaluationSpec(p)));  // a flight, not a refused body
 
@@ -148,6 +152,55 @@ TEST(MorphNsga2, TheLastPopulationIsInCrowdedOrderAndAResumeEndsAsTheUninterrupt
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("no NSGA-II objectives"), std::string::npos) << e.what();
   }
+}
+
+// The run's outputs: front.csv ranks the last population as its objectives do (flown again,
+// the same W/kg and loss; a refused body off the front), and each front member is written as gains, body and URDF whose
+// header names its objectives and the run's Reproduce line; its body file reads back as its
+// genes.
+TEST(MorphNsga2, EachFrontMemberIsWrittenWithItsBodyAndTheRunsReproduceLine) {
+  std::optional<EvolveCheckpoint> none;
+  std::vector<std::string> args = tinyArgs();
+  const std::string out = ::testing::TempDir() + "/morph_nsga2_out";
+  args = test::withFlag(test::withFlag(args, "--generations", {"1"}), "--out", {out});
+  std::filesystem::create_directories(out);
+  EvolveOptions o = resolveEvolveOptions(args, 2, none);
+  const EvolveResult r = evolveFlapController(o.params);
+  writeEvolveOutputs(o, r, 1.0, "in process");
+  ObjectiveTable objectives;
+  for (const Individual& ind : r.population) objectives.push_back(ind.objectives);
+  const std::vector<int> ranks = paretoRanks(objectives);
+  const std::string csv = readTextFile(out + "/front.csv", 1 << 20);
+  int members = 0;
+  for (size_t k = 0; k < ranks.size(); ++k) {
+    char row[96];
+    std::snprintf(row, sizeof row, "\n%zu,%d,%.4f,%.6f,", k, ranks[k], objectives[k][0],
+                  objectives[k][1]);
+    if (objectives[k][0] == kMaxMorphPower) {  // a refused body: off the front, named
+      std::snprintf(row, sizeof row, "\n%zu,-1,0.0000,0.000000,", k);
+      EXPECT_NE(csv.find(row), std::string::npos) << row << csv;
+      continue;
+    }
+    EXPECT_NE(csv.find(row), std::string::npos) << row << csv;
+    if (ranks[k] != 0) continue;
+    ++members;
+    const std::string stem = out + "/front_" + std::to_string(k);
+    const std::string gains = readTextFile(stem + "_gains.yaml", 1 << 16);
+    EXPECT_NE(gains.find("# Reproduce: evolve --preset morph --selection nsga2"), std::string::npos)
+        << gains;
+    char named[64];
+    std::snprintf(named, sizeof named, "(%.2f W/kg, loss %.4f m)", objectives[k][0],
+                  objectives[k][1]);
+    EXPECT_NE(gains.find(named), std::string::npos) << gains;
+    const std::vector<double> body = loadBodyGenes(stem + "_body.yaml");
+    const std::vector<double> genome = r.population[k].genes;
+    ASSERT_EQ(body.size(), static_cast<size_t>(kBodyGeneCount));
+    for (int g = 0; g < kBodyGeneCount; ++g) {
+      EXPECT_NEAR(body[g], genome[kHoverGeneCount + g], 1e-12) << k << " " << g;
+    }
+    EXPECT_NE(readTextFile(stem + "_creature.urdf", 1 << 20).find("<robot"), std::string::npos);
+  }
+  EXPECT_GE(members, 1);
 }
 
 TEST(MorphNsga2, SelectionOutsideMorphAnOddPopulationAndAnUnknownNameAreRefusedByName) {

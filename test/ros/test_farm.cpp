@@ -109,28 +109,31 @@ void expectSamePopulation(const FarmAndProcess& r) {
   }
 }
 
+// A tiny co-evolution's flags on 1000 W/kg motors, with `more`.
+std::vector<std::string> morphSpec(const std::vector<std::string>& more) {
+  std::vector<std::string> spec = {"--preset",
+                                   "morph",
+                                   "--population",
+                                   "4",
+                                   "--episodes",
+                                   "2",
+                                   "--duration",
+                                   "1",
+                                   "--settle",
+                                   "0.5",
+                                   "--seed",
+                                   "5",
+                                   "--motor-specific-power",
+                                   "1000"};
+  spec.insert(spec.end(), more.begin(), more.end());
+  return spec;
+}
+
 TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
   ros::NodeHandle nh;
   ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
-  const std::vector<std::string> spec = {"--preset",
-                                         "morph",
-                                         "--population",
-                                         "4",
-                                         "--generations",
-                                         "1",
-                                         "--episodes",
-                                         "2",
-                                         "--duration",
-                                         "1",
-                                         "--settle",
-                                         "0.5",
-                                         "--seed",
-                                         "5",
-                                         "--payload",
-                                         "0.006",
-                                         "--motor-specific-power",
-                                         "1000",
-                                         "--real-air"};
+  const std::vector<std::string> spec =
+      morphSpec({"--generations", "1", "--payload", "0.006", "--real-air"});
   const flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
   ASSERT_EQ(p.kind, flapsim::EvolveKind::kMorph);
   ASSERT_EQ(p.morph.budget.motor_specific_power, 1000.0);
@@ -145,24 +148,7 @@ TEST(Farm, AMorphEvolutionOnThreeWorkersGivesTheInProcessBits) {
 TEST(Farm, AnNsga2MorphEvolutionOnThreeWorkersGivesTheInProcessFrontsBits) {
   ros::NodeHandle nh;
   ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
-  const std::vector<std::string> spec = {"--preset",
-                                         "morph",
-                                         "--selection",
-                                         "nsga2",
-                                         "--population",
-                                         "4",
-                                         "--generations",
-                                         "2",
-                                         "--episodes",
-                                         "2",
-                                         "--duration",
-                                         "1",
-                                         "--settle",
-                                         "0.5",
-                                         "--seed",
-                                         "5",
-                                         "--motor-specific-power",
-                                         "1000"};
+  const std::vector<std::string> spec = morphSpec({"--selection", "nsga2", "--generations", "2"});
   const flapsim::EvolveParams p = flapsim::parseEvolveArgs(spec).params;
   ASSERT_TRUE(p.morph.nsga2);
   const FarmAndProcess r = evolveBothWays(nh, spec);

@@ -215,13 +215,18 @@ std::string writeMorphFront(const EvolveOptions& o, const EvolveResult& result) 
     const MorphIndividual m = morphFromGenes(genomes[k], HoverControllerParams().altitude,
                                              o.params.morph.budget, "morph_" + std::to_string(k));
     const std::string stem = o.out_dir + "/front_" + std::to_string(k);
-    writeTextFile(
-        stem + "_gains.yaml",
-        hoverGainsToYaml(m.controller, "Member " + std::to_string(k) + " of the run's front.csv"));
+    char objectives[96];
+    std::snprintf(objectives, sizeof objectives, " (%.2f W/kg, loss %.4f m)",
+                  scores[k].power_per_kg, scores[k].loss);
+    const std::string header = "Member " + std::to_string(k) + " of the front (front.csv)" +
+                               objectives + " of the run\nReproduce: " + evolveCommand(o) +
+                               " --out <dir>";
+    writeTextFile(stem + "_gains.yaml", hoverGainsToYaml(m.controller, header));
+    writeTextFile(stem + "_body.yaml", bodyToYaml(m.body.params, o.params.morph.budget, header));
     writeTextFile(stem + "_creature.urdf", m.body.urdf);
   }
   return ", " + csv + " (" + std::to_string(members) + " on the front: " + o.out_dir +
-         "/front_<member>_gains.yaml, _creature.urdf)";
+         "/front_<member>_gains.yaml, _body.yaml, _creature.urdf)";
 }
 
 // --preset hover and morph: the gains file and fitness.csv (morph: and its body).
