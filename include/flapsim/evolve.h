@@ -282,7 +282,9 @@ struct EvolveResult {
   std::vector<GenerationStats> history;
   std::vector<double> best_weights;
   double best_fitness = 0.0;
-  std::vector<Individual> population;  // the last generation's, best first
+  /// The last generation's, best first (--selection nsga2: in NSGA-II's crowded order, the
+  /// front first, each with its objectives).
+  std::vector<Individual> population;
 };
 
 /// The state of an evolution after a generation: enough to continue it bit
@@ -291,7 +293,7 @@ struct EvolveResult {
 struct EvolveCheckpoint {
   int generation = 0;
   std::uint64_t seed = 0;
-  std::vector<Individual> population;  // best first
+  std::vector<Individual> population;  // best first (NSGA-II: crowded order, with objectives)
   std::vector<GenerationStats> history;
   std::vector<std::string> args;  // the evolve flags of the run (for --resume)
 };
