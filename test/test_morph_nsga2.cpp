@@ -155,9 +155,9 @@ TEST(MorphNsga2, TheLastPopulationIsInCrowdedOrderAndAResumeEndsAsTheUninterrupt
 }
 
 // The run's outputs: front.csv ranks the last population as its objectives do (flown again,
-// the same W/kg and loss; a refused body off the front), and each front member is written as gains, body and URDF whose
-// header names its objectives and the run's Reproduce line; its body file reads back as its
-// genes.
+// the same W/kg and loss; a refused body off the front), and each front member is written as
+// gains, body and URDF whose header names its objectives and the run's Reproduce line; its
+// body file reads back as its genes.
 TEST(MorphNsga2, EachFrontMemberIsWrittenWithItsBodyAndTheRunsReproduceLine) {
   std::optional<EvolveCheckpoint> none;
   std::vector<std::string> args = tinyArgs();
