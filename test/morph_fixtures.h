@@ -60,5 +60,15 @@ inline EvaluationSpec shortSpec(const std::vector<std::string>& more = {}) {
   return evaluationSpecFromArgs(args);
 }
 
+// What evolve's flags `args` are refused with (parseEvolveArgs), or "accepted".
+inline std::string evolveRefusal(const std::vector<std::string>& args) {
+  try {
+    parseEvolveArgs(args, 1);
+  } catch (const InputError& e) {
+    return std::string(e.what());
+  }
+  return std::string("accepted");
+}
+
 }  // namespace test
 }  // namespace flapsim

@@ -20,6 +20,7 @@
 namespace flapsim {
 namespace {
 
+using test::evolveRefusal;
 using test::flyingBody;
 using test::flyingGenome;
 using test::kLightMotors;
@@ -240,21 +241,13 @@ TEST(MorphEvolution, AResumedRunsCommandStillNamesItsSeeds) {
 // The flags that mean nothing to a morph (the flap network's) are refused by name, and
 // --init-body outside --preset morph.
 TEST(MorphEvolution, FlapFlagsAndABodySeedOutsideMorphAreRefusedByName) {
-  auto refusal = [](const std::vector<std::string>& args) {
-    try {
-      parseEvolveArgs(args, 1);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  EXPECT_EQ(refusal({"--preset", "morph", "--hidden", "4"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "morph", "--hidden", "4"}),
             "--hidden: not a flag of --preset morph (the hover controller's gains and body)");
-  EXPECT_EQ(refusal({"--preset", "hover", "--init-body", "b.yaml"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "hover", "--init-body", "b.yaml"}),
             "--init-body: for --preset morph only (the body's)");
-  EXPECT_EQ(refusal({"--preset", "hover", "--motor-specific-power", "300"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "hover", "--motor-specific-power", "300"}),
             "--motor-specific-power: for --preset morph only (the body's)");
-  EXPECT_EQ(refusal({"--preset", "robust", "--init-body", "b.yaml"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "robust", "--init-body", "b.yaml"}),
             "--init-body: has no effect but with --preset morph (the flap network has no body)");
 }
 

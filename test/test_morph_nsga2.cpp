@@ -21,6 +21,7 @@
 namespace flapsim {
 namespace {
 
+using test::evolveRefusal;
 using test::flyingGenome;
 using test::lightMotors;
 using test::shortSpec;
@@ -204,24 +205,16 @@ TEST(MorphNsga2, EachFrontMemberIsWrittenWithItsBodyAndTheRunsReproduceLine) {
 }
 
 TEST(MorphNsga2, SelectionOutsideMorphAnOddPopulationAndAnUnknownNameAreRefusedByName) {
-  auto refusal = [](const std::vector<std::string>& args) {
-    try {
-      parseEvolveArgs(args, 1);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
-  EXPECT_EQ(refusal({"--preset", "hover", "--selection", "nsga2"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "hover", "--selection", "nsga2"}),
             "--selection: for --preset morph only (its two objectives, W/kg and loss)");
-  EXPECT_EQ(refusal({"--preset", "robust", "--selection", "nsga2"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "robust", "--selection", "nsga2"}),
             "--selection: has no effect but with --preset morph (a flap network has one fitness)");
-  EXPECT_EQ(refusal({"--preset", "morph", "--selection", "pareto"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "morph", "--selection", "pareto"}),
             "--selection: 'pareto' is not one of elitist, nsga2");
-  EXPECT_EQ(refusal({"--preset", "morph", "--selection", "nsga2", "--population", "5"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "morph", "--selection", "nsga2", "--population", "5"}),
             "--selection nsga2: --population must be even and at least 4 (NSGA-II breeds its "
             "children in pairs), not 5");
-  EXPECT_EQ(refusal({"--preset", "morph", "--selection", "elitist", "--population", "5"}),
+  EXPECT_EQ(evolveRefusal({"--preset", "morph", "--selection", "elitist", "--population", "5"}),
             "accepted");
 }
 
