@@ -57,6 +57,9 @@ constexpr double kHoverStartTiltWeight = 100.0;          // m per unit of up-com
 constexpr double kHoverMaxSag = 0.05;                    // m (issue 43's bar: 0.1)
 constexpr double kHoverSagWeight = 10.0;                 // m per m
 constexpr double kHoverMaxTerm = 10.0;
+/// The power term of a hover episode's fitness: `weight` m per 100 W/kg of `specific_power`
+/// (W/kg), capped at kHoverMaxTerm (the hover preset's weight: kHoverPowerWeight).
+double hoverPowerTerm(double specific_power, double weight);
 double hoverEpisodeFitness(const HoverFlightResult& result, double flip_penalty);
 /// The largest |fitness| a hover episode can score.
 double hoverFitnessBound(const EpisodeParams& params);

@@ -55,9 +55,6 @@ double morphFallTerm(const HoverFlightResult& result, const EpisodeParams& param
 /// The largest |fitness| a morph episode can score: hoverFitnessBound + the free fall's term.
 double morphFitnessBound(const EpisodeParams& params);
 
-/// The power term of a hover episode's fitness at `weight` m per 100 W/kg, capped at
-/// kHoverMaxTerm (the hover preset's: kHoverPowerWeight).
-double hoverPowerTerm(const HoverFlightResult& result, double weight);
 /// Everything a morph episode penalises but the power (m, >= 0): the hover fitness's other
 /// terms and flip penalty, and morphFallTerm.
 double morphLoss(const HoverFlightResult& result, const EpisodeParams& params);

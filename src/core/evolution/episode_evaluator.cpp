@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "flapsim/evolve_args.h"
 #include "flapsim/ga.h"
@@ -142,15 +144,35 @@ std::size_t RunnerCache::size() const {
   return entries_.size();
 }
 
+std::vector<std::vector<double>> meanEpisodeValues(
+    EpisodeEvaluator& evaluator, int episodes, size_t values,
+    const std::vector<std::vector<double>>& genomes) {
+  std::vector<EpisodeTask> tasks;
+  tasks.reserve(genomes.size() * episodes);
+  for (const auto& g : genomes) {
+    for (int k = 0; k < episodes; ++k) tasks.push_back(EpisodeTask{g, k});
+  }
+  const std::vector<double> v = evaluator.evaluate(tasks);
+  if (v.size() != values * tasks.size()) {
+    throw std::runtime_error("evolve: the evaluator returned " + std::to_string(v.size()) +
+                             " values for " + std::to_string(tasks.size()) + " tasks" +
+                             (values == 1 ? "" : " of " + std::to_string(values) + " values"));
+  }
+  std::vector<std::vector<double>> means(genomes.size(), std::vector<double>(values, 0.0));
+  for (size_t i = 0; i < genomes.size(); ++i) {
+    for (int k = 0; k < episodes; ++k) {
+      for (size_t m = 0; m < values; ++m) means[i][m] += v[values * (i * episodes + k) + m];
+    }
+    for (double& x : means[i]) x /= episodes;
+  }
+  return means;
+}
+
 InProcessEvaluator::InProcessEvaluator(const EvaluationSpec& spec, int threads)
     : runner_(spec), threads_(std::max(1, threads)) {}
 
 std::vector<double> InProcessEvaluator::evaluate(const std::vector<EpisodeTask>& tasks) {
   const size_t k = static_cast<size_t>(taskValueCount(runner_.spec()));
-  if (k == 1) {
-    return parallelMap(static_cast<int>(tasks.size()), threads_,
-                       [&](int i) { return runner_.evaluate(tasks[i]); });
-  }
   std::vector<double> out(tasks.size() * k);
   parallelMap(static_cast<int>(tasks.size()), threads_, [&](int i) {
     const std::vector<double> v = runner_.values(tasks[i]);  // each task its own slots

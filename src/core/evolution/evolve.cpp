@@ -131,23 +131,11 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
   }
   // One task per (individual, episode), so that the workers stay busy even
   // when few children are new; the sums run in a fixed order afterwards.
-  const int n_starts = spec.episode.episodes;
   auto batch = [&](const std::vector<std::vector<double>>& genomes,
                    const std::vector<std::uint64_t>&) {
-    std::vector<EpisodeTask> tasks;
-    tasks.reserve(genomes.size() * n_starts);
-    for (const auto& g : genomes) {
-      for (int k = 0; k < n_starts; ++k) tasks.push_back(EpisodeTask{g, k});
-    }
-    const std::vector<double> f = evaluator->evaluate(tasks);
-    if (f.size() != tasks.size()) {
-      throw std::runtime_error("evolve: the evaluator returned " + std::to_string(f.size()) +
-                               " values for " + std::to_string(tasks.size()) + " tasks");
-    }
-    std::vector<double> out(genomes.size(), 0.0);
-    for (size_t i = 0; i < genomes.size(); ++i) {
-      for (int k = 0; k < n_starts; ++k) out[i] += f[i * n_starts + k];
-      out[i] /= n_starts;
+    std::vector<double> out;
+    for (const auto& means : meanEpisodeValues(*evaluator, spec.episode.episodes, 1, genomes)) {
+      out.push_back(means[0]);
     }
     return out;
   };

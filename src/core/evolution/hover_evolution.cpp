@@ -68,11 +68,15 @@ std::vector<double> hoverGenesFromParams(const HoverControllerParams& params) {
   return genes;
 }
 
+double hoverPowerTerm(double specific_power, double weight) {
+  return std::min(weight * specific_power / 100.0, kHoverMaxTerm);
+}
+
 double hoverEpisodeFitness(const HoverFlightResult& r, double flip_penalty) {
   const double rms = std::isfinite(r.altitude_rms) && !r.flipped
                          ? std::min(r.altitude_rms, kHoverMaxTerm)
                          : kHoverMaxTerm;
-  const double power = std::min(kHoverPowerWeight * r.specificPower() / 100.0, kHoverMaxTerm);
+  const double power = hoverPowerTerm(r.specificPower(), kHoverPowerWeight);
   const double tilt = kHoverTiltWeight * std::max(0.0, kHoverMinUpright - r.min_upright);
   const double start_limit = std::cos(std::min(r.start_tilt + kHoverStartTilt, M_PI));
   const double start_tilt = kHoverStartTiltWeight * std::max(0.0, start_limit - r.lowest_upright);

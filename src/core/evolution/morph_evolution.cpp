@@ -66,12 +66,9 @@ double morphFitnessBound(const EpisodeParams& params) {
   return hoverFitnessBound(params) + kMorphFallWeight * freeFall(params);
 }
 
-double hoverPowerTerm(const HoverFlightResult& r, double weight) {
-  return std::min(weight * r.specificPower() / 100.0, kHoverMaxTerm);
-}
-
 double morphLoss(const HoverFlightResult& r, const EpisodeParams& params) {
-  return -(hoverEpisodeFitness(r, params.flip_penalty) + hoverPowerTerm(r, kHoverPowerWeight)) +
+  return -(hoverEpisodeFitness(r, params.flip_penalty) +
+           hoverPowerTerm(r.specificPower(), kHoverPowerWeight)) +
          morphFallTerm(r, params);
 }
 
@@ -100,7 +97,8 @@ double morphEpisodeFitness(const std::vector<double>& genes, const EpisodeParams
                            const EpisodeStart& start, const MorphParams& morph) {
   const MorphFlight f = flyMorphEpisode(genes, params, start, morph.budget);
   if (!f.refusal.empty()) return -morphFitnessBound(params);
-  return -(morphLoss(f.result, params) + hoverPowerTerm(f.result, morph.power_weight));
+  return -(morphLoss(f.result, params) +
+           hoverPowerTerm(f.result.specificPower(), morph.power_weight));
 }
 
 std::vector<double> morphEpisodeObjectives(const std::vector<double>& genes,
@@ -115,7 +113,7 @@ double morphObjectivesFitness(const std::vector<double>& objectives, double powe
   if (objectives.size() != 2) throw InputError("morph objectives: need 2 (W/kg, loss)");
   const double power = objectives[0], loss = objectives[1];
   if (power >= kMaxMorphPower) return -loss;
-  return -(loss + std::min(power_weight * power / 100.0, kHoverMaxTerm));
+  return -(loss + hoverPowerTerm(power, power_weight));
 }
 
 EvolveParams morphPreset() {

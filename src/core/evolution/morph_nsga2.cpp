@@ -24,31 +24,6 @@ Nsga2Params nsga2Params(const GaParams& ga) {
   return p;
 }
 
-// Each genome's mean objectives over the spec's episodes: one task per (genome, episode), the
-// sums in a fixed order afterwards.
-ObjectiveTable meanObjectives(EpisodeEvaluator& evaluator, int episodes,
-                              const std::vector<std::vector<double>>& genomes) {
-  std::vector<EpisodeTask> tasks;
-  tasks.reserve(genomes.size() * episodes);
-  for (const auto& g : genomes) {
-    for (int k = 0; k < episodes; ++k) tasks.push_back(EpisodeTask{g, k});
-  }
-  const std::vector<double> v = evaluator.evaluate(tasks);
-  if (v.size() != 2 * tasks.size()) {
-    throw std::runtime_error("evolve: the evaluator returned " + std::to_string(v.size()) +
-                             " values for " + std::to_string(tasks.size()) +
-                             " tasks of 2 objectives");
-  }
-  ObjectiveTable rows(genomes.size(), std::vector<double>(2, 0.0));
-  for (size_t i = 0; i < genomes.size(); ++i) {
-    for (int k = 0; k < episodes; ++k) {
-      for (size_t m = 0; m < 2; ++m) rows[i][m] += v[2 * (i * episodes + k) + m];
-    }
-    for (double& x : rows[i]) x /= episodes;
-  }
-  return rows;
-}
-
 // The population as individuals (NSGA-II's order) with their fitness at `power_weight`.
 std::vector<Individual> individuals(const Nsga2& run, double power_weight) {
   std::vector<Individual> out(run.genes().size());
@@ -98,7 +73,7 @@ EvolveResult evolveMorphByNsga2(const EvolveParams& params, const EvaluationSpec
       nsga2Params(ga), std::vector<double>(kMorphGeneCount, ga.gene_min),
       std::vector<double>(kMorphGeneCount, ga.gene_max),
       [&](const std::vector<std::vector<double>>& genomes) {
-        return meanObjectives(evaluator, episodes, genomes);
+        return meanEpisodeValues(evaluator, episodes, 2, genomes);  // W/kg, loss
       },
       ga.initial_genes);
   const double weight = spec.morph.power_weight;
