@@ -205,6 +205,15 @@ TEST(ToolTables, FlightCheckTakesRealAirsImpulseSizes) {
 // flight_check --hover used to fly the same flight to the bit with and without --noise,
 // --seed, --starts or the gusts. Every flag of the table, given with a value it accepts, is
 // either flown by the mode or refused by name.
+// A valid value of flight_check's flag `name` for its metavariable `metavar`.
+std::string walkValue(const std::string& name, const std::string& metavar) {
+  if (name == "--gust-link") return "wing";
+  if (name == "--motor-work") return "servo";
+  if (metavar == "FILE") return "f.yaml";
+  if (metavar == "LEVEL") return "light";
+  return name == "--step-size" || name == "--turn-substep" ? "0.001" : "1";
+}
+
 TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
   auto refused = [](bool hover) {
     std::vector<std::string> names;
@@ -216,14 +225,7 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
       std::vector<std::string> args;
       if (hover) args.push_back("--hover");
       args.push_back(name);
-      for (size_t i = 0; i < flag.metavars.size(); ++i) {
-        const std::string& metavar = flag.metavars[i];
-        args.push_back(name == "--gust-link"                               ? "wing"
-                       : metavar == "FILE"                                 ? "f.yaml"
-                       : metavar == "LEVEL"                                ? "light"
-                       : name == "--step-size" || name == "--turn-substep" ? "0.001"
-                                                                           : "1");
-      }
+      for (const std::string& metavar : flag.metavars) args.push_back(walkValue(name, metavar));
       FlightCheckOptions o;
       CliParser cli = flightCheckCli(o);  // the flags `seen` points to
       const std::vector<CliSeen> seen = cli.parse(args);

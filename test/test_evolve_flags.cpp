@@ -104,6 +104,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
        "--motor-specific-power: has no effect but with --preset morph"},
       {"--power-weight", {"2"}, "--power-weight: has no effect but with --preset morph"},
       {"--selection", {"nsga2"}, "--selection: has no effect but with --preset morph"},
+      {"--motor-work", {"servo"}, "--motor-work: has no effect but with --preset hover or morph"},
       {"--network", {"paper"}, ""},
       {"--hidden", {"3"}, ""},
       {"--rate-inputs", {"off"}, ""},

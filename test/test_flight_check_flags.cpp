@@ -91,6 +91,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
       {"--altitude-noise", {"0.05"}},
       {"--velocity-noise", {"0.05"}},
       {"--velocity-products", {}},
+      {"--motor-work", {"servo"}},
       {"--altitude", {"1.2"}},
   };
   // Every flag of the table is tried, but --threads (below), --hover and its gains.
@@ -192,6 +193,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheHoverModeChangesItsFlight) {
       {"--wind", {"1"}},
       {"--turbulence", {"light"}},
       {"--velocity-products", {}},
+      {"--motor-work", {"servo"}},
       {"--altitude", {"2.5"}},
       {"--real-air", {}},
   };

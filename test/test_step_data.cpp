@@ -112,12 +112,14 @@ TEST(StepData, ExternalWrenchIsTheAppliedOneAboutTheCom) {
   EXPECT_EQ(w.stepData("p").external_wrench[0].force, Vec3::Zero());
 }
 
-// Each motor's power over a step is its servo's effort times the mean of its joint's
-// velocities at the step's start and end (the power meter's trapezoid), as World::power gives
-// it; the efforts are CreatureState's. A flap unit stroking in air, in whole steps.
-TEST(StepData, ServoEffortTimesMeanJointVelocityIsThePower) {
+// With the servo's impulse for a meter (MotorWorkMeter::kServoImpulse), each motor's power
+// over a step is its servo's effort times the mean of its joint's velocities at the step's
+// start and end (the power meter's trapezoid), as World::power gives it; the efforts are
+// CreatureState's. A flap unit stroking in air, in whole steps.
+TEST(StepData, WithTheServoMeterServoEffortTimesMeanJointVelocityIsThePower) {
   WorldParams p = test::openSky();
   p.turn_substep = 0.0;
+  p.motor_work = MotorWorkMeter::kServoImpulse;
   World w(p);
   auto model = loadUrdf("flap_unit.urdf");
   w.spawn("u", model, at(0, 0, 5));

@@ -18,6 +18,24 @@
 
 namespace flapsim {
 
+/// How World::power takes a motor's work over a (sub)step.
+enum class MotorWorkMeter {
+  /// The torque its joint transmits, from the momentum the bodies beyond it gain over the
+  /// (sub)step less the external impulses on them (the joint's spring and damping taken out),
+  /// times the joint's move: second order in the step. A (sub)step in which a contact or a
+  /// joint limit may have acted is metered as kServoImpulse.
+  kTransmitted,
+  /// The servo's impulse times the mean of the joint's start and end velocities: it also
+  /// carries the explicit step's velocity-product error, which the servo takes out to hold
+  /// its rate (first order: the flap unit's positive work 1.0 % low at 1 ms, hover_1's 3.5 %).
+  /// What the controllers evolved before the transmitted meter were selected on.
+  kServoImpulse,
+};
+
+/// "transmitted" or "servo" (MotorWorkMeter); false for anything else.
+bool motorWorkMeterFromName(const std::string& name, MotorWorkMeter* out);
+const char* motorWorkMeterName(MotorWorkMeter meter);
+
 struct WorldParams {
   double step_size = 0.001;  // s, fixed
   /// A step in which a wing's stroke turns, or whose stroke servo was saturated in the
@@ -49,6 +67,8 @@ struct WorldParams {
   /// Air cells a creature may have (boxes x 6 faces x subdivisions, over its aero links):
   /// a spawn or an air change beyond it is refused, naming the creature and its links.
   int max_cells = 200000;
+  /// How the motors' work (World::power, StepData::joint_power) is taken.
+  MotorWorkMeter motor_work = MotorWorkMeter::kTransmitted;
 };
 
 /// Largest magnitudes a world accepts: a position or wind component, gravity, density.

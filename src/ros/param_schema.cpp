@@ -23,6 +23,8 @@ const std::vector<ParamSpec> kSchema = {
     {"max_speed", T::kDouble, "1000.0", "(0, 3e8]", "m/s",
      "the watchdog freezes a creature with a link point faster", ""},
     {"max_cells", T::kInt, "200000", "[1, inf)", "", "air cells a creature may have", ""},
+    {"motor_work", T::kString, "transmitted", "transmitted|servo", "",
+     "how the motors' work and power are taken (flapsim/power)", ""},
     {"max_steps_per_call", T::kInt, "100000", "[1, inf)", "",
      "flapsim/step requests for more steps are refused", ""},
     {"urdf_roots", T::kStrings, "\"\"", "", "",

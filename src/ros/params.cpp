@@ -282,6 +282,10 @@ NodeParams parseNodeParams(const XmlRpcValue& params) {
   w.default_wing_effort = d.number("default_wing_effort", w.default_wing_effort);
   w.max_speed = d.number("max_speed", w.max_speed);
   w.max_cells = d.integer("max_cells", w.max_cells);
+  const std::string meter = d.string("motor_work", flapsim::motorWorkMeterName(w.motor_work));
+  if (!flapsim::motorWorkMeterFromName(meter, &w.motor_work)) {
+    fail(d.key("motor_work"), "'" + meter + "' is not one of transmitted, servo");
+  }
   if (d.has("air")) w.air = parseAir(Dict(d.at("air"), "air"), w.air);
   std::string err = flapsim::validateWorldParams(w);
   if (!err.empty()) throw ParamError("bad world parameters: " + err);

@@ -33,15 +33,20 @@ void multiBodyFrames(const btMultiBody& mb, btAlignedObjectArray<btQuaternion>& 
   }
 }
 
-void ServoWorld::expectPhase(Phase phase, const char* call) const {
-  if (phase_ != phase) {
+namespace {
+
+// A phase called out of order (ServoWorld::beginStep, constrain, integrate) is a logic error.
+void requireOrder(bool in_order, const char* call) {
+  if (!in_order) {
     throw std::logic_error(std::string("ServoWorld::") + call +
                            " out of order: a step is beginStep, constrain, integrate");
   }
 }
 
+}  // namespace
+
 bool ServoWorld::beginStep(btScalar h) {
-  expectPhase(Phase::kIdle, "beginStep");
+  requireOrder(phase_ == Phase::kIdle, "beginStep");
   phase_ = Phase::kVelocities;
   step_ = h;
   lean_stepped_ = lean_ && leanCapable(h) && may_touch_ && !may_touch_();
@@ -55,11 +60,13 @@ bool ServoWorld::beginStep(btScalar h) {
 }
 
 void ServoWorld::constrain() {
-  expectPhase(Phase::kVelocities, "constrain");
+  requireOrder(phase_ == Phase::kVelocities, "constrain");
   phase_ = Phase::kConstrained;
+  solved_ = false;
   if (lean_stepped_) {
     constrainLeanStep();
   } else if (moves_) {
+    solved_ = constraintsMayAct(step_);  // contacts: BulletBody::hasContacts()
     // solveConstraints() after solveExternalForces()
     buildIslands();
     solveInternalConstraints(getSolverInfo());
@@ -67,7 +74,7 @@ void ServoWorld::constrain() {
 }
 
 void ServoWorld::integrate() {
-  expectPhase(Phase::kConstrained, "integrate");
+  requireOrder(phase_ == Phase::kConstrained, "integrate");
   phase_ = Phase::kIdle;
   if (lean_stepped_) {
     integrateLeanStep();
@@ -191,6 +198,7 @@ void ServoWorld::constrainLeanStep() {
   // solveInternalConstraints(): without rows the solver changes no velocity; what remains is
   // the (zero) velocity change's clamp.
   if (constraintsMayAct(step_) || mb.internalNeedsJointFeedback()) {
+    solved_ = true;
     // The solver reads the inertia caches of Bullet's own pass (no velocity change at dt 0;
     // they depend on positions only).
     if (lean_tree_) bulletVelocityStep(mb, 0, info);

@@ -70,6 +70,8 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   void integrate();
   // Whether the last step was a lean step (whose colliders stay behind).
   bool leanStepped() const { return lean_stepped_; }
+  // Whether a joint limit may have acted in the last constrain() (contacts: BulletBody's).
+  bool constraintsSolved() const { return solved_; }
   // Between beginStep() and constrain() of a lean step: its velocity update's tree (inertias
   // and joint subspaces of the step's positions); else null.
   // Its velocity update may still be to come (TreeDynamics::velocitiesPending()): the servo
@@ -86,7 +88,6 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
 
  private:
   enum class Phase { kIdle, kVelocities, kConstrained };
-  void expectPhase(Phase phase, const char* call) const;
   // Whether the world holds what a lean step handles: one multibody that never sleeps, its
   // constraints our joint limits, nothing else that moves or acts, no callbacks.
   bool leanCapable(btScalar h) const;
@@ -121,6 +122,7 @@ class ServoWorld : public btMultiBodyDynamicsWorld {
   // full step first places them where the multibody is then.
   bool colliders_behind_ = false;
   bool lean_stepped_ = false;
+  bool solved_ = false;  // constraintsSolved()
   // The step under way: its phase, length, whether it moves anything, and whether a lean
   // step's velocity update is TreeDynamics'.
   Phase phase_ = Phase::kIdle;

@@ -55,6 +55,18 @@ void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag) {
           [&o] { return std::string(o.params.morph.nsga2 ? "nsga2" : "elitist"); },
           "--preset morph: elitist (the GA on the fitness) or nsga2 (NSGA-II on two objectives, "
           "W/kg and loss; an even --population)")
+      .tag(spec_tag)
+      .custom(
+          "--motor-work", {"M"},
+          [&o](const std::vector<std::string>& v) {
+            if (!motorWorkMeterFromName(v[0], &o.params.episode.world.motor_work)) {
+              throw InputError("--motor-work: " + quoteValue(v[0]) +
+                               " is not one of transmitted, servo");
+            }
+          },
+          [&o] { return std::string(motorWorkMeterName(o.params.episode.world.motor_work)); },
+          "--preset hover or morph: how the fitness's W/kg takes the motors' work, transmitted "
+          "or servo (WorldParams::motor_work; servo: the controllers evolved before it)")
       .tag(spec_tag);
 }
 
@@ -114,6 +126,9 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     }
     if (name == "--settle")
       why = "but with --preset hover or morph (the flap network's fitness has none)";
+    if (name == "--motor-work") {
+      why = "but with --preset hover or morph (the flap network's fitness counts no power)";
+    }
     if (morphFlag(name)) {
       why = name == "--selection" ? "but with --preset morph (a flap network has one fitness)"
                                   : "but with --preset morph (the flap network has no body)";

@@ -36,6 +36,7 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.altitude_noise = p.altitude_noise;
   episode.velocity_noise = p.velocity_noise;
   episode.world.air.added_mass_velocity_products = p.velocity_products;
+  episode.world.motor_work = p.motor_work;
   episode.world.air.turbulence.wind_at_6m = p.turbulence;
   episode.gyro_bias = p.gyro_bias;
   episode.altitude_hold = p.altitude.has_value();
@@ -203,7 +204,18 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
       .tag(kNetworkOnly)
       .flag("--velocity-products", &p.velocity_products, true,
             "fly with the added mass's velocity products (AirParams::"
-            "added_mass_velocity_products; off by default)");
+            "added_mass_velocity_products; off by default)")
+      .custom(
+          "--motor-work", {"M"},
+          [&p](const std::vector<std::string>& v) {
+            if (!motorWorkMeterFromName(v[0], &p.motor_work)) {
+              throw InputError("--motor-work: " + quoteValue(v[0]) +
+                               " is not one of transmitted, servo");
+            }
+          },
+          [&p] { return std::string(motorWorkMeterName(p.motor_work)); },
+          "how the W/kg figures take the motors' work: transmitted (the default) or servo "
+          "(WorldParams::motor_work)");
 }
 
 }  // namespace
@@ -394,6 +406,7 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
   p.world.turn_substep = o.params.turn_substep;
   p.world.air.wind = Vec3(0.0, o.params.wind, 0.0);
   p.world.air.added_mass_velocity_products = o.params.velocity_products;
+  p.world.motor_work = o.params.motor_work;
   p.world.air.turbulence.wind_at_6m = o.params.turbulence;
   p.world.air.turbulence.height = std::clamp(altitude, kMinTurbulenceHeight, kMaxTurbulenceHeight);
   p.start_roll = o.params.max_roll;

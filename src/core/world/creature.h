@@ -53,15 +53,17 @@ class CreatureSim {
   CreatureSim(const CreatureSim&) = delete;
   CreatureSim& operator=(const CreatureSim&) = delete;
 
-  BulletBody body;             // the multibody, its scene and the link frames
-  ServoStage servos;           // joint servos and the fluid's implicit part
-  CreatureFluid fluid;         // the aero bodies
-  MomentumBalance momentum;    // the momentum carried from step to step
-  BodySnapshot before;         // the state before the current step (the watchdog's)
-  PowerMeter power;            // the work of its motors since it was built
-  EnergyMeter energy;          // the air's and damping's work while the audit is on
-  TurbulenceField turbulence;  // its realisation of the air's turbulence (none if off)
-  StepRecord record;           // the step data of its last step, as the stages wrote it
+  BulletBody body;              // the multibody, its scene and the link frames
+  ServoStage servos;            // joint servos and the fluid's implicit part
+  CreatureFluid fluid;          // the aero bodies
+  MomentumBalance momentum;     // the momentum carried from step to step
+  BodySnapshot before;          // the state before the current step (the watchdog's)
+  PowerMeter power;             // the work of its motors since it was built
+  TransmittedWork transmitted;  // what its joints transmit in a (sub)step (MotorWorkMeter)
+  EnergyMeter energy;           // the air's and damping's work while the audit is on
+  TurbulenceField turbulence;   // its realisation of the air's turbulence (none if off)
+  StepRecord record;            // the step data of its last step, as the stages wrote it
+  double last_piece = 0.0;      // s: its last (sub)step's length (0: none since it settled)
 
   // After the multibody's state was set from outside a step: what comes next depends on
   // the new state alone, as for a body just built (and no step data).

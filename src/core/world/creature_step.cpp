@@ -12,6 +12,7 @@ CreatureSim::CreatureSim(const CreatureModel& m, const Pose& pose, const Twist& 
       servos(m, params),
       fluid(m, params.air),
       momentum(m),
+      transmitted(m),
       record(m) {
   power.reset(m.joints.size());
 }
@@ -19,7 +20,7 @@ CreatureSim::CreatureSim(const CreatureModel& m, const Pose& pose, const Twist& 
 CreatureEnergy creatureEnergy(const CreatureModel& m, const CreatureSim& s,
                               const WorldParams& params) {
   CreatureEnergy e;
-  stateEnergies(m, s.body, s.fluid, s.servos, params.air, params.gravity, e);
+  stateEnergies(m, s.body, s.fluid, s.servos, params.air, params.gravity, s.last_piece, e);
   e.motor_work = s.power.report(m.totalMass()).totalWork();
   e.air_work = s.energy.airWork();
   e.damping_work = s.energy.dampingWork();
@@ -30,6 +31,8 @@ void CreatureSim::settle() {
   body.settle();
   servos.forget();
   momentum.forget();
+  transmitted.forget();
+  last_piece = 0.0;
   fluid.forgetFlow();
   record.clear();
 }
@@ -37,8 +40,9 @@ void CreatureSim::settle() {
 namespace {
 
 // The external stage: the user's wrenches on their links (frames of the step's start), and
-// in the momentum balance.
-void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s) {
+// in the momentum balance (and the transmitted work's, `metered`) over the (sub)step of `h`.
+void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s, bool metered,
+                   double h) {
   btMultiBody& mb = s.body.multiBody();
   for (const ActiveWrench& w : wrenches) {
     if (!w.started) continue;  // waiting for its start time
@@ -47,6 +51,11 @@ void applyWrenches(const std::vector<ActiveWrench>& wrenches, CreatureSim& s) {
     const Wrench about_com{w.force, w.torque + arm.cross(w.force)};
     s.momentum.addExternal(kin.com, about_com);
     s.record.external(w.link, kin.com, about_com);
+    if (metered) {
+      Vec6 impulse;
+      impulse << h * about_com.torque, h * about_com.force;
+      s.transmitted.addImpulse(w.link, kin.com, impulse);
+    }
     if (w.link == 0) {
       mb.addBaseForce(toBt(about_com.force));
       mb.addBaseTorque(toBt(about_com.torque));
@@ -62,16 +71,19 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   const WorldParams& p = c.params;
   btMultiBody& mb = s.body.multiBody();
   ServoWorld& world = s.body.world();
+  const bool metered = p.motor_work == MotorWorkMeter::kTransmitted;
+  const double density = p.air.enabled ? p.air.density : 0.0;
+  s.last_piece = h;
   // position: the frames of the start are those the last (sub)step ended with
-  s.momentum.begin(s.body, s.fluid, p.air.enabled ? p.air.density : 0.0, p.air.wind,
-                   p.air.added_mass_velocity_products);
+  s.momentum.begin(s.body, s.fluid, density, p.air.wind, p.air.added_mass_velocity_products);
+  if (metered) s.transmitted.beginSubStep(s.body, s.fluid, density, p.air.wind);
   s.servos.begin(mb, h);
   s.record.beginSubStep(s.body.frames(), h);
   if (c.energy_audit) s.energy.beginSubStep(s.body);
   applyDrives(*r.model, r.drives, s.servos, mb, h);          // actuation
   c.air.apply(*r.model, s.body, s.fluid, s.momentum, p, h);  // fluid
   s.record.fluid(s.fluid, p.air.enabled);
-  applyWrenches(r.wrenches, s);  // external
+  applyWrenches(r.wrenches, s, metered, h);  // external
   // velocities, then servos (none in a step too short for Bullet to take: nothing moves)
   if (world.beginStep(h)) {
     s.momentum.setDragImpulse(s.servos.solve(mb, s.body.frames(), world.leanTree(), s.fluid));
@@ -82,8 +94,12 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   world.integrate();                                         // positions
   s.servos.integrateSaturated(mb, s.body.hasContacts(), h);  // saturated
   s.momentum.end(s.body, s.fluid, p.gravity, h);             // momentum
-  s.power.endSubStep(*r.model, r.drives, mb, s.servos, h);   // power
-  if (c.energy_audit) {                                      // energy
+  if (metered) {                                             // power
+    s.transmitted.endSubStep(s.body, s.fluid, s.servos, p.air.enabled, p.gravity,
+                             s.body.hasContacts() || world.constraintsSolved(), h);
+  }
+  s.power.endSubStep(*r.model, r.drives, mb, s.servos, metered ? &s.transmitted : nullptr, h);
+  if (c.energy_audit) {  // energy
     s.energy.endSubStep(*r.model, r.drives, s.body, s.fluid, s.servos, p.air.enabled, p.air.wind,
                         h);
   }
@@ -175,6 +191,8 @@ void stepInSteadyAir(CreatureRecord& r, CreatureSim& s, const StepContext& c,
   s.body.updateKinematics();
   s.servos.forget();  // a frozen creature is driven by nothing: no efforts of the refused step
   s.momentum.forget();
+  s.transmitted.forget();
+  s.last_piece = 0.0;
   r.root_acceleration.setZero();
   r.divergence = Divergence{r.name, number, std::move(fault)};
 }

@@ -43,7 +43,7 @@ void EnergyMeter::endSubStep(const CreatureModel& m, const std::vector<JointDriv
 
 void stateEnergies(const CreatureModel& m, const BulletBody& body, const CreatureFluid& fluid,
                    const ServoStage& servos, const AirParams& air, const Vec3& gravity,
-                   CreatureEnergy& out) {
+                   double piece, CreatureEnergy& out) {
   const LinkFrames& frames = body.frames();
   out.kinetic = out.potential = out.spring = out.fluid_kinetic = 0.0;
   for (size_t k = 0; k < m.links.size(); ++k) {
@@ -52,7 +52,7 @@ void stateEnergies(const CreatureModel& m, const BulletBody& body, const Creatur
     const Vec3 w = kin.body_angular_velocity;
     out.kinetic += 0.5 * l.mass * (kin.linear_velocity - air.wind).squaredNorm() +
                    0.5 * w.dot(l.inertia.cwiseProduct(w));
-    out.potential -= l.mass * gravity.dot(kin.com);
+    out.potential -= l.mass * gravity.dot(kin.com - 0.5 * piece * kin.linear_velocity);
   }
   const btMultiBody& mb = body.multiBody();
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {

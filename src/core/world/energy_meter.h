@@ -40,9 +40,14 @@ class EnergyMeter {
 };
 
 // The energies of a creature's state (CreatureEnergy's kinetic, potential, spring and fluid
-// kinetic parts), in the frame of a fluid moving at `air.wind`.
+// kinetic parts), in the frame of a fluid moving at `air.wind`. The velocities after a
+// semi-implicit (sub)step of `piece` are the mean over it (the positions moved by piece x
+// them): its kinetic energy is that of the (sub)step's middle, and the potential is taken
+// there too, at each COM less piece / 2 x its velocity (0 before any step: the velocities
+// are the state's own). At the end's positions a free fall at 1 ms would lose g^2 h / 2 per
+// kg and second, 0.1 J/kg in 2 s, which is the two instants' difference, not a loss.
 void stateEnergies(const CreatureModel& m, const BulletBody& body, const CreatureFluid& fluid,
                    const ServoStage& servos, const AirParams& air, const Vec3& gravity,
-                   CreatureEnergy& out);
+                   double piece, CreatureEnergy& out);
 
 }  // namespace flapsim

@@ -26,6 +26,21 @@ double CreaturePower::meanPositivePower() const {
   return time > 0.0 ? totalPositiveWork() / time : 0.0;
 }
 
+bool motorWorkMeterFromName(const std::string& name, MotorWorkMeter* out) {
+  if (name == "transmitted") {
+    *out = MotorWorkMeter::kTransmitted;
+  } else if (name == "servo") {
+    *out = MotorWorkMeter::kServoImpulse;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* motorWorkMeterName(MotorWorkMeter meter) {
+  return meter == MotorWorkMeter::kTransmitted ? "transmitted" : "servo";
+}
+
 void PowerMeter::reset(size_t joints) {
   energy_.assign(joints, JointEnergy());
   before_ = energy_;
@@ -57,21 +72,28 @@ bool motorAt(const CreatureModel& m, const std::vector<JointDrive>& drives, size
 }  // namespace
 
 void PowerMeter::endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
-                            const btMultiBody& mb, const ServoStage& servos, double h) {
+                            const btMultiBody& mb, const ServoStage& servos,
+                            const TransmittedWork* transmitted, double h) {
   const std::vector<double>& impulse = servos.solution().impulse;
   for (size_t j = 0; j < m.joints.size(); ++j) {
     const JointModel& joint = m.joints[j];
     const size_t k = static_cast<size_t>(joint.child_link);
     if (!joint.movable() || k >= impulse.size() || impulse[k] == 0.0) continue;
     if (!motorAt(m, drives, j)) continue;
-    // Over the trapezoid of the joint's velocities: what the impulse gives the bodies' kinetic
-    // energy (a servo that meets its target within the (sub)step changes the velocity at
-    // once, and the position then moves by step x the end velocity; counted so, a wing's
-    // reversal in vacuum drew 13 % more work at 1 ms than its bodies took up). A saturated
-    // servo's joint moves by that trapezoid itself (ServoStage::integrateSaturated).
-    const int link = static_cast<int>(k) - 1;
-    const double work =
-        motorWork(impulse[k], h, 0.5 * h * (servos.startVelocity(link) + mb.getJointVel(link)));
+    double work;
+    if (transmitted != nullptr && transmitted->known()) {
+      work = transmitted->work(j, servos, mb, h);
+    } else {
+      // Over the trapezoid of the joint's velocities: what the impulse gives the bodies'
+      // kinetic energy (a servo that meets its target within the (sub)step changes the
+      // velocity at once, and the position then moves by step x the end velocity; counted
+      // so, a wing's reversal in vacuum drew 13 % more work at 1 ms than its bodies took up).
+      // A saturated servo's joint moves by that trapezoid itself
+      // (ServoStage::integrateSaturated).
+      const int link = static_cast<int>(k) - 1;
+      work =
+          motorWork(impulse[k], h, 0.5 * h * (servos.startVelocity(link) + mb.getJointVel(link)));
+    }
     energy_[j].add(work);
     step_work_[j] += work;
   }

@@ -1,5 +1,7 @@
-// The power meter of a creature's motors: per joint, each (sub)step's motor impulse times the
-// mean of the joint's start and end velocities, summed into the counters of flapsim::CreaturePower.
+// The power meter of a creature's motors: per joint, each (sub)step's motor work (what the joint
+// transmits, world/transmitted_work.h, or the servo's impulse times the mean of the joint's start
+// and end velocities: WorldParams::motor_work), summed into the counters of
+// flapsim::CreaturePower.
 // Private to flapsim_core.
 #pragma once
 
@@ -11,6 +13,7 @@
 #include "dynamics/servo_stage.h"
 #include "flapsim/world.h"
 #include "world/joint_drives.h"
+#include "world/transmitted_work.h"
 
 namespace flapsim {
 
@@ -20,10 +23,12 @@ class PowerMeter {
   void reset(size_t joints);
   /// Before a step: its work starts at zero (and can be taken back).
   void beginStep();
-  /// After a (sub)step of `h`: each motor's work in it (the impulses of the last solve of
-  /// `servos`, over the velocities from its start, ServoStage::startVelocity, to `mb`'s).
+  /// After a (sub)step of `h`: each motor at work in it (its servo's impulse in the last solve
+  /// of `servos` not zero) did the work `transmitted` gives if not null and known, else its
+  /// impulse over the velocities from its start, ServoStage::startVelocity, to `mb`'s.
   void endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
-                  const btMultiBody& mb, const ServoStage& servos, double h);
+                  const btMultiBody& mb, const ServoStage& servos,
+                  const TransmittedWork* transmitted, double h);
   /// After the last substep of a step of `dt`: the step counts.
   void endStep(double dt);
   /// The step did not happen (the watchdog put the creature back): its work is taken back.
