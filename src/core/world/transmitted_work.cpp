@@ -27,64 +27,71 @@ TransmittedWork::TransmittedWork(const CreatureModel& m) : model_(m) {
     s->bodies.resize(links);
     s->joints.resize(m.joints.size());
   }
+  metered_.assign(links, 0);
+  for (const std::vector<int>& beyond : subtree_) {
+    for (int k : beyond) metered_[k] = 1;
+  }
+  velocity_.assign(links, Vec3::Zero());
+  omega_.assign(links, Vec3::Zero());
   impulse_.assign(links, Vec6::Zero());
   start_com_.assign(links, Vec3::Zero());
 }
 
 void TransmittedWork::take(BulletBody& body, CreatureFluid& fluid, Snapshot& out) {
   const btMultiBody& mb = body.multiBody();
-  TreeDynamics& tree = body.world().tree();
-  tree.updateFrames(mb);
-  const auto& velocity = tree.velocities(mb);
-  const auto& com = tree.coms();
-  const auto& inertia = tree.bodyInertias();
-  const auto& axes = tree.jointAxes();
-  const Vec3 base = fromBt(mb.getBasePos());
+  const LinkFrames& frames = body.frames();
   Vec3 momentum = Vec3::Zero();
   double mass = 0.0;
   for (size_t k = 0; k < out.bodies.size(); ++k) {
-    // The spatial momentum about the base's COM, moved to the body's own COM.
-    const Vec6 h = inertia[k] * velocity[k];
+    const int link = static_cast<int>(k);
+    const LinkModel& l = model_.links[k];
+    const Mat3& to_world = frames.rotation(link);  // the link's velocities are in its frame
     BodyMomentum& b = out.bodies[k];
-    b.com = base + com[k];
-    b.linear = h.tail<3>();
-    b.angular = h.head<3>() - com[k].cross(b.linear);
+    b.com = fromBt(frames.com(link));
+    velocity_[k] = to_world * fromBt(frames.velocity(link));
+    b.linear = l.mass * velocity_[k];
     b.fluid_linear.setZero();
     momentum += b.linear;
-    mass += model_.links[k].mass;
+    mass += l.mass;
+    if (!metered_[k]) continue;
+    const Vec3 omega = fromBt(frames.omega(link));
+    b.angular = to_world * l.inertia.cwiseProduct(omega);
+    omega_[k] = to_world * omega;
   }
+  // The bodies' centre of mass: the frame moves as any observer's does.
+  out.centre_velocity = mass > 0.0 ? Vec3(momentum / mass) : Vec3::Zero();
   if (density_ > 0.0) {
     const std::vector<AeroBody>& aero = fluid.bodies();
     for (size_t i = 0; i < aero.size(); ++i) {
-      if (!aero[i].has_added_mass) continue;
       const int k = aero[i].link;
+      if (!aero[i].has_added_mass || !metered_[k]) continue;
       // The fluid carried along: the momentum of the plate's velocity relative to the fluid.
       Vec6 v;
-      v << velocity[k].head<3>(),
-          velocity[k].tail<3>() + velocity[k].head<3>().cross(com[k]) - fluid_velocity_;
-      const Vec6 f = factorTimes(fluid.addedMass(i, tree.rotations()[k], density_), v);
+      v << omega_[k], velocity_[k] - fluid_velocity_;
+      // The tree's rotation, as the momentum balance's (the added mass turned once).
+      const Mat3& rotation = body.world().tree().rotations()[k];
+      const Vec6 f = factorTimes(fluid.addedMass(i, rotation, density_), v);
       BodyMomentum& b = out.bodies[k];
       b.angular += f.head<3>();
       b.linear += f.tail<3>();
       b.fluid_linear = f.tail<3>();
     }
   }
-  // The bodies' centre of mass: the frame moves as any observer's does.
-  out.centre_velocity = mass > 0.0 ? Vec3(momentum / mass) : Vec3::Zero();
   for (size_t j = 0; j < model_.joints.size(); ++j) {
     const JointModel& joint = model_.joints[j];
     if (!joint.movable()) continue;
-    const Vec6& s = axes[joint.child_link];
+    const int k = joint.child_link;
+    const btMultibodyLink& link = mb.getLink(k - 1);
+    const Mat3& to_world = frames.rotation(k);
     JointPlace& p = out.joints[j];
-    p.position = mb.getJointPos(joint.child_link - 1);
+    p.position = mb.getJointPos(k - 1);
     if (joint.type == JointType::kPrismatic) {
-      p.axis = s.tail<3>();
-      p.point = base;
+      p.axis = to_world * fromBt(link.m_axes[0].m_bottomVec);
+      p.point = out.bodies[k].com;
     } else {
-      // s = [a; r x a] about the base's COM, r from it to a point of the axis: a x (r x a) is
-      // r's part across the axis, the axis's point nearest the base's COM.
-      p.axis = s.head<3>();
-      p.point = base + p.axis.cross(s.tail<3>());
+      // The pivot: the COM less the pivot-to-COM vector (Bullet's, in the link's frame).
+      p.axis = to_world * fromBt(link.m_axes[0].m_topVec);
+      p.point = out.bodies[k].com - to_world * fromBt(link.m_dVector);
     }
   }
 }
@@ -109,6 +116,7 @@ void TransmittedWork::beginSubStep(BulletBody& body, CreatureFluid& fluid, doubl
 }
 
 void TransmittedWork::addImpulse(int link, const Vec3& com, const Vec6& impulse) {
+  if (!metered_[link]) return;
   Vec6& total = impulse_[link];
   total.head<3>() += impulse.head<3>() + (com - start_com_[link]).cross(impulse.tail<3>());
   total.tail<3>() += impulse.tail<3>();
@@ -120,13 +128,16 @@ void TransmittedWork::endSubStep(BulletBody& body, CreatureFluid& fluid, const S
     const std::vector<AeroBody>& aero = fluid.bodies();
     for (size_t i = 0; i < aero.size(); ++i) {
       const AeroBody& a = aero[i];
-      Vec6 explicit_part;
-      explicit_part << h * a.last.wrench.torque, h * a.last.wrench.force;
-      addImpulse(a.link, a.last.com, explicit_part);
-      const Vec6 drag = servos.dragImpulse(i);  // about the root's COM at the start
-      Vec6 moved;
-      moved << momentAbout(drag, origin_, start_com_[a.link]), drag.tail<3>();
-      addImpulse(a.link, start_com_[a.link], moved);
+      const int k = a.link;
+      if (!metered_[k]) continue;
+      // The explicit wrench held over the (sub)step (about the COM of its start), and the
+      // implicit drag's impulse (about the root's COM at the start) moved there.
+      const Vec6 drag = servos.dragImpulse(i);
+      const Vec3 force = h * a.last.wrench.force + drag.tail<3>();
+      impulse_[k].head<3>() +=
+          h * (a.last.wrench.torque + (a.last.com - start_com_[k]).cross(a.last.wrench.force)) +
+          momentAbout(drag, origin_, start_com_[k]);
+      impulse_[k].tail<3>() += force;
     }
   }
   take(body, fluid, end_);

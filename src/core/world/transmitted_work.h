@@ -83,6 +83,8 @@ class TransmittedWork {
 
   const CreatureModel& model_;
   std::vector<std::vector<int>> subtree_;  // per model joint: its child link and all beyond
+  std::vector<char> metered_;              // per link: beyond some joint (its momentum counts)
+  std::vector<Vec3> velocity_, omega_;     // per link, world frame: take()'s scratch
   Snapshot start_, end_;
   bool valid_ = false;  // end_ of the last (sub)step is the state's (the next start)
   bool known_ = false;
