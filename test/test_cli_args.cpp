@@ -236,13 +236,14 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
     }
     return names;
   };
-  EXPECT_EQ(refused(true), std::vector<std::string>(
-                               {"--weights", "--pairs", "--starts", "--seed", "--threads",
-                                "--gyro-bias", "--gust-torque", "--gust-force", "--gust-link",
-                                "--gust-time", "--noise", "--altitude-noise", "--velocity-noise"}));
+  EXPECT_EQ(refused(true),
+            std::vector<std::string>({"--weights", "--pairs", "--starts", "--seed", "--threads",
+                                      "--gyro-bias", "--gust-torque", "--gust-force", "--gust-link",
+                                      "--gust-time", "--noise", "--altitude-noise",
+                                      "--velocity-noise", "--motor-work"}));
   // Without a gust (the walk gives one flag at a time), its link and duration do nothing.
-  EXPECT_EQ(refused(false),
-            std::vector<std::string>({"--gains", "--write-gains", "--gust-link", "--gust-time"}));
+  EXPECT_EQ(refused(false), std::vector<std::string>({"--gains", "--write-gains", "--gust-link",
+                                                      "--gust-time", "--motor-work"}));
   FlightCheckOptions o;
   CliParser cli = flightCheckCli(o);
   EXPECT_EQ(flightCheckUnusedFlag(o, cli.parse({"--hover", "--noise", "0.1"})),

@@ -48,23 +48,48 @@ TEST(EnergyAudit, InVacuumTheTransmittedWorkClosesWithinATenthOfAPercentAndClose
   }
 }
 
-// With the added mass's velocity products, in air and in water, it closes within 0.1 % at 1 ms
-// and within 0.05 % at 0.25 ms (measured, 1 / 0.5 / 0.25 ms: flap unit in air 0.053 / 0.051 /
-// 0.025 %, in water 0.007 / -0.002 / -0.001 %; afc_4 in air 0.083 / 0.078 / 0.040 %, in water
-// 0.000 / -0.018 / -0.009 %). Without them it does not in water, whatever the step (flap unit
-// -5.5 %, afc_4 +15 %, hover_1 -24 %; in air 0.05-0.16 %, 0.7-0.8 % and 0.06 %).
-TEST(EnergyAudit, AirAndWaterCloseWithinATenthOfAPercentWithTheVelocityProducts) {
+// With the added mass's velocity products, in air and in water, it closes within 0.3 % at 1 ms
+// and closer at 0.25 ms (measured, 1 / 0.5 / 0.25 ms: flap unit in air -0.215 / 0.287 /
+// 0.143 %, in water -0.031 / -0.016 / -0.008 %; afc_4 in air 0.031 / 0.207 / 0.107 %, in water
+// -0.049 / -0.041 / -0.021 %). Without them it does not in water, whatever the step (the servo's
+// impulse, taken there: flap unit -20 %).
+TEST(EnergyAudit, AirAndWaterCloseWithinAThirdOfAPercentWithTheVelocityProducts) {
   AirParams air, water = waterParams();
   air.added_mass_velocity_products = water.added_mass_velocity_products = true;
   for (const char* urdf : {"flap_unit.urdf", "afc_4.urdf"}) {
     for (const AirParams* medium : {&air, &water}) {
       SCOPED_TRACE(std::string(urdf) + (medium == &air ? " in air" : " in water"));
-      EXPECT_LT(std::abs(auditResidual(urdf, medium, 0.001)), 0.001);
-      EXPECT_LT(std::abs(auditResidual(urdf, medium, 0.00025)), 0.0005);
+      const double r1 = auditResidual(urdf, medium, 0.001);
+      const double r025 = auditResidual(urdf, medium, 0.00025);
+      EXPECT_LT(std::abs(r1), 0.003);
+      EXPECT_LT(std::abs(r025), 0.0015);
     }
   }
   AirParams plain_water = waterParams();
-  EXPECT_LT(auditResidual("flap_unit.urdf", &plain_water, 0.001), -0.05);
+  EXPECT_LT(auditResidual("flap_unit.urdf", &plain_water, 0.001), -0.15);
+}
+
+// In a fluid whose plates carry added mass without its velocity products (the default air),
+// the momentum balance hands the bodies the turning of the fluid's impulse as one rigid
+// correction; a joint's transmitted torque would take a share of it (measured on hover_1
+// under its controller: 2 % of its stroke power, whatever the step), so the servo's impulse is
+// taken there: the two meters give the same work to the bit. With the velocity products they
+// differ (by the servo's first-order error).
+TEST(TransmittedWork, InAirWithAddedMassButNoVelocityProductsTheServosImpulseIsTaken) {
+  auto work = [](MotorWorkMeter meter, bool products) {
+    WorldParams p;
+    p.ground = false;
+    p.motor_work = meter;
+    p.air.added_mass_velocity_products = products;
+    World w(p);
+    w.spawn("c", loadUrdf("hover_1.urdf"), at(0, 0, 20));
+    const StrokeCommand s{80.0, 80.0, 1.0, 0.5, -0.5, 0.0, StrokeShape::kSine};
+    w.setWingCommands("c", {}, {s, s});
+    w.step(300);
+    return w.power("c").totalWork();
+  };
+  EXPECT_EQ(work(MotorWorkMeter::kTransmitted, false), work(MotorWorkMeter::kServoImpulse, false));
+  EXPECT_NE(work(MotorWorkMeter::kTransmitted, true), work(MotorWorkMeter::kServoImpulse, true));
 }
 
 // The servo's impulse (MotorWorkMeter::kServoImpulse) leaves a first-order residual: the

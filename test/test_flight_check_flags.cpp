@@ -123,6 +123,14 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
       EXPECT_NE(real.figures, calm.figures);
       continue;
     }
+    if (flag == "--motor-work") {  // it acts with the velocity products only
+      EXPECT_NE(fly(args).refused, "");
+      const std::vector<std::string> products = withFlag(base(), "--velocity-products", {});
+      const Flown f = fly(withFlag(products, flag, values));
+      EXPECT_EQ(f.refused, "");
+      EXPECT_NE(f.figures, fly(products).figures);
+      continue;
+    }
     const Flown f = fly(args);
     EXPECT_EQ(f.refused, "");
     EXPECT_NE(f.figures, plain.figures);
@@ -199,6 +207,14 @@ TEST(FlightCheckFlags, EveryFlagOfTheHoverModeChangesItsFlight) {
   };
   for (const auto& [flag, values] : tried) {
     SCOPED_TRACE(flag);
+    if (flag == "--motor-work") {  // it acts with the velocity products only
+      EXPECT_NE(flyHoverCheck(withFlag(base, flag, values)).find("refused"), std::string::npos);
+      const std::vector<std::string> products = withFlag(base, "--velocity-products", {});
+      const std::string report = flyHoverCheck(withFlag(products, flag, values));
+      EXPECT_EQ(report.find("refused"), std::string::npos) << report;
+      EXPECT_NE(report, flyHoverCheck(products));
+      continue;
+    }
     const std::string report = flyHoverCheck(withFlag(base, flag, values));
     EXPECT_EQ(report.find("refused"), std::string::npos) << report;
     EXPECT_NE(report, plain);

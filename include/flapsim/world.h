@@ -21,9 +21,13 @@ namespace flapsim {
 /// How World::power takes a motor's work over a (sub)step.
 enum class MotorWorkMeter {
   /// The torque its joint transmits, from the momentum the bodies beyond it gain over the
-  /// (sub)step less the external impulses on them (the joint's spring and damping taken out),
-  /// times the joint's move: second order in the step. A (sub)step in which a contact or a
-  /// joint limit may have acted is metered as kServoImpulse.
+  /// (sub)step less the impulses the step applied to them (the joint's spring and damping
+  /// taken out), times the joint's move: second order in the step. Metered as kServoImpulse:
+  /// a (sub)step in which a contact or a joint limit may have acted, and a creature whose
+  /// plates carry added mass in a fluid without its velocity products (there the momentum
+  /// balance hands the bodies, as one rigid correction, the turning of the fluid's impulse
+  /// that no force on the plates carries, and each joint would take a share of it: 2 % of
+  /// hover_1's stroke power).
   kTransmitted,
   /// The servo's impulse times the mean of the joint's start and end velocities: it also
   /// carries the explicit step's velocity-product error, which the servo takes out to hold
@@ -31,6 +35,12 @@ enum class MotorWorkMeter {
   /// What the controllers evolved before the transmitted meter were selected on.
   kServoImpulse,
 };
+
+/// Why a motor-work flag is refused without the added mass's velocity products (appended to
+/// the flag's name): in air with added mass the servo's impulse is taken either way.
+constexpr const char* kMotorWorkWithoutProducts =
+    " has no effect without the added mass's velocity products (--velocity-products): in a "
+    "fluid whose plates carry added mass the servo's impulse is taken either way";
 
 /// "transmitted" or "servo" (MotorWorkMeter); false for anything else.
 bool motorWorkMeterFromName(const std::string& name, MotorWorkMeter* out);

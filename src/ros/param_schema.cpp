@@ -24,7 +24,9 @@ const std::vector<ParamSpec> kSchema = {
      "the watchdog freezes a creature with a link point faster", ""},
     {"max_cells", T::kInt, "200000", "[1, inf)", "", "air cells a creature may have", ""},
     {"motor_work", T::kString, "transmitted", "transmitted|servo", "",
-     "how the motors' work and power are taken (flapsim/power)", ""},
+     "how the motors' work and power are taken (flapsim/power; transmitted: in vacuum and "
+     "with the added mass's velocity products)",
+     ""},
     {"max_steps_per_call", T::kInt, "100000", "[1, inf)", "",
      "flapsim/step requests for more steps are refused", ""},
     {"urdf_roots", T::kStrings, "\"\"", "", "",

@@ -235,6 +235,21 @@ TEST(ParamSchema, TheParserReadsEveryParameterAndNamesOthers) {
   top["not_in_schema"] = 1;
   EXPECT_EQ(flapsim_ros::parseNodeParams(top).unknown_keys,
             std::vector<std::string>{"not_in_schema"});
+  // A value outside a string parameter's choices is refused, naming the parameter and value.
+  XmlRpc::XmlRpcValue meter = schemaDefaults();
+  meter["motor_work"] = "impulse";
+  try {
+    flapsim_ros::parseNodeParams(meter);
+    ADD_FAILURE() << "motor_work: impulse was accepted";
+  } catch (const flapsim_ros::ParamError& e) {
+    EXPECT_NE(std::string(e.what()).find("motor_work"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'impulse' is not one of transmitted, servo"),
+              std::string::npos)
+        << e.what();
+  }
+  meter["motor_work"] = "servo";
+  EXPECT_EQ(flapsim_ros::parseNodeParams(meter).world.motor_work,
+            flapsim::MotorWorkMeter::kServoImpulse);
 }
 
 // A Vec3 as a YAML list.
@@ -263,6 +278,10 @@ const std::map<std::string, Field> kFields = {
     {"real_time_factor", [](const NodeParams& p) { return YAML::Node(p.real_time_factor); }},
     {"max_speed", [](const NodeParams& p) { return YAML::Node(p.world.max_speed); }},
     {"max_cells", [](const NodeParams& p) { return YAML::Node(p.world.max_cells); }},
+    {"motor_work",
+     [](const NodeParams& p) {
+       return YAML::Node(std::string(flapsim::motorWorkMeterName(p.world.motor_work)));
+     }},
     {"max_steps_per_call", [](const NodeParams& p) { return YAML::Node(p.max_steps_per_call); }},
     {"urdf_roots",  // the ':'-separated string a launch argument gives ("": the defaults)
      [](const NodeParams& p) {

@@ -65,8 +65,8 @@ void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag) {
             }
           },
           [&o] { return std::string(motorWorkMeterName(o.params.episode.world.motor_work)); },
-          "--preset hover or morph: how the fitness's W/kg takes the motors' work, transmitted "
-          "or servo (WorldParams::motor_work; servo: the controllers evolved before it)")
+          "--preset hover or morph with --velocity-products on: how the fitness's W/kg takes "
+          "the motors' work, transmitted or servo (WorldParams::motor_work)")
       .tag(spec_tag);
 }
 
@@ -97,6 +97,9 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
     }
     if (morphFlag(name) && preset != "morph") {
       throw InputError(name + ": for --preset morph only (" + morphWhy(name) + ")");
+    }
+    if (name == "--motor-work" && !params.episode.world.air.added_mass_velocity_products) {
+      throw InputError(name + kMotorWorkWithoutProducts);
     }
   }
   const int n = params.ga.population;

@@ -214,8 +214,8 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
             }
           },
           [&p] { return std::string(motorWorkMeterName(p.motor_work)); },
-          "how the W/kg figures take the motors' work: transmitted (the default) or servo "
-          "(WorldParams::motor_work)");
+          "with --velocity-products: how the W/kg figures take the motors' work, transmitted "
+          "(the default) or servo (WorldParams::motor_work)");
 }
 
 }  // namespace
@@ -302,6 +302,9 @@ std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector
     }
     if (name == "--gust-time" && p.gust_force == 0.0 && p.gust_torque == 0.0) {
       return name + " has no effect without --gust-force or --gust-torque";
+    }
+    if (name == "--motor-work" && !p.velocity_products) {
+      return name + kMotorWorkWithoutProducts;
     }
   }
   return "";

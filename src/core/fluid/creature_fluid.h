@@ -38,6 +38,9 @@ struct AeroBody {
   double mass = 0.0;      // the link's own (a lower bound of its effective mass in the tree)
   double area = 0.0;      // of all its air-facing cells
   LinkAero last;          // the wrench of the last step
+  // The added mass's velocity-product wrench of the last (sub)step, about the COM (zero
+  // without them): applied with `last`, not in it.
+  Wrench velocity_products;
 };
 
 // A drag rate (kg/s) above this many link masses per step is treated implicitly.
@@ -76,6 +79,13 @@ class CreatureFluid {
   // rotation or the density changed since it last was (the end of a step's momentum has the
   // next step's rotations).
   const SpatialFactor& addedMass(size_t i, const Mat3& rotation, double density);
+  // Whether some plate of it carries fluid along (an aero body with added mass).
+  bool carries() const {
+    for (const AeroBody& a : bodies_) {
+      if (a.has_added_mass) return true;
+    }
+    return false;
+  }
   // The fluid's acceleration over a (sub)step of `step` whose fluid velocity is `velocity`
   // (world frame): its change since the last (sub)step over `step` (zero for the first one, or
   // after forgetFlow()), and remembers it.

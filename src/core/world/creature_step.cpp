@@ -71,12 +71,13 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   const WorldParams& p = c.params;
   btMultiBody& mb = s.body.multiBody();
   ServoWorld& world = s.body.world();
-  const bool metered = p.motor_work == MotorWorkMeter::kTransmitted;
   const double density = p.air.enabled ? p.air.density : 0.0;
+  const bool metered = p.motor_work == MotorWorkMeter::kTransmitted &&
+                       (density <= 0.0 || p.air.added_mass_velocity_products || !s.fluid.carries());
   s.last_piece = h;
   // position: the frames of the start are those the last (sub)step ended with
   s.momentum.begin(s.body, s.fluid, density, p.air.wind, p.air.added_mass_velocity_products);
-  if (metered) s.transmitted.beginSubStep(s.body, s.fluid, density, p.air.wind);
+  if (metered) s.transmitted.beginSubStep(s.body);
   s.servos.begin(mb, h);
   s.record.beginSubStep(s.body.frames(), h);
   if (c.energy_audit) s.energy.beginSubStep(s.body);
@@ -88,6 +89,7 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   if (world.beginStep(h)) {
     s.momentum.setDragImpulse(s.servos.solve(mb, s.body.frames(), world.leanTree(), s.fluid));
     s.record.servos(s.servos, s.fluid);
+    if (metered) s.transmitted.addFluidImpulses(s.fluid, s.servos, p.air.enabled, h);
   }
   world.constrain();  // constraints
   s.record.contact(s.body.hasContacts());
@@ -95,8 +97,7 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   s.servos.integrateSaturated(mb, s.body.hasContacts(), h);  // saturated
   s.momentum.end(s.body, s.fluid, p.gravity, h);             // momentum
   if (metered) {                                             // power
-    s.transmitted.endSubStep(s.body, s.fluid, s.servos, p.air.enabled, p.gravity,
-                             s.body.hasContacts() || world.constraintsSolved(), h);
+    s.transmitted.endSubStep(s.body, p.gravity, s.body.hasContacts() || world.constraintsSolved());
   }
   s.power.endSubStep(*r.model, r.drives, mb, s.servos, metered ? &s.transmitted : nullptr, h);
   if (c.energy_audit) {  // energy
