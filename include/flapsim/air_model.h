@@ -47,9 +47,9 @@ struct AirParams {
   /// -(A b + nu x* A nu) of its motion nu relative to the fluid (the Munk moment -v x A v among
   /// them; b: the part of its acceleration the implicit solve leaves out), and the creature's
   /// angular momentum carried with the same term. With them the bodies and the fluid they carry
-  /// keep their energy: the audit (flapsim_bench --energy) closes within 0.3 % of the motors'
-  /// positive work in air and water at 1 ms; without them it misses by 1-5 % in air and
-  /// 20-40 % in water at any step. Off by default: the shipped controllers were evolved without
+  /// keep their energy: the audit (flapsim_bench --energy) closes within 0.1 % of the motors'
+  /// positive work in air and water at 1 ms (hover_1 in water 0.23 %); without them it misses
+  /// by 1-5 % in air and 20-40 % in water at any step. Off by default: the shipped controllers were evolved without
   /// them and do not fly with them (afc_1 turns over within a second); on, a controller must be
   /// evolved under them. Either way a creature moving with a uniform fluid flies as the same
   /// creature at rest.

@@ -20,9 +20,9 @@ namespace flapsim {
 
 /// How World::power takes a motor's work over a (sub)step.
 enum class MotorWorkMeter {
-  /// The torque its joint transmits, from the momentum the bodies beyond it gain over the
-  /// (sub)step less the impulses the step applied to them (the joint's spring and damping
-  /// taken out), times the joint's move: second order in the step. Metered as kServoImpulse:
+  /// The torque its joint transmits, from the momentum the bodies beyond it (and the fluid
+  /// their plates carry) gain over the (sub)step less the external impulses on them (the
+  /// joint's spring and damping taken out), times the joint's move: second order in the step. Metered as kServoImpulse:
   /// a (sub)step in which a contact or a joint limit may have acted, and a creature whose
   /// plates carry added mass in a fluid without its velocity products (there the momentum
   /// balance hands the bodies, as one rigid correction, the turning of the fluid's impulse

@@ -38,11 +38,7 @@ Vec6 ImplicitFluidLoads::dragImpulses(const std::vector<AeroBody>& aero,
                                       const ServoSolution& solution) {
   Vec6 drag_impulse = Vec6::Zero();
   drag_impulse_.assign(aero.size(), Vec6::Zero());
-  added_change_.assign(aero.size(), Vec6::Zero());
   for (size_t i = 0; i < aero.size(); ++i) {
-    if (aero[i].has_added_mass) {
-      added_change_[i] = change_[i] + solution.link_velocity_change[aero[i].link];
-    }
     if (aero[i].drag_zero) continue;
     drag_impulse_[i] = -drag_[i] * (change_[i] + solution.link_velocity_change[aero[i].link]);
     drag_impulse += drag_impulse_[i];

@@ -32,17 +32,8 @@ class ImplicitFluidLoads {
   Vec6 dragImpulse(size_t i) const {
     return i < drag_impulse_.size() ? drag_impulse_[i] : Vec6::Zero();
   }
-  /// The change of aero body i's spatial velocity over the last solve's step, v1 - v0 (about
-  /// the root COM of the step's start; zero without added mass): its added mass's impulse is
-  /// -A (v1 - v0).
-  Vec6 addedMassVelocityChange(size_t i) const {
-    return i < added_change_.size() ? added_change_[i] : Vec6::Zero();
-  }
   /// No implicit drag in this step (a solve without the fluid).
-  void clear() {
-    drag_impulse_.clear();
-    added_change_.clear();
-  }
+  void clear() { drag_impulse_.clear(); }
 
  private:
   // Scratch, kept between steps: no allocation once warm.
@@ -52,7 +43,6 @@ class ImplicitFluidLoads {
   std::vector<Mat6, Eigen::aligned_allocator<Mat6>> drag_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> change_;
   std::vector<Vec6, Eigen::aligned_allocator<Vec6>> drag_impulse_;  // per aero body
-  std::vector<Vec6, Eigen::aligned_allocator<Vec6>> added_change_;  // per aero body
 };
 
 }  // namespace flapsim

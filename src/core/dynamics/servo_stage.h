@@ -72,9 +72,6 @@ class ServoStage {
   // The implicit drag's impulse on aero body i (CreatureFluid's order) in the last solve
   // [moment about the root COM of the step's start; force], world axes (zero without one).
   Vec6 dragImpulse(size_t i) const { return fluid_.dragImpulse(i); }
-  // Aero body i's velocity change in the last solve, for its added mass's impulse
-  // (ImplicitFluidLoads::addedMassVelocityChange).
-  Vec6 addedMassVelocityChange(size_t i) const { return fluid_.addedMassVelocityChange(i); }
   bool saturated(size_t link) const {
     return link < solution_.saturated.size() && solution_.saturated[link];
   }

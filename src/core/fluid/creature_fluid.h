@@ -38,9 +38,6 @@ struct AeroBody {
   double mass = 0.0;      // the link's own (a lower bound of its effective mass in the tree)
   double area = 0.0;      // of all its air-facing cells
   LinkAero last;          // the wrench of the last step
-  // The added mass's velocity-product wrench of the last (sub)step, about the COM (zero
-  // without them): applied with `last`, not in it.
-  Wrench velocity_products;
 };
 
 // A drag rate (kg/s) above this many link masses per step is treated implicitly.

@@ -77,7 +77,7 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   s.last_piece = h;
   // position: the frames of the start are those the last (sub)step ended with
   s.momentum.begin(s.body, s.fluid, density, p.air.wind, p.air.added_mass_velocity_products);
-  if (metered) s.transmitted.beginSubStep(s.body);
+  if (metered) s.transmitted.beginSubStep(s.body, s.fluid, density, p.air.wind);
   s.servos.begin(mb, h);
   s.record.beginSubStep(s.body.frames(), h);
   if (c.energy_audit) s.energy.beginSubStep(s.body);
@@ -89,7 +89,6 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   if (world.beginStep(h)) {
     s.momentum.setDragImpulse(s.servos.solve(mb, s.body.frames(), world.leanTree(), s.fluid));
     s.record.servos(s.servos, s.fluid);
-    if (metered) s.transmitted.addFluidImpulses(s.fluid, s.servos, p.air.enabled, h);
   }
   world.constrain();  // constraints
   s.record.contact(s.body.hasContacts());
@@ -97,7 +96,8 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   s.servos.integrateSaturated(mb, s.body.hasContacts(), h);  // saturated
   s.momentum.end(s.body, s.fluid, p.gravity, h);             // momentum
   if (metered) {                                             // power
-    s.transmitted.endSubStep(s.body, p.gravity, s.body.hasContacts() || world.constraintsSolved());
+    s.transmitted.endSubStep(s.body, s.fluid, s.servos, p.air.enabled, p.gravity,
+                             s.body.hasContacts() || world.constraintsSolved(), h);
   }
   s.power.endSubStep(*r.model, r.drives, mb, s.servos, metered ? &s.transmitted : nullptr, h);
   if (c.energy_audit) {  // energy

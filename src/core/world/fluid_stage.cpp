@@ -97,7 +97,6 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
     if (air.buoyancy) w += buoyancyLaw(FluidInput{kin, a.surface, air, fluid_gravity}, nullptr);
     a.last.com = kin.com;
     a.last.wrench = w;
-    a.velocity_products = Wrench();
     momentum.addExternal(kin.com, w);
     if (a.has_added_mass) {
       // The added mass's velocity products act on the body but are internal to body and
@@ -112,9 +111,8 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
         // The bias at the link's COM, where the added mass's factor is.
         Vec6 bias = fluid.link_bias_[k];
         bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
-        a.velocity_products = addedMassVelocityWrench(added, kin.angular_velocity,
-                                                      kin.linear_velocity - air.wind, bias);
-        w += a.velocity_products;
+        w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind,
+                                     bias);
       }
     }
     const bool implicit = setImplicitDrag(law, a, kin, air, body.reach(k), step);

@@ -31,11 +31,13 @@ TransmittedWork::TransmittedWork(const CreatureModel& m) : model_(m) {
   for (const std::vector<int>& beyond : subtree_) {
     for (int k : beyond) metered_[k] = 1;
   }
+  velocity_.assign(links, Vec3::Zero());
+  omega_.assign(links, Vec3::Zero());
   impulse_.assign(links, Vec6::Zero());
   start_com_.assign(links, Vec3::Zero());
 }
 
-void TransmittedWork::take(BulletBody& body, Snapshot& out) {
+void TransmittedWork::take(BulletBody& body, CreatureFluid& fluid, Snapshot& out) {
   const btMultiBody& mb = body.multiBody();
   const LinkFrames& frames = body.frames();
   Vec3 momentum = Vec3::Zero();
@@ -46,14 +48,35 @@ void TransmittedWork::take(BulletBody& body, Snapshot& out) {
     const Mat3& to_world = frames.rotation(link);  // the link's velocities are in its frame
     BodyMomentum& b = out.bodies[k];
     b.com = fromBt(frames.com(link));
-    b.linear = l.mass * (to_world * fromBt(frames.velocity(link)));
+    velocity_[k] = to_world * fromBt(frames.velocity(link));
+    b.linear = l.mass * velocity_[k];
+    b.fluid_linear.setZero();
     momentum += b.linear;
     mass += l.mass;
-    if (metered_[k]) {
-      b.angular = to_world * l.inertia.cwiseProduct(fromBt(frames.omega(link)));
+    if (!metered_[k]) continue;
+    const Vec3 omega = fromBt(frames.omega(link));
+    b.angular = to_world * l.inertia.cwiseProduct(omega);
+    omega_[k] = to_world * omega;
+  }
+  // The bodies' centre of mass: the frame moves as any observer's does.
+  out.centre_velocity = mass > 0.0 ? Vec3(momentum / mass) : Vec3::Zero();
+  if (density_ > 0.0) {
+    const std::vector<AeroBody>& aero = fluid.bodies();
+    for (size_t i = 0; i < aero.size(); ++i) {
+      const int k = aero[i].link;
+      if (!aero[i].has_added_mass || !metered_[k]) continue;
+      // The fluid carried along: the momentum of the plate's velocity relative to the fluid.
+      Vec6 v;
+      v << omega_[k], velocity_[k] - fluid_velocity_;
+      // The tree's rotation, as the momentum balance's (the added mass turned once).
+      const Mat3& rotation = body.world().tree().rotations()[k];
+      const Vec6 f = factorTimes(fluid.addedMass(i, rotation, density_), v);
+      BodyMomentum& b = out.bodies[k];
+      b.angular += f.head<3>();
+      b.linear += f.tail<3>();
+      b.fluid_linear = f.tail<3>();
     }
   }
-  out.centre_velocity = mass > 0.0 ? Vec3(momentum / mass) : Vec3::Zero();
   for (size_t j = 0; j < model_.joints.size(); ++j) {
     const JointModel& joint = model_.joints[j];
     if (!joint.movable()) continue;
@@ -73,11 +96,15 @@ void TransmittedWork::take(BulletBody& body, Snapshot& out) {
   }
 }
 
-void TransmittedWork::beginSubStep(BulletBody& body) {
-  if (valid_) {
+void TransmittedWork::beginSubStep(BulletBody& body, CreatureFluid& fluid, double density,
+                                   const Vec3& fluid_velocity) {
+  const bool same_fluid = density == density_ && fluid_velocity == fluid_velocity_;
+  density_ = density;
+  fluid_velocity_ = fluid_velocity;
+  if (valid_ && same_fluid) {
     std::swap(start_, end_);
   } else {
-    take(body, start_);
+    take(body, fluid, start_);
   }
   valid_ = false;
   known_ = false;
@@ -95,36 +122,25 @@ void TransmittedWork::addImpulse(int link, const Vec3& com, const Vec6& impulse)
   total.tail<3>() += impulse.tail<3>();
 }
 
-void TransmittedWork::addFluidImpulses(const CreatureFluid& fluid, const ServoStage& servos,
-                                       bool air, double h) {
-  if (!air) return;
-  const std::vector<AeroBody>& aero = fluid.bodies();
-  for (size_t i = 0; i < aero.size(); ++i) {
-    const AeroBody& a = aero[i];
-    const int k = a.link;
-    if (!metered_[k]) continue;
-    // The explicit wrench held over the (sub)step, with the added mass's velocity products
-    // (both about the COM of its start), and the implicit drag's impulse (about the root's
-    // COM at the start) moved there.
-    const Wrench w{a.last.wrench.force + a.velocity_products.force,
-                   a.last.wrench.torque + a.velocity_products.torque};
-    const Vec6 drag = servos.dragImpulse(i);
-    Vec6& total = impulse_[k];
-    total.head<3>() += h * (w.torque + (a.last.com - start_com_[k]).cross(w.force)) +
-                       momentAbout(drag, origin_, start_com_[k]);
-    total.tail<3>() += h * w.force + drag.tail<3>();
-    if (!a.has_added_mass) continue;
-    // The added mass's implicit impulse, -A (v1 - v0), with the solve's A and velocity change
-    // (about the root's COM: at the link's COM, the change of its COM's velocity).
-    const Vec6 change = servos.addedMassVelocityChange(i);
-    Vec6 at_com;
-    at_com << change.head<3>(), change.tail<3>() + change.head<3>().cross(start_com_[k] - origin_);
-    total -= factorTimes(a.added, at_com);
+void TransmittedWork::endSubStep(BulletBody& body, CreatureFluid& fluid, const ServoStage& servos,
+                                 bool air, const Vec3& gravity, bool constrained, double h) {
+  if (air) {
+    const std::vector<AeroBody>& aero = fluid.bodies();
+    for (size_t i = 0; i < aero.size(); ++i) {
+      const AeroBody& a = aero[i];
+      const int k = a.link;
+      if (!metered_[k]) continue;
+      // The explicit wrench held over the (sub)step (about the COM of its start), and the
+      // implicit drag's impulse (about the root's COM at the start) moved there.
+      const Vec6 drag = servos.dragImpulse(i);
+      const Vec3 force = h * a.last.wrench.force + drag.tail<3>();
+      impulse_[k].head<3>() +=
+          h * (a.last.wrench.torque + (a.last.com - start_com_[k]).cross(a.last.wrench.force)) +
+          momentAbout(drag, origin_, start_com_[k]);
+      impulse_[k].tail<3>() += force;
+    }
   }
-}
-
-void TransmittedWork::endSubStep(BulletBody& body, const Vec3& gravity, bool constrained) {
-  take(body, end_);
+  take(body, fluid, end_);
   valid_ = true;
   gravity_ = gravity;
   known_ = !constrained;
@@ -157,7 +173,10 @@ double TransmittedWork::work(size_t joint, const ServoStage& servos, const btMul
     const Vec3 change = e.angular + (e.com - point - shift).cross(e.linear - mass * frame) -
                         s.angular - (s.com - point + shift).cross(s.linear - mass * frame);
     const Vec3 external = ext.head<3>() + (start_com_[k] - point + shift).cross(ext.tail<3>());
-    transmitted += axis.dot(change - external);
+    // About a point at rest in that frame, the fluid's impulse also turns by its drift through
+    // the fluid: (U - frame) x P_fluid (zero at rest in the fluid, and in vacuum).
+    const Vec3 drift = (0.5 * h) * (fluid_velocity_ - frame).cross(s.fluid_linear + e.fluid_linear);
+    transmitted += axis.dot(change - external - drift);
     weight += axis.dot((0.5 * (s.com + e.com) - point).cross(g));
   }
   // Less the joint's spring and (implicit) damping: what is left is the motor's.
