@@ -5,6 +5,7 @@
 //                 [--check T] [--reference-step S]
 //   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
 //   flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]
+//                          [--motor-work transmitted|servo]
 //
 // --step S, --turn-substep S: the world's step and turn substep, s (WorldParams' 1 ms and
 // 0.5 ms by default; either form). --check T: instead of timing,
@@ -240,6 +241,7 @@ struct Options {
   std::string only, urdf;
   double height = 50.0, skip = 0.0;
   bool json = false, ground = true, energy = false, velocity_products = false;
+  flapsim::MotorWorkMeter motor_work = flapsim::MotorWorkMeter::kTransmitted;
   double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
   double turn_substep = WorldParams().turn_substep;
 };
@@ -252,7 +254,8 @@ int usage(bool help) {
       "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
       "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
       "[--runs N] [--seconds S]\n"
-      "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n");
+      "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n"
+      "                              [--motor-work transmitted|servo]\n");
   return help ? 0 : 2;
 }
 
@@ -275,6 +278,12 @@ int parseArgs(int argc, char** argv, Options& o) {
       o.energy = true;
     } else if (a == "--velocity-products") {
       o.velocity_products = true;
+    } else if (a == "--motor-work" && i + 1 < argc) {
+      if (!flapsim::motorWorkMeterFromName(argv[++i], &o.motor_work)) {
+        std::fprintf(stderr, "flapsim_bench: --motor-work wants transmitted or servo, not '%s'\n",
+                     argv[i]);
+        return 2;
+      }
     } else if (a == "--urdf" && i + 1 < argc) {
       o.urdf = argv[++i];
     } else if (a == "--height" && i + 1 < argc) {
@@ -480,7 +489,7 @@ int main(int argc, char** argv) {
   }
   if (o.energy) {
     try {
-      return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products);
+      return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products, o.motor_work);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
       return 1;

@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "flapsim/world.h"
+
 namespace flapsim_bench {
 
 /// The package's creatures: in the source tree it was built from, else where it is installed.
@@ -12,6 +14,8 @@ std::string urdfPath(const std::string& file);
 /// --energy: the energy audit (flapsim/energy_audit.h) of the flap unit, afc_4 and the hover
 /// creature (or the `urdf` creature) in vacuum, air and water at 1, 0.5 and 0.25 ms; in air and
 /// water with the added mass's velocity products if `velocity_products`. Returns the exit code.
-int energyTable(const std::string& urdf, double seconds, bool velocity_products);
+/// The motors' work is taken by `meter` (WorldParams::motor_work).
+int energyTable(const std::string& urdf, double seconds, bool velocity_products,
+                flapsim::MotorWorkMeter meter);
 
 }  // namespace flapsim_bench

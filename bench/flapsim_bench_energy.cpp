@@ -9,7 +9,8 @@
 
 namespace flapsim_bench {
 
-int energyTable(const std::string& urdf, double seconds, bool velocity_products) {
+int energyTable(const std::string& urdf, double seconds, bool velocity_products,
+                flapsim::MotorWorkMeter meter) {
   std::vector<std::string> files = {"flap_unit.urdf", "afc_4.urdf", "hover_1.urdf"};
   if (!urdf.empty()) files = {urdf};
   std::printf(
@@ -30,6 +31,7 @@ int energyTable(const std::string& urdf, double seconds, bool velocity_products)
           p.stroke = flapsim::StrokeCommand{3.0, 1.0, 0.6};
         }
         p.world.air.added_mass_velocity_products = velocity_products;
+        p.world.motor_work = meter;
         const flapsim::EnergyAuditResult r = flapsim::auditEnergy(model, p);
         std::printf(
             "| %s | %s | %g ms | %+.4f J (%.4f) | %+.4f | %+.4f | %+.4f | %+.4f | %+.4f | %+.4f "
@@ -45,8 +47,8 @@ int energyTable(const std::string& urdf, double seconds, bool velocity_products)
   std::printf(
       "(%g s from 20 m, rolled 0.05 rad, every wing 60/10 rad/s and 0.6 rad; in water "
       "3/1 rad/s; residual: the works less the change of the energies, as a share of the "
-      "motors' positive work; added mass's velocity products %s)\n",
-      seconds, velocity_products ? "on" : "off");
+      "motors' positive work; added mass's velocity products %s; motor work %s)\n",
+      seconds, velocity_products ? "on" : "off", flapsim::motorWorkMeterName(meter));
   return 0;
 }
 

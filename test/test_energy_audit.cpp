@@ -194,6 +194,31 @@ TEST(TransmittedWork, TheSameFlightSeenMovingDoesTheSameWork) {
               1e-9 * rest.totalPositiveWork());
 }
 
+// A (sub)step in which a contact may have acted is metered by the servo's impulse (the
+// contact's impulses are not known to the transmitted work): the flap unit resting on the
+// ground in vacuum (touching it at every step), beating its wings for 0.2 s, draws the same
+// work to the bit under either meter; 2 m up it does not.
+TEST(TransmittedWork, AStepWithAContactTakesTheServosImpulse) {
+  auto work = [](MotorWorkMeter meter, double height) {
+    WorldParams p;
+    p.air.enabled = false;
+    p.motor_work = meter;
+    World w(p);
+    w.spawn("c", loadUrdf("flap_unit.urdf"), at(0, 0, height));
+    const StrokeCommand s{5.0, 5.0, 0.05};
+    w.setWingCommands("c", {}, {s, s});
+    int touching = 0;
+    for (int i = 0; i < 200; ++i) {
+      w.step();
+      touching += w.stepData("c").contact ? 1 : 0;
+    }
+    EXPECT_EQ(touching, height < 0.1 ? 200 : 0);
+    return w.power("c").totalWork();
+  };
+  EXPECT_EQ(work(MotorWorkMeter::kTransmitted, 0.015), work(MotorWorkMeter::kServoImpulse, 0.015));
+  EXPECT_NE(work(MotorWorkMeter::kTransmitted, 2.0), work(MotorWorkMeter::kServoImpulse, 2.0));
+}
+
 TEST(TransmittedWork, MeterNamesReadBackAndOthersAreRefused) {
   MotorWorkMeter m = MotorWorkMeter::kTransmitted;
   ASSERT_TRUE(motorWorkMeterFromName("servo", &m));
