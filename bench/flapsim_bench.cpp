@@ -279,11 +279,7 @@ int parseArgs(int argc, char** argv, Options& o) {
     } else if (a == "--velocity-products") {
       o.velocity_products = true;
     } else if (a == "--motor-work" && i + 1 < argc) {
-      if (!flapsim::motorWorkMeterFromName(argv[++i], &o.motor_work)) {
-        std::fprintf(stderr, "flapsim_bench: --motor-work wants transmitted or servo, not '%s'\n",
-                     argv[i]);
-        return 2;
-      }
+      if (!flapsim_bench::parseMotorWork(argv[++i], &o.motor_work)) return 2;
     } else if (a == "--urdf" && i + 1 < argc) {
       o.urdf = argv[++i];
     } else if (a == "--height" && i + 1 < argc) {
@@ -487,14 +483,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "flapsim_bench: %s\n", flapsim::validateWorldParams(at_step).c_str());
     return 2;
   }
-  if (o.energy) {
-    try {
-      return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products, o.motor_work);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
-      return 1;
-    }
-  }
+  if (o.energy)
+    return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products, o.motor_work);
   if (o.check_seconds > 0.0) return checkScenarios(o, at_step);
   const int steps = std::max(1, static_cast<int>(std::lround(o.seconds / o.step)));
   if (!o.urdf.empty()) return timeUrdf(o, at_step, steps);

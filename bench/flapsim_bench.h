@@ -8,13 +8,17 @@
 
 namespace flapsim_bench {
 
+/// `text` as a MotorWorkMeter's name into `out`; false (and said on stderr) if it is none.
+bool parseMotorWork(const char* text, flapsim::MotorWorkMeter* out);
+
 /// The package's creatures: in the source tree it was built from, else where it is installed.
 std::string urdfPath(const std::string& file);
 
 /// --energy: the energy audit (flapsim/energy_audit.h) of the flap unit, afc_4 and the hover
 /// creature (or the `urdf` creature) in vacuum, air and water at 1, 0.5 and 0.25 ms; in air and
 /// water with the added mass's velocity products if `velocity_products`. Returns the exit code.
-/// The motors' work is taken by `meter` (WorldParams::motor_work).
+/// The motors' work is taken by `meter` (WorldParams::motor_work). An error is said on stderr
+/// (exit code 1).
 int energyTable(const std::string& urdf, double seconds, bool velocity_products,
                 flapsim::MotorWorkMeter meter);
 

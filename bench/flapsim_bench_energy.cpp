@@ -1,5 +1,6 @@
 // flapsim_bench --energy: the energy audit's table (see bench/flapsim_bench.cpp).
 #include <cstdio>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -9,8 +10,16 @@
 
 namespace flapsim_bench {
 
-int energyTable(const std::string& urdf, double seconds, bool velocity_products,
-                flapsim::MotorWorkMeter meter) {
+bool parseMotorWork(const char* text, flapsim::MotorWorkMeter* out) {
+  if (flapsim::motorWorkMeterFromName(text, out)) return true;
+  std::fprintf(stderr, "flapsim_bench: --motor-work wants transmitted or servo, not '%s'\n", text);
+  return false;
+}
+
+namespace {
+
+int energyRows(const std::string& urdf, double seconds, bool velocity_products,
+               flapsim::MotorWorkMeter meter) {
   std::vector<std::string> files = {"flap_unit.urdf", "afc_4.urdf", "hover_1.urdf"};
   if (!urdf.empty()) files = {urdf};
   std::printf(
@@ -50,6 +59,18 @@ int energyTable(const std::string& urdf, double seconds, bool velocity_products,
       "motors' positive work; added mass's velocity products %s; motor work %s)\n",
       seconds, velocity_products ? "on" : "off", flapsim::motorWorkMeterName(meter));
   return 0;
+}
+
+}  // namespace
+
+int energyTable(const std::string& urdf, double seconds, bool velocity_products,
+                flapsim::MotorWorkMeter meter) {
+  try {
+    return energyRows(urdf, seconds, velocity_products, meter);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
+    return 1;
+  }
 }
 
 }  // namespace flapsim_bench
