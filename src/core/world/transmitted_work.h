@@ -16,7 +16,11 @@
 // velocity as the energy audit takes the air's work; M_g: gravity's moment about the axis at
 // the bodies' mean positions, over the joint's move dq, as the potential changes; the spring
 // at the mean position, so that its work is the change of its energy; the damping only if it
-// acts in the servo solve, as the audit takes it). A prismatic joint: the same with the
+// acts in the servo solve, as the audit takes it). The momenta are those of the frame of the
+// bodies' centre of mass at the (sub)step's start, where the fluid's impulse also turns by its
+// drift through the fluid, (U - V) x P_fluid: a step's joint-space straight lines move the
+// bodies by other than step x their end velocities, so that another frame's momenta would make
+// the work depend on the observer. A prismatic joint: the same with the
 // subtree's linear momentum along its axis. A (sub)step in which a contact or a joint limit
 // may have acted (their impulses are not known here) takes the servo's impulse instead, and so
 // does a creature whose plates carry added mass in a fluid without its velocity products (the
