@@ -49,10 +49,10 @@ struct AirParams {
   /// angular momentum carried with the same term. With them the bodies and the fluid they carry
   /// keep their energy: the audit (flapsim_bench --energy) closes within 0.1 % of the motors'
   /// positive work in air and water at 1 ms (hover_1 in water 0.23 %); without them it misses
-  /// by 1-5 % in air and 20-40 % in water at any step. Off by default: the shipped controllers were evolved without
-  /// them and do not fly with them (afc_1 turns over within a second); on, a controller must be
-  /// evolved under them. Either way a creature moving with a uniform fluid flies as the same
-  /// creature at rest.
+  /// by 1-5 % in air and 20-40 % in water at any step. Off by default: the shipped controllers were
+  /// evolved without them and do not fly with them (afc_1 turns over within a second); on, a
+  /// controller must be evolved under them. Either way a creature moving with a uniform fluid flies
+  /// as the same creature at rest.
   bool added_mass_velocity_products = false;
   int subdivisions_u = 4;  // cells per face along its first edge
   int subdivisions_v = 4;  // ... and along its second edge

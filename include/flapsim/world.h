@@ -22,12 +22,12 @@ namespace flapsim {
 enum class MotorWorkMeter {
   /// The torque its joint transmits, from the momentum the bodies beyond it (and the fluid
   /// their plates carry) gain over the (sub)step less the external impulses on them (the
-  /// joint's spring and damping taken out), times the joint's move: second order in the step. Metered as kServoImpulse:
-  /// a (sub)step in which a contact or a joint limit may have acted, and a creature whose
-  /// plates carry added mass in a fluid without its velocity products (there the momentum
-  /// balance hands the bodies, as one rigid correction, the turning of the fluid's impulse
-  /// that no force on the plates carries, and each joint would take a share of it: 2 % of
-  /// hover_1's stroke power).
+  /// joint's spring and damping taken out), times the joint's move: second order in the step.
+  /// Metered as kServoImpulse: a (sub)step in which a contact or a joint limit may have acted,
+  /// and a creature whose plates carry added mass in a fluid without its velocity products
+  /// (there the momentum balance hands the bodies, as one rigid correction, the turning of the
+  /// fluid's impulse that no force on the plates carries, and each joint would take a share of
+  /// it: 2 % of hover_1's stroke power).
   kTransmitted,
   /// The servo's impulse times the mean of the joint's start and end velocities: it also
   /// carries the explicit step's velocity-product error, which the servo takes out to hold

@@ -55,19 +55,23 @@ void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag) {
           [&o] { return std::string(o.params.morph.nsga2 ? "nsga2" : "elitist"); },
           "--preset morph: elitist (the GA on the fitness) or nsga2 (NSGA-II on two objectives, "
           "W/kg and loss; an even --population)")
-      .tag(spec_tag)
-      .custom(
-          "--motor-work", {"M"},
-          [&o](const std::vector<std::string>& v) {
-            if (!motorWorkMeterFromName(v[0], &o.params.episode.world.motor_work)) {
-              throw InputError("--motor-work: " + quoteValue(v[0]) +
-                               " is not one of transmitted, servo");
-            }
-          },
-          [&o] { return std::string(motorWorkMeterName(o.params.episode.world.motor_work)); },
-          "--preset hover or morph with --velocity-products on: how the fitness's W/kg takes "
-          "the motors' work, transmitted or servo (WorldParams::motor_work)")
       .tag(spec_tag);
+  motorWorkFlag(t, &o.params.episode.world.motor_work,
+                "--preset hover or morph with --velocity-products on: how the fitness's W/kg "
+                "takes the motors' work, transmitted or servo (WorldParams::motor_work)")
+      .tag(spec_tag);
+}
+
+CliParser& motorWorkFlag(CliParser& t, MotorWorkMeter* meter, const char* help) {
+  return t.custom(
+      "--motor-work", {"M"},
+      [meter](const std::vector<std::string>& v) {
+        if (!motorWorkMeterFromName(v[0], meter)) {
+          throw InputError("--motor-work: " + quoteValue(v[0]) +
+                           " is not one of transmitted, servo");
+        }
+      },
+      [meter] { return std::string(motorWorkMeterName(*meter)); }, help);
 }
 
 bool hoverPresetName(const std::string& preset) { return preset == "hover" || preset == "morph"; }

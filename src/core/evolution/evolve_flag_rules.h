@@ -26,6 +26,10 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
 /// (flapsim/body_genome.h), the fitness's power weight and the selection.
 void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag);
 
+/// Adds `--motor-work M` (transmitted or servo, anything else refused by name) writing `meter`,
+/// with `help`; the added flag is the parser's last (to tag).
+CliParser& motorWorkFlag(CliParser& t, MotorWorkMeter* meter, const char* help);
+
 /// A flap network's evolution: throws InputError naming the first flag `seen` whose effect
 /// hangs on another's that `p` leaves without effect.
 void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen);

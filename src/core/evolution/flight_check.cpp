@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "evolution/evolve_flag_rules.h"
 #include "flapsim/ann.h"
 #include "flapsim/ga.h"
 #include "flapsim/hover_gains.h"
@@ -204,18 +205,10 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
       .tag(kNetworkOnly)
       .flag("--velocity-products", &p.velocity_products, true,
             "fly with the added mass's velocity products (AirParams::"
-            "added_mass_velocity_products; off by default)")
-      .custom(
-          "--motor-work", {"M"},
-          [&p](const std::vector<std::string>& v) {
-            if (!motorWorkMeterFromName(v[0], &p.motor_work)) {
-              throw InputError("--motor-work: " + quoteValue(v[0]) +
-                               " is not one of transmitted, servo");
-            }
-          },
-          [&p] { return std::string(motorWorkMeterName(p.motor_work)); },
-          "with --velocity-products: how the W/kg figures take the motors' work, transmitted "
-          "(the default) or servo (WorldParams::motor_work)");
+            "added_mass_velocity_products; off by default)");
+  motorWorkFlag(t, &p.motor_work,
+                "with --velocity-products: how the W/kg figures take the motors' work, "
+                "transmitted (the default) or servo (WorldParams::motor_work)");
 }
 
 }  // namespace
