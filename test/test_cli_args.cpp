@@ -390,7 +390,7 @@ TEST(ToolTables, EvolveHelpShowsTheDefaultsOfThePresetThatRuns) {
   EXPECT_NE(robust.find("generations after the initial one (100)"), std::string::npos);
   EXPECT_NE(robust.find("episode length, s (20)"), std::string::npos);
   // auto: afc_1's accurate step sizes (flapsim/step_accuracy.h), found as the flags are read.
-  EXPECT_NE(robust.find("(0.002,0.001)"), std::string::npos);
+  EXPECT_NE(robust.find("(0.004,0.002)"), std::string::npos);
   const std::string paper = evolveUsage({"--preset", "paper", "--population", "12"});
   EXPECT_NE(paper.find("individuals (12)"), std::string::npos) << paper;
   EXPECT_NE(paper.find("generations after the initial one (200)"), std::string::npos);

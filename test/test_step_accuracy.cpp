@@ -1,8 +1,9 @@
 // Which step sizes a creature may be flown at (flapsim/step_accuracy.h), and evolution flying
 // its episodes at them (evolve --step-sizes auto, the robust preset's default): the flap unit's
-// open-loop climb at 2 ms is within 5 % of the one at 1/16 ms, at 4 ms not; so is a chain's,
-// whose link springs, too stiff for an explicit 2 ms step, act implicitly there; the turn
-// substep is chosen with the step.
+// open-loop climb at 4 ms is within 5 % of the one at 1/16 ms, at 8 ms not; so is a chain's,
+// whose link springs, too stiff for an explicit step there, act implicitly; the turn substep
+// is chosen with the step. (Until the stiffness test counted the air a wing carries, a wing's
+// drag was linearised at 4 ms, and neither was accurate there: 14.4 % and 11.8 %.)
 #include <gtest/gtest.h>
 
 #include <string>
@@ -18,37 +19,39 @@ namespace {
 
 const StrokeCommand kStroke{40.0, 10.0, 1.2};  // the robust preset's middle rate
 
-// Measured against 1/16 ms (0.861 m in 3 s): 4 ms climbs 14.4 % less, 2 ms 1.5 %, 1 ms 0.08 %.
-TEST(StepAccuracy, TheFlapUnitIsAccurateAtTwoMsNotFour) {
+// Measured against 1/16 ms (0.861 m in 3 s): 8 ms climbs 10.2 % less, 4 ms 4.2 %, 2 ms 1.5 %,
+// 1 ms 0.08 %.
+TEST(StepAccuracy, TheFlapUnitIsAccurateAtFourMsNotEight) {
   const CreatureModelPtr unit = parseCreatureModel(makeCreatureUrdf(1, "afc"), "afc");
   const std::vector<StepVerdict> v =
-      stepVerdicts(unit, kStroke, WorldParams(), {0.004, 0.002, 0.001});
-  EXPECT_GT(v[0].relativeError(), 0.10);
+      stepVerdicts(unit, kStroke, WorldParams(), {0.008, 0.004, 0.002, 0.001});
+  EXPECT_GT(v[0].relativeError(), 0.08);
   EXPECT_NE(v[0].why().find("height change"), std::string::npos) << v[0].why();
-  EXPECT_LT(v[1].relativeError(), 0.02);
+  EXPECT_LT(v[1].relativeError(), 0.05);
   EXPECT_TRUE(v[1].why().empty()) << v[1].why();
-  EXPECT_LT(v[2].relativeError(), 0.002);
+  EXPECT_LT(v[2].relativeError(), 0.02);
+  EXPECT_LT(v[3].relativeError(), 0.002);
   EXPECT_GT(v[0].reference.height_change, 0.5);  // it climbs: a flight worth comparing
 }
 
-// afc_4's link springs (2 N m/rad) are too stiff for an explicit 2 ms step: they act
+// afc_4's link springs (2 N m/rad) are too stiff for an explicit 4 ms step: they act
 // implicitly there (they used to be capped, and chains flew at 1 and 0.5 ms). Measured against
-// 1/16 ms (0.773 m in 3 s): 4 ms 11.8 % less, 2 ms 0.28 %, 1 ms 0.28 %.
-TEST(StepAccuracy, ChainsAreAccurateAtTwoMsWithImplicitLinkSprings) {
+// 1/16 ms (0.773 m in 3 s): 8 ms 11.6 % less, 4 ms 1.3 %, 2 ms 0.28 %.
+TEST(StepAccuracy, ChainsAreAccurateAtFourMsWithImplicitLinkSprings) {
   const CreatureModelPtr chain = parseCreatureModel(makeCreatureUrdf(4, "afc"), "afc4");
-  ASSERT_FALSE(implicitJointValues(*chain, 0.002).empty());
-  const std::vector<StepVerdict> v = stepVerdicts(chain, kStroke, WorldParams(), {0.004, 0.002});
+  ASSERT_FALSE(implicitJointValues(*chain, 0.004).empty());
+  const std::vector<StepVerdict> v = stepVerdicts(chain, kStroke, WorldParams(), {0.008, 0.004});
   EXPECT_GT(v[0].relativeError(), 0.10);
-  EXPECT_LT(v[1].relativeError(), 0.005);
+  EXPECT_LT(v[1].relativeError(), 0.02);
   EXPECT_TRUE(v[1].why().empty()) << v[1].why();
 }
 
 // The turn substep is chosen with the step: of the accurate settings (h and h / 2 both within
 // 5 % at one turn substep), the one taken in the fewest substeps. Measured (3 s open loop,
-// against 1/16 ms): the unit at 2 ms with 2 ms pieces 0.41 % (1 ms 0.07 %), 4537 substeps over
-// the two flights against 4761 with the 0.5 ms pieces of the default; afc_4 at 2 ms with 2 ms
-// pieces 2.92 % (1 ms 1.01 %), 4534 substeps against 5205. No 4 ms setting is accurate (12.5 %
-// at best).
+// against 1/16 ms): the unit at 4 ms with 4 ms pieces 4.35 % (2 ms 0.41 %), 2288 substeps over
+// the two flights against 2324 with 2 ms pieces (2.59 %); afc_4 at 4 ms with 2 ms pieces
+// 3.35 % (2 ms 2.92 %), 2360 substeps, its 4 ms pieces 20.0 % off. Both against 4537 at the
+// 2 ms they flew at before.
 TEST(StepAccuracy, TheChoiceIsTheAccurateSettingTakenInTheFewestSubsteps) {
   for (int pairs : {1, 4}) {
     SCOPED_TRACE(pairs);
@@ -57,24 +60,25 @@ TEST(StepAccuracy, TheChoiceIsTheAccurateSettingTakenInTheFewestSubsteps) {
     ASSERT_EQ(all.size(), 9u);  // 4 ms: 4, 2, 1; 2 ms: 2, 1, 0.5; 1 ms: 1, 0.5; 0.5 ms: 0.5
     const StepCandidate* cheapest = nullptr;
     for (const StepCandidate& c : all) {
-      if (c.step == 0.004) {
-        EXPECT_FALSE(c.accurate()) << c.at_step.why();
-      }
       if (c.accurate() && (!cheapest || c.substeps() < cheapest->substeps())) cheapest = &c;
     }
     ASSERT_NE(cheapest, nullptr);
-    EXPECT_EQ(cheapest->step, 0.002);
-    EXPECT_EQ(cheapest->turn_substep, 0.002);
-    EXPECT_LT(cheapest->at_step.relativeError(), 0.03);
-    EXPECT_LT(cheapest->at_half.relativeError(), 0.011);
-    // Cheaper than the default 0.5 ms pieces at the same step, by 5 % (unit) to 13 % (afc_4).
-    EXPECT_LT(cheapest->substeps(), all[5].substeps() * 0.96);
-    EXPECT_EQ(all[5].turn_substep, 0.0005);
+    const double pieces = pairs == 1 ? 0.004 : 0.002;
+    EXPECT_EQ(cheapest->step, 0.004);
+    EXPECT_EQ(cheapest->turn_substep, pieces);
+    EXPECT_LT(cheapest->at_step.relativeError(), 0.05);
+    EXPECT_LT(cheapest->at_half.relativeError(), 0.03);
+    // afc_4's 4 ms pieces are not accurate: the pieces matter for a chain.
+    EXPECT_EQ(all[0].turn_substep, 0.004);
+    EXPECT_EQ(all[0].accurate(), pairs == 1) << all[0].at_step.why();
+    // Half the substeps of the 2 ms steps they were flown at (all[3]: 2 ms, 2 ms pieces).
+    EXPECT_EQ(all[3].step, 0.002);
+    EXPECT_LT(cheapest->substeps(), all[3].substeps() * 0.53);
     EXPECT_EQ(accurateStepChoice(model, kStroke, WorldParams()),
-              (StepChoice{{0.002, 0.001}, 0.002}));
+              (StepChoice{{0.004, 0.002}, pieces}));
     // A turn substep given is kept: only the step is chosen.
     EXPECT_EQ(accurateStepChoice(model, kStroke, WorldParams(), 0.0005),
-              (StepChoice{{0.002, 0.001}, 0.0005}));
+              (StepChoice{{0.004, 0.002}, 0.0005}));
   }
 }
 
@@ -83,16 +87,16 @@ TEST(StepAccuracy, TheChoiceIsTheAccurateSettingTakenInTheFewestSubsteps) {
 // stay as given.
 TEST(StepAccuracy, EvolutionFliesTheAccurateStepSizes) {
   const EvolveOptions unit = parseEvolveArgs({});
-  EXPECT_EQ(unit.params.episode.step_sizes, (std::vector<double>{0.002, 0.001}));
+  EXPECT_EQ(unit.params.episode.step_sizes, (std::vector<double>{0.004, 0.002}));
   EXPECT_FALSE(unit.params.auto_step_sizes);
-  EXPECT_EQ(unit.params.episode.world.turn_substep, 0.002);
+  EXPECT_EQ(unit.params.episode.world.turn_substep, 0.004);
   EXPECT_EQ(unit.spec_args, (std::vector<std::string>{"--preset", "robust", "--step-sizes",
-                                                      "0.002,0.001", "--turn-substep", "0.002"}));
+                                                      "0.004,0.002", "--turn-substep", "0.004"}));
   const EvolveOptions chain = parseEvolveArgs({"--pairs", "4", "--step-sizes", "auto"});
-  EXPECT_EQ(chain.params.episode.step_sizes, (std::vector<double>{0.002, 0.001}));
+  EXPECT_EQ(chain.params.episode.step_sizes, (std::vector<double>{0.004, 0.002}));
   EXPECT_EQ(chain.spec_args,
             (std::vector<std::string>{"--preset", "robust", "--pairs", "4", "--step-sizes",
-                                      "0.002,0.001", "--turn-substep", "0.002"}));
+                                      "0.004,0.002", "--turn-substep", "0.002"}));
   const EvolveOptions again = parseEvolveArgs(chain.spec_args);
   EXPECT_EQ(again.params.episode.step_sizes, chain.params.episode.step_sizes);
   EXPECT_EQ(again.params.episode.world.turn_substep, 0.002);
@@ -101,11 +105,10 @@ TEST(StepAccuracy, EvolutionFliesTheAccurateStepSizes) {
   const EvolveOptions given = parseEvolveArgs({"--turn-substep", "0.001"});
   EXPECT_EQ(given.params.episode.world.turn_substep, 0.001);
   EXPECT_EQ(given.spec_args, (std::vector<std::string>{"--preset", "robust", "--turn-substep",
-                                                       "0.001", "--step-sizes", "0.002,0.001"}));
-  // Found in steady air: turbulence in the episodes does not move them (in light turbulence
-  // the 4 ms flight's climb happened to come within 5 % of the reference's).
+                                                       "0.001", "--step-sizes", "0.004,0.002"}));
+  // Found in steady air: turbulence in the episodes does not move them.
   EXPECT_EQ(parseEvolveArgs({"--turbulence", "light"}).params.episode.step_sizes,
-            (std::vector<double>{0.002, 0.001}));
+            (std::vector<double>{0.004, 0.002}));
   const EvolveOptions fixed = parseEvolveArgs({"--step-sizes", "0.001"});
   EXPECT_EQ(fixed.params.episode.step_sizes, std::vector<double>{0.001});
   EXPECT_EQ(fixed.params.episode.world.turn_substep, WorldParams().turn_substep);

@@ -191,6 +191,11 @@ class AirModel {
   /// area, |u|: its fastest point's speed relative to the air): the world's stiffness test.
   /// Default: the surface's drag coefficient.
   virtual double forceCoefficient(const AeroSurface& surface, const AirParams& air) const;
+  /// Whether the law's force on every cell lies along the cell's normal (the paper's pressure
+  /// law): the stiffness test then counts, besides the link's own mass, the added mass its
+  /// plates carry along their normals, which the velocity update holds implicitly. Default:
+  /// false (the test counts the link's own mass only).
+  virtual bool forcesAlongNormals() const { return false; }
   /// Whether the law reads AirParams::drag_coefficient (the surface's Cd). Default: false.
   virtual bool readsDragCoefficient() const { return false; }
   /// Empty if the parameters the law reads are valid, else a message naming the bad one. The

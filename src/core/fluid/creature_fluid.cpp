@@ -16,12 +16,26 @@ Mat6 linkAddedMass(const LinkModel& l, const AirParams& air) {
   return normalInertia(masses, 1.0);
 }
 
+double dragMass(AeroBody& a, double density, bool along_normals) {
+  if (a.drag_mass_density == density && a.drag_mass_normals == along_normals) return a.drag_mass;
+  a.drag_mass = a.mass;
+  if (along_normals && a.has_added_mass && density > 0.0 && a.mass > 0.0) {
+    const Mat3 inverse =
+        (a.mass * Mat3::Identity() + density * a.added_mass.bottomRightCorner<3, 3>()).inverse();
+    const double per_mass = (inverse * a.normal_area).trace();  // sum of area n^T M^-1 n
+    if (per_mass > 0.0) a.drag_mass = a.area / per_mass;
+  }
+  a.drag_mass_density = density;
+  a.drag_mass_normals = along_normals;
+  return a.drag_mass;
+}
+
 bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirParams& air,
-                       double coefficient, double reach, double step) {
-  if (a.mass <= 0.0) return true;
+                       double coefficient, double mass, double reach, double step) {
+  if (mass <= 0.0) return true;
   // Far below the threshold (each speed under half of it, squared: no square root), as
   // most links in air are.
-  const double limit = kImplicitDragRatio * a.mass / (step * air.density * coefficient * a.area);
+  const double limit = kImplicitDragRatio * mass / (step * air.density * coefficient * a.area);
   const double half = 0.45 * limit;
   if ((kin.linear_velocity - air.wind).squaredNorm() < half * half &&
       kin.angular_velocity.squaredNorm() * reach * reach < half * half) {
@@ -30,7 +44,7 @@ bool needsImplicitDrag(const AeroBody& a, const BodyKinematics& kin, const AirPa
   const double speed =
       (kin.linear_velocity - air.wind).norm() + kin.angular_velocity.norm() * reach;
   const double rate = air.density * coefficient * a.area * speed;
-  return step * rate > kImplicitDragRatio * a.mass;
+  return step * rate > kImplicitDragRatio * mass;
 }
 
 namespace {
@@ -44,7 +58,12 @@ void setSurface(AeroBody& a, const CreatureModel& m, const AirParams& air) {
   a.added_valid = false;
   a.mass = m.links[a.link].mass;
   a.area = 0.0;
-  for (const SurfaceCell& c : a.surface.cells) a.area += c.area;
+  a.normal_area.setZero();
+  for (const SurfaceCell& c : a.surface.cells) {
+    a.area += c.area;
+    a.normal_area += c.area * c.normal * c.normal.transpose();
+  }
+  a.drag_mass_density = -1.0;  // dragMass's answer is for the old surface
 }
 
 }  // namespace

@@ -43,6 +43,7 @@ class PressureAirModel : public LawAirModel<pressureLaw> {
     return pressureDragDamping(FluidInput{body, surface, air});
   }
   bool readsDragCoefficient() const override { return true; }
+  bool forcesAlongNormals() const override { return true; }
   std::string check(const AirParams& air) const override;
 };
 

@@ -49,7 +49,8 @@ bool setImplicitDrag(const AirModel& law, AeroBody& a, const BodyKinematics& kin
                      const AirParams& air, double reach, double step) {
   const bool implicit =
       air.density > 0.0 && law.linearisation() != AirLinearisation::kNone &&
-      needsImplicitDrag(a, kin, air, law.forceCoefficient(a.surface, air), reach, step);
+      needsImplicitDrag(a, kin, air, law.forceCoefficient(a.surface, air),
+                        dragMass(a, air.density, law.forcesAlongNormals()), reach, step);
   if (implicit) {
     a.drag = 0.5 * step * lawDamping(law, kin, a.surface, air);
     a.drag_zero = false;
