@@ -16,9 +16,9 @@ CREATURES = {"flap_unit": "flap unit (3)", "chain_12": "12 units (36)"}
 #  flapsim's step and turn substep (s; None: its default 0.5 ms)).
 COMPARISONS = [
     ("flap_unit", "same 1 ms step", 10, "implicitfast", 0.001, 0.001, None),
-    ("flap_unit", "fastest that pass", 10, "implicit", 0.0046, 0.004, 0.002),
+    ("flap_unit", "fastest that pass", 10, "implicit", 0.0046, 0.012, 0.002),
     ("chain_12", "same 1 ms step", 2, "implicitfast", 0.001, 0.001, None),
-    ("chain_12", "fastest that pass", 2, "implicitfast", 0.0014, 0.004, 0.004),
+    ("chain_12", "fastest that pass", 2, "implicitfast", 0.0014, 0.012, 0.004),
 ]
 PAIRS = 9
 
@@ -238,12 +238,13 @@ BOUNDARY = "bench/step_boundary.sh"
 BOUNDARIES = [
     ("flap_unit", "mujoco", "implicit", ["0.004", "0.0045", "0.0046", "0.0047", "0.005"]),
     ("flap_unit", "mujoco", "implicitfast", ["0.002", "0.004"]),
-    ("flap_unit", "flapsim", None, ["0.004/0.002", "0.0042/0.002", "0.0045/0.001", "0.005/0.001",
-                                    "0.006/0.0015", "0.006/0.002", "0.008/0.002"]),
+    ("flap_unit", "flapsim", None, ["0.004/0.002", "0.006/0.002", "0.008/0.002", "0.010/0.002",
+                                    "0.012/0.0015", "0.012/0.002", "0.012/0.003", "0.014/0.002",
+                                    "0.016/0.002"]),
     ("chain_12", "mujoco", "implicitfast", ["0.0013", "0.0014", "0.00145", "0.0015", "0.002"]),
     ("chain_12", "mujoco", "implicit", ["0.0011", "0.0012", "0.002"]),
-    ("chain_12", "flapsim", None, ["0.002/0.002", "0.003/0.003", "0.004/0.004", "0.004/0.002",
-                                   "0.005/0.0025", "0.006/0.003"]),
+    ("chain_12", "flapsim", None, ["0.004/0.004", "0.006/0.003", "0.008/0.004", "0.010/0.004",
+                                   "0.010/0.005", "0.012/0.004", "0.016/0.004"]),
 ]
 
 

@@ -596,6 +596,14 @@ def episode_rate():
                 found[cells[0]] = (" ".join(cells[1:-4]), cells[-4], float(cells[-1]))
         return found
 
+    def steps_text(steps):
+        """'0.004,0.002, 0.004' (step sizes, turn substep; s) as '4 and 2 ms, 4 ms pieces'."""
+        m = re.match(r"^([0-9.]+),([0-9.]+), ([0-9.]+)$", steps)
+        if not m:
+            return steps
+        h, half, pieces = (float(x) * 1000 for x in m.groups())
+        return f"{h:g} and {half:g} ms, {pieces:g} ms pieces"
+
     def rows(out):
         a, b = parse(out[now.key]), parse(out[earlier.key])
         result = []
@@ -605,7 +613,7 @@ def episode_rate():
             steps, check, rate = a[name]
             before = f"{b[name][2]:.1f}" if name in b else "-"
             ratio = f"{rate / b[name][2]:.2f}x" if name in b else "-"
-            steps = steps.replace("0.002,0.001, 0.002", "2 and 1 ms, 2 ms pieces")
+            steps = steps_text(steps)
             result.append([name, steps, check, f"{rate:.1f}", before, ratio])
         return result
     register(Table("episode_rate", "doc/performance.md",
