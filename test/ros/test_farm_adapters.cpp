@@ -81,10 +81,10 @@ TEST(Worker, TheCampaignsCallsAreRefusedBeforeAnyWork) {
                 "bad spec: --duration: 4.3e7 is not in (0, 10000]");
   expectRefused(call({"--preset", "robust", "--pairs", "3000"}, 1),
                 "bad spec: --pairs: 3000 is not in [1, 64]");
-  // Within every limit of a spec, but 1024 robust episodes of 20,000 steps in one call (20 s
-  // at the smaller of the unit's accurate step sizes, 2 and 1 ms).
+  // Within every limit of a spec, but 1024 robust episodes of 10,000 steps in one call (20 s
+  // at the smaller of the unit's accurate step sizes, 4 and 2 ms).
   expectRefused(call({"--preset", "robust"}, 1024),
-                "too much work: 1024 tasks of 20000 steps x wing pairs, over the limit of 2e+06");
+                "too much work: 1024 tasks of 10000 steps x wing pairs, over the limit of 2e+06");
   // 5: 10^9 s episodes, whose sample count overflowed an int (fitness 0).
   expectRefused(call({"--preset", "robust", "--duration", "1e9"}, 1),
                 "bad spec: --duration: 1e9 is not in (0, 10000]");
