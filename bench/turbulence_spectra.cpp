@@ -2,10 +2,11 @@
 // (no gravity, air density 0) at 5 m in a steady 1 m/s wind and Dryden turbulence of a given
 // level, the air's velocity at it (World::airVelocity) sampled every 0.05 s for 2^18 samples
 // (3.6 h of sim time, 36 km of air going by), Welch's spectra (segments of 2^13 samples) of its
-// three components against the model's, S(f) = 2 pi Phi(2 pi f / U) / U per Hz, each averaged
-// over sixth-octave bands. Prints a CSV (the band's centre in Hz; measured and model densities
-// of u, v, w in (m/s)^2/Hz) and, on stderr,
-// each component's variance against sigma^2. bench/turbulence_spectra.sh plots it.
+// three components against the model's, the spectrum in space seen through the air mass's
+// decorrelation in time (flapsim::drydenFeltSpectrum; frozen it would be S(f) = 2 pi
+// Phi(2 pi f / U) / U per Hz), each averaged over sixth-octave bands. Prints a CSV (the band's
+// centre in Hz; measured and model densities of u, v, w in (m/s)^2/Hz) and, on stderr, each
+// component's variance against sigma^2. bench/turbulence_spectra.sh plots it.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -49,6 +50,7 @@ int main(int argc, char** argv) {
       world.step(every);
     }
     const DrydenScales scales = drydenScales(p.air.turbulence.wind_at_6m, p.air.turbulence.height);
+    const double t_l = lagrangianTime(scales, p.air.turbulence.height);
     std::vector<Spectrum> spectra;
     for (int axis = 0; axis < 3; ++axis) {
       spectra.push_back(welchSpectrum(samples[axis], spacing, 1 << 13));
@@ -58,6 +60,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%c: variance %.4f (m/s)^2, model sigma^2 %.4f, ratio %.3f; L %.1f m\n",
                    "uvw"[axis], square, scales.sigma[axis] * scales.sigma[axis],
                    square / (scales.sigma[axis] * scales.sigma[axis]), scales.length[axis]);
+      if (axis == 2) std::fprintf(stderr, "Lagrangian time T_L %.2f s\n", t_l);
     }
     // Sixth-octave bands: the field is a sum of tones (32 an octave), a line spectrum bin by
     // bin at high frequency; band by band it is the model's.
@@ -65,7 +68,7 @@ int main(int argc, char** argv) {
     for (int axis = 0; axis < 3; ++axis) {
       for (size_t k = 0; k < models[axis].frequency.size(); ++k) {
         models[axis].density[k] =
-            drydenSpectrum(scales, axis, models[axis].frequency[k] / speed) / speed;
+            drydenFeltSpectrum(scales, axis, models[axis].frequency[k], speed, t_l);
       }
     }
     std::printf("frequency_hz,u,u_model,v,v_model,w,w_model\n");
@@ -74,7 +77,7 @@ int main(int argc, char** argv) {
          low *= std::pow(2.0, 1.0 / 6.0)) {
       const double high = low * std::pow(2.0, 1.0 / 6.0);
       std::printf("%.6g", std::sqrt(low * high) / (2.0 * M_PI));
-      // per Hz: 2 pi times the density per rad/s; the model's per rad/s is Phi(omega / U) / U
+      // per Hz: 2 pi times the density per rad/s
       for (int axis = 0; axis < 3; ++axis) {
         std::printf(",%.6g,%.6g", 2.0 * M_PI * bandDensity(spectra[axis], low, high),
                     2.0 * M_PI * bandDensity(models[axis], low, high));

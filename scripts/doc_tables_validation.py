@@ -382,9 +382,11 @@ def bench_variances(text):
 
 def turbulence():
     spectra = "Turbulence.SpectraAndVariancesAreTheModels"
-    drift = "Turbulence.ACreatureDriftingWithTheWindFeelsNoChange"
+    drift = "Turbulence.InAFrozenFieldACreatureDriftingWithTheWindFeelsNoChange"
+    living = "Turbulence.AirThatStaysInTheAirMassDecorrelatesOverTheLagrangianTime"
+    felt = "Turbulence.TheFeltSpectrumIsTheTransformOfTheCorrelationInSpaceAndTime"
     gust = "Turbulence.AFreePlateIsCarriedByTheGust"
-    test = gtest_run("test_turbulence", [spectra, drift, gust])
+    test = gtest_run("test_turbulence", [spectra, drift, living, felt, gust])
 
     def rows(out):
         f = Figures({test.key: out[test.key]}, "table validation_turbulence")
@@ -404,7 +406,20 @@ def turbulence():
              "the three lowest octaves (a few frequencies each), "
              f"{f.one(spectra, 'higher_octaves_error') * 100:.1f} % above",
              "same test, bounds 12 % and 4 %"],
-            ["a creature carried by the wind (Taylor's frozen turbulence)", "feels no change",
+            ["air carried by the wind, felt every 0.1 s for 20,000 s: variance u, v, w",
+             "sigma^2", ", ".join(f"{(f.one(living, 'variance_ratio_' + a) - 1) * 100:+.1f} %"
+                                  for a in axes), f"`{living}`: within 8 %"],
+            ["the same air's w: correlation at T_L / 2, T_L, 2 T_L (T_L = 0.5 h / sigma_w, "
+             "Hanna 1982: 3.24 s)",
+             ", ".join(f"{f.one(living, 'model_at_' + t + '_s'):.3f}" for t in ("1.6", "3.2",
+                                                                                 "6.5")),
+             ", ".join(f"{f.one(living, 'correlation_at_' + t + '_s'):.3f}"
+                       for t in ("1.6", "3.2", "6.5")), "same test, within 0.05"],
+            ["the felt spectrum (space through time) at rest in a 1 m/s wind, integrated",
+             "sigma^2", ", ".join(f"{(f.one(felt, 'felt_variance_ratio_' + a) - 1) * 100:+.2f} %"
+                                  for a in axes), f"`{felt}`: within 0.5 %"],
+            ["a creature carried by the wind in a frozen field (Taylor's hypothesis, "
+             "`air/turbulence/frozen`)", "feels no change",
              f"changes {sci(f.one(drift, 'drifting_change'))} m/s over 20 s (at rest: "
              f"{f.one(drift, 'resting_change'):.2f} m/s)", f"`{drift}` (1e-9 m/s)"],
             ["a 10 g plate in a 2 m/s 1-cosine gust along its normal, 5 s after it holds",

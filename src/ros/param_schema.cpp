@@ -65,6 +65,8 @@ const std::vector<ParamSpec> kSchema = {
      "height of the turbulence's intensities and scale lengths", ""},
     {"air/turbulence/per_creature", T::kBool, "false", "", "", "each creature its own turbulence",
      ""},
+    {"air/turbulence/frozen", T::kBool, "false", "", "",
+     "Taylor's frozen field; false: the air mass decorrelates over Hanna's Lagrangian time", ""},
     {"air/turbulence/seed", T::kInt, "0", "[0, inf)", "", "seed of the turbulence", ""},
     {"air/gust/velocity", T::kVec3, "[0.0, 0.0, 0.0]", "[-1e3, 1e3]", "m/s",
      "the 1-cosine gust's peak, world frame", ""},

@@ -42,6 +42,7 @@ flapsim::TurbulenceParams parseTurbulence(const Dict& d) {
   t.wind_at_6m = d.number("wind_at_6m", t.wind_at_6m);
   t.height = d.number("height", t.height);
   t.per_creature = d.boolean("per_creature", t.per_creature);
+  t.frozen = d.boolean("frozen", t.frozen);
   const int seed = d.integer("seed", 0);
   if (seed < 0) fail(d.key("seed"), "must be >= 0");
   t.seed = static_cast<std::uint64_t>(seed);

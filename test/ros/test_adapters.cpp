@@ -145,16 +145,18 @@ creatures:
   EXPECT_EQ(p.creatures[1].wing_command[0].feather, 0.0);
 }
 
-// A turbulence level sets the wind at 6 m (15, 30, 45 kt), and the gust its shape.
+// A turbulence level sets the wind at 6 m (15, 30, 45 kt), frozen Taylor's field, and the gust
+// its shape.
 TEST(Params, TurbulenceAndGustReachTheAir) {
   const flapsim_ros::NodeParams p = flapsim_ros::parseNodeParams(yaml(R"(
-air: {turbulence: {level: moderate, height: 10, per_creature: true, seed: 7},
+air: {turbulence: {level: moderate, height: 10, per_creature: true, frozen: true, seed: 7},
       gust: {velocity: [0, 2, 0.5], start: 3, rise: 0.4, hold: 1}}
 )"));
   const flapsim::TurbulenceParams& t = p.world.air.turbulence;
   EXPECT_DOUBLE_EQ(t.wind_at_6m, 30.0 * 1852.0 / 3600.0);
   EXPECT_EQ(t.height, 10.0);
   EXPECT_TRUE(t.per_creature);
+  EXPECT_TRUE(t.frozen);
   EXPECT_EQ(t.seed, 7u);
   const flapsim::DiscreteGust& g = p.world.air.gust;
   EXPECT_EQ(g.velocity, Vec3(0, 2, 0.5));

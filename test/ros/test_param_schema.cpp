@@ -324,6 +324,8 @@ const std::map<std::string, Field> kFields = {
      [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.height); }},
     {"air/turbulence/per_creature",
      [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.per_creature); }},
+    {"air/turbulence/frozen",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.frozen); }},
     {"air/turbulence/seed",
      [](const NodeParams& p) { return YAML::Node(p.world.air.turbulence.seed); }},
     {"air/gust/velocity", [](const NodeParams& p) { return list(p.world.air.gust.velocity); }},

@@ -74,6 +74,45 @@ double drydenVariance(const DrydenScales& s, int axis, double omega) {
   return sigma2 / M_PI * (2.0 * std::atan(x) - x / (1.0 + x * x));
 }
 
+double lagrangianTime(const DrydenScales& s, double height) {
+  if (!(s.sigma.z() > 0.0)) return std::numeric_limits<double>::infinity();
+  return 0.5 * height / s.sigma.z();
+}
+
+namespace {
+// D, the time between the births of the field's realisations, for an integral time T_L.
+double renewalTime(double lagrangian_time) { return M_PI * M_PI * lagrangian_time / 8.0; }
+}  // namespace
+
+double airMassCorrelation(double tau, double lagrangian_time) {
+  if (std::isinf(lagrangian_time)) return 1.0;
+  const double d = renewalTime(lagrangian_time), t = std::abs(tau);
+  if (t >= 2.0 * d) return 0.0;
+  const double a = M_PI / (2.0 * d);
+  return ((2.0 * d - t) * std::cos(a * t) + std::sin(a * t) / a) / (2.0 * d);
+}
+
+double drydenFeltSpectrum(const DrydenScales& s, int axis, double omega, double speed,
+                          double lagrangian_time) {
+  const double sigma2 = s.sigma[axis] * s.sigma[axis], l = s.length[axis];
+  if (std::isinf(lagrangian_time)) {
+    return speed > 0.0 ? drydenSpectrum(s, axis, omega / speed) / speed : 0.0;
+  }
+  // Simpson's rule over the correlation's support [0, 2D], fine against its wiggles and omega.
+  const double span = 2.0 * renewalTime(lagrangian_time);
+  const int n = 2 * std::max(2000, static_cast<int>(std::ceil(4.0 * omega * span)));
+  const double h = span / n;
+  double sum = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double tau = i * h, r = speed * tau / l;
+    const double space = axis == 0 ? std::exp(-r) : (1.0 - 0.5 * r) * std::exp(-r);
+    const double f =
+        sigma2 * space * airMassCorrelation(tau, lagrangian_time) * std::cos(omega * tau);
+    sum += (i == 0 || i == n ? 1.0 : i % 2 == 1 ? 4.0 : 2.0) * f;
+  }
+  return 2.0 / M_PI * sum * h / 3.0;
+}
+
 std::string checkTurbulence(const TurbulenceParams& p) {
   std::ostringstream out;
   if (!(p.wind_at_6m >= 0.0 && p.wind_at_6m <= kMaxTurbulenceWind)) {
@@ -109,6 +148,10 @@ TurbulenceField::TurbulenceField(const TurbulenceParams& params, std::uint64_t r
   if (params.wind_at_6m == 0.0) return;
   scales_ = drydenScales(params.wind_at_6m, params.height);
   spacing_ = scales_.length.minCoeff() / 500.0;
+  lagrangian_time_ = params.frozen ? std::numeric_limits<double>::infinity()
+                                   : flapsim::lagrangianTime(scales_, params.height);
+  renewal_ = renewalTime(lagrangian_time_);
+  seed_ = realisation_seed;
   const double lowest = 0.01 / scales_.length.maxCoeff();
   const double highest = 100.0 / scales_.length.minCoeff();
   const int n = kTurbulenceModes;
@@ -121,8 +164,10 @@ TurbulenceField::TurbulenceField(const TurbulenceParams& params, std::uint64_t r
   };
   Rng rng(realisation_seed);
   omega_.resize(n);
-  cos_amplitude_.resize(n);
-  sin_amplitude_.resize(n);
+  amplitude_.resize(n);
+  Realisation first;
+  first.cos_amplitude.resize(n);
+  first.sin_amplitude.resize(n);
   for (int k = 0; k < n; ++k) {
     // The mode's frequency, log-uniform within its band (the open bands as wide as the rest).
     const double lo = k == 0 ? lowest / ratio : edge(k);
@@ -130,24 +175,50 @@ TurbulenceField::TurbulenceField(const TurbulenceParams& params, std::uint64_t r
     for (int axis = 0; axis < 3; ++axis) {
       const double variance =
           drydenVariance(scales_, axis, edge(k + 1)) - drydenVariance(scales_, axis, edge(k));
-      const double amplitude = std::sqrt(2.0 * std::max(variance, 0.0));
+      amplitude_[k][axis] = std::sqrt(2.0 * std::max(variance, 0.0));
       const double phase = 2.0 * M_PI * rng.uniform();
-      cos_amplitude_[k][axis] = amplitude * std::cos(phase);
-      sin_amplitude_[k][axis] = -amplitude * std::sin(phase);
+      first.cos_amplitude[k][axis] = amplitude_[k][axis] * std::cos(phase);
+      first.sin_amplitude[k][axis] = -amplitude_[k][axis] * std::sin(phase);
     }
   }
+  realisations_.emplace(0, std::move(first));
 }
 
-const std::vector<Vec3>& TurbulenceField::chunk(std::int64_t index) const {
-  auto found = chunks_.find(index);
-  if (found == chunks_.end()) {
-    if (chunks_.size() >= kChunksKept) {
+TurbulenceField::Realisation& TurbulenceField::realisation(std::int64_t m) const {
+  auto found = realisations_.find(m);
+  if (found != realisations_.end()) return found->second;
+  if (realisations_.size() >= kRealisationsKept) {
+    // The one farthest from m goes (it is drawn again, the same, if needed; F_0 is kept).
+    auto far = std::abs(std::next(realisations_.begin())->first - m) >
+                       std::abs(realisations_.rbegin()->first - m)
+                   ? std::next(realisations_.begin())
+                   : std::prev(realisations_.end());
+    realisations_.erase(far);
+  }
+  Rng rng(mixSeed(seed_, 0x6c697665ULL, static_cast<std::uint64_t>(m)));  // "live"
+  Realisation r;
+  r.cos_amplitude.resize(omega_.size());
+  r.sin_amplitude.resize(omega_.size());
+  for (size_t k = 0; k < omega_.size(); ++k) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const double phase = 2.0 * M_PI * rng.uniform();
+      r.cos_amplitude[k][axis] = amplitude_[k][axis] * std::cos(phase);
+      r.sin_amplitude[k][axis] = -amplitude_[k][axis] * std::sin(phase);
+    }
+  }
+  return realisations_.emplace(m, std::move(r)).first->second;
+}
+
+const std::vector<Vec3>& TurbulenceField::chunk(Realisation& r, std::int64_t index) const {
+  auto found = r.chunks.find(index);
+  if (found == r.chunks.end()) {
+    if (r.chunks.size() >= kChunksKept) {
       // The chunk farthest from this one goes (it is made again, the same, if needed).
       auto far =
-          std::abs(chunks_.begin()->first - index) > std::abs(chunks_.rbegin()->first - index)
-              ? chunks_.begin()
-              : std::prev(chunks_.end());
-      chunks_.erase(far);
+          std::abs(r.chunks.begin()->first - index) > std::abs(r.chunks.rbegin()->first - index)
+              ? r.chunks.begin()
+              : std::prev(r.chunks.end());
+      r.chunks.erase(far);
     }
     // Each mode's angle at the chunk's first point, then turned point by point.
     std::vector<Vec3> values(kChunk + 1, Vec3::Zero());
@@ -156,24 +227,36 @@ const std::vector<Vec3>& TurbulenceField::chunk(std::int64_t index) const {
       const std::complex<double> turn = std::polar(1.0, omega_[k] * spacing_);
       std::complex<double> phasor = std::polar(1.0, omega_[k] * first);
       for (int j = 0; j <= kChunk; ++j, phasor *= turn) {
-        values[j] += cos_amplitude_[k] * phasor.real() + sin_amplitude_[k] * phasor.imag();
+        values[j] += r.cos_amplitude[k] * phasor.real() + r.sin_amplitude[k] * phasor.imag();
       }
     }
-    found = chunks_.emplace(index, std::move(values)).first;
+    found = r.chunks.emplace(index, std::move(values)).first;
   }
   return found->second;
 }
 
-Vec3 TurbulenceField::componentsAt(double xi) const {
-  if (!active()) return Vec3::Zero();
+Vec3 TurbulenceField::realisationAt(Realisation& r, double xi) const {
   const double position = xi / spacing_;
   const double cell = std::floor(position);
   const auto point = static_cast<std::int64_t>(cell);
   const std::int64_t index = point >= 0 ? point / kChunk : -((-point - 1) / kChunk) - 1;
   const int j = static_cast<int>(point - index * kChunk);
-  const std::vector<Vec3>& values = chunk(index);
+  const std::vector<Vec3>& values = chunk(r, index);
   const double t = position - cell;
   return values[j] + t * (values[j + 1] - values[j]);
+}
+
+Vec3 TurbulenceField::componentsAt(double xi, double time) const {
+  if (!active()) return Vec3::Zero();
+  if (std::isinf(renewal_)) return realisationAt(realisation(0), xi);  // frozen
+  const double age = std::max(time, 0.0) / renewal_;
+  const double born = std::floor(age);
+  const auto m = static_cast<std::int64_t>(born);
+  const double u = age - born;
+  const Vec3 older = realisationAt(realisation(m), xi);
+  if (u == 0.0) return older;
+  return std::cos(0.5 * M_PI * u) * older +
+         std::sin(0.5 * M_PI * u) * realisationAt(realisation(m + 1), xi);
 }
 
 Vec3 TurbulenceField::velocity(const Vec3& position, double time, const Vec3& wind) const {
@@ -182,7 +265,7 @@ Vec3 TurbulenceField::velocity(const Vec3& position, double time, const Vec3& wi
   const double speed = horizontal.norm();
   const Vec3 along = speed > 0.0 ? Vec3(horizontal / speed) : Vec3::UnitX();
   const Vec3 across = Vec3::UnitZ().cross(along);
-  const Vec3 c = componentsAt(along.dot(position) - speed * time);
+  const Vec3 c = componentsAt(along.dot(position) - speed * time, time);
   return c.x() * along + c.y() * across + c.z() * Vec3::UnitZ();
 }
 
