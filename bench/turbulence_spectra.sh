@@ -10,7 +10,7 @@ png=doc/turbulence_spectra.png
 ./bin/turbulence_spectra "$level" >"$csv"
 gnuplot -e "set datafile separator ','; set terminal pngcairo size 900,560;
   set output '$png'; set logscale xy; set format y '10^{%L}';
-  set title 'Dryden turbulence ($level, 5 m, 1 m/s wind) at a creature at rest: Welch, 1/6-octave bands, vs MIL-F-8785C';
+  set title 'Dryden turbulence ($level, 5 m, 1 m/s wind) felt at rest: Welch, 1/6 octaves, vs the model seen through T_L';
   set xlabel 'frequency (Hz)'; set ylabel 'power spectral density ((m/s)^2/Hz)';
   set xrange [0.002:12]; set yrange [1e-6:1e3]; set key bottom left;
   plot '$csv' skip 1 using 1:2 with linespoints pt 7 ps 0.5 lc rgb '#1f77b4' title 'u (along the wind)',

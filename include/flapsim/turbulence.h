@@ -120,11 +120,15 @@ class TurbulenceField {
   Vec3 velocity(const Vec3& position, double time, const Vec3& wind) const;
 
  private:
-  static constexpr int kChunk = 1024;  // grid intervals per chunk
+  // Grid intervals per chunk: F_0's as the frozen field's always were; F_m's (m > 0) shorter,
+  // since each lives 2 D and a creature crosses few metres of air in that time.
+  static constexpr int kChunk = 1024;
+  static constexpr int kLivingChunk = 128;
   static constexpr size_t kChunksKept = 64;
   static constexpr size_t kRealisationsKept = 3;
-  // F_m's phases and the chunks of its grid made so far (kChunk + 1 points each).
+  // F_m's phases and the chunks of its grid made so far (chunk + 1 points each).
   struct Realisation {
+    int chunk = kChunk;
     std::vector<Vec3> cos_amplitude, sin_amplitude;  // per mode: a cos(phi), -a sin(phi)
     std::map<std::int64_t, std::vector<Vec3>> chunks;
   };

@@ -197,6 +197,7 @@ TurbulenceField::Realisation& TurbulenceField::realisation(std::int64_t m) const
   }
   Rng rng(mixSeed(seed_, 0x6c697665ULL, static_cast<std::uint64_t>(m)));  // "live"
   Realisation r;
+  r.chunk = kLivingChunk;
   r.cos_amplitude.resize(omega_.size());
   r.sin_amplitude.resize(omega_.size());
   for (size_t k = 0; k < omega_.size(); ++k) {
@@ -221,12 +222,12 @@ const std::vector<Vec3>& TurbulenceField::chunk(Realisation& r, std::int64_t ind
       r.chunks.erase(far);
     }
     // Each mode's angle at the chunk's first point, then turned point by point.
-    std::vector<Vec3> values(kChunk + 1, Vec3::Zero());
-    const double first = static_cast<double>(index) * kChunk * spacing_;
+    std::vector<Vec3> values(r.chunk + 1, Vec3::Zero());
+    const double first = static_cast<double>(index) * r.chunk * spacing_;
     for (size_t k = 0; k < omega_.size(); ++k) {
       const std::complex<double> turn = std::polar(1.0, omega_[k] * spacing_);
       std::complex<double> phasor = std::polar(1.0, omega_[k] * first);
-      for (int j = 0; j <= kChunk; ++j, phasor *= turn) {
+      for (int j = 0; j <= r.chunk; ++j, phasor *= turn) {
         values[j] += r.cos_amplitude[k] * phasor.real() + r.sin_amplitude[k] * phasor.imag();
       }
     }
@@ -239,8 +240,8 @@ Vec3 TurbulenceField::realisationAt(Realisation& r, double xi) const {
   const double position = xi / spacing_;
   const double cell = std::floor(position);
   const auto point = static_cast<std::int64_t>(cell);
-  const std::int64_t index = point >= 0 ? point / kChunk : -((-point - 1) / kChunk) - 1;
-  const int j = static_cast<int>(point - index * kChunk);
+  const std::int64_t index = point >= 0 ? point / r.chunk : -((-point - 1) / r.chunk) - 1;
+  const int j = static_cast<int>(point - index * r.chunk);
   const std::vector<Vec3>& values = chunk(r, index);
   const double t = position - cell;
   return values[j] + t * (values[j + 1] - values[j]);
