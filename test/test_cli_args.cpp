@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "flapsim/ann.h"
 #include "flapsim/cli_args.h"
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
@@ -380,6 +381,19 @@ TEST(ToolTables, TurnSubstepIsFlownOrRefusedByName) {
               "--turn-substep: turn_substep must be 0 (off) or finite and >= 1e-7 s");
   }
   EXPECT_EQ(parseEvolveArgs({"--turn-substep", "0"}).params.episode.world.turn_substep, 0.0);
+}
+
+// A rate range above the chain pitch term's 75 rad/s ceiling was refused for a parameter no
+// flag sets ("pitch_max_downstroke_rate must be ... >= max_downstroke_rate"): the ceiling now
+// rises with --max-rate, and a range within it leaves it at 75.
+TEST(ToolTables, EvolveTakesAMaxRateAboveThePitchTermsCeiling) {
+  const FlapControllerParams fast =
+      parseEvolveArgs({"--min-rate", "10", "--max-rate", "100"}).params.controller;
+  EXPECT_EQ(fast.max_downstroke_rate, 100.0);
+  EXPECT_EQ(fast.pitch_max_downstroke_rate, 100.0);
+  EXPECT_EQ(validateFlapControllerParams(fast), "");
+  EXPECT_EQ(parseEvolveArgs({"--max-rate", "70"}).params.controller.pitch_max_downstroke_rate,
+            75.0);
 }
 
 // Issue 26 item 6: evolve --help showed the paper preset's 10, 200 and 30 s while running

@@ -379,6 +379,10 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
     checkHoverFlags(o.preset, seen, o.params);
   } else {
     checkDependentFlags(o.params, seen);
+    // The chain pitch term's ceiling is at least the network's: --max-rate above its 75 rad/s
+    // default raises it with it (else every such run would be refused for a flag not given).
+    FlapControllerParams& c = o.params.controller;
+    c.pitch_max_downstroke_rate = std::max(c.pitch_max_downstroke_rate, c.max_downstroke_rate);
   }
   if (o.params.episode.real_air) {
     EpisodeParams& e = o.params.episode;
