@@ -1,0 +1,134 @@
+// vertical_authority: what holding an altitude in turbulence asks of a creature's climb and
+// sink, and what the flap unit has. Prints figures; never passes or fails.
+//
+//   vertical_authority [--level light] [--height 5] [--wind 1] [--flights 40] [--duration 60]
+//                      [--settle 10]
+//
+// 1. The bound: an ideal controller that knows the vertical air speed w it is in and moves
+//    against it at up to A m/s relative to the air (dz/dt = w - clamp(w + z / 0.5 s, -A, A)),
+//    in the living Dryden field at rest in a steady wind (--flights realisations, seeds 0..N-1,
+//    --duration s each, the altitude error's rms after --settle s), for A = 0.5 to 3 m/s: its
+//    mean and largest rms over the flights. No creature with that authority can do better.
+// 2. The flap unit's authority (make_creature --pairs 1, 8 N m wing motors): open loop from
+//    level at rest, both wings at one downstroke and upstroke rate, amplitude 1.2 rad, its
+//    vertical speed from 2 to 4 s (before it tips over), for the robust preset's rate range.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "flapsim/cli_args.h"
+#include "flapsim/creature_model.h"
+#include "flapsim/make_creature.h"
+#include "flapsim/turbulence.h"
+#include "flapsim/world.h"
+
+namespace {
+
+struct Bound {
+  double mean = 0.0, worst = 0.0;
+};
+
+Bound idealBound(double authority, const std::string& level, double height, double wind,
+                 int flights, double duration, double settle) {
+  const double dt = 0.001, gain = 1.0 / 0.5;
+  Bound b;
+  for (int seed = 0; seed < flights; ++seed) {
+    flapsim::TurbulenceParams p;
+    p.wind_at_6m = flapsim::turbulenceLevelWind(level);
+    p.height = height;
+    p.seed = static_cast<std::uint64_t>(seed);
+    const flapsim::TurbulenceField field(p, flapsim::turbulenceSeed(p, "ideal"));
+    double z = 0.0, square = 0.0;
+    int samples = 0;
+    const auto steps = static_cast<int>(std::lround(duration / dt));
+    for (int i = 0; i < steps; ++i) {
+      const double t = i * dt;
+      const double w =
+          field.velocity(flapsim::Vec3(0.0, 0.0, height), t, flapsim::Vec3(wind, 0.0, 0.0)).z();
+      z += (w - std::clamp(w + gain * z, -authority, authority)) * dt;
+      if (t >= settle) {
+        square += z * z;
+        ++samples;
+      }
+    }
+    const double rms = std::sqrt(square / std::max(samples, 1));
+    b.mean += rms / flights;
+    b.worst = std::max(b.worst, rms);
+  }
+  return b;
+}
+
+// The flap unit's mean vertical speed from 2 to 4 s, open loop from level at rest.
+double openLoopClimb(double downstroke, double upstroke) {
+  flapsim::WorldParams p;
+  p.ground = false;
+  flapsim::World world(p);
+  const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "afc"), "afc1");
+  flapsim::Pose pose;
+  pose.position = flapsim::Vec3(0.0, 0.0, 50.0);
+  world.spawn("afc", model, pose);
+  std::vector<std::string> joints;
+  std::vector<flapsim::StrokeCommand> commands;
+  for (int j : model->wing_joints) {
+    joints.push_back(model->joints[j].name);
+    flapsim::StrokeCommand c;
+    c.downstroke_rate = downstroke;
+    c.upstroke_rate = upstroke;
+    c.amplitude = 1.2;
+    commands.push_back(c);
+  }
+  world.setWingCommands("afc", joints, commands);
+  world.step(2000);
+  const double z2 = world.rootPose("afc").position.z();
+  world.step(2000);
+  return (world.rootPose("afc").position.z() - z2) / 2.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string level = "light";
+  double height = 5.0, wind = 1.0, duration = 60.0, settle = 10.0;
+  int flights = 40;
+  flapsim::CliParser cli("usage: vertical_authority [options]");
+  cli.text("--level", "LEVEL", &level, "turbulence: light, moderate or severe")
+      .real("--height", "M", &height, {flapsim::kMinTurbulenceHeight, 300.0}, "m")
+      .real("--wind", "W", &wind, {0, 20}, "the steady wind, m/s")
+      .integer("--flights", "N", &flights, {1, 10000}, "realisations of the turbulence")
+      .real("--duration", "S", &duration, {1, 3600}, "s each")
+      .real("--settle", "S", &settle, {0, 3600}, "the rms counts after S s");
+  try {
+    cli.parse(std::vector<std::string>(argv + 1, argv + argc));
+    if (cli.help()) {
+      std::printf("%s", cli.usage().c_str());
+      return 0;
+    }
+    const flapsim::DrydenScales s =
+        flapsim::drydenScales(flapsim::turbulenceLevelWind(level), height);
+    std::printf(
+        "%s turbulence at %g m in a %g m/s wind: sigma_w %.2f m/s, L_w %.1f m, T_L %.2f s; an "
+        "ideal controller climbing or sinking at up to A m/s against the air's w, altitude "
+        "rms after %g s of %g s over %d flights:\n",
+        level.c_str(), height, wind, s.sigma.z(), s.length.z(), flapsim::lagrangianTime(s, height),
+        settle, duration, flights);
+    std::printf("A (m/s)  mean rms (m)  largest rms (m)\n");
+    for (double a : {0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0}) {
+      const Bound b = idealBound(a, level, height, wind, flights, duration, settle);
+      std::printf("%7.2f  %12.3f  %15.3f\n", a, b.mean, b.worst);
+    }
+    std::printf(
+        "the flap unit open loop (both wings alike, amplitude 1.2 rad), vertical speed from 2 "
+        "to 4 s:\n");
+    std::printf("downstroke  upstroke (rad/s)  climb (m/s)\n");
+    for (const auto& r : std::vector<std::pair<double, double>>{
+             {10, 10}, {20, 10}, {30, 10}, {40, 10}, {60, 10}, {80, 10}, {100, 10}}) {
+      std::printf("%10.0f  %16.0f  %11.2f\n", r.first, r.second, openLoopClimb(r.first, r.second));
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "vertical_authority: %s\n", e.what());
+    return 2;
+  }
+}
