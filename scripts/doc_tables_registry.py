@@ -301,12 +301,46 @@ def real_air_apart():
                    "--real-air` with the row's sizes (FLAGS as in the table above), at 1 ms"))
 
 
+def vertical_authority():
+    """bench/vertical_authority.cpp: the altitude rms an ideal controller reaches in light
+    turbulence at each climb-and-sink authority, and the flap unit's climb at its rates."""
+    run = Run("vertical_authority", ["bin/vertical_authority"])
+
+    def rows(out):
+        text = out[run.key]
+        bound = re.findall(r"^ *([0-9]+\.[0-9]+) +([0-9.]+) +([0-9.]+)$", text, re.M)
+        climb = {int(d): float(v) for d, _, v in
+                 re.findall(r"^ *([0-9]+) +([0-9]+) +(-?[0-9.]+)$", text, re.M)}
+        if len(bound) < 4 or not climb:
+            raise ValueError("vertical_authority output: no bound or no climb rows")
+
+        def unit(a):  # the flap unit's rates that climb and sink at least a
+            up = [d for d, v in sorted(climb.items()) if v >= a]
+            down = [d for d, v in sorted(climb.items()) if v <= -a]
+            return (f"{up[0]}" if up else f"over {max(climb)}") + " / " + (
+                f"{down[-1]}" if down else f"under {min(climb)}")
+        return [[f"{float(a):.2f}", f"{float(m):.3f} m", f"{float(w):.3f} m", unit(float(a))]
+                for a, m, w in bound]
+    register(Table("vertical_authority", FLIGHT_DOC,
+                   ["climb and sink A (m/s)", "ideal altitude rms, mean of 40",
+                    "ideal altitude rms, largest of 40",
+                    "flap unit downstroke rate (rad/s, upstroke 10) that climbs / sinks at A"],
+                   [run], rows,
+                   "`bin/vertical_authority` (bench/vertical_authority.cpp): an ideal controller "
+                   "that knows the vertical air speed w and moves against it at up to A m/s "
+                   "(dz/dt = w - clamp(w + z / 0.5 s, -A, A)), light turbulence at 5 m in a 1 m/s "
+                   "wind, 40 realisations of 60 s, the rms after 10 s; the flap unit open loop "
+                   "from level, both wings alike, its vertical speed from 2 to 4 s, at 10, 20, "
+                   "30, 40, 60, 80 and 100 rad/s"))
+
+
 held_out_starts()
 steady_wind()
 steady_wind_hover()
 real_air()
 real_air_bar()
 real_air_apart()
+vertical_authority()
 register_flight_table("afc_1_altitude_climbing", "config/afc_1_altitude_weights.yaml", 1, (1, 0.5),
                       CONDITIONS + HOLD_CONDITIONS)
 register_flight_table("afc_1_altitude_hold", "config/afc_1_altitude_weights.yaml", 1, (1, 0.5),
