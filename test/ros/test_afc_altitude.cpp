@@ -1,9 +1,10 @@
 // afc.launch with altitude:=A holds it through ROS: the controller flies by the IMU (it
 // subscribes to <creature>/imu, the topic `~imu_topic`), and on `~odom_topic`, from `~settle`
 // s of sim time to `~duration`, the root stays within `~band` m of A and its up-component above
-// `~min_up`. With `~torque` (N m) a roll torque about the creature's root x axis acts from
-// `~torque_time` for `~torque_duration` s of sim time (flapsim/apply_wrench). Run with
-// lockstep:=true: the flight is the same on every run.
+// `~min_up`. With `~torque` (N m) a roll torque about the world's x axis (the root's at its
+// start heading) acts from `~torque_time` for `~torque_duration` s of sim time
+// (flapsim/apply_wrench with start_time). Run with lockstep:=true: the flight is the same on
+// every run.
 #include <gtest/gtest.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -51,11 +52,13 @@ TEST(AfcAltitude, FliesByTheImuAndHoldsTheAltitudeUprightAfterSettling) {
   pnh.getParam("torque_duration", torque_duration);
   pnh.getParam("creature", creature);
 
+  bool seen = false;
   double last_t = 0.0, lowest_up = 1.0, low = 1e9, high = -1e9, sq = 0.0;
   int settled = 0;
   ros::Subscriber sub =
       nh.subscribe<nav_msgs::Odometry>(odom, 1000, [&](const nav_msgs::Odometry::ConstPtr& m) {
         last_t = m->header.stamp.toSec();
+        seen = true;
         if (last_t < settle || last_t > duration) return;
         const auto& q = m->pose.pose.orientation;
         const double z = m->pose.pose.position.z;
@@ -68,17 +71,21 @@ TEST(AfcAltitude, FliesByTheImuAndHoldsTheAltitudeUprightAfterSettling) {
   bool pushed = torque == 0.0;
   flapsim_test::waitFor(
       [&] {
-        if (!pushed && last_t >= torque_time) {
-          // The creature's axes at the time of the call: a roll torque.
+        if (!pushed && seen) {
+          // Sent at the first odometry, to act from torque_time exactly (start_time): about the
+          // world's x axis, the creature's roll axis at its start heading. Sent when the clock
+          // passed torque_time, it acted from whichever step the call met, and flights in
+          // lockstep parted between runs.
           flapsim::ApplyWrench a;
           a.request.name = creature;
-          a.request.reference_frame = creature;
           a.request.wrench.torque.x = torque;
           a.request.duration = ros::Duration(torque_duration);
+          a.request.start_time = ros::Time(torque_time);
           pushed = ros::service::call("/flapsim/apply_wrench", a) && a.response.success;
           EXPECT_TRUE(pushed) << a.response.status_message;
-          std::printf("roll torque %.3f N m at t = %.2f s for %.2f s\n", torque, last_t,
-                      torque_duration);
+          EXPECT_NEAR(a.response.start_time.toSec(), torque_time, 1e-6);
+          std::printf("roll torque %.3f N m from t = %.3f s for %.2f s\n", torque,
+                      a.response.start_time.toSec(), torque_duration);
           pushed = true;
         }
         return last_t >= duration;
