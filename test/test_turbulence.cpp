@@ -169,17 +169,19 @@ TEST(Turbulence, OneFrozenFieldIsSharedAndPerCreatureFieldsDiffer) {
   EXPECT_LT((frozen.airVelocity("downwind") - a[1]).norm(), 1e-9);
   EXPECT_GT((downwind_later - a[1]).norm(), 1e-3);
 
+  auto twoAtOnePlace = [&](World& w) {
+    w.spawn("a", plate, at(0, 0, 5));
+    w.spawn("b", plate, at(0, 0, 5));
+  };
   World living(turbulentAir(false));
-  living.spawn("a", plate, at(0, 0, 5));
-  living.spawn("b", plate, at(0, 0, 5));
+  twoAtOnePlace(living);
   const std::vector<Vec3> living_a = feltAir(living, "a", 4000, 1000);
   living.reset();
   EXPECT_EQ(feltAir(living, "b", 4000, 1000), living_a);
   EXPECT_NE(living_a, a);  // F_0 at t = 0, then other air
 
   World own(turbulentAir(true));
-  own.spawn("a", plate, at(0, 0, 5));
-  own.spawn("b", plate, at(0, 0, 5));
+  twoAtOnePlace(own);
   const std::vector<Vec3> first = feltAir(own, "a", 4000, 1000);
   own.reset();
   EXPECT_EQ(feltAir(own, "a", 4000, 1000), first);
