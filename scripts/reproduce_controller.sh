@@ -4,8 +4,8 @@
 # fitness. Exit 0 if they are the same, 1 if not, 2 if the file has no Reproduce line.
 # Usage: scripts/reproduce_controller.sh config/afc_1_real_air_weights.yaml [--threads N]
 # (the threads do not change the result; evolve's own default is used otherwise). Not run by
-# the tests: an evolution takes minutes (afc_1_real_air: 44 min on 2 threads here beside another
-# evolution, 6 December).
+# the tests: an evolution takes minutes (afc_1_real_air: 31 min on 2 threads here, 6 December;
+# 44 min beside another evolution).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 file=$1
