@@ -133,6 +133,8 @@ class TurbulenceField {
     std::map<std::int64_t, std::vector<Vec3>> chunks;
   };
   Realisation& realisation(std::int64_t m) const;
+  // Mode k's component `axis` of r at `phase`, with the mode's amplitude.
+  void setPhase(Realisation& r, size_t k, int axis, double phase) const;
   const std::vector<Vec3>& chunk(Realisation& r, std::int64_t index) const;
   Vec3 realisationAt(Realisation& r, double xi) const;
 

@@ -82,6 +82,14 @@ double lagrangianTime(const DrydenScales& s, double height) {
 namespace {
 // D, the time between the births of the field's realisations, for an integral time T_L.
 double renewalTime(double lagrangian_time) { return M_PI * M_PI * lagrangian_time / 8.0; }
+
+// Of the entries of `map` from `first` on, erases the one whose key is farthest from `key`
+// (the first or the last: the keys are sorted); the cache makes it again, the same, if needed.
+template <class Map>
+void eraseFarthest(Map& map, typename Map::iterator first, std::int64_t key) {
+  auto last = std::prev(map.end());
+  map.erase(std::abs(first->first - key) > std::abs(last->first - key) ? first : last);
+}
 }  // namespace
 
 double airMassCorrelation(double tau, double lagrangian_time) {
@@ -176,24 +184,22 @@ TurbulenceField::TurbulenceField(const TurbulenceParams& params, std::uint64_t r
       const double variance =
           drydenVariance(scales_, axis, edge(k + 1)) - drydenVariance(scales_, axis, edge(k));
       amplitude_[k][axis] = std::sqrt(2.0 * std::max(variance, 0.0));
-      const double phase = 2.0 * M_PI * rng.uniform();
-      first.cos_amplitude[k][axis] = amplitude_[k][axis] * std::cos(phase);
-      first.sin_amplitude[k][axis] = -amplitude_[k][axis] * std::sin(phase);
+      setPhase(first, k, axis, 2.0 * M_PI * rng.uniform());
     }
   }
   realisations_.emplace(0, std::move(first));
 }
 
+void TurbulenceField::setPhase(Realisation& r, size_t k, int axis, double phase) const {
+  r.cos_amplitude[k][axis] = amplitude_[k][axis] * std::cos(phase);
+  r.sin_amplitude[k][axis] = -amplitude_[k][axis] * std::sin(phase);
+}
+
 TurbulenceField::Realisation& TurbulenceField::realisation(std::int64_t m) const {
   auto found = realisations_.find(m);
   if (found != realisations_.end()) return found->second;
-  if (realisations_.size() >= kRealisationsKept) {
-    // The one farthest from m goes (it is drawn again, the same, if needed; F_0 is kept).
-    auto far = std::abs(std::next(realisations_.begin())->first - m) >
-                       std::abs(realisations_.rbegin()->first - m)
-                   ? std::next(realisations_.begin())
-                   : std::prev(realisations_.end());
-    realisations_.erase(far);
+  if (realisations_.size() >= kRealisationsKept) {  // F_0 is kept
+    eraseFarthest(realisations_, std::next(realisations_.begin()), m);
   }
   Rng rng(mixSeed(seed_, 0x6c697665ULL, static_cast<std::uint64_t>(m)));  // "live"
   Realisation r;
@@ -201,11 +207,7 @@ TurbulenceField::Realisation& TurbulenceField::realisation(std::int64_t m) const
   r.cos_amplitude.resize(omega_.size());
   r.sin_amplitude.resize(omega_.size());
   for (size_t k = 0; k < omega_.size(); ++k) {
-    for (int axis = 0; axis < 3; ++axis) {
-      const double phase = 2.0 * M_PI * rng.uniform();
-      r.cos_amplitude[k][axis] = amplitude_[k][axis] * std::cos(phase);
-      r.sin_amplitude[k][axis] = -amplitude_[k][axis] * std::sin(phase);
-    }
+    for (int axis = 0; axis < 3; ++axis) setPhase(r, k, axis, 2.0 * M_PI * rng.uniform());
   }
   return realisations_.emplace(m, std::move(r)).first->second;
 }
@@ -213,14 +215,7 @@ TurbulenceField::Realisation& TurbulenceField::realisation(std::int64_t m) const
 const std::vector<Vec3>& TurbulenceField::chunk(Realisation& r, std::int64_t index) const {
   auto found = r.chunks.find(index);
   if (found == r.chunks.end()) {
-    if (r.chunks.size() >= kChunksKept) {
-      // The chunk farthest from this one goes (it is made again, the same, if needed).
-      auto far =
-          std::abs(r.chunks.begin()->first - index) > std::abs(r.chunks.rbegin()->first - index)
-              ? r.chunks.begin()
-              : std::prev(r.chunks.end());
-      r.chunks.erase(far);
-    }
+    if (r.chunks.size() >= kChunksKept) eraseFarthest(r.chunks, r.chunks.begin(), index);
     // Each mode's angle at the chunk's first point, then turned point by point.
     std::vector<Vec3> values(r.chunk + 1, Vec3::Zero());
     const double first = static_cast<double>(index) * r.chunk * spacing_;
