@@ -269,6 +269,64 @@ TEST(WingControllers, TheChainInputIsThePlaceAlongTheChainTimesItsMeanPitch) {
   EXPECT_DOUBLE_EQ(plain[0].downstroke_rate, plain[4].downstroke_rate);
 }
 
+// The climb input: the root's vertical speed in the world, from its velocity in its own axes
+// turned by its attitude, over climb_scale and clamped to +-1; the same on both sides of the
+// mirror (a climb is not handed), after the altitude error in the inputs.
+TEST(WingControllers, TheClimbInputIsTheRootsVerticalSpeedInTheWorldOverItsScale) {
+  FlapControllerParams p;
+  p.network = FlapNetwork::kMirror;
+  p.altitude_input = true;
+  p.climb_input = true;
+  p.climb_scale = 2.0;
+  ASSERT_EQ(flapInputCount(p), 4);
+  EXPECT_EQ(flapInputNames(p)[2], "altitude_error");
+  EXPECT_EQ(flapInputNames(p)[3], "climb_rate");
+  // Rolled 90 deg about x, the body's +y axis points up: 1.2 m/s along it is a climb of 1.2.
+  const Quat rolled(Eigen::AngleAxisd(M_PI / 2.0, Vec3::UnitX()));
+  EXPECT_NEAR(climbInput(p, rolled, Vec3(0.0, 1.2, 0.0)), 0.6, 1e-15);
+  EXPECT_NEAR(climbInput(p, rolled, Vec3(0.0, 0.0, 1.2)), 0.0, 1e-15);
+  EXPECT_DOUBLE_EQ(climbInput(p, Quat::Identity(), Vec3(0.0, 0.0, -3.0)), -1.0);
+  EXPECT_DOUBLE_EQ(climbInput(p, Quat::Identity(), Vec3(0.0, 0.0, 5.0)), 1.0);
+  const std::vector<double> x =
+      flapNetworkInputs(p, Quat::Identity(), Vec3::Zero(), 0.25, 0.0, -0.4);
+  ASSERT_EQ(x.size(), 4u);
+  EXPECT_DOUBLE_EQ(x[2], 0.25);
+  EXPECT_DOUBLE_EQ(x[3], -0.4);
+  EXPECT_DOUBLE_EQ(mirroredInputs(p, x)[3], -0.4);
+  // One hidden neuron h = tanh(3 climb input), the output sigmoid(-2 h): sinking (input < 0)
+  // beats both wings faster than half-way, climbing slower.
+  p.hidden = 1;
+  ASSERT_EQ(FlapUnitController::weightCount(p), 5 + 2);
+  const FlapUnitController unit(p, {0, 0, 0, 3, 0, -2, 0});
+  const auto command = [&](double vz) {
+    FlapSensing s({Quat::Identity()});
+    s.velocity = Vec3(0.0, 0.0, vz);
+    return AnnWingController(unit).commands(s);
+  };
+  const double middle = 0.5 * (p.min_downstroke_rate + p.max_downstroke_rate);
+  const auto rate = [&](double input) {
+    const double y = 1.0 / (1.0 + std::exp(2.0 * std::tanh(3.0 * input)));
+    return p.min_downstroke_rate + (p.max_downstroke_rate - p.min_downstroke_rate) * y;
+  };
+  for (int side = 0; side < 2; ++side) {
+    EXPECT_NEAR(command(-1.0)[side].downstroke_rate, rate(-0.5), 1e-12);
+    EXPECT_NEAR(command(1.0)[side].downstroke_rate, rate(0.5), 1e-12);
+    EXPECT_DOUBLE_EQ(command(0.0)[side].downstroke_rate, middle);
+  }
+  EXPECT_GT(command(-1.0)[0].downstroke_rate, middle + 5.0);
+  // Without a velocity reading it does not guess.
+  try {
+    AnnWingController(unit).commands(FlapSensing({Quat::Identity()}));
+    ADD_FAILURE() << "no velocity, no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("climb input needs the root's velocity"),
+              std::string::npos)
+        << e.what();
+  }
+  p.climb_scale = 0.0;
+  EXPECT_NE(validateFlapControllerParams(p).find("climb_scale"), std::string::npos);
+}
+
 // Ground-speed damping: the up the units level to leans against the horizontal velocity
 // (odometry's, in the root's axes) by velocity_gain |v| up to velocity_tilt_limit.
 TEST(GroundSpeedDamping, LeansTheLevelledUpAgainstTheHorizontalVelocityUpToItsLimit) {
@@ -619,6 +677,23 @@ TEST(ControllerYaml, TheChainInputIsWrittenOnlyWhenOnAndReadsBack) {
   EXPECT_TRUE(chain_back.params.chain_input);
   EXPECT_EQ(chain_back.weights, chain.weights);
   EXPECT_EQ(flapInputNames(chain_back.params).back(), "chain_position.chain_pitch");
+}
+
+TEST(ControllerYaml, TheClimbInputIsWrittenOnlyWhenOnAndReadsBackWithItsScale) {
+  EXPECT_EQ(controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights}).find("climb_"),
+            std::string::npos);
+  ControllerSpec climb;
+  climb.params.climb_input = true;
+  climb.params.climb_scale = 0.75;
+  climb.weights.assign(static_cast<size_t>(FlapUnitController::weightCount(climb.params)), 0.5);
+  ASSERT_EQ(climb.weights.size(), kWeights.size() + 2);  // a third input to both hidden neurons
+  const std::string yaml = controllerToYaml(climb);
+  EXPECT_NE(yaml.find("climb_input: true"), std::string::npos) << yaml;
+  const ControllerSpec back = controllerFromYaml(yaml, "climb.yaml");
+  EXPECT_TRUE(back.params.climb_input);
+  EXPECT_DOUBLE_EQ(back.params.climb_scale, 0.75);
+  EXPECT_EQ(back.weights, climb.weights);
+  EXPECT_EQ(flapInputNames(back.params).back(), "climb_rate");
 }
 
 std::string yamlError(const std::string& keys) {

@@ -83,6 +83,14 @@ struct FlapControllerParams {
   /// the altimeter's error; +1 without a setpoint (climb, the paper's aim).
   bool altitude_input = false;
   double altitude_scale = 1.0;  // m
+  /// Climb input (an extension): clamp(v_z / climb_scale, -1, 1), the root's vertical speed
+  /// (m/s, > 0: climbing) from its velocity as a ground-speed sensor gives it (odometry's
+  /// twist; FlapSensing::velocity, with its noise), turned into the world by the root's
+  /// sensed attitude. With the altitude input it lets the net damp a climb or a sink before
+  /// the altitude error grows, as a PD controller's derivative term does; the net has no
+  /// memory to take it from the altimeter.
+  bool climb_input = false;
+  double climb_scale = 1.0;  // m/s per unit input
   /// Chain input (an extension for creatures of several units; off: the paper's): unit k of
   /// n sees s_k p, its place along the chain (s_k = 1 - 2k/(n-1): +1 at the nose, -1 at the
   /// tail) times the chain's mean pitch input p (world_up . body_forward averaged over the
@@ -210,10 +218,13 @@ std::vector<double> flapInputs(const Quat& body);
 /// The inputs of the network `params` describes, for one unit: flapInputs(body), then with
 /// rate_inputs its body-frame angular velocity / rate_scale (roll, pitch, yaw), then with
 /// altitude_input `altitude_input` (see FlapControllerParams::altitude_input), then with
-/// chain_input `chain_pitch` (chainInput()).
+/// climb_input `climb_input` (climbInput()), then with chain_input `chain_pitch` (chainInput()).
 std::vector<double> flapNetworkInputs(const FlapControllerParams& params, const Quat& body,
                                       const Vec3& rate, double altitude_input,
-                                      double chain_pitch = 0.0);
+                                      double chain_pitch = 0.0, double climb_input = 0.0);
+/// The climb input for the root's sensed attitude `root` and velocity `velocity` in its own
+/// axes (FlapControllerParams::climb_input): clamp(v_z / climb_scale, -1, 1).
+double climbInput(const FlapControllerParams& params, const Quat& root, const Vec3& velocity);
 /// The chain input of unit `unit` of `units` for the chain's mean pitch input `pitch`
 /// (FlapControllerParams::chain_input): s_k pitch, 0 for a single unit.
 double chainInput(int unit, int units, double pitch);
@@ -258,10 +269,11 @@ class FlapUnitController {
   static int weightCount(const FlapControllerParams& params);
 
   /// The command for a unit at `body`, turning at `rate` (own axes), with altitude input
-  /// `altitude_input` (altitudeInput()) and chain input `chain_pitch` (chainInput()); the
-  /// last three are read only if the net takes them.
+  /// `altitude_input` (altitudeInput()), chain input `chain_pitch` (chainInput()) and climb
+  /// input `climb_input` (climbInput()); the last four are read only if the net takes them.
   WingPairCommand command(const Quat& body, const Vec3& rate = Vec3::Zero(),
-                          double altitude_input = 1.0, double chain_pitch = 0.0) const;
+                          double altitude_input = 1.0, double chain_pitch = 0.0,
+                          double climb_input = 0.0) const;
   /// Downstroke rates {right, left} for raw inputs (flapNetworkInputs; for tests and plots).
   std::vector<double> rates(const std::vector<double>& inputs) const;
   /// The strokes of both wings for raw inputs.

@@ -234,7 +234,8 @@ std::optional<flapsim::FlapSensing> AnnControllerNode::senseImu(const ros::Time&
 }
 
 bool AnnControllerNode::needsOdom() const {
-  return spec_.params.altitude_input || spec_.params.velocity_gain > 0.0;
+  return spec_.params.altitude_input || spec_.params.climb_input ||
+         spec_.params.velocity_gain > 0.0;
 }
 
 std::string AnnControllerNode::missing(size_t c) const {

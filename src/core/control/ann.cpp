@@ -140,6 +140,7 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
   if (!(p.altitude_scale > 0.0 && p.altitude_scale <= 1e6)) {
     return "altitude_scale must be in (0, 1e6]";
   }
+  if (!(p.climb_scale > 0.0 && p.climb_scale <= 1e6)) return "climb_scale must be in (0, 1e6]";
   if (!std::isfinite(p.min_downstroke_rate) || p.min_downstroke_rate < 0.0) {
     return "min_downstroke_rate must be finite and >= 0";
   }
@@ -273,7 +274,8 @@ std::vector<double> flapInputs(const Quat& body) {
 }
 
 int flapInputCount(const FlapControllerParams& p) {
-  return 2 + (p.rate_inputs ? 3 : 0) + (p.altitude_input ? 1 : 0) + (p.chain_input ? 1 : 0);
+  return 2 + (p.rate_inputs ? 3 : 0) + (p.altitude_input ? 1 : 0) + (p.climb_input ? 1 : 0) +
+         (p.chain_input ? 1 : 0);
 }
 
 double chainInput(int unit, int units, double pitch) {
@@ -284,6 +286,7 @@ std::vector<std::string> flapInputNames(const FlapControllerParams& p) {
   std::vector<std::string> names = {"world_up.body_forward", "world_up.body_left"};
   if (p.rate_inputs) names.insert(names.end(), {"roll_rate", "pitch_rate", "yaw_rate"});
   if (p.altitude_input) names.push_back("altitude_error");
+  if (p.climb_input) names.push_back("climb_rate");
   if (p.chain_input) names.push_back("chain_position.chain_pitch");
   return names;
 }
@@ -297,12 +300,14 @@ std::vector<std::string> flapOutputNames(const FlapControllerParams& p) {
 }
 
 std::vector<double> flapNetworkInputs(const FlapControllerParams& p, const Quat& body,
-                                      const Vec3& rate, double altitude_input, double chain_pitch) {
+                                      const Vec3& rate, double altitude_input, double chain_pitch,
+                                      double climb_input) {
   std::vector<double> x = flapInputs(body);
   if (p.rate_inputs) {
     for (int i = 0; i < 3; ++i) x.push_back(rate[i] / p.rate_scale);
   }
   if (p.altitude_input) x.push_back(altitude_input);
+  if (p.climb_input) x.push_back(climb_input);
   if (p.chain_input) x.push_back(chain_pitch);
   return x;
 }
@@ -322,6 +327,10 @@ double altitudeInput(const FlapControllerParams& p, double altitude,
                      const std::optional<double>& setpoint) {
   if (!setpoint) return 1.0;
   return std::clamp((*setpoint - altitude) / p.altitude_scale, -1.0, 1.0);
+}
+
+double climbInput(const FlapControllerParams& p, const Quat& root, const Vec3& velocity) {
+  return std::clamp((root * velocity).z() / p.climb_scale, -1.0, 1.0);
 }
 
 namespace {
@@ -383,8 +392,9 @@ std::vector<double> FlapUnitController::rates(const std::vector<double>& inputs)
 }
 
 WingPairCommand FlapUnitController::command(const Quat& body, const Vec3& rate,
-                                            double altitude_input, double chain_pitch) const {
-  return strokes(flapNetworkInputs(params_, body, rate, altitude_input, chain_pitch));
+                                            double altitude_input, double chain_pitch,
+                                            double climb_input) const {
+  return strokes(flapNetworkInputs(params_, body, rate, altitude_input, chain_pitch, climb_input));
 }
 
 // ---- Layout and wing controllers -------------------------------------------------------------
@@ -440,6 +450,13 @@ std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed
   }
   const std::vector<Quat>& bodies = tilted.empty() ? sensed.orientations : tilted;
   const double altitude = altitudeInput(p, sensed.altitude, sensed.setpoint);
+  double climb = 0.0;
+  if (p.climb_input) {
+    if (!sensed.velocity || sensed.orientations.empty()) {
+      throw std::invalid_argument("ann controller: the climb input needs the root's velocity");
+    }
+    climb = climbInput(p, sensed.orientations[0], *sensed.velocity);
+  }
   const int units = static_cast<int>(bodies.size());
   double pitch = 0.0;
   if (p.pitch_gain > 0.0 || p.pitch_reflex_angle > 0.0 || p.chain_input) {
@@ -450,7 +467,7 @@ std::vector<StrokeCommand> AnnWingController::commands(const FlapSensing& sensed
   out.reserve(2 * bodies.size());
   for (int k = 0; k < units; ++k) {
     WingPairCommand c =
-        unit_.command(bodies[k], sensed.rates[k], altitude, chainInput(k, units, pitch));
+        unit_.command(bodies[k], sensed.rates[k], altitude, chainInput(k, units, pitch), climb);
     const double scale = chainPitchScale(p, k, units, pitch);
     if (scale != 1.0) {
       for (StrokeCommand* s : {&c.left, &c.right}) {

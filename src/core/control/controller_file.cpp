@@ -29,6 +29,10 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   e << YAML::Key << "rate_scale" << YAML::Value << p.rate_scale;
   e << YAML::Key << "altitude_input" << YAML::Value << p.altitude_input;
   e << YAML::Key << "altitude_scale" << YAML::Value << p.altitude_scale;
+  if (p.climb_input) {
+    e << YAML::Key << "climb_input" << YAML::Value << p.climb_input;
+    e << YAML::Key << "climb_scale" << YAML::Value << p.climb_scale;
+  }
   if (p.chain_input) e << YAML::Key << "chain_input" << YAML::Value << p.chain_input;
   e << YAML::Key << "hidden" << YAML::Value << p.hidden;
   e << YAML::Key << "hidden_activation" << YAML::Value << toString(p.hidden_activation);
@@ -88,6 +92,8 @@ const std::vector<std::string> kKeys = {"network",
                                         "rate_scale",
                                         "altitude_input",
                                         "altitude_scale",
+                                        "climb_input",
+                                        "climb_scale",
                                         "chain_input",
                                         "hidden",
                                         "hidden_activation",
@@ -148,6 +154,8 @@ ControllerSpec readController(const YAML::Node& c,
   get("rate_scale", p.rate_scale);
   get("altitude_input", p.altitude_input);
   get("altitude_scale", p.altitude_scale);
+  get("climb_input", p.climb_input);
+  get("climb_scale", p.climb_scale);
   get("chain_input", p.chain_input);
   get("max_upstroke_rate", p.max_upstroke_rate);
   // The lists of inputs and outputs are what the settings above make them: a file whose

@@ -106,6 +106,9 @@ void disturbanceFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .real("--altitude-noise", "M", &e.altitude_noise, {0, 1e3}, "altimeter noise, m")
       .tag(kSpec)
+      .real("--velocity-noise", "V", &e.velocity_noise, {0, 1e3},
+            "ground-speed sensor noise, m/s per axis (read by the climb input)")
+      .tag(kSpec)
       .real("--gyro-bias", "B", &e.gyro_bias, {0, 1e3},
             "a constant gyro bias per episode, up to B rad/s, any direction")
       .tag(kSpec)
@@ -259,6 +262,10 @@ void controllerFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .custom("--altitude-input", {"B"}, onOff("--altitude-input", &c.altitude_input),
               showOnOff(&c.altitude_input), "on/off: the altitude error as an input")
+      .tag(kSpec)
+      .custom("--climb-input", {"B"}, onOff("--climb-input", &c.climb_input),
+              showOnOff(&c.climb_input),
+              "on/off: the root's vertical speed (the ground-speed sensor's, / 1 m/s) as an input")
       .tag(kSpec)
       .custom("--chain-input", {"B"}, onOff("--chain-input", &c.chain_input),
               showOnOff(&c.chain_input),

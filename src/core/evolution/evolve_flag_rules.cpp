@@ -9,14 +9,14 @@ namespace {
 // The flags that mean nothing to the hover controller's evolution (the flap network's, the
 // flap units' and their disturbances'): --preset hover and morph refuse them by name.
 const std::vector<std::string> kNotHoverFlags = {
-    "--pairs",       "--min-rate",         "--max-rate",       "--upstroke-rate",
-    "--amplitude",   "--stroke-offset",    "--control-period", "--network",
-    "--hidden",      "--rate-inputs",      "--altitude-input", "--chain-input",
-    "--com-drop",    "--phase-lock",       "--pitch-gain",     "--gene-range",
-    "--link-axis",   "--link-stiffness",   "--start-rate",     "--gust",
-    "--gust-torque", "--gust-torque-time", "--gust-force",     "--gust-force-time",
-    "--gust-link",   "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
-    "--crash-height"};
+    "--pairs",        "--min-rate",         "--max-rate",       "--upstroke-rate",
+    "--amplitude",    "--stroke-offset",    "--control-period", "--network",
+    "--hidden",       "--rate-inputs",      "--altitude-input", "--chain-input",
+    "--com-drop",     "--phase-lock",       "--pitch-gain",     "--gene-range",
+    "--link-axis",    "--link-stiffness",   "--start-rate",     "--gust",
+    "--gust-torque",  "--gust-torque-time", "--gust-force",     "--gust-force-time",
+    "--gust-link",    "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
+    "--crash-height", "--climb-input",      "--velocity-noise"};
 
 // The flags of --preset morph alone.
 bool morphFlag(const std::string& name) {
@@ -130,6 +130,9 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--altitude" && !e.altitude_hold) why = "without --altitude-hold on";
     if (name == "--altitude-noise" && !p.controller.altitude_input) {
       why = "without an altitude input (--altitude-input on)";
+    }
+    if (name == "--velocity-noise" && !p.controller.climb_input) {
+      why = "without a climb input (--climb-input on)";
     }
     if (name == "--settle")
       why = "but with --preset hover or morph (the flap network's fitness has none)";

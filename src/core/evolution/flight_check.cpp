@@ -201,7 +201,8 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
       .real("--altitude-noise", "M", &p.altitude_noise, {0, 1e3}, "altimeter noise, m")
       .tag(kNetworkOnly)
       .real("--velocity-noise", "V", &p.velocity_noise, {0, 1e3},
-            "ground-speed sensor noise, m/s per axis (read with ground-speed damping)")
+            "ground-speed sensor noise, m/s per axis (read with ground-speed damping or a climb "
+            "input)")
       .tag(kNetworkOnly)
       .flag("--velocity-products", &p.velocity_products, true,
             "fly with the added mass's velocity products (AirParams::"
@@ -310,8 +311,8 @@ std::string flightCheckUnusedSensorFlag(const FlapControllerParams& controller,
     if (name == "--altitude-noise" && !controller.altitude_input) {
       return name + " has no effect: the controller's network reads no altimeter";
     }
-    if (name == "--velocity-noise" && controller.velocity_gain <= 0.0) {
-      return name + " has no effect: the controller has no ground-speed damping";
+    if (name == "--velocity-noise" && controller.velocity_gain <= 0.0 && !controller.climb_input) {
+      return name + " has no effect: the controller has no ground-speed damping or climb input";
     }
   }
   return "";
