@@ -193,6 +193,10 @@ std::string annControllerMismatch(const AnnControllerParams& params,
            "': tf has no angular velocities, and the network of " + params.weights_file +
            " takes the gyro's rates: use imu";
   }
+  if (params.attitude_source == AttitudeSource::kTf && network.climb_input) {
+    return "parameter '" + attitude_source_key + "': tf gives no velocity, and the network of " +
+           params.weights_file + " takes the climb rate (odom's twist): use imu";
+  }
   if (params.altitude && !network.altitude_input) {
     return "parameter '" + altitude_key + "': the network of " + params.weights_file +
            " has no altitude input and cannot hold a height (it climbs): leave it unset, or fly "

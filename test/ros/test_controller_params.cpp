@@ -148,7 +148,8 @@ TEST(AnnControllerParams, AttitudeSourceAndAltitudeAreReadOrRefusedByName) {
 // ~altitude asks a network without an altitude input (the paper's, as config/afc_1_weights.yaml)
 // to hold a height it cannot (it would climb, its log saying "holding"), and ~attitude_source tf
 // gives a network that reads the gyro (the extended one, as config/afc_1_altitude_weights.yaml)
-// no rates: both refused, naming the parameter and the file; the matching pairs pass.
+// no rates, and tf gives a network that reads the climb rate no velocity: each refused, naming
+// the parameter and the file; the matching pairs pass.
 TEST(AnnControllerParams, AParameterTheWeightsFileCannotHonourIsRefusedByName) {
   const flapsim::FlapControllerParams paper;  // neither rate nor altitude inputs
   flapsim::FlapControllerParams extended;
@@ -169,6 +170,11 @@ TEST(AnnControllerParams, AParameterTheWeightsFileCannotHonourIsRefusedByName) {
             "parameter '/afc/ann_controller/attitude_source': tf has no angular velocities, and "
             "the network of w.yaml takes the gyro's rates: use imu");
   EXPECT_EQ(mismatch(paper, "attitude_source", XmlRpc::XmlRpcValue("tf")), "");
+  flapsim::FlapControllerParams climbing;  // the climb input alone, no gyro
+  climbing.climb_input = true;
+  EXPECT_EQ(mismatch(climbing, "attitude_source", XmlRpc::XmlRpcValue("tf")),
+            "parameter '/afc/ann_controller/attitude_source': tf gives no velocity, and the "
+            "network of w.yaml takes the climb rate (odom's twist): use imu");
 }
 
 // A flock in one lockstep: lockstep_creatures, a list of non-empty names, with lockstep
