@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <stdexcept>
+#include <tuple>
 
 #include "flapsim/ann.h"
 #include "flapsim/controller_file.h"
@@ -663,37 +663,32 @@ TEST(ControllerYaml, RoundTripsExactlyAndNamesBadInput) {
   EXPECT_THROW(loadControllerYaml("/nonexistent/weights.yaml"), std::runtime_error);
 }
 
-// The chain input's key is written only when it is on, and a file with it reads back the same.
-TEST(ControllerYaml, TheChainInputIsWrittenOnlyWhenOnAndReadsBack) {
-  EXPECT_EQ(controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights}).find("chain_"),
-            std::string::npos);
-  ControllerSpec chain;
-  chain.params.chain_input = true;
-  chain.weights.assign(static_cast<size_t>(FlapUnitController::weightCount(chain.params)), 0.5);
-  ASSERT_EQ(chain.weights.size(), kWeights.size() + 2);  // a third input to both hidden neurons
-  const std::string chain_yaml = controllerToYaml(chain);
-  EXPECT_NE(chain_yaml.find("chain_input: true"), std::string::npos) << chain_yaml;
-  const ControllerSpec chain_back = controllerFromYaml(chain_yaml, "chain.yaml");
-  EXPECT_TRUE(chain_back.params.chain_input);
-  EXPECT_EQ(chain_back.weights, chain.weights);
-  EXPECT_EQ(flapInputNames(chain_back.params).back(), "chain_position.chain_pitch");
-}
-
-TEST(ControllerYaml, TheClimbInputIsWrittenOnlyWhenOnAndReadsBackWithItsScale) {
-  EXPECT_EQ(controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights}).find("climb_"),
-            std::string::npos);
-  ControllerSpec climb;
-  climb.params.climb_input = true;
-  climb.params.climb_scale = 0.75;
-  climb.weights.assign(static_cast<size_t>(FlapUnitController::weightCount(climb.params)), 0.5);
-  ASSERT_EQ(climb.weights.size(), kWeights.size() + 2);  // a third input to both hidden neurons
-  const std::string yaml = controllerToYaml(climb);
-  EXPECT_NE(yaml.find("climb_input: true"), std::string::npos) << yaml;
-  const ControllerSpec back = controllerFromYaml(yaml, "climb.yaml");
-  EXPECT_TRUE(back.params.climb_input);
-  EXPECT_DOUBLE_EQ(back.params.climb_scale, 0.75);
-  EXPECT_EQ(back.weights, climb.weights);
-  EXPECT_EQ(flapInputNames(back.params).back(), "climb_rate");
+// The chain input's and the climb input's keys are written only when they are on, and a file
+// with one reads back the same: a third input to both hidden neurons, last in the inputs.
+TEST(ControllerYaml, TheChainAndClimbInputsAreWrittenOnlyWhenOnAndReadBack) {
+  const std::string plain = controllerToYaml(ControllerSpec{FlapControllerParams(), kWeights});
+  EXPECT_EQ(plain.find("chain_"), std::string::npos);
+  EXPECT_EQ(plain.find("climb_"), std::string::npos);
+  FlapControllerParams chain, climb;
+  chain.chain_input = true;
+  climb.climb_input = true;
+  climb.climb_scale = 0.75;
+  for (const auto& [params, line, input] :
+       {std::tuple{chain, "chain_input: true", "chain_position.chain_pitch"},
+        std::tuple{climb, "climb_scale: 0.75", "climb_rate"}}) {
+    ControllerSpec spec;
+    spec.params = params;
+    spec.weights.assign(static_cast<size_t>(FlapUnitController::weightCount(params)), 0.5);
+    ASSERT_EQ(spec.weights.size(), kWeights.size() + 2);
+    const std::string yaml = controllerToYaml(spec);
+    EXPECT_NE(yaml.find(line), std::string::npos) << yaml;
+    const ControllerSpec back = controllerFromYaml(yaml, "w.yaml");
+    EXPECT_EQ(back.params.chain_input, params.chain_input);
+    EXPECT_EQ(back.params.climb_input, params.climb_input);
+    EXPECT_DOUBLE_EQ(back.params.climb_scale, params.climb_scale);
+    EXPECT_EQ(back.weights, spec.weights);
+    EXPECT_EQ(flapInputNames(back.params).back(), input);
+  }
 }
 
 std::string yamlError(const std::string& keys) {
