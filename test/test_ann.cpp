@@ -4,10 +4,12 @@
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include "flapsim/ann.h"
 #include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
+#include "flapsim/ga.h"
 #include "flapsim/make_creature.h"
 
 namespace flapsim {
@@ -733,6 +735,33 @@ TEST(ControllerYaml, EveryKeyIsReadAndTheControlPeriodIsBounded) {
   for (int pairs : {1, 4, 6, 12}) {
     EXPECT_NO_THROW(loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_" +
                                        std::to_string(pairs) + "_weights.yaml"));
+  }
+}
+
+// config/afc_1_climb_seed_weights.yaml (scripts/widen_weights.py) is
+// config/afc_1_real_air_weights.yaml with a climb input whose weights are 0: over attitudes,
+// rates, altitude errors and climbs it commands both wings as the real-air network does, to
+// the bit, whatever the climb.
+TEST(ControllerYaml, TheClimbSeedCommandsWhatTheRealAirNetworkCommands) {
+  const ControllerSpec source =
+      loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_real_air_weights.yaml");
+  const ControllerSpec seed =
+      loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_climb_seed_weights.yaml");
+  ASSERT_TRUE(seed.params.climb_input);
+  ASSERT_EQ(seed.weights.size(), source.weights.size() + static_cast<size_t>(source.params.hidden));
+  const FlapUnitController a(source.params, source.weights), b(seed.params, seed.weights);
+  Rng rng(7);
+  for (int i = 0; i < 200; ++i) {
+    const Quat body(Eigen::AngleAxisd(rng.uniform(-1.0, 1.0), Vec3::UnitX()) *
+                    Eigen::AngleAxisd(rng.uniform(-1.0, 1.0), Vec3::UnitY()));
+    const Vec3 rate(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20));
+    const double altitude = rng.uniform(-1.0, 1.0), climb = rng.uniform(-1.0, 1.0);
+    const WingPairCommand x = a.command(body, rate, altitude);
+    const WingPairCommand y = b.command(body, rate, altitude, 0.0, climb);
+    for (const auto& [p, q] : {std::pair{x.left, y.left}, std::pair{x.right, y.right}}) {
+      EXPECT_EQ(p.downstroke_rate, q.downstroke_rate);
+      EXPECT_EQ(p.upstroke_rate, q.upstroke_rate);
+    }
   }
 }
 

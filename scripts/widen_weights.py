@@ -1,0 +1,47 @@
+#!/usr/bin/python3
+"""Writes a flap-unit weights file widened by the climb input, its weights 0.
+
+The climb input (FlapControllerParams::climb_input: the root's vertical speed / climb_scale)
+comes after the altitude error in the network's inputs; each hidden neuron gets a weight 0 for
+it, so the widened network commands what the file's does, and `evolve --climb-input on --init`
+can start from a controller evolved without it.
+
+usage: scripts/widen_weights.py FILE [--climb-scale S] > WIDENED.yaml
+"""
+import argparse
+import sys
+
+import yaml
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("file", help="a weights file without the climb input")
+    ap.add_argument("--climb-scale", type=float, default=1.0, help="m/s per unit input (1)")
+    a = ap.parse_args()
+    with open(a.file) as f:
+        doc = yaml.safe_load(f)
+    c = doc["flap_unit_controller"]
+    if c.get("climb_input"):
+        sys.exit(f"widen_weights: {a.file} already has the climb input")
+    inputs = list(c["inputs"])
+    at = inputs.index("altitude_error") + 1 if "altitude_error" in inputs else len(inputs)
+    if "chain_position.chain_pitch" in inputs:
+        at = min(at, inputs.index("chain_position.chain_pitch"))
+    n, hidden, w = len(inputs), int(c["hidden"]), list(c["weights"])
+    widened = []
+    for k in range(hidden):
+        neuron = w[k * (n + 1):(k + 1) * (n + 1)]
+        widened += neuron[:at] + [0.0] + neuron[at:]
+    widened += w[hidden * (n + 1):]
+    c["inputs"] = inputs[:at] + ["climb_rate"] + inputs[at:]
+    c["climb_input"] = True
+    c["climb_scale"] = a.climb_scale
+    c["weights"] = widened
+    doc.pop("evolution", None)
+    print(f"# {a.file} widened by a climb input whose weights are 0 (scripts/widen_weights.py)")
+    print(yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100000), end="")
+
+
+if __name__ == "__main__":
+    main()
