@@ -168,6 +168,7 @@ def real_air():
     time and all at once (--real-air)."""
     hand = "config/afc_1_altitude_weights.yaml"
     evolved = "config/afc_1_real_air_weights.yaml"
+    climb = "config/afc_1_climb_weights.yaml"
     flyers = [
         (f"`{hand}` (hand-set reflex, rate cap, dihedral)", hand, ["--wind", "1"]),
         ("same", hand, ["--wind", "1", "--turbulence", "light"]),
@@ -179,6 +180,9 @@ def real_air():
         (f"`{evolved}` (evolved: the upstroke a second output, no hand-set term)", evolved,
          ["--real-air"]),
         ("same", evolved, ["--wind", "1", "--turbulence", "light"]),
+        (f"`{climb}` (evolved on from it with a climb input)", climb,
+         ["--real-air", "--velocity-noise", "0.05"]),
+        ("same", climb, ["--wind", "1", "--turbulence", "light", "--velocity-noise", "0.05"]),
     ]
     steps = (1, 0.5)
     runs = []
@@ -221,6 +225,9 @@ def real_air_bar():
     flyers = [
         ("afc_1, `config/afc_1_real_air_weights.yaml` (evolved)",
          ["--weights", "config/afc_1_real_air_weights.yaml"]),
+        ("afc_1, `config/afc_1_climb_weights.yaml` (evolved on with a climb input; ground-speed "
+         "noise 0.05 m/s)",
+         ["--weights", "config/afc_1_climb_weights.yaml", "--velocity-noise", "0.05"]),
         ("afc_12, `config/afc_12_altitude_weights.yaml` (afc_1's altitude network, hand-set "
          "chain terms)", ["--weights", "config/afc_12_altitude_weights.yaml", "--pairs", "12"]),
         ("hover_1, `config/hover_1_gains.yaml` (evolved gains)",
