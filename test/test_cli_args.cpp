@@ -284,8 +284,12 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
       noisy.parse({"--altitude-noise", "0.1", "--velocity-noise", "0.1"});
   EXPECT_EQ(flightCheckUnusedSensorFlag(plain, seen),
             "--altitude-noise has no effect: the controller's network reads no altimeter");
-  EXPECT_EQ(flightCheckUnusedSensorFlag(altimeter, seen),
-            "--velocity-noise has no effect: the controller has no ground-speed damping");
+  EXPECT_EQ(
+      flightCheckUnusedSensorFlag(altimeter, seen),
+      "--velocity-noise has no effect: the controller has no ground-speed damping or climb input");
+  FlapControllerParams climbing = altimeter;
+  climbing.climb_input = true;
+  EXPECT_EQ(flightCheckUnusedSensorFlag(climbing, seen), "");
   altimeter.velocity_gain = 0.2;
   EXPECT_EQ(flightCheckUnusedSensorFlag(altimeter, seen), "");
 }
