@@ -128,11 +128,12 @@ double flapUnitPitch(bool velocity_products, bool gravity, double pitch, double 
 // -d x P_f (the COM's move through the air crossed with the fluid's impulse): gravity makes the
 // body fall through the slow upstroke and the downstroke kick it up, so that d follows the
 // stroke that P_f follows, and with the body pitched their product has a mean pitching moment.
-// Without gravity, or without the velocity products, the pitch stays within 1e-4 rad of 0.01.
+// Without gravity, or without the velocity products, the pitch stays within 1e-4 rad of 0.01
+// (measured: 0.010000 and 0.010066).
 TEST(KirchhoffAir, TheFlapUnitTurnsOverInPitchUnderGravityOnly) {
   EXPECT_GT(flapUnitPitch(true, true, 0.01, 0.5), 0.05);
-  EXPECT_NEAR(flapUnitPitch(true, false, 0.01, 0.5), 0.01, 1e-3);
-  EXPECT_NEAR(flapUnitPitch(false, true, 0.01, 0.5), 0.01, 1e-3);
+  EXPECT_NEAR(flapUnitPitch(true, false, 0.01, 0.5), 0.01, 1e-4);
+  EXPECT_NEAR(flapUnitPitch(false, true, 0.01, 0.5), 0.01, 1e-4);
 }
 
 }  // namespace
