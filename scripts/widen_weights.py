@@ -1,12 +1,13 @@
 #!/usr/bin/python3
-"""Writes a flap-unit weights file widened by the climb input, its weights 0.
+"""Writes a flap-unit weights file widened by a new input, its weights 0.
 
 The climb input (FlapControllerParams::climb_input: the root's vertical speed / climb_scale)
-comes after the altitude error in the network's inputs; each hidden neuron gets a weight 0 for
-it, so the widened network commands what the file's does, and `evolve --climb-input on --init`
-can start from a controller evolved without it.
+comes after the altitude error in the network's inputs, the chain input (chain_input: the
+unit's place along the chain times the chain's pitch) last; each hidden neuron gets a weight 0
+for the new one, so the widened network commands what the file's does, and `evolve
+--climb-input on --init` (or `--chain-input on`) can start from a controller evolved without it.
 
-usage: scripts/widen_weights.py FILE [--climb-scale S] > WIDENED.yaml
+usage: scripts/widen_weights.py FILE [--input climb|chain] [--climb-scale S] > WIDENED.yaml
 """
 import argparse
 import sys
@@ -17,29 +18,39 @@ import yaml
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("file", help="a weights file without the climb input")
+    ap.add_argument("--input", choices=["climb", "chain"], default="climb",
+                    help="the input to add (climb)")
     ap.add_argument("--climb-scale", type=float, default=1.0, help="m/s per unit input (1)")
     a = ap.parse_args()
     with open(a.file) as f:
         doc = yaml.safe_load(f)
     c = doc["flap_unit_controller"]
-    if c.get("climb_input"):
-        sys.exit(f"widen_weights: {a.file} already has the climb input")
+    key = a.input + "_input"
+    if c.get(key):
+        sys.exit(f"widen_weights: {a.file} already has the {a.input} input")
     inputs = list(c["inputs"])
-    at = inputs.index("altitude_error") + 1 if "altitude_error" in inputs else len(inputs)
-    if "chain_position.chain_pitch" in inputs:
-        at = min(at, inputs.index("chain_position.chain_pitch"))
+    if a.input == "chain":
+        at, name = len(inputs), "chain_position.chain_pitch"
+    else:
+        at, name = len(inputs), "climb_rate"
+        if "altitude_error" in inputs:
+            at = inputs.index("altitude_error") + 1
+        if "chain_position.chain_pitch" in inputs:
+            at = min(at, inputs.index("chain_position.chain_pitch"))
     n, hidden, w = len(inputs), int(c["hidden"]), list(c["weights"])
     widened = []
     for k in range(hidden):
         neuron = w[k * (n + 1):(k + 1) * (n + 1)]
         widened += neuron[:at] + [0.0] + neuron[at:]
     widened += w[hidden * (n + 1):]
-    c["inputs"] = inputs[:at] + ["climb_rate"] + inputs[at:]
-    c["climb_input"] = True
-    c["climb_scale"] = a.climb_scale
+    c["inputs"] = inputs[:at] + [name] + inputs[at:]
+    c[key] = True
+    if a.input == "climb":
+        c["climb_scale"] = a.climb_scale
     c["weights"] = widened
     doc.pop("evolution", None)
-    print(f"# {a.file} widened by a climb input whose weights are 0 (scripts/widen_weights.py)")
+    print(f"# {a.file} widened by a {a.input} input whose weights are 0 "
+          "(scripts/widen_weights.py)")
     print(yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=100000), end="")
 
 
