@@ -222,6 +222,7 @@ def meets_real_air_bar(row):
 
 def real_air_bar():
     """Every creature with a controller that holds an altitude, in real air, against the bar."""
+    chain = "config/afc_4_real_air_weights.yaml"
     flyers = [
         ("afc_1, `config/afc_1_real_air_weights.yaml` (evolved)",
          ["--weights", "config/afc_1_real_air_weights.yaml"]),
@@ -230,15 +231,10 @@ def real_air_bar():
          ["--weights", "config/afc_1_climb_weights.yaml", "--velocity-noise", "0.05"]),
         ("afc_12, `config/afc_12_altitude_weights.yaml` (afc_1's altitude network, hand-set "
          "chain terms)", ["--weights", "config/afc_12_altitude_weights.yaml", "--pairs", "12"]),
-    ]
-    chain = "config/afc_4_real_air_weights.yaml"
-    flyers += [
-        (f"afc_{n}, `{chain}` ({how}; ground-speed noise 0.05 m/s)",
-         ["--weights", chain, "--pairs", str(n), "--velocity-noise", "0.05"])
-        for n, how in ((4, "evolved on afc_4 with a chain input"), (6, "the same, carried"),
-                       (12, "the same, carried"))
-    ]
-    flyers += [
+        *((f"afc_{n}, `{chain}` ({how}; ground-speed noise 0.05 m/s)",
+           ["--weights", chain, "--pairs", str(n), "--velocity-noise", "0.05"])
+          for n, how in ((4, "evolved on afc_4 with a chain input"), (6, "the same, carried"),
+                         (12, "the same, carried"))),
         ("hover_1, `config/hover_1_gains.yaml` (evolved gains)",
          ["--hover", "--gains", "config/hover_1_gains.yaml"]),
         ("`config/morph_116wkg` (body and gains co-evolved)",

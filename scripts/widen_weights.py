@@ -17,7 +17,7 @@ import yaml
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("file", help="a weights file without the climb input")
+    ap.add_argument("file", help="a weights file without the input to add")
     ap.add_argument("--input", choices=["climb", "chain"], default="climb",
                     help="the input to add (climb)")
     ap.add_argument("--climb-scale", type=float, default=1.0, help="m/s per unit input (1)")
