@@ -4,7 +4,7 @@
 //   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json] [--step S] [--turn-substep S]
 //                 [--check T] [--reference-step S]
 //   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
-//   flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]
+//   flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products] [--shed-products]
 //                          [--motor-work transmitted|servo]
 //
 // --step S, --turn-substep S: the world's step and turn substep, s (WorldParams' 1 ms and
@@ -241,6 +241,7 @@ struct Options {
   std::string only, urdf;
   double height = 50.0, skip = 0.0;
   bool json = false, ground = true, energy = false, velocity_products = false;
+  bool shed_products = false;
   flapsim::MotorWorkMeter motor_work = flapsim::MotorWorkMeter::kTransmitted;
   double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
   double turn_substep = WorldParams().turn_substep;
@@ -255,7 +256,7 @@ int usage(bool help) {
       "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
       "[--runs N] [--seconds S]\n"
       "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n"
-      "                              [--motor-work transmitted|servo]\n");
+      "                              [--shed-products] [--motor-work transmitted|servo]\n");
   return help ? 0 : 2;
 }
 
@@ -278,6 +279,8 @@ int parseArgs(int argc, char** argv, Options& o) {
       o.energy = true;
     } else if (a == "--velocity-products") {
       o.velocity_products = true;
+    } else if (a == "--shed-products") {
+      o.shed_products = true;
     } else if (a == "--motor-work" && i + 1 < argc) {
       if (!flapsim_bench::parseMotorWork(argv[++i], &o.motor_work)) return 2;
     } else if (a == "--urdf" && i + 1 < argc) {
@@ -483,8 +486,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "flapsim_bench: %s\n", flapsim::validateWorldParams(at_step).c_str());
     return 2;
   }
-  if (o.energy)
-    return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products, o.motor_work);
+  if (o.energy) {
+    return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products, o.shed_products,
+                                      o.motor_work);
+  }
   if (o.check_seconds > 0.0) return checkScenarios(o, at_step);
   const int steps = std::max(1, static_cast<int>(std::lround(o.seconds / o.step)));
   if (!o.urdf.empty()) return timeUrdf(o, at_step, steps);

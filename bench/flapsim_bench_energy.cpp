@@ -18,7 +18,7 @@ bool parseMotorWork(const char* text, flapsim::MotorWorkMeter* out) {
 
 namespace {
 
-int energyRows(const std::string& urdf, double seconds, bool velocity_products,
+int energyRows(const std::string& urdf, double seconds, bool velocity_products, bool shed_products,
                flapsim::MotorWorkMeter meter) {
   std::vector<std::string> files = {"flap_unit.urdf", "afc_4.urdf", "hover_1.urdf"};
   if (!urdf.empty()) files = {urdf};
@@ -40,6 +40,7 @@ int energyRows(const std::string& urdf, double seconds, bool velocity_products,
           p.stroke = flapsim::StrokeCommand{3.0, 1.0, 0.6};
         }
         p.world.air.added_mass_velocity_products = velocity_products;
+        p.world.air.added_mass_shed_products = shed_products;
         p.world.motor_work = meter;
         const flapsim::EnergyAuditResult r = flapsim::auditEnergy(model, p);
         std::printf(
@@ -57,16 +58,20 @@ int energyRows(const std::string& urdf, double seconds, bool velocity_products,
       "(%g s from 20 m, rolled 0.05 rad, every wing 60/10 rad/s and 0.6 rad; in water "
       "3/1 rad/s; residual: the works less the change of the energies, as a share of the "
       "motors' positive work; added mass's velocity products %s; motor work %s)\n",
-      seconds, velocity_products ? "on" : "off", flapsim::motorWorkMeterName(meter));
+      seconds,
+      shed_products       ? "shed"
+      : velocity_products ? "on"
+                          : "off",
+      flapsim::motorWorkMeterName(meter));
   return 0;
 }
 
 }  // namespace
 
-int energyTable(const std::string& urdf, double seconds, bool velocity_products,
+int energyTable(const std::string& urdf, double seconds, bool velocity_products, bool shed_products,
                 flapsim::MotorWorkMeter meter) {
   try {
-    return energyRows(urdf, seconds, velocity_products, meter);
+    return energyRows(urdf, seconds, velocity_products, shed_products, meter);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
     return 1;

@@ -118,6 +118,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--gene-range", {"5"}, ""},
       {"--air-model", {"quasi_steady"}, ""},
       {"--velocity-products", {"on"}, ""},
+      {"--shed-products", {"on"}, ""},
   };
 }
 

@@ -91,6 +91,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
       {"--altitude-noise", {"0.05"}},
       {"--velocity-noise", {"0.05"}},
       {"--velocity-products", {}},
+      {"--shed-products", {}},
       {"--motor-work", {"servo"}},
       {"--altitude", {"1.2"}},
   };
@@ -201,6 +202,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheHoverModeChangesItsFlight) {
       {"--wind", {"1"}},
       {"--turbulence", {"light"}},
       {"--velocity-products", {}},
+      {"--shed-products", {}},
       {"--motor-work", {"servo"}},
       {"--altitude", {"2.5"}},
       {"--real-air", {}},

@@ -39,7 +39,8 @@ enum class MotorWorkMeter {
 /// Why a motor-work flag is refused without the added mass's velocity products (appended to
 /// the flag's name): in air with added mass the servo's impulse is taken either way.
 constexpr const char* kMotorWorkWithoutProducts =
-    " has no effect without the added mass's velocity products (--velocity-products): in a "
+    " has no effect without the added mass's velocity products (--velocity-products or "
+    "--shed-products): in a "
     "fluid whose plates carry added mass the servo's impulse is taken either way";
 
 /// "transmitted" or "servo" (MotorWorkMeter); false for anything else.

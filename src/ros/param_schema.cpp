@@ -78,6 +78,8 @@ const std::vector<ParamSpec> kSchema = {
     {"air/added_mass", T::kBool, "true", "", "", "added mass of plates, implicit", ""},
     {"air/added_mass_velocity_products", T::kBool, "false", "", "",
      "Kirchhoff's velocity products of the added mass", ""},
+    {"air/added_mass_shed_products", T::kBool, "false", "", "",
+     "the added mass's velocity products shed into the wake (each plate: -A dnu/dt)", ""},
     {"air/rotational_lift", T::kBool, "true", "", "",
      "quasi_steady: rotational lift (Sane & Dickinson 2002)", ""},
     {"air/centre_of_pressure_shift", T::kBool, "true", "", "",

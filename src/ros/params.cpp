@@ -73,6 +73,8 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.added_mass = d.boolean("added_mass", air.added_mass);
   air.added_mass_velocity_products =
       d.boolean("added_mass_velocity_products", air.added_mass_velocity_products);
+  air.added_mass_shed_products =
+      d.boolean("added_mass_shed_products", air.added_mass_shed_products);
   air.rotational_lift = d.boolean("rotational_lift", air.rotational_lift);
   air.centre_of_pressure_shift =
       d.boolean("centre_of_pressure_shift", air.centre_of_pressure_shift);

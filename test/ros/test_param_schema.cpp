@@ -337,6 +337,8 @@ const std::map<std::string, Field> kFields = {
     {"air/added_mass", [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass); }},
     {"air/added_mass_velocity_products",
      [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass_velocity_products); }},
+    {"air/added_mass_shed_products",
+     [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass_shed_products); }},
     {"air/rotational_lift",
      [](const NodeParams& p) { return YAML::Node(p.world.air.rotational_lift); }},
     {"air/centre_of_pressure_shift",

@@ -30,7 +30,8 @@ class MomentumBalance {
   // then measured against the new velocity at the end, which gives the bodies the added
   // mass's share of the flow's acceleration, A dU (flapsim/fluid_stage.h adds rho V dU).
   // `velocity_products`: carry the angular momentum with the added mass's Munk term
-  // (AirParams::added_mass_velocity_products).
+  // (AirParams::added_mass_velocity_products; not where the plates shed their products,
+  // added_mass_shed_products, whose external wrenches then leave that term out).
   void begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density,
              const Vec3& fluid_velocity, bool velocity_products);
   // A wrench about the COM `com` of a link (frames of the step's start) acting all step.

@@ -298,6 +298,12 @@ void controllerFlags(CliParser& t, EvolveOptions& o) {
               showOnOff(&p.episode.world.air.added_mass_velocity_products),
               "the added mass's velocity products in the episodes' air "
               "(AirParams::added_mass_velocity_products)")
+      .tag(kSpec)
+      .custom("--shed-products", {"B"},
+              onOff("--shed-products", &p.episode.world.air.added_mass_shed_products),
+              showOnOff(&p.episode.world.air.added_mass_shed_products),
+              "the added mass's velocity products shed into the wake in the episodes' air "
+              "(AirParams::added_mass_shed_products)")
       .tag(kSpec);
 }
 

@@ -57,7 +57,8 @@ void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag) {
           "W/kg and loss; an even --population)")
       .tag(spec_tag);
   motorWorkFlag(t, &o.params.episode.world.motor_work,
-                "--preset hover or morph with --velocity-products on: how the fitness's W/kg "
+                "--preset hover or morph with --velocity-products or --shed-products on: how the "
+                "fitness's W/kg "
                 "takes the motors' work, transmitted or servo (WorldParams::motor_work)")
       .tag(spec_tag);
 }
@@ -102,7 +103,7 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
     if (morphFlag(name) && preset != "morph") {
       throw InputError(name + ": for --preset morph only (" + morphWhy(name) + ")");
     }
-    if (name == "--motor-work" && !params.episode.world.air.added_mass_velocity_products) {
+    if (name == "--motor-work" && !params.episode.world.air.addedMassVelocityProducts()) {
       throw InputError(name + kMotorWorkWithoutProducts);
     }
   }

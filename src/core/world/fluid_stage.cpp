@@ -41,6 +41,17 @@ void accelerationBias(const CreatureModel& m, const LinkFrames& frames, const Ve
   }
 }
 
+// The velocity of the creature's centre of mass (its bodies', not the fluid's).
+Vec3 centreVelocity(const CreatureModel& m, const LinkFrames& frames) {
+  double mass = 0.0;
+  Vec3 momentum = Vec3::Zero();
+  for (size_t k = 0; k < m.links.size(); ++k) {
+    mass += m.links[k].mass;
+    momentum += m.links[k].mass * frames.kinematics(static_cast<int>(k)).linear_velocity;
+  }
+  return mass > 0.0 ? Vec3(momentum / mass) : Vec3::Zero();
+}
+
 // Aero body `a`'s implicit drag for this (sub)step: its law's own linearisation
 // (AirModel::linearisation) over half the step where its drag is stiff (the trapezoidal rule,
 // and still no face-on drag can reverse a cell's normal speed within a step: v1 = v0 - dt k
@@ -85,6 +96,8 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
   // dynamics/momentum_balance.h.)
   const Vec3 fluid_gravity = params.gravity - fluid.flowAcceleration(air.wind, step);
   fluid.link_bias_.clear();  // this (sub)step's, once a plate needs it
+  const Vec3 centre_velocity =
+      air.added_mass_shed_products ? centreVelocity(model, body.frames()) : Vec3::Zero();
   for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
     AeroBody& a = fluid.bodies_[i];
     const int k = a.link;
@@ -103,7 +116,7 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
       // The added mass's velocity products act on the body but are internal to body and
       // fluid: not in the momentum balance's external impulses.
       const SpatialFactor& added = fluid.addedMass(i, rotation, air.density);
-      if (air.density > 0.0 && air.added_mass_velocity_products) {
+      if (air.density > 0.0 && air.addedMassVelocityProducts()) {
         const Vec3 origin = fromBt(body.frames().com(0));
         if (fluid.link_bias_.empty()) {
           accelerationBias(model, body.frames(), origin, air.wind, fluid.link_velocity_,
@@ -114,6 +127,22 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
         bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
         w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind,
                                      bias);
+        if (air.added_mass_shed_products) {
+          // Shed into the wake: the products nu x* A nu back on the plate, so that it feels
+          // -A dnu/dt in its own frame. They do no work on it (nu . (nu x* h) = 0). The whole
+          // creature's share of their moment, (V - U) x p, is the Munk term the momentum
+          // balance leaves out in this air (MomentumBalance::begin), so the rest is external.
+          Vec6 nu;
+          nu << kin.angular_velocity, kin.linear_velocity - air.wind;
+          const Vec6 h = factorTimes(added, nu);
+          const Vec6 products = crossForce(nu, h);
+          const Wrench shed{products.tail<3>(), products.head<3>()};
+          w += shed;
+          a.last.wrench += shed;
+          momentum.addExternal(
+              kin.com,
+              Wrench{shed.force, shed.torque - (centre_velocity - air.wind).cross(h.tail<3>())});
+        }
       }
     }
     const bool implicit = setImplicitDrag(law, a, kin, air, body.reach(k), step);
