@@ -240,8 +240,8 @@ struct Options {
   double seconds = 2.0;
   std::string only, urdf;
   double height = 50.0, skip = 0.0;
-  bool json = false, ground = true, energy = false, velocity_products = false;
-  bool shed_products = false;
+  bool json = false, ground = true, energy = false, velocity_products = false,
+       shed_products = false;
   flapsim::MotorWorkMeter motor_work = flapsim::MotorWorkMeter::kTransmitted;
   double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
   double turn_substep = WorldParams().turn_substep;
@@ -277,10 +277,8 @@ int parseArgs(int argc, char** argv, Options& o) {
       o.json = true;
     } else if (a == "--energy") {
       o.energy = true;
-    } else if (a == "--velocity-products") {
-      o.velocity_products = true;
-    } else if (a == "--shed-products") {
-      o.shed_products = true;
+    } else if (a == "--velocity-products" || a == "--shed-products") {
+      (a == "--shed-products" ? o.shed_products : o.velocity_products) = true;
     } else if (a == "--motor-work" && i + 1 < argc) {
       if (!flapsim_bench::parseMotorWork(argv[++i], &o.motor_work)) return 2;
     } else if (a == "--urdf" && i + 1 < argc) {

@@ -74,6 +74,45 @@ bool setImplicitDrag(const AirModel& law, AeroBody& a, const BodyKinematics& kin
 
 }  // namespace
 
+// What aero body `i`'s added mass does to it beyond the servo stage's -A dnu (its plates
+// carry added mass): Kirchhoff's velocity products and the bias b of its acceleration,
+// -(A b + nu x* A nu) (internal to body and fluid: not in the momentum balance's external
+// impulses), and where the plates shed the products into the wake
+// (AirParams::added_mass_shed_products), the products back: the plate then feels -A dnu/dt in
+// its own frame. `centre_velocity`: the creature's centre of mass's (centreVelocity).
+Wrench AirStage::addedMassWrench(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
+                                 MomentumBalance& momentum, const AirParams& air, size_t i,
+                                 const Vec3& centre_velocity) {
+  AeroBody& a = fluid.bodies_[i];
+  const BodyKinematics& kin = fluid.kinematics_[i];
+  const SpatialFactor& added = fluid.addedMass(i, kin.rotation, air.density);
+  if (air.density <= 0.0 || !air.addedMassVelocityProducts()) return Wrench{};
+  const Vec3 origin = fromBt(body.frames().com(0));
+  if (fluid.link_bias_.empty()) {
+    accelerationBias(model, body.frames(), origin, air.wind, fluid.link_velocity_,
+                     fluid.link_bias_);
+  }
+  // The bias at the link's COM, where the added mass's factor is.
+  Vec6 bias = fluid.link_bias_[a.link];
+  bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
+  Wrench w =
+      addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind, bias);
+  if (!air.added_mass_shed_products) return w;
+  // They do no work on the plate (nu . (nu x* h) = 0). The whole creature's share of their
+  // moment, (V - U) x p, is the Munk term the momentum balance leaves out in this air
+  // (MomentumBalance::begin), so the rest is external.
+  Vec6 nu;
+  nu << kin.angular_velocity, kin.linear_velocity - air.wind;
+  const Vec6 h = factorTimes(added, nu);
+  const Vec6 products = crossForce(nu, h);
+  const Wrench shed{products.tail<3>(), products.head<3>()};
+  a.last.wrench += shed;
+  momentum.addExternal(
+      kin.com, Wrench{shed.force, shed.torque - (centre_velocity - air.wind).cross(h.tail<3>())});
+  w += shed;
+  return w;
+}
+
 void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
                      MomentumBalance& momentum, const WorldParams& params, double step) const {
   fluid.active_ = false;
@@ -102,7 +141,6 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
     AeroBody& a = fluid.bodies_[i];
     const int k = a.link;
     const BodyKinematics& kin = fluid.kinematics_[i];
-    const Mat3& rotation = kin.rotation;
     const AirModel& law = modelOf(a);
     Wrench w =
         batch && fluid.pressure_.holds(i) && batchedPressureLaw(law)
@@ -113,37 +151,7 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
     a.last.wrench = w;
     momentum.addExternal(kin.com, w);
     if (a.has_added_mass) {
-      // The added mass's velocity products act on the body but are internal to body and
-      // fluid: not in the momentum balance's external impulses.
-      const SpatialFactor& added = fluid.addedMass(i, rotation, air.density);
-      if (air.density > 0.0 && air.addedMassVelocityProducts()) {
-        const Vec3 origin = fromBt(body.frames().com(0));
-        if (fluid.link_bias_.empty()) {
-          accelerationBias(model, body.frames(), origin, air.wind, fluid.link_velocity_,
-                           fluid.link_bias_);
-        }
-        // The bias at the link's COM, where the added mass's factor is.
-        Vec6 bias = fluid.link_bias_[k];
-        bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
-        w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind,
-                                     bias);
-        if (air.added_mass_shed_products) {
-          // Shed into the wake: the products nu x* A nu back on the plate, so that it feels
-          // -A dnu/dt in its own frame. They do no work on it (nu . (nu x* h) = 0). The whole
-          // creature's share of their moment, (V - U) x p, is the Munk term the momentum
-          // balance leaves out in this air (MomentumBalance::begin), so the rest is external.
-          Vec6 nu;
-          nu << kin.angular_velocity, kin.linear_velocity - air.wind;
-          const Vec6 h = factorTimes(added, nu);
-          const Vec6 products = crossForce(nu, h);
-          const Wrench shed{products.tail<3>(), products.head<3>()};
-          w += shed;
-          a.last.wrench += shed;
-          momentum.addExternal(
-              kin.com,
-              Wrench{shed.force, shed.torque - (centre_velocity - air.wind).cross(h.tail<3>())});
-        }
-      }
+      w += addedMassWrench(model, body, fluid, momentum, air, i, centre_velocity);
     }
     const bool implicit = setImplicitDrag(law, a, kin, air, body.reach(k), step);
     fluid.active_ = fluid.active_ || implicit || (a.has_added_mass && air.density > 0.0);
