@@ -79,14 +79,15 @@ bool setImplicitDrag(const AirModel& law, AeroBody& a, const BodyKinematics& kin
 // -(A b + nu x* A nu) (internal to body and fluid: not in the momentum balance's external
 // impulses), and where the plates shed the products into the wake
 // (AirParams::added_mass_shed_products), the products back: the plate then feels -A dnu/dt in
-// its own frame. `centre_velocity`: the creature's centre of mass's (centreVelocity).
-Wrench AirStage::addedMassWrench(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
-                                 MomentumBalance& momentum, const AirParams& air, size_t i,
-                                 const Vec3& centre_velocity) {
+// its own frame; added to `w`, each term in turn. `centre_velocity`: the creature's centre of
+// mass's (centreVelocity).
+void AirStage::addAddedMass(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
+                            MomentumBalance& momentum, const AirParams& air, size_t i,
+                            const Vec3& centre_velocity, Wrench& w) {
   AeroBody& a = fluid.bodies_[i];
   const BodyKinematics& kin = fluid.kinematics_[i];
   const SpatialFactor& added = fluid.addedMass(i, kin.rotation, air.density);
-  if (air.density <= 0.0 || !air.addedMassVelocityProducts()) return Wrench{};
+  if (air.density <= 0.0 || !air.addedMassVelocityProducts()) return;
   const Vec3 origin = fromBt(body.frames().com(0));
   if (fluid.link_bias_.empty()) {
     accelerationBias(model, body.frames(), origin, air.wind, fluid.link_velocity_,
@@ -95,9 +96,8 @@ Wrench AirStage::addedMassWrench(const CreatureModel& model, BulletBody& body, C
   // The bias at the link's COM, where the added mass's factor is.
   Vec6 bias = fluid.link_bias_[a.link];
   bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
-  Wrench w =
-      addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind, bias);
-  if (!air.added_mass_shed_products) return w;
+  w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind, bias);
+  if (!air.added_mass_shed_products) return;
   // They do no work on the plate (nu . (nu x* h) = 0). The whole creature's share of their
   // moment, (V - U) x p, is the Munk term the momentum balance leaves out in this air
   // (MomentumBalance::begin), so the rest is external.
@@ -110,7 +110,6 @@ Wrench AirStage::addedMassWrench(const CreatureModel& model, BulletBody& body, C
   momentum.addExternal(
       kin.com, Wrench{shed.force, shed.torque - (centre_velocity - air.wind).cross(h.tail<3>())});
   w += shed;
-  return w;
 }
 
 void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
@@ -151,7 +150,7 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
     a.last.wrench = w;
     momentum.addExternal(kin.com, w);
     if (a.has_added_mass) {
-      w += addedMassWrench(model, body, fluid, momentum, air, i, centre_velocity);
+      addAddedMass(model, body, fluid, momentum, air, i, centre_velocity, w);
     }
     const bool implicit = setImplicitDrag(law, a, kin, air, body.reach(k), step);
     fluid.active_ = fluid.active_ || implicit || (a.has_added_mass && air.density > 0.0);

@@ -36,11 +36,11 @@ class AirStage {
   const AirModel& modelOf(const AeroBody& a) const {
     return a.own_model ? *a.own_model : *default_model_;
   }
-  // What aero body `i`'s added mass adds to its wrench beyond the servo stage's -A dnu
+  // Adds to `w` what aero body `i`'s added mass does beyond the servo stage's -A dnu
   // (fluid_stage.cpp); `centre_velocity`: the creature's centre of mass's.
-  static Wrench addedMassWrench(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
-                                MomentumBalance& momentum, const AirParams& air, size_t i,
-                                const Vec3& centre_velocity);
+  static void addAddedMass(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
+                           MomentumBalance& momentum, const AirParams& air, size_t i,
+                           const Vec3& centre_velocity, Wrench& w);
 
   AirModelPtr default_model_;
   bool record_cells_ = false;
