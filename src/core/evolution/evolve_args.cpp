@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <stdexcept>
+#include <tuple>
 
 #include "evolution/evolve_flag_rules.h"
 #include "flapsim/air_model.h"
@@ -292,19 +293,17 @@ void controllerFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec)
       .text("--air-model", "M", &p.episode.world.air.model, "air model of the episodes",
             airModelNames())
-      .tag(kSpec)
-      .custom("--velocity-products", {"B"},
-              onOff("--velocity-products", &p.episode.world.air.added_mass_velocity_products),
-              showOnOff(&p.episode.world.air.added_mass_velocity_products),
-              "the added mass's velocity products in the episodes' air "
-              "(AirParams::added_mass_velocity_products)")
-      .tag(kSpec)
-      .custom("--shed-products", {"B"},
-              onOff("--shed-products", &p.episode.world.air.added_mass_shed_products),
-              showOnOff(&p.episode.world.air.added_mass_shed_products),
-              "the added mass's velocity products shed into the wake in the episodes' air "
-              "(AirParams::added_mass_shed_products)")
       .tag(kSpec);
+  AirParams& air = p.episode.world.air;
+  for (auto [flag, field, help] :
+       {std::tuple{"--velocity-products", &air.added_mass_velocity_products,
+                   "the added mass's velocity products in the episodes' air "
+                   "(AirParams::added_mass_velocity_products)"},
+        std::tuple{"--shed-products", &air.added_mass_shed_products,
+                   "the added mass's velocity products shed into the wake in the episodes' air "
+                   "(AirParams::added_mass_shed_products)"}}) {
+    t.custom(flag, {"B"}, onOff(flag, field), showOnOff(field), help).tag(kSpec);
+  }
 }
 
 void runFlags(CliParser& t, EvolveOptions& o) {
