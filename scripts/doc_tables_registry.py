@@ -220,6 +220,47 @@ def meets_real_air_bar(row):
             and row["alt_rms"] < 0.3 and abs(row["bank"]) < 5.0)
 
 
+def bar_table(name, flyers, air, doc, air_text):
+    """The real-air bar's table `name` in `doc`: each (label, flags) of `flyers` in real air at
+    1 and 0.5 ms, with `air` (flight_check flags of the air itself)."""
+    steps = (1, 0.5)
+    runs = [Run(key(label, step), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
+                + ["--real-air"] + air + step_argv(step))
+            for label, flags in flyers for step in steps]
+
+    def rows(out):
+        result = []
+        for label, _ in flyers:
+            for step in steps:
+                text = out[key(label, step)]
+                r = starts(text)
+                rms = [x["alt_rms"] for x in r if x["alt_rms"] is not None]
+                spin = re.search(r"at ([0-9]+) and ([0-9]+) rad/s", text)
+                if not spin:
+                    raise ValueError("flight_check --real-air output: no spin-up line")
+                result.append([label, step_cell(step), str(flips(r)),
+                               f"{lowest(r, 'up_set'):.3f}",
+                               f"{max(rms):.2f} m" if rms else "-",
+                               f"{max_abs_bank(r):.1f} deg",
+                               f"**{sum(meets_real_air_bar(x) for x in r)} of {len(r)}**",
+                               f"{sum(x['P+/m'] for x in r) / len(r):.0f} W/kg",
+                               f"{spin.group(1)} / {spin.group(2)} rad/s"])
+        return result
+    air_flags = (" " + " ".join(air)) if air else ""
+    register(Table(name, doc,
+                   ["creature, controller", "step", "flips", "lowest up after 10 s",
+                    "largest alt. rms after 10 s", "largest abs mean bank", "meet the bar",
+                    "mean power", "torque / push, held rigid in vacuum"], runs, rows,
+                   f"each row `{FLIGHT_CHECK} FLAGS --altitude 5 {' '.join(WIDE_STARTS)} "
+                   f"--real-air{air_flags}` with the step's `--step-size` (FLAGS: the "
+                   "controller's, `--hover --gains FILE` for the hover creature)" + air_text +
+                   "; the bar: no flip, lowest "
+                   "up-component above 0.5 after 10 s, altitude rms under 0.3 m, mean bank "
+                   "under 5 deg; the last column: the roll rate real air's torque and push "
+                   "would give the creature held rigid in vacuum, its angular impulse over its "
+                   "roll inertia, as flight_check prints it (flapsim::realAirSpinUp)"))
+
+
 def real_air_bar():
     """Every creature with a controller that holds an altitude, in real air, against the bar."""
     chain = "config/afc_4_real_air_weights.yaml"
@@ -241,40 +282,28 @@ def real_air_bar():
          ["--hover", "--urdf", "config/morph_116wkg/creature.urdf", "--gains",
           "config/morph_116wkg/gains.yaml"]),
     ]
-    steps = (1, 0.5)
-    runs = [Run(key(label, step), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
-                + ["--real-air"] + step_argv(step))
-            for label, flags in flyers for step in steps]
+    bar_table("real_air_bar", flyers, [], FLIGHT_DOC, "")
 
-    def rows(out):
-        result = []
-        for label, _ in flyers:
-            for step in steps:
-                text = out[key(label, step)]
-                r = starts(text)
-                rms = [x["alt_rms"] for x in r if x["alt_rms"] is not None]
-                spin = re.search(r"at ([0-9]+) and ([0-9]+) rad/s", text)
-                if not spin:
-                    raise ValueError("flight_check --real-air output: no spin-up line")
-                result.append([label, step_cell(step), str(flips(r)),
-                               f"{lowest(r, 'up_set'):.3f}",
-                               f"{max(rms):.2f} m" if rms else "-",
-                               f"{max_abs_bank(r):.1f} deg",
-                               f"**{sum(meets_real_air_bar(x) for x in r)} of {len(r)}**",
-                               f"{sum(x['P+/m'] for x in r) / len(r):.0f} W/kg",
-                               f"{spin.group(1)} / {spin.group(2)} rad/s"])
-        return result
-    register(Table("real_air_bar", FLIGHT_DOC,
-                   ["creature, controller", "step", "flips", "lowest up after 10 s",
-                    "largest alt. rms after 10 s", "largest abs mean bank", "meet the bar",
-                    "mean power", "torque / push, held rigid in vacuum"], runs, rows,
-                   f"each row `{FLIGHT_CHECK} FLAGS --altitude 5 {' '.join(WIDE_STARTS)} "
-                   "--real-air` with the step's `--step-size` (FLAGS: the controller's, "
-                   "`--hover --gains FILE` for the hover creature); the bar: no flip, lowest "
-                   "up-component above 0.5 after 10 s, altitude rms under 0.3 m, mean bank "
-                   "under 5 deg; the last column: the roll rate real air's torque and push "
-                   "would give the creature held rigid in vacuum, its angular impulse over its "
-                   "roll inertia, as flight_check prints it (flapsim::realAirSpinUp)"))
+
+def shed_air_bar():
+    """The same bar in the air with the added mass's products shed into the wake
+    (--shed-products): controllers evolved in the default air, and afc_1's evolved in it."""
+    noise = ["--velocity-noise", "0.05"]
+    flyers = [
+        ("afc_1, `config/afc_1_climb_weights.yaml` (evolved in the default air)",
+         ["--weights", "config/afc_1_climb_weights.yaml"] + noise),
+        ("afc_1, `config/afc_1_shed_seed_weights.yaml` (evolved on from it in this air, 20 s "
+         "episodes)", ["--weights", "config/afc_1_shed_seed_weights.yaml"] + noise),
+        ("afc_1, `config/afc_1_shed_air_weights.yaml` (evolved on from that, 60 s episodes)",
+         ["--weights", "config/afc_1_shed_air_weights.yaml"] + noise),
+        ("afc_4, `config/afc_4_real_air_weights.yaml` (evolved in the default air)",
+         ["--weights", "config/afc_4_real_air_weights.yaml", "--pairs", "4"] + noise),
+        ("hover_1, `config/hover_1_gains.yaml` (evolved in the default air)",
+         ["--hover", "--gains", "config/hover_1_gains.yaml"]),
+    ]
+    bar_table("shed_air_bar", flyers, ["--shed-products"], FLIGHT_DOC,
+              ", in the air with the added mass's velocity products shed into the wake; "
+              "ground-speed noise 0.05 m/s for the networks with a climb input")
 
 
 def real_air_apart():
@@ -351,6 +380,7 @@ steady_wind()
 steady_wind_hover()
 real_air()
 real_air_bar()
+shed_air_bar()
 real_air_apart()
 vertical_authority()
 register_flight_table("afc_1_altitude_climbing", "config/afc_1_altitude_weights.yaml", 1, (1, 0.5),
@@ -397,24 +427,30 @@ ENERGY = "bin/flapsim_bench"
 
 def energy_tables():
     """The energy audit: every creature in vacuum, air and water at three steps, with the added
-    mass's velocity products (every column) and without them (the residual in a fluid)."""
+    mass's velocity products (every column), and the residual in a fluid in each of the three
+    airs (without them, with them, shed into the wake)."""
     on = Run("velocity products", [ENERGY, "--energy", "--velocity-products"])
     off = Run("default", [ENERGY, "--energy"])
+    shed = Run("shed products", [ENERGY, "--energy", "--shed-products"])
 
     def audit(out):
         return markdown_rows(out[on.key], "flapsim_bench --energy")[1]
 
     def residual(out):
-        header, rows = markdown_rows(out[off.key], "flapsim_bench --energy")
-        column = header.index("residual")
-        return [r[:3] + [r[column]] for r in rows if r[1] != "vacuum"]
+        tables = [markdown_rows(out[run.key], "flapsim_bench --energy") for run in (off, on, shed)]
+        columns = [header.index("residual") for header, _ in tables]
+        rows = zip(*(table_rows for _, table_rows in tables))
+        return [same[0][:3] + [r[c] for r, c in zip(same, columns)] for same in rows
+                if same[0][1] != "vacuum"]
     register(Table("energy_audit", "doc/validation.md",
                    ["creature", "medium", "step", "motor work (positive)", "air work",
                     "damping work", "kinetic", "potential", "spring", "fluid kinetic", "residual"],
                    [on], audit, f"`{ENERGY} --energy --velocity-products` (it prints these rows)"))
     register(Table("energy_residual", "doc/validation.md",
-                   ["creature", "medium", "step", "residual"], [off], residual,
-                   f"`{ENERGY} --energy` (the residual column of its rows in air and water)"))
+                   ["creature", "medium", "step", "default air", "Kirchhoff's products",
+                    "products shed"], [off, on, shed], residual,
+                   f"`{ENERGY} --energy`, `--energy --velocity-products` and `--energy "
+                   "--shed-products` (the residual column of their rows in air and water)"))
 
 
 energy_tables()
