@@ -25,7 +25,8 @@ enum class MotorWorkMeter {
   /// joint's spring and damping taken out), times the joint's move: second order in the step.
   /// Metered as kServoImpulse: a (sub)step in which a contact or a joint limit may have acted,
   /// and a creature whose plates carry added mass in a fluid without its velocity products
-  /// (there the momentum balance hands the bodies, as one rigid correction, the turning of the
+  /// (neither AirParams::added_mass_velocity_products nor added_mass_shed_products; there the
+  /// momentum balance hands the bodies, as one rigid correction, the turning of the
   /// fluid's impulse that no force on the plates carries, and each joint would take a share of
   /// it: 2 % of hover_1's stroke power).
   kTransmitted,
