@@ -220,8 +220,8 @@ def meets_real_air_bar(row):
             and row["alt_rms"] < 0.3 and abs(row["bank"]) < 5.0)
 
 
-def bar_table(name, flyers, air, doc, air_text):
-    """The real-air bar's table `name` in `doc`: each (label, flags) of `flyers` in real air at
+def bar_table(name, flyers, air, air_text):
+    """The real-air bar's table `name` in flight_and_evolution.md: each (label, flags) of `flyers` in real air at
     1 and 0.5 ms, with `air` (flight_check flags of the air itself)."""
     steps = (1, 0.5)
     runs = [Run(key(label, step), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
@@ -247,7 +247,7 @@ def bar_table(name, flyers, air, doc, air_text):
                                f"{spin.group(1)} / {spin.group(2)} rad/s"])
         return result
     air_flags = (" " + " ".join(air)) if air else ""
-    register(Table(name, doc,
+    register(Table(name, FLIGHT_DOC,
                    ["creature, controller", "step", "flips", "lowest up after 10 s",
                     "largest alt. rms after 10 s", "largest abs mean bank", "meet the bar",
                     "mean power", "torque / push, held rigid in vacuum"], runs, rows,
@@ -282,7 +282,7 @@ def real_air_bar():
          ["--hover", "--urdf", "config/morph_116wkg/creature.urdf", "--gains",
           "config/morph_116wkg/gains.yaml"]),
     ]
-    bar_table("real_air_bar", flyers, [], FLIGHT_DOC, "")
+    bar_table("real_air_bar", flyers, [], "")
 
 
 def shed_air_bar():
@@ -301,7 +301,7 @@ def shed_air_bar():
         ("hover_1, `config/hover_1_gains.yaml` (evolved in the default air)",
          ["--hover", "--gains", "config/hover_1_gains.yaml"]),
     ]
-    bar_table("shed_air_bar", flyers, ["--shed-products"], FLIGHT_DOC,
+    bar_table("shed_air_bar", flyers, ["--shed-products"],
               ", in the air with the added mass's velocity products shed into the wake; "
               "ground-speed noise 0.05 m/s for the networks with a climb input")
 
