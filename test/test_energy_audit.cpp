@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "flapsim/energy_audit.h"
@@ -21,7 +23,7 @@ using test::loadUrdf;
 // The audit of flapsim_bench --energy (open sky, every wing 60/10 rad/s, 0.6 rad, in water
 // 3/1 rad/s, 2 s from 20 m and a 0.05 rad roll): the residual as a fraction of the motors'
 // positive work.
-double auditResidual(const char* urdf, const AirParams* air, double dt,
+double auditResidual(const CreatureModelPtr& model, const AirParams* air, double dt,
                      MotorWorkMeter meter = MotorWorkMeter::kTransmitted) {
   EnergyAuditParams p;
   p.world.step_size = dt;
@@ -32,7 +34,26 @@ double auditResidual(const char* urdf, const AirParams* air, double dt,
   } else {
     p.world.air.enabled = false;
   }
-  return auditEnergy(loadUrdf(urdf), p).relativeResidual();
+  return auditEnergy(model, p).relativeResidual();
+}
+
+double auditResidual(const char* urdf, const AirParams* air, double dt,
+                     MotorWorkMeter meter = MotorWorkMeter::kTransmitted) {
+  return auditResidual(loadUrdf(urdf), air, dt, meter);
+}
+
+// `urdf` with its root link fixed to the world (a test stand): its wings then move as their
+// servos drive them, whatever the fluid does to them.
+CreatureModelPtr anchored(const char* urdf) {
+  std::ifstream in(test::sourcePath(std::string("urdf/") + urdf));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string robot = text.str();
+  robot.insert(robot.rfind("</robot>"),
+               "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
+               "link=\"world\"/><child link=\"" +
+                   loadUrdf(urdf)->links[0].name + "\"/></joint>\n");
+  return parseCreatureModel(robot);
 }
 
 // In vacuum the transmitted work closes the balance within 0.1 % of the positive work at 1 ms,
@@ -70,12 +91,14 @@ TEST(EnergyAudit, AirAndWaterCloseWithinATenthOfAPercentWithTheVelocityProducts)
 }
 
 // With the velocity products shed into the wake (AirParams::added_mass_shed_products) they do
-// no work, nu . (nu x* A nu) = 0, and the balance closes as in Kirchhoff's air to a residual of
-// the step's first order: under 0.75 % of the positive work at 1 ms and under 0.6 times that at
-// 0.25 ms, in air and water (measured, 1 / 0.5 / 0.25 ms: flap unit in air 0.681 / 0.403 /
-// 0.204 %, in water -0.016 / -0.012 / -0.006 %; afc_4 in air 0.345 / 0.245 / 0.116 %, in water
-// 0.070 / 0.012 / 0.004 %; hover_1 in air -0.105 / -0.056 / -0.028 %, in water 0.142 / 0.070 /
-// 0.035 %). The default air, measured the same way, misses by 1-5 % in air and 20-40 % in water.
+// no work, nu . (nu x* A nu) = 0, and the balance closes as in Kirchhoff's air: under 0.3 % of
+// the positive work at 1 ms and under 0.6 times that at 0.25 ms, in air and water (measured,
+// 1 / 0.5 / 0.25 ms: flap unit in air -0.277 / -0.093 / -0.044 %, in water 0.018 / 0.006 /
+// 0.003 %; afc_4 in air -0.112 / -0.037 / -0.013 %, in water 0.069 / 0.012 / 0.004 %; hover_1
+// in air 0.175 / 0.094 / 0.046 %, in water -0.012 / -0.006 / -0.003 %). Before the air's work
+// was taken at the velocities the step composed (world/energy_meter.h) the flap unit's was
+// 0.68 % at 1 ms. The default air, measured the same way, misses by 1-5 % in air and 20-40 %
+// in water.
 TEST(EnergyAudit, WithTheProductsShedItClosesWithinAFirstOrderResidualInAirAndWater) {
   AirParams air, water = waterParams();
   air.added_mass_shed_products = water.added_mass_shed_products = true;
@@ -84,8 +107,37 @@ TEST(EnergyAudit, WithTheProductsShedItClosesWithinAFirstOrderResidualInAirAndWa
       SCOPED_TRACE(std::string(urdf) + (medium == &air ? " in air" : " in water"));
       const double r1 = auditResidual(urdf, medium, 0.001);
       const double r025 = auditResidual(urdf, medium, 0.00025);
-      EXPECT_LT(std::abs(r1), 0.0075);
+      EXPECT_LT(std::abs(r1), 0.003);
       EXPECT_LT(std::abs(r025), 0.6 * std::abs(r1));
+    }
+  }
+}
+
+// On a test stand (the root fixed to the world) the wings move as their servos drive them, and
+// in the airs that keep the fluid's energy the motors' work becomes the air's work and the
+// change of the energies to within 1e-5 of the positive work at every step: the flap unit,
+// afc_4 and hover_1 with the products shed, in air and water, and the flap unit and hover_1 in
+// Kirchhoff's air (measured, 1 / 0.5 / 0.25 ms: flap unit 1.4e-6 / 5.5e-7 / 2.3e-7 in air in
+// both airs; afc_4 shed 1.5e-6 in air, 3.7e-6 in water; hover_1 under 2e-11). The wrench a step
+// holds over it is paired with the velocity the step composed at its point, with the start's
+// joint axes: paired with the link's COM at the end instead, the shed flap unit's residual was
+// 0.85 % at 1 ms. afc_4 in Kirchhoff's air is not claimed: its free roll joints take the
+// explicit products at the start's velocities, -1.3e-4 / -1.5e-4 / -9.1e-4.
+TEST(EnergyAudit, OnATestStandTheBalanceClosesToAHundredThousandthInTheAirsThatKeepEnergy) {
+  AirParams kirchhoff, kirchhoff_water = waterParams(), shed, shed_water = waterParams();
+  kirchhoff.added_mass_velocity_products = kirchhoff_water.added_mass_velocity_products = true;
+  shed.added_mass_shed_products = shed_water.added_mass_shed_products = true;
+  for (const char* urdf : {"flap_unit.urdf", "afc_4.urdf", "hover_1.urdf"}) {
+    const CreatureModelPtr model = anchored(urdf);
+    ASSERT_TRUE(model->fixed_base);
+    for (const AirParams* medium : {&kirchhoff, &kirchhoff_water, &shed, &shed_water}) {
+      if (medium->added_mass_velocity_products && std::string(urdf) == "afc_4.urdf") continue;
+      for (double dt : {0.001, 0.0005, 0.00025}) {
+        SCOPED_TRACE(std::string(urdf) + (medium->density > 100.0 ? " in water" : " in air") +
+                     (medium->added_mass_shed_products ? ", shed, " : ", Kirchhoff's, ") +
+                     std::to_string(dt));
+        EXPECT_LT(std::abs(auditResidual(model, medium, dt)), 1e-5);
+      }
     }
   }
 }

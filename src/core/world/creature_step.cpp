@@ -82,7 +82,7 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   if (metered) s.transmitted.beginSubStep(s.body, s.fluid, density, p.air.wind);
   s.servos.begin(mb, h);
   s.record.beginSubStep(s.body.frames(), h);
-  if (c.energy_audit) s.energy.beginSubStep(s.body);
+  if (c.energy_audit) s.energy.beginSubStep(*r.model, s.body);
   applyDrives(*r.model, r.drives, s.servos, mb, h);          // actuation
   c.air.apply(*r.model, s.body, s.fluid, s.momentum, p, h);  // fluid
   s.record.fluid(s.fluid, p.air.enabled);

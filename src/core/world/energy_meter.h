@@ -1,9 +1,12 @@
 // The energy audit of a creature (World::setEnergyAudit, World::energy): the work of the air
 // and of the joints' damping, summed over the (sub)steps while the audit is on, and the
 // energies of its state. Works are taken by the trapezoid of each (sub)step's start and end
-// velocities, which is what the step's velocity change makes of a force held over it; the
-// energies are those of the fluid's frame (velocities relative to the wind). Private to
-// flapsim_core.
+// velocities, which is what the step's velocity change makes of a force held over it: the
+// end's velocity of the point the force held at (the COM at the start) composed as the step
+// composed it, from the root's velocity and the joints' rates with the joints' axes of the
+// start (a link turning about a fixed hinge does no work against a force that its start's
+// motion does none against); the energies are those of the fluid's frame (velocities
+// relative to the wind). Private to flapsim_core.
 #pragma once
 
 #include <BulletDynamics/Featherstone/btMultiBody.h>
@@ -22,9 +25,9 @@ class ServoStage;
 
 class EnergyMeter {
  public:
-  // Before a (sub)step: the root COM it starts from (the joints' velocities then are the
-  // servo stage's, ServoStage::startVelocity).
-  void beginSubStep(const BulletBody& body);
+  // Before a (sub)step: the root COM it starts from and every joint's axis (the joints'
+  // velocities then are the servo stage's, ServoStage::startVelocity).
+  void beginSubStep(const CreatureModel& m, const BulletBody& body);
   // After it (`air`: the fluid stage ran): the air's work on every aero body (its explicit
   // wrench and the implicit drag's impulse) and the damping's on every passive joint.
   void endSubStep(const CreatureModel& m, const std::vector<JointDrive>& drives,
@@ -34,9 +37,22 @@ class EnergyMeter {
   double dampingWork() const { return damping_work_; }
 
  private:
+  // The spatial velocity at the end of the (sub)step, at `point`, of link `link` as the step
+  // composed it: the root's with the start's root COM, and each joint's rate on its start's
+  // axis.
+  void endVelocity(const CreatureModel& m, const BulletBody& body, int link, const Vec3& point,
+                   Vec3& linear, Vec3& angular) const;
+
+  // A joint's motion at the start of the (sub)step: its axis (world) and, if it turns, a point
+  // of the axis.
+  struct JointAxis {
+    Vec3 axis = Vec3::Zero(), point = Vec3::Zero();
+    bool turns = false;
+  };
   double air_work_ = 0.0;
   double damping_work_ = 0.0;
-  Vec3 origin_ = Vec3::Zero();  // the root COM at the start of the (sub)step
+  Vec3 origin_ = Vec3::Zero();   // the root COM at the start of the (sub)step
+  std::vector<JointAxis> axes_;  // per joint of the model
 };
 
 // The energies of a creature's state (CreatureEnergy's kinetic, potential, spring and fluid

@@ -58,9 +58,13 @@ void TransmittedWork::take(BulletBody& body, CreatureFluid& fluid, Snapshot& out
     b.angular = to_world * l.inertia.cwiseProduct(omega);
     omega_[k] = to_world * omega;
   }
-  // The bodies' centre of mass: the frame moves as any observer's does.
-  out.centre_velocity = mass > 0.0 ? Vec3(momentum / mass) : Vec3::Zero();
+  // The bodies' centre of mass: the frame moves as any observer's does; an anchored
+  // creature's is its anchor's, the world's.
+  out.centre_velocity = mass > 0.0 && !model_.fixed_base ? Vec3(momentum / mass) : Vec3::Zero();
   if (density_ > 0.0) {
+    // The tree's frames: the momentum balance updates them, except on an anchored creature,
+    // which it leaves alone.
+    if (model_.fixed_base) body.world().tree().updateFrames(mb);
     const std::vector<AeroBody>& aero = fluid.bodies();
     for (size_t i = 0; i < aero.size(); ++i) {
       const int k = aero[i].link;
