@@ -247,5 +247,36 @@ TEST(MorphNsga2, TheKirchhoffFrontMemberHoldsThreeMetresAtUnder33WattsPerKilogra
   EXPECT_GT(fly(false, 0.001).altitude_rms, 0.1);
 }
 
+// The shipped member of the front evolved in the air with the products shed (config/morph_shed)
+// holds 3 m there under issue 44's 30 W/kg, its motors inside its body (measured over 60 s:
+// 5.5 cm rms at 1 ms and 5.0 cm at 0.5 ms, lowest up 0.896 and 0.910, 29.2 and 29.0 W/kg;
+// figures after 10 s; from the start, lowest up 0.887 and 0.886). In the default air it sinks (11.4
+// m rms), in Kirchhoff's it hangs low (1.3 m rms, 1.30 to 2.11 m).
+TEST(MorphNsga2, TheShedAirFrontMemberHoldsThreeMetresUnder30WattsPerKilogram) {
+  const CreatureModelPtr model =
+      loadCreatureModel(test::sourcePath("config/morph_shed/creature.urdf"));
+  const HoverControllerParams gains =
+      loadHoverGainsYaml(test::sourcePath("config/morph_shed/gains.yaml"));
+  auto fly = [&](bool shed, bool kirchhoff, double step) {
+    HoverFlightParams p;  // 60 s
+    p.world.step_size = step;
+    p.world.air.added_mass_shed_products = shed;
+    p.world.air.added_mass_velocity_products = kirchhoff;
+    return flyHover(model, gains, p);
+  };
+  for (double step : {0.001, 0.0005}) {
+    SCOPED_TRACE(step);
+    const HoverFlightResult r = fly(true, false, step);
+    EXPECT_FALSE(r.flipped);
+    EXPECT_LT(r.altitude_rms, 0.06);
+    EXPECT_GT(r.min_upright, 0.89);     // after 10 s
+    EXPECT_GT(r.lowest_upright, 0.88);  // from the start: tilted up to 27.6 deg
+    EXPECT_GT(r.positive_power / r.mass, 28.5);
+    EXPECT_LT(r.positive_power / r.mass, 30.0);
+  }
+  EXPECT_GT(fly(false, false, 0.001).altitude_rms, 1.0);
+  EXPECT_GT(fly(false, true, 0.001).altitude_rms, 1.0);
+}
+
 }  // namespace
 }  // namespace flapsim
