@@ -2,10 +2,12 @@
 // Prints figures; never passes or fails on time.
 //
 //   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json] [--step S] [--turn-substep S]
-//                 [--check T] [--reference-step S]
+//   flapsim_bench --check T [--reference-step S] [--only NAME | --urdf FILE [--height Z]]
 //   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
 //   flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products] [--shed-products]
 //                          [--motor-work transmitted|servo]
+//
+// A flag the form given does not read is refused by name (flapsim_bench::unreadFlag).
 //
 // --step S, --turn-substep S: the world's step and turn substep, s (WorldParams' 1 ms and
 // 0.5 ms by default; either form). --check T: instead of timing,
@@ -245,26 +247,15 @@ struct Options {
   flapsim::MotorWorkMeter motor_work = flapsim::MotorWorkMeter::kTransmitted;
   double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
   double turn_substep = WorldParams().turn_substep;
+  std::vector<std::string> given;  // the flags, in order
 };
-
-// The usage, on stdout for --help (exit 0), else on stderr (exit 2): the exit code.
-int usage(bool help) {
-  std::fprintf(
-      help ? stdout : stderr,
-      "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
-      "                     [--step S] [--turn-substep S] [--check T] [--reference-step S]\n"
-      "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
-      "[--runs N] [--seconds S]\n"
-      "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n"
-      "                              [--shed-products] [--motor-work transmitted|servo]\n");
-  return help ? 0 : 2;
-}
 
 // Reads the command line into `o`: -1 to go on, else the exit code (a bad duration said on
 // stderr).
 int parseArgs(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    o.given.push_back(a);
     if (a == "--runs" && i + 1 < argc) {
       o.runs = std::max(1, std::atoi(argv[++i]));
     } else if (a == "--seconds" && i + 1 < argc) {
@@ -307,7 +298,7 @@ int parseArgs(int argc, char** argv, Options& o) {
       }
       ++i;
     } else {
-      return usage(a == "--help" || a == "-h");  // asked for: on stdout, exit 0
+      return flapsim_bench::usage(a == "--help" || a == "-h");  // asked: on stdout, exit 0
     }
   }
   return -1;
@@ -476,6 +467,12 @@ int main(int argc, char** argv) {
   Options o;
   const int parsed = parseArgs(argc, argv, o);
   if (parsed >= 0) return parsed;
+  const std::string unread =
+      flapsim_bench::unreadFlag(o.given, o.energy, o.check_seconds > 0.0, !o.urdf.empty());
+  if (!unread.empty()) {
+    std::fprintf(stderr, "flapsim_bench: %s\n", unread.c_str());
+    return 2;
+  }
   WorldParams at_step;
   at_step.step_size = o.step;
   at_step.turn_substep = o.turn_substep;

@@ -3,10 +3,23 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "flapsim/world.h"
 
 namespace flapsim_bench {
+
+/// The usage, on stdout for --help (exit 0), else on stderr (exit 2): the exit code
+/// (bench/flapsim_bench_flags.cpp).
+int usage(bool help);
+
+/// The flags a form of the command reads: --energy's, --check's (with --urdf or not), --urdf's,
+/// or the timing table's.
+std::vector<std::string> formFlags(bool energy, bool check, bool urdf);
+
+/// The first of the `given` flags that the form does not read, with what it reads ("--json does
+/// nothing with --energy, which reads ..."); empty if none.
+std::string unreadFlag(const std::vector<std::string>& given, bool energy, bool check, bool urdf);
 
 /// `text` as a MotorWorkMeter's name into `out`; false (and said on stderr) if it is none.
 bool parseMotorWork(const char* text, flapsim::MotorWorkMeter* out);
