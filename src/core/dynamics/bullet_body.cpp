@@ -29,6 +29,19 @@ void LinkFrames::kinematics(int k, BodyKinematics& kin) const {
   kin.has_body_frame = true;
 }
 
+JointAxis BulletBody::jointAxis(const JointModel& j) const {
+  const int k = j.child_link;
+  const btMultibodyLink& link = mb_->getLink(k - 1);
+  const Mat3& to_world = frames_.rotation(k);
+  const Vec3 com = fromBt(frames_.com(k));
+  if (j.type == JointType::kPrismatic) {
+    return JointAxis{to_world * fromBt(link.m_axes[0].m_bottomVec), com};
+  }
+  // The pivot: the COM less the pivot-to-COM vector (Bullet's, in the link's frame).
+  return JointAxis{to_world * fromBt(link.m_axes[0].m_topVec),
+                   com - to_world * fromBt(link.m_dVector)};
+}
+
 void LinkFrames::resize(int links) {
   world_to_local_.resize(links);
   rotation_.resize(static_cast<size_t>(links));

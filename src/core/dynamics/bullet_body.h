@@ -51,6 +51,12 @@ class LinkFrames {
   std::vector<btVector3> omega_, vel_;
 };
 
+// A movable joint's axis (world) and a point on it: a revolute joint's pivot, a prismatic
+// joint's child link's COM.
+struct JointAxis {
+  Vec3 axis = Vec3::Zero(), point = Vec3::Zero();
+};
+
 // What a step may change in a multibody: enough to put it back bit for bit.
 struct BodySnapshot {
   btVector3 position, velocity, omega;
@@ -88,6 +94,8 @@ class BulletBody {
   double reach(size_t k) const { return reach_[k]; }
 
   const LinkFrames& frames() const { return frames_; }
+  // Movable joint `j`'s axis and a point on it, at the frames.
+  JointAxis jointAxis(const JointModel& j) const;
   // Refreshes the frames from the multibody's state (Bullet's forwardKinematics).
   void updateKinematics();
   // The same frames, computed without touching the multibody or the frames.

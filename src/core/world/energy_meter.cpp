@@ -7,44 +7,29 @@
 namespace flapsim {
 
 void EnergyMeter::beginSubStep(const CreatureModel& m, const BulletBody& body) {
-  const LinkFrames& frames = body.frames();
-  const btMultiBody& mb = body.multiBody();
-  origin_ = fromBt(frames.com(0));
+  origin_ = fromBt(body.frames().com(0));
   axes_.resize(m.joints.size());
   for (size_t ji = 0; ji < m.joints.size(); ++ji) {
-    const JointModel& j = m.joints[ji];
-    JointAxis& a = axes_[ji];
-    if (!j.movable()) continue;
-    const int k = j.child_link;
-    const btMultibodyLink& link = mb.getLink(k - 1);
-    const Mat3& to_world = frames.rotation(k);
-    a.turns = j.type != JointType::kPrismatic;
-    if (a.turns) {
-      // The pivot: the COM less the pivot-to-COM vector (Bullet's, in the link's frame).
-      a.axis = to_world * fromBt(link.m_axes[0].m_topVec);
-      a.point = fromBt(frames.com(k)) - to_world * fromBt(link.m_dVector);
-    } else {
-      a.axis = to_world * fromBt(link.m_axes[0].m_bottomVec);
-    }
+    if (m.joints[ji].movable()) axes_[ji] = body.jointAxis(m.joints[ji]);
   }
 }
 
-void EnergyMeter::endVelocity(const CreatureModel& m, const BulletBody& body, int link,
-                              const Vec3& point, Vec3& linear, Vec3& angular) const {
-  const btMultiBody& mb = body.multiBody();
-  const BodyKinematics root = body.frames().kinematics(0);
+void EnergyMeter::endVelocity(const CreatureModel& m, const btMultiBody& mb,
+                              const BodyKinematics& root, int link, const Vec3& point, Vec3& linear,
+                              Vec3& angular) const {
   angular = root.angular_velocity;
   linear = root.linear_velocity + angular.cross(point - origin_);
   for (int k = link; k > 0;) {
-    const JointModel& j = m.joints[m.links[k].parent_joint];
+    const int ji = m.links[k].parent_joint;
+    const JointModel& j = m.joints[ji];
     if (j.movable()) {
-      const JointAxis& a = axes_[m.links[k].parent_joint];
+      const JointAxis& a = axes_[ji];
       const double rate = mb.getJointVel(j.child_link - 1);
-      if (a.turns) {
+      if (j.type == JointType::kPrismatic) {
+        linear += rate * a.axis;
+      } else {
         angular += rate * a.axis;
         linear += rate * a.axis.cross(point - a.point);
-      } else {
-        linear += rate * a.axis;
       }
     }
     k = j.parent_link;
@@ -57,10 +42,11 @@ void EnergyMeter::endSubStep(const CreatureModel& m, const std::vector<JointDriv
   const btMultiBody& mb = body.multiBody();
   if (air) {
     const std::vector<AeroBody>& aero = fluid.bodies();
+    const BodyKinematics root = body.frames().kinematics(0);
     for (size_t i = 0; i < aero.size(); ++i) {
       const BodyKinematics& start = fluid.kinematics()[i];
       Vec3 end_linear, end_angular;
-      endVelocity(m, body, aero[i].link, start.com, end_linear, end_angular);
+      endVelocity(m, mb, root, aero[i].link, start.com, end_linear, end_angular);
       // The impulse over the (sub)step about the link's COM at the start: the explicit wrench
       // held over it, and the implicit drag's (about the root COM) moved there.
       const Vec6 drag = servos.dragImpulse(i);

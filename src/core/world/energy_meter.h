@@ -13,13 +13,13 @@
 
 #include <vector>
 
+#include "dynamics/bullet_body.h"
 #include "dynamics/spatial.h"
 #include "flapsim/world.h"
 #include "world/joint_drives.h"
 
 namespace flapsim {
 
-class BulletBody;
 class CreatureFluid;
 class ServoStage;
 
@@ -40,19 +40,14 @@ class EnergyMeter {
   // The spatial velocity at the end of the (sub)step, at `point`, of link `link` as the step
   // composed it: the root's with the start's root COM, and each joint's rate on its start's
   // axis.
-  void endVelocity(const CreatureModel& m, const BulletBody& body, int link, const Vec3& point,
-                   Vec3& linear, Vec3& angular) const;
+  // `root`: the root's kinematics at the end.
+  void endVelocity(const CreatureModel& m, const btMultiBody& mb, const BodyKinematics& root,
+                   int link, const Vec3& point, Vec3& linear, Vec3& angular) const;
 
-  // A joint's motion at the start of the (sub)step: its axis (world) and, if it turns, a point
-  // of the axis.
-  struct JointAxis {
-    Vec3 axis = Vec3::Zero(), point = Vec3::Zero();
-    bool turns = false;
-  };
   double air_work_ = 0.0;
   double damping_work_ = 0.0;
   Vec3 origin_ = Vec3::Zero();   // the root COM at the start of the (sub)step
-  std::vector<JointAxis> axes_;  // per joint of the model
+  std::vector<JointAxis> axes_;  // per joint of the model, at the start of the (sub)step
 };
 
 // The energies of a creature's state (CreatureEnergy's kinetic, potential, spring and fluid

@@ -84,19 +84,9 @@ void TransmittedWork::take(BulletBody& body, CreatureFluid& fluid, Snapshot& out
   for (size_t j = 0; j < model_.joints.size(); ++j) {
     const JointModel& joint = model_.joints[j];
     if (!joint.movable()) continue;
-    const int k = joint.child_link;
-    const btMultibodyLink& link = mb.getLink(k - 1);
-    const Mat3& to_world = frames.rotation(k);
     JointPlace& p = out.joints[j];
-    p.position = mb.getJointPos(k - 1);
-    if (joint.type == JointType::kPrismatic) {
-      p.axis = to_world * fromBt(link.m_axes[0].m_bottomVec);
-      p.point = out.bodies[k].com;
-    } else {
-      // The pivot: the COM less the pivot-to-COM vector (Bullet's, in the link's frame).
-      p.axis = to_world * fromBt(link.m_axes[0].m_topVec);
-      p.point = out.bodies[k].com - to_world * fromBt(link.m_dVector);
-    }
+    p.position = mb.getJointPos(joint.child_link - 1);
+    p.place = body.jointAxis(joint);
   }
 }
 
@@ -155,11 +145,11 @@ double TransmittedWork::work(size_t joint, const ServoStage& servos, const btMul
   const JointModel& j = model_.joints[joint];
   const int link = j.child_link - 1;
   const JointPlace &a = start_.joints[joint], &b = end_.joints[joint];
-  const Vec3 axis = (a.axis + b.axis).normalized();
+  const Vec3 axis = (a.place.axis + b.place.axis).normalized();
   const double moved = b.position - a.position;
   const double mean_rate = 0.5 * h * (servos.startVelocity(link) + mb.getJointVel(link));
   double transmitted = 0.0, weight = 0.0;  // impulse along the axis; gravity's torque
-  const Vec3 point = 0.5 * (a.point + b.point);
+  const Vec3 point = 0.5 * (a.place.point + b.place.point);
   // Momenta relative to the creature's centre of mass at the start: a step's joint-space
   // straight lines move the bodies by other than step x their end velocities, so that momenta
   // of another frame would make the measure depend on the observer.

@@ -32,12 +32,12 @@
 
 #include <vector>
 
+#include "dynamics/bullet_body.h"
 #include "dynamics/spatial.h"
 #include "flapsim/creature_model.h"
 
 namespace flapsim {
 
-class BulletBody;
 class CreatureFluid;
 class ServoStage;
 
@@ -77,8 +77,7 @@ class TransmittedWork {
   };
   // A joint's axis (unit, world frame), a point on it, and its position.
   struct JointPlace {
-    Vec3 axis = Vec3::Zero();
-    Vec3 point = Vec3::Zero();
+    JointAxis place;
     double position = 0.0;
   };
   struct Snapshot {
