@@ -48,12 +48,7 @@ CreatureModelPtr anchored(const char* urdf) {
   std::ifstream in(test::sourcePath(std::string("urdf/") + urdf));
   std::stringstream text;
   text << in.rdbuf();
-  std::string robot = text.str();
-  robot.insert(robot.rfind("</robot>"),
-               "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
-               "link=\"world\"/><child link=\"" +
-                   loadUrdf(urdf)->links[0].name + "\"/></joint>\n");
-  return parseCreatureModel(robot);
+  return parseCreatureModel(test::anchoredUrdf(text.str(), loadUrdf(urdf)->links[0].name));
 }
 
 // In vacuum the transmitted work closes the balance within 0.1 % of the positive work at 1 ms,

@@ -131,11 +131,8 @@ WorldParams weightless() {
   return p;
 }
 
-void spawnAnchored(World& w, std::string urdf) {
-  urdf.insert(urdf.rfind("</robot>"),
-              "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
-              "link=\"world\"/><child link=\"unit0_body\"/></joint>\n");
-  w.spawn("u", parseCreatureModel(urdf), at(0, 0, 0));
+void spawnAnchored(World& w, const std::string& urdf) {
+  w.spawn("u", parseCreatureModel(test::anchoredUrdf(urdf, "unit0_body")), at(0, 0, 0));
 }
 
 double liftWorkPerCycle(double w1, double w2, double amplitude) {

@@ -52,6 +52,15 @@ inline CreatureModelPtr loadUrdf(const std::string& name) {
   return loadCreatureModel(sourcePath("urdf/" + name));
 }
 
+/// URDF text `urdf` with its link `root` fixed to the world (a test stand).
+inline std::string anchoredUrdf(std::string urdf, const std::string& root) {
+  urdf.insert(urdf.rfind("</robot>"),
+              "<link name=\"world\"/><joint name=\"anchor\" type=\"fixed\"><parent "
+              "link=\"world\"/><child link=\"" +
+                  root + "\"/></joint>\n");
+  return urdf;
+}
+
 /// A world without ground (so long falls are unobstructed) and default air.
 inline WorldParams openSky() {
   WorldParams p;
