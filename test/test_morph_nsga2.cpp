@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <string>
 
 #include "flapsim/episode_evaluator.h"
 #include "flapsim/evolve_args.h"
@@ -220,31 +221,37 @@ TEST(MorphNsga2, SelectionOutsideMorphAnOddPopulationAndAnUnknownNameAreRefusedB
             "accepted");
 }
 
+// The airs a shipped creature is flown in: the default, Kirchhoff's, the products shed.
+enum class Air { kDefault, kKirchhoff, kShed };
+
+// The shipped creature in `config/<dir>/` flown 60 s by flyHover in `air` at `step`.
+HoverFlightResult flyShipped(const std::string& dir, Air air, double step) {
+  const CreatureModelPtr model =
+      loadCreatureModel(test::sourcePath("config/" + dir + "/creature.urdf"));
+  const HoverControllerParams gains =
+      loadHoverGainsYaml(test::sourcePath("config/" + dir + "/gains.yaml"));
+  HoverFlightParams p;  // 60 s
+  p.world.step_size = step;
+  p.world.air.added_mass_velocity_products = air == Air::kKirchhoff;
+  p.world.air.added_mass_shed_products = air == Air::kShed;
+  return flyHover(model, gains, p);
+}
+
 // The shipped member of the front evolved in Kirchhoff's air (config/morph_kirchhoff) holds
 // 3 m there, its motors' transmitted work at 32.4 W/kg (measured over 60 s: 6.6 cm rms at 1 ms
 // and 6.7 cm at 0.5 ms, lowest up 0.948; figures after 10 s). Without the velocity
 // products, the air it was not evolved in, it sinks (6.8 m rms over 60 s).
 TEST(MorphNsga2, TheKirchhoffFrontMemberHoldsThreeMetresAtUnder33WattsPerKilogram) {
-  const CreatureModelPtr model =
-      loadCreatureModel(test::sourcePath("config/morph_kirchhoff/creature.urdf"));
-  const HoverControllerParams gains =
-      loadHoverGainsYaml(test::sourcePath("config/morph_kirchhoff/gains.yaml"));
-  auto fly = [&](bool products, double step) {
-    HoverFlightParams p;  // 60 s
-    p.world.step_size = step;
-    p.world.air.added_mass_velocity_products = products;
-    return flyHover(model, gains, p);
-  };
   for (double step : {0.001, 0.0005}) {
     SCOPED_TRACE(step);
-    const HoverFlightResult r = fly(true, step);
+    const HoverFlightResult r = flyShipped("morph_kirchhoff", Air::kKirchhoff, step);
     EXPECT_FALSE(r.flipped);
     EXPECT_LT(r.altitude_rms, 0.1);
     EXPECT_GT(r.lowest_upright, 0.9);
     EXPECT_GT(r.positive_power / r.mass, 31.0);
     EXPECT_LT(r.positive_power / r.mass, 33.0);
   }
-  EXPECT_GT(fly(false, 0.001).altitude_rms, 0.1);
+  EXPECT_GT(flyShipped("morph_kirchhoff", Air::kDefault, 0.001).altitude_rms, 0.1);
 }
 
 // The shipped member of the front evolved in the air with the products shed (config/morph_shed)
@@ -253,20 +260,9 @@ TEST(MorphNsga2, TheKirchhoffFrontMemberHoldsThreeMetresAtUnder33WattsPerKilogra
 // figures after 10 s; from the start, lowest up 0.887 and 0.886). In the default air it sinks (11.4
 // m rms), in Kirchhoff's it hangs low (1.3 m rms, 1.30 to 2.11 m).
 TEST(MorphNsga2, TheShedAirFrontMemberHoldsThreeMetresUnder30WattsPerKilogram) {
-  const CreatureModelPtr model =
-      loadCreatureModel(test::sourcePath("config/morph_shed/creature.urdf"));
-  const HoverControllerParams gains =
-      loadHoverGainsYaml(test::sourcePath("config/morph_shed/gains.yaml"));
-  auto fly = [&](bool shed, bool kirchhoff, double step) {
-    HoverFlightParams p;  // 60 s
-    p.world.step_size = step;
-    p.world.air.added_mass_shed_products = shed;
-    p.world.air.added_mass_velocity_products = kirchhoff;
-    return flyHover(model, gains, p);
-  };
   for (double step : {0.001, 0.0005}) {
     SCOPED_TRACE(step);
-    const HoverFlightResult r = fly(true, false, step);
+    const HoverFlightResult r = flyShipped("morph_shed", Air::kShed, step);
     EXPECT_FALSE(r.flipped);
     EXPECT_LT(r.altitude_rms, 0.06);
     EXPECT_GT(r.min_upright, 0.89);     // after 10 s
@@ -274,8 +270,8 @@ TEST(MorphNsga2, TheShedAirFrontMemberHoldsThreeMetresUnder30WattsPerKilogram) {
     EXPECT_GT(r.positive_power / r.mass, 28.5);
     EXPECT_LT(r.positive_power / r.mass, 30.0);
   }
-  EXPECT_GT(fly(false, false, 0.001).altitude_rms, 1.0);
-  EXPECT_GT(fly(false, true, 0.001).altitude_rms, 1.0);
+  EXPECT_GT(flyShipped("morph_shed", Air::kDefault, 0.001).altitude_rms, 1.0);
+  EXPECT_GT(flyShipped("morph_shed", Air::kKirchhoff, 0.001).altitude_rms, 1.0);
 }
 
 }  // namespace
