@@ -4,7 +4,7 @@
 //   flapsim_bench [--runs 5] [--seconds 2] [--only NAME] [--json] [--step S] [--turn-substep S]
 //   flapsim_bench --check T [--reference-step S] [--only NAME | --urdf FILE [--height Z]]
 //   flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] [--runs N] [--seconds S]
-//   flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products] [--shed-products]
+//   flapsim_bench --energy [--urdf FILE] [--seconds S] [--added-mass-products NAME]
 //                          [--motor-work transmitted|servo]
 //
 // A flag the form given does not read is refused by name (flapsim_bench::unreadFlag).
@@ -242,8 +242,8 @@ struct Options {
   double seconds = 2.0;
   std::string only, urdf;
   double height = 50.0, skip = 0.0;
-  bool json = false, ground = true, energy = false, velocity_products = false,
-       shed_products = false;
+  bool json = false, ground = true, energy = false;
+  flapsim::AddedMassProducts products = flapsim::AirParams().added_mass_products;
   flapsim::MotorWorkMeter motor_work = flapsim::MotorWorkMeter::kTransmitted;
   double step = WorldParams().step_size, check_seconds = 0.0, reference_step = kReferenceStep;
   double turn_substep = WorldParams().turn_substep;
@@ -268,8 +268,8 @@ int parseArgs(int argc, char** argv, Options& o) {
       o.json = true;
     } else if (a == "--energy") {
       o.energy = true;
-    } else if (a == "--velocity-products" || a == "--shed-products") {
-      (a == "--shed-products" ? o.shed_products : o.velocity_products) = true;
+    } else if (a == "--added-mass-products" && i + 1 < argc) {
+      if (!flapsim_bench::parseAddedMassProducts(argv[++i], &o.products)) return 2;
     } else if (a == "--motor-work" && i + 1 < argc) {
       if (!flapsim_bench::parseMotorWork(argv[++i], &o.motor_work)) return 2;
     } else if (a == "--urdf" && i + 1 < argc) {
@@ -482,8 +482,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (o.energy) {
-    return flapsim_bench::energyTable(o.urdf, o.seconds, o.velocity_products, o.shed_products,
-                                      o.motor_work);
+    return flapsim_bench::energyTable(o.urdf, o.seconds, o.products, o.motor_work);
   }
   if (o.check_seconds > 0.0) return checkScenarios(o, at_step);
   const int steps = std::max(1, static_cast<int>(std::lround(o.seconds / o.step)));

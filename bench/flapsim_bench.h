@@ -29,11 +29,14 @@ std::string urdfPath(const std::string& file);
 
 /// --energy: the energy audit (flapsim/energy_audit.h) of the flap unit, afc_4 and the hover
 /// creature (or the `urdf` creature) in vacuum, air and water at 1, 0.5 and 0.25 ms; in air and
-/// water with the added mass's velocity products if `velocity_products`, shed into the wake if
-/// `shed_products` (AirParams::added_mass_shed_products). Returns the exit code.
+/// water with the added mass's `products` (AirParams::added_mass_products). Returns the exit
+/// code.
 /// The motors' work is taken by `meter` (WorldParams::motor_work). An error is said on stderr
 /// (exit code 1).
-int energyTable(const std::string& urdf, double seconds, bool velocity_products, bool shed_products,
+int energyTable(const std::string& urdf, double seconds, flapsim::AddedMassProducts products,
                 flapsim::MotorWorkMeter meter);
+
+/// `text` as AddedMassProducts into `out`, or false with the choices said on stderr.
+bool parseAddedMassProducts(const char* text, flapsim::AddedMassProducts* out);
 
 }  // namespace flapsim_bench

@@ -18,7 +18,7 @@ bool parseMotorWork(const char* text, flapsim::MotorWorkMeter* out) {
 
 namespace {
 
-int energyRows(const std::string& urdf, double seconds, bool velocity_products, bool shed_products,
+int energyRows(const std::string& urdf, double seconds, flapsim::AddedMassProducts products,
                flapsim::MotorWorkMeter meter) {
   std::vector<std::string> files = {"flap_unit.urdf", "afc_4.urdf", "hover_1.urdf"};
   if (!urdf.empty()) files = {urdf};
@@ -39,8 +39,7 @@ int energyRows(const std::string& urdf, double seconds, bool velocity_products, 
           p.world.air = flapsim::waterParams();
           p.stroke = flapsim::StrokeCommand{3.0, 1.0, 0.6};
         }
-        p.world.air.added_mass_velocity_products = velocity_products;
-        p.world.air.added_mass_shed_products = shed_products;
+        p.world.air.added_mass_products = products;
         p.world.motor_work = meter;
         const flapsim::EnergyAuditResult r = flapsim::auditEnergy(model, p);
         std::printf(
@@ -57,21 +56,27 @@ int energyRows(const std::string& urdf, double seconds, bool velocity_products, 
   std::printf(
       "(%g s from 20 m, rolled 0.05 rad, every wing 60/10 rad/s and 0.6 rad; in water "
       "3/1 rad/s; residual: the works less the change of the energies, as a share of the "
-      "motors' positive work; added mass's velocity products %s; motor work %s)\n",
-      seconds,
-      shed_products       ? "shed"
-      : velocity_products ? "on"
-                          : "off",
-      flapsim::motorWorkMeterName(meter));
+      "motors' positive work; added mass's products %s; motor work %s)\n",
+      seconds, flapsim::addedMassProductsName(products), flapsim::motorWorkMeterName(meter));
   return 0;
 }
 
 }  // namespace
 
-int energyTable(const std::string& urdf, double seconds, bool velocity_products, bool shed_products,
+bool parseAddedMassProducts(const char* text, flapsim::AddedMassProducts* out) {
+  try {
+    *out = flapsim::parseAddedMassProducts(text);
+    return true;
+  } catch (const flapsim::InputError& e) {
+    std::fprintf(stderr, "flapsim_bench: --added-mass-products: %s\n", e.what());
+    return false;
+  }
+}
+
+int energyTable(const std::string& urdf, double seconds, flapsim::AddedMassProducts products,
                 flapsim::MotorWorkMeter meter) {
   try {
-    return energyRows(urdf, seconds, velocity_products, shed_products, meter);
+    return energyRows(urdf, seconds, products, meter);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "flapsim_bench: %s\n", e.what());
     return 1;

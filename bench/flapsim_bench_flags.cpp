@@ -9,25 +9,24 @@
 namespace flapsim_bench {
 
 int usage(bool help) {
-  std::fprintf(
-      help ? stdout : stderr,
-      "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
-      "                     [--step S] [--turn-substep S] [--no-ground]\n"
-      "       flapsim_bench --check T [--reference-step S] [--only NAME | --urdf FILE "
-      "[--height Z]]\n"
-      "                     [--step S] [--turn-substep S] [--no-ground]\n"
-      "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
-      "[--runs N] [--seconds S]\n"
-      "                     [--step S] [--turn-substep S] [--cpu-time]\n"
-      "       flapsim_bench --energy [--urdf FILE] [--seconds S] [--velocity-products]\n"
-      "                              [--shed-products] [--motor-work transmitted|servo]\n");
+  std::fprintf(help ? stdout : stderr,
+               "usage: flapsim_bench [--runs N] [--seconds S] [--only NAME] [--json] [--cpu-time]\n"
+               "                     [--step S] [--turn-substep S] [--no-ground]\n"
+               "       flapsim_bench --check T [--reference-step S] [--only NAME | --urdf FILE "
+               "[--height Z]]\n"
+               "                     [--step S] [--turn-substep S] [--no-ground]\n"
+               "       flapsim_bench --urdf FILE [--height Z] [--no-ground] [--skip S] "
+               "[--runs N] [--seconds S]\n"
+               "                     [--step S] [--turn-substep S] [--cpu-time]\n"
+               "       flapsim_bench --energy [--urdf FILE] [--seconds S]\n"
+               "                              [--added-mass-products shed|kirchhoff|omitted]\n"
+               "                              [--motor-work transmitted|servo]\n");
   return help ? 0 : 2;
 }
 
 std::vector<std::string> formFlags(bool energy, bool check, bool urdf) {
   if (energy) {
-    return {"--energy",        "--urdf",      "--seconds", "--velocity-products",
-            "--shed-products", "--motor-work"};
+    return {"--energy", "--urdf", "--seconds", "--added-mass-products", "--motor-work"};
   }
   std::vector<std::string> flags = {"--step", "--turn-substep", "--no-ground"};
   if (check) {

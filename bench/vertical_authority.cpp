@@ -60,12 +60,12 @@ Bound idealBound(double authority, const std::string& level, double height, doub
   return b;
 }
 
-// The flap unit's mean vertical speed from 2 to 4 s, open loop from level at rest (`shed`:
-// the added mass's products shed into the wake, AirParams::added_mass_shed_products).
-double openLoopClimb(double downstroke, double upstroke, bool shed) {
+// The flap unit's mean vertical speed from 2 to 4 s, open loop from level at rest, in the air
+// whose added mass does `products` (AirParams::added_mass_products).
+double openLoopClimb(double downstroke, double upstroke, flapsim::AddedMassProducts products) {
   flapsim::WorldParams p;
   p.ground = false;
-  p.air.added_mass_shed_products = shed;
+  p.air.added_mass_products = products;
   flapsim::World world(p);
   const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "afc"), "afc1");
   flapsim::Pose pose;
@@ -94,7 +94,7 @@ int main(int argc, char** argv) {
   std::string level = "light";
   double height = 5.0, wind = 1.0, duration = 60.0, settle = 10.0;
   int flights = 40;
-  bool shed = false;
+  std::string products = flapsim::addedMassProductsName(flapsim::AirParams().added_mass_products);
   flapsim::CliParser cli("usage: vertical_authority [options]");
   cli.text("--level", "LEVEL", &level, "turbulence: light, moderate or severe")
       .real("--height", "M", &height, {flapsim::kMinTurbulenceHeight, 300.0}, "m")
@@ -102,8 +102,9 @@ int main(int argc, char** argv) {
       .integer("--flights", "N", &flights, {1, 10000}, "realisations of the turbulence")
       .real("--duration", "S", &duration, {1, 3600}, "s each")
       .real("--settle", "S", &settle, {0, 3600}, "the rms counts after S s")
-      .flag("--shed-products", &shed, true,
-            "the flap unit's air with the added mass's products shed into the wake");
+      .text("--added-mass-products", "NAME", &products,
+            "the flap unit's air: what its plates' added mass does beyond -A dnu",
+            flapsim::addedMassProductsNames());
   try {
     cli.parse(std::vector<std::string>(argv + 1, argv + argc));
     if (cli.help()) {
@@ -124,14 +125,15 @@ int main(int argc, char** argv) {
       std::printf("%7.2f  %12.3f  %15.3f\n", a, b.mean, b.worst);
     }
     std::printf(
-        "the flap unit open loop (both wings alike, amplitude 1.2 rad%s), vertical speed from 2 "
+        "the flap unit open loop (both wings alike, amplitude 1.2 rad; the added mass's products "
+        "%s), vertical speed from 2 "
         "to 4 s:\n",
-        shed ? "; the added mass's products shed" : "");
+        products.c_str());
     std::printf("downstroke  upstroke (rad/s)  climb (m/s)\n");
     for (const auto& r : std::vector<std::pair<double, double>>{
              {10, 10}, {20, 10}, {30, 10}, {40, 10}, {60, 10}, {80, 10}, {100, 10}}) {
       std::printf("%10.0f  %16.0f  %11.2f\n", r.first, r.second,
-                  openLoopClimb(r.first, r.second, shed));
+                  openLoopClimb(r.first, r.second, flapsim::parseAddedMassProducts(products)));
     }
     return 0;
   } catch (const std::exception& e) {

@@ -210,9 +210,22 @@ TEST(ToolTables, FlightCheckTakesRealAirsImpulseSizes) {
 std::string walkValue(const std::string& name, const std::string& metavar) {
   if (name == "--gust-link") return "wing";
   if (name == "--motor-work") return "servo";
+  if (name == "--added-mass-products") return "kirchhoff";
   if (metavar == "FILE") return "f.yaml";
   if (metavar == "LEVEL") return "light";
   return name == "--step-size" || name == "--turn-substep" ? "0.001" : "1";
+}
+
+// The motors' meter acts unless the added mass's products are omitted, in either mode.
+TEST(ToolTables, FlightCheckRefusesTheMotorMeterWithTheAddedMassProductsOmitted) {
+  for (bool hover : {false, true}) {
+    FlightCheckOptions m;
+    CliParser meter = flightCheckCli(m);
+    std::vector<std::string> args = {"--added-mass-products", "omitted", "--motor-work", "servo"};
+    if (hover) args.insert(args.begin(), "--hover");
+    EXPECT_EQ(flightCheckUnusedFlag(m, meter.parse(args)),
+              std::string("--motor-work") + kMotorWorkWithoutProducts);
+  }
 }
 
 TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
@@ -237,14 +250,13 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
     }
     return names;
   };
-  EXPECT_EQ(refused(true),
-            std::vector<std::string>({"--weights", "--pairs", "--starts", "--seed", "--threads",
-                                      "--gyro-bias", "--gust-torque", "--gust-force", "--gust-link",
-                                      "--gust-time", "--noise", "--altitude-noise",
-                                      "--velocity-noise", "--motor-work"}));
+  EXPECT_EQ(refused(true), std::vector<std::string>(
+                               {"--weights", "--pairs", "--starts", "--seed", "--threads",
+                                "--gyro-bias", "--gust-torque", "--gust-force", "--gust-link",
+                                "--gust-time", "--noise", "--altitude-noise", "--velocity-noise"}));
   // Without a gust (the walk gives one flag at a time), its link and duration do nothing.
-  EXPECT_EQ(refused(false), std::vector<std::string>({"--gains", "--write-gains", "--gust-link",
-                                                      "--gust-time", "--motor-work"}));
+  EXPECT_EQ(refused(false),
+            std::vector<std::string>({"--gains", "--write-gains", "--gust-link", "--gust-time"}));
   FlightCheckOptions o;
   CliParser cli = flightCheckCli(o);
   EXPECT_EQ(flightCheckUnusedFlag(o, cli.parse({"--hover", "--noise", "0.1"})),

@@ -117,8 +117,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--pitch-gain", {"1"}, "--pitch-gain: has no effect on a single unit"},
       {"--gene-range", {"5"}, ""},
       {"--air-model", {"quasi_steady"}, ""},
-      {"--velocity-products", {"on"}, ""},
-      {"--shed-products", {"on"}, ""},
+      {"--added-mass-products", {"kirchhoff"}, ""},
   };
 }
 

@@ -90,8 +90,7 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
       {"--noise", {"0.05"}},
       {"--altitude-noise", {"0.05"}},
       {"--velocity-noise", {"0.05"}},
-      {"--velocity-products", {}},
-      {"--shed-products", {}},
+      {"--added-mass-products", {"kirchhoff"}},
       {"--motor-work", {"servo"}},
       {"--altitude", {"1.2"}},
   };
@@ -124,12 +123,13 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
       EXPECT_NE(real.figures, calm.figures);
       continue;
     }
-    if (flag == "--motor-work") {  // it acts with the velocity products only
-      EXPECT_NE(fly(args).refused, "");
-      const std::vector<std::string> products = withFlag(base(), "--velocity-products", {});
-      const Flown f = fly(withFlag(products, flag, values));
+    if (flag == "--motor-work") {  // it acts unless the added mass's products are omitted
+      const std::vector<std::string> omitted =
+          withFlag(base(), "--added-mass-products", {"omitted"});
+      EXPECT_NE(fly(withFlag(omitted, flag, values)).refused, "");
+      const Flown f = fly(args);
       EXPECT_EQ(f.refused, "");
-      EXPECT_NE(f.figures, fly(products).figures);
+      EXPECT_NE(f.figures, plain.figures);
       continue;
     }
     const Flown f = fly(args);
@@ -201,20 +201,19 @@ TEST(FlightCheckFlags, EveryFlagOfTheHoverModeChangesItsFlight) {
       {"--gains", {test::sourcePath("config/hover_1_gains.yaml")}},
       {"--wind", {"1"}},
       {"--turbulence", {"light"}},
-      {"--velocity-products", {}},
-      {"--shed-products", {}},
+      {"--added-mass-products", {"kirchhoff"}},
       {"--motor-work", {"servo"}},
       {"--altitude", {"2.5"}},
       {"--real-air", {}},
   };
   for (const auto& [flag, values] : tried) {
     SCOPED_TRACE(flag);
-    if (flag == "--motor-work") {  // it acts with the velocity products only
-      EXPECT_NE(flyHoverCheck(withFlag(base, flag, values)).find("refused"), std::string::npos);
-      const std::vector<std::string> products = withFlag(base, "--velocity-products", {});
-      const std::string report = flyHoverCheck(withFlag(products, flag, values));
+    if (flag == "--motor-work") {  // it acts unless the added mass's products are omitted
+      const std::vector<std::string> omitted = withFlag(base, "--added-mass-products", {"omitted"});
+      EXPECT_NE(flyHoverCheck(withFlag(omitted, flag, values)).find("refused"), std::string::npos);
+      const std::string report = flyHoverCheck(withFlag(base, flag, values));
       EXPECT_EQ(report.find("refused"), std::string::npos) << report;
-      EXPECT_NE(report, flyHoverCheck(products));
+      EXPECT_NE(report, plain);
       continue;
     }
     const std::string report = flyHoverCheck(withFlag(base, flag, values));

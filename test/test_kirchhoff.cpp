@@ -30,14 +30,13 @@ struct Swing {
 };
 
 // The 0.2 x 0.2 x 0.002 m, 10 g plate in air, started at 1 m/s along z with a 0.1 rad roll,
-// flown `seconds` at step `dt` (`shed`: AirParams::added_mass_shed_products).
-Swing swing(double dt, bool velocity_products, double seconds, bool shed = false) {
+// flown `seconds` at step `dt` in the air whose added mass does `products`.
+Swing swing(double dt, AddedMassProducts products, double seconds) {
   WorldParams p = test::openSky();
   p.gravity = Vec3::Zero();
   p.air.drag_coefficient = 0.0;
   p.air.buoyancy = false;
-  p.air.added_mass_velocity_products = velocity_products;
-  p.air.added_mass_shed_products = shed;
+  p.air.added_mass_products = products;
   p.step_size = dt;
   World w(p);
   const CreatureModelPtr m = loadUrdf("plate.urdf");
@@ -83,7 +82,7 @@ Swing swing(double dt, bool velocity_products, double seconds, bool shed = false
 // Omega = 11.54 rad/s, the period 1.00110 times 2 pi / Omega (1.00098 at 1 ms, 1.00115 at
 // 0.25 ms), the impulse kept to 1e-16.
 TEST(KirchhoffPlate, ATiltedPlateSwingsAboutBroadsideAtTheAnalyticFrequency) {
-  const Swing s = swing(0.0005, true, 3.0);
+  const Swing s = swing(0.0005, AddedMassProducts::kKirchhoff, 3.0);
   ASSERT_GT(s.first_peak, 0.05);
   const double lengthening = 1.0 + std::pow(2.0 * s.first_peak, 2) / 16.0;
   EXPECT_NEAR(s.period * s.omega / (2.0 * M_PI), lengthening, 3e-4) << s.period;
@@ -96,7 +95,8 @@ TEST(KirchhoffPlate, ATiltedPlateSwingsAboutBroadsideAtTheAnalyticFrequency) {
 // first over the last peak 0.165, 0.083, 0.042 over 3 s at 1, 0.5, 0.25 ms; Omega^2 dt / 2 per
 // second would be 0.067 s^-1 at 1 ms).
 TEST(KirchhoffPlate, TheSwingsDampingIsTheIntegratorsAndHalvesWithTheStep) {
-  const Swing a = swing(0.001, true, 3.0), b = swing(0.0005, true, 3.0);
+  const Swing a = swing(0.001, AddedMassProducts::kKirchhoff, 3.0),
+              b = swing(0.0005, AddedMassProducts::kKirchhoff, 3.0);
   const double loss_a = std::log(a.first_peak / a.last_peak);
   const double loss_b = std::log(b.first_peak / b.last_peak);
   EXPECT_GT(loss_b, 0.4 * loss_a);
@@ -104,7 +104,7 @@ TEST(KirchhoffPlate, TheSwingsDampingIsTheIntegratorsAndHalvesWithTheStep) {
 }
 
 TEST(KirchhoffPlate, WithoutTheVelocityProductsTheTiltStays) {
-  const Swing s = swing(0.0005, false, 1.0);
+  const Swing s = swing(0.0005, AddedMassProducts::kOmitted, 1.0);
   EXPECT_NEAR(s.last_peak, s.first_peak, 1e-9);
   EXPECT_EQ(s.period, 0.0);
 }
@@ -113,7 +113,7 @@ TEST(KirchhoffPlate, WithoutTheVelocityProductsTheTiltStays) {
 // no Munk moment swings it and its impulse stays (the quasi-steady added mass of Sane &
 // Dickinson 2002, -m_a d(U sin a)/dt along the normal, is zero at a constant U and a).
 TEST(KirchhoffPlate, WithTheProductsShedTheTiltAndTheImpulseStay) {
-  const Swing s = swing(0.0005, false, 1.0, true);
+  const Swing s = swing(0.0005, AddedMassProducts::kShed, 1.0);
   EXPECT_NEAR(s.last_peak, s.first_peak, 1e-9);
   EXPECT_EQ(s.period, 0.0);
   EXPECT_LT(s.impulse_change, 1e-12);
@@ -122,12 +122,11 @@ TEST(KirchhoffPlate, WithTheProductsShedTheTiltAndTheImpulseStay) {
 // The flap unit (urdf/afc_1.urdf) stroking 40/10 rad/s at amplitude 1.2 from a start pitched
 // by `pitch` rad about its lateral axis: its pitch after `seconds` (asin of the forward axis'
 // drop).
-double flapUnitPitch(bool velocity_products, bool gravity, double pitch, double seconds,
-                     bool shed = false, double dt = 0.001) {
+double flapUnitPitch(AddedMassProducts products, bool gravity, double pitch, double seconds,
+                     double dt = 0.001) {
   WorldParams p = test::openSky();
   p.step_size = dt;
-  p.air.added_mass_velocity_products = velocity_products;
-  p.air.added_mass_shed_products = shed;
+  p.air.added_mass_products = products;
   if (!gravity) p.gravity = Vec3::Zero();
   World w(p);
   w.spawn("u", loadUrdf("afc_1.urdf"), at(0, 0, 20, Quat(Eigen::AngleAxisd(pitch, Vec3::UnitY()))));
@@ -146,12 +145,12 @@ double flapUnitPitch(bool velocity_products, bool gravity, double pitch, double 
 // Without gravity, or without the velocity products, the pitch stays within 1e-4 rad of 0.01
 // (measured: 0.010000 and 0.010066).
 TEST(KirchhoffAir, TheFlapUnitTurnsOverInPitchUnderGravityOnly) {
-  EXPECT_GT(flapUnitPitch(true, true, 0.01, 0.5), 0.05);
-  EXPECT_NEAR(flapUnitPitch(true, false, 0.01, 0.5), 0.01, 1e-4);
-  EXPECT_NEAR(flapUnitPitch(false, true, 0.01, 0.5), 0.01, 1e-4);
+  EXPECT_GT(flapUnitPitch(AddedMassProducts::kKirchhoff, true, 0.01, 0.5), 0.05);
+  EXPECT_NEAR(flapUnitPitch(AddedMassProducts::kKirchhoff, false, 0.01, 0.5), 0.01, 1e-4);
+  EXPECT_NEAR(flapUnitPitch(AddedMassProducts::kOmitted, true, 0.01, 0.5), 0.01, 1e-4);
 }
 
-// With the products shed into the wake (AirParams::added_mass_shed_products: each plate feels
+// With the products shed into the wake (AddedMassProducts::kShed: each plate feels
 // -A dnu/dt, and the creature no Munk moment) the same flap unit does not turn over: pitched
 // by 0.2 rad and stroking 40/10 it comes back towards level, at 1 and 0.5 ms (measured: 0.191
 // rad after 0.75 s and 0.152 rad after 1.5 s at either step), where Kirchhoff's air turns it
@@ -159,15 +158,15 @@ TEST(KirchhoffAir, TheFlapUnitTurnsOverInPitchUnderGravityOnly) {
 TEST(KirchhoffAir, WithTheProductsShedTheFlapUnitsPitchDecays) {
   for (double dt : {0.001, 0.0005}) {
     SCOPED_TRACE(dt);
-    const double half = flapUnitPitch(false, true, 0.2, 0.75, true, dt);
-    const double whole = flapUnitPitch(false, true, 0.2, 1.5, true, dt);
+    const double half = flapUnitPitch(AddedMassProducts::kShed, true, 0.2, 0.75, dt);
+    const double whole = flapUnitPitch(AddedMassProducts::kShed, true, 0.2, 1.5, dt);
     test::printFigure(test::figureName("shed_pitch_075s_%gms", dt * 1e3), half);
     test::printFigure(test::figureName("shed_pitch_15s_%gms", dt * 1e3), whole);
     EXPECT_LT(half, 0.2);
     EXPECT_LT(whole, half);
     EXPECT_GT(whole, 0.0);
   }
-  const double kirchhoff = flapUnitPitch(true, true, 0.2, 1.0);
+  const double kirchhoff = flapUnitPitch(AddedMassProducts::kKirchhoff, true, 0.2, 1.0);
   test::printFigure("kirchhoff_pitch_1s", kirchhoff);
   EXPECT_GT(std::abs(kirchhoff), 1.0);
 }

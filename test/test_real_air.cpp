@@ -11,6 +11,7 @@
 
 #include "flapsim/evolve.h"
 #include "flapsim/flight_check.h"
+#include "flapsim/make_creature.h"
 #include "flapsim/real_air.h"
 #include "flapsim/world.h"
 #include "test_util.h"
@@ -198,6 +199,40 @@ TEST(RealAirPrint, FlagsAreCheckedByName) {
   EXPECT_EQ(o.draw.seed, 12u);
   EXPECT_EQ(o.urdf, "x.urdf");
   EXPECT_EQ(o.draw.duration, 30.0);
+}
+
+// A gust acts from its drawn time on: the flight is the still one, bit for bit, up to the
+// sample it starts at, and another after it (the roll torque of 0.05 N m for 0.5 s, and the
+// 1 N push on a drawn wing for 0.2 s).
+TEST(Episodes, GustsActFromTheirDrawnTimeOn) {
+  EpisodeParams p;
+  p.duration = 2.0;
+  p.gust_window_start = 0.25;
+  p.gust_window_end = 0.5;
+  const CreatureModelPtr unit = parseCreatureModel(makeCreatureUrdf(1, "afc"), "afc1");
+  const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
+  const EpisodeResult still = runEpisode(unit, open, 0.02, p, attitudeStart(0.05, 0.0), true);
+  for (const bool torque : {true, false}) {
+    EpisodeParams g = p;
+    (torque ? g.gust_torque : g.gust_force) = torque ? 0.05 : 1.0;
+    const EpisodeStart start = episodeStarts(g, unit.get()).front();
+    EpisodeStart at = attitudeStart(0.05, 0.0);
+    at.torque_time = start.torque_time;
+    at.torque_sign = start.torque_sign;
+    at.force_time = start.force_time;
+    at.force_sign = start.force_sign;
+    at.force_link = start.force_link;
+    const double t = torque ? at.torque_time : at.force_time;
+    ASSERT_GE(t, 0.5);
+    ASSERT_LE(t, 1.0);
+    const EpisodeResult r = runEpisode(unit, open, 0.02, g, at, true);
+    const size_t first = static_cast<size_t>(std::floor(t / 0.02));
+    for (size_t i = 0; i < first; ++i) {
+      ASSERT_EQ(r.trace[i].height, still.trace[i].height) << i;
+      ASSERT_EQ(r.trace[i].upright, still.trace[i].upright) << i;
+    }
+    EXPECT_NE(r.trace[first].upright, still.trace[first].upright) << (torque ? "torque" : "push");
+  }
 }
 
 }  // namespace

@@ -26,6 +26,34 @@ struct QuasiSteadyCoefficients {
 };
 
 /// Air parameters of a world (per-link overrides live in AeroSettings).
+/// What a plate's added mass A does beyond -A dnu, the part of its acceleration relative to the
+/// fluid that the implicit solve's joint-rate velocity change holds (AirParams::
+/// added_mass_products, air/added_mass_products, --added-mass-products).
+enum class AddedMassProducts {
+  /// Nothing more: the bias b of the acceleration (the root's -w x v, each joint's v_parent x
+  /// v_child) and the velocity products are left out. The air the controllers evolved before 7
+  /// December 2026 flew in (their files say so); its energy does not balance: the audit misses
+  /// by 1-5 % of the motors' positive work in air and 20-40 % in water at any step.
+  kOmitted,
+  /// Kirchhoff's equations: each plate -(A b + nu x* A nu) of its motion nu relative to the
+  /// fluid, and the creature's angular momentum carried with the Munk term. Body and fluid keep
+  /// their energy (the audit within 0.3 % at 1 ms); the flap unit turns over in pitch.
+  kKirchhoff,
+  /// Kirchhoff's air less each plate's products nu x* A nu and the creature's Munk term, which
+  /// the wake takes: a plate feels -A dnu/dt in its own frame, the quasi-steady added mass of
+  /// flapping-wing models (Sane & Dickinson 2002, Whitney & Wood 2010). The products do no work
+  /// on the plate, so body and fluid keep their energy (the audit within 0.3 % at 1 ms, first
+  /// order in the step), and no Munk moment turns the flap unit over. The default.
+  kShed,
+};
+
+/// "omitted", "kirchhoff", "shed".
+const char* addedMassProductsName(AddedMassProducts products);
+/// The three names, in the enum's order.
+std::vector<std::string> addedMassProductsNames();
+/// The one named `name`; throws InputError naming it and the choices otherwise.
+AddedMassProducts parseAddedMassProducts(const std::string& name);
+
 struct AirParams {
   std::string model = "pressure";  // "pressure" (the paper's) or "quasi_steady"
   QuasiSteadyCoefficients quasi_steady;
@@ -43,33 +71,17 @@ struct AirParams {
   /// it is ~175 times, and explicit drag diverges without it. Per link:
   /// <aero link="..." added_mass="true|false"/>.
   bool added_mass = true;
-  /// Kirchhoff's velocity products of the added mass: on each plate the wrench
-  /// -(A b + nu x* A nu) of its motion nu relative to the fluid (the Munk moment -v x A v among
-  /// them; b: the part of its acceleration the implicit solve leaves out), and the creature's
-  /// angular momentum carried with the same term. With them the bodies and the fluid they carry
-  /// keep their energy: the audit (flapsim_bench --energy) closes within 0.1 % of the motors'
-  /// positive work in air and water at 1 ms (hover_1 in water 0.23 %); without them it misses
-  /// by 1-5 % in air and 20-40 % in water at any step. Off by default: the shipped controllers were
-  /// evolved without them and do not fly with them (afc_1 turns over within a second); on, a
-  /// controller must be evolved under them. Either way a creature moving with a uniform fluid flies
-  /// as the same creature at rest.
-  bool added_mass_velocity_products = false;
-  /// The added mass's velocity products shed into the wake: Kirchhoff's air (as
-  /// added_mass_velocity_products, which this implies) without each plate's products
-  /// nu x* A nu nor the creature's Munk moment, so that a plate feels -A dnu/dt, the rate of
-  /// change of its motion relative to the fluid in its own frame: the quasi-steady added mass
-  /// of flapping-wing models (Sane & Dickinson 2002, Whitney & Wood 2010), which potential
-  /// flow's bound impulse leaves to the vortices a real wing sheds each stroke. The products do
-  /// no work on the plate, so body and fluid keep their energy as in Kirchhoff's air (the audit
-  /// within 0.7 % of the motors' positive work at 1 ms, first order in the step), and no Munk
-  /// moment turns the flap unit over in pitch. Off by default: the shipped controllers were
-  /// evolved in the default air.
-  bool added_mass_shed_products = false;
-  /// Whether the plates' added mass takes Kirchhoff's velocity products (some of them shed or
-  /// not).
+  /// What the plates' added mass does beyond the implicit solve's -A dnu (AddedMassProducts):
+  /// by default the products shed into the wake, the air whose energy balances and whose flap
+  /// unit does not turn over in pitch (doc/physics.md).
+  AddedMassProducts added_mass_products = AddedMassProducts::kShed;
+  /// Whether the plates' added mass takes the acceleration's bias and Kirchhoff's velocity
+  /// products (some of them shed or not).
   bool addedMassVelocityProducts() const {
-    return added_mass_velocity_products || added_mass_shed_products;
+    return added_mass_products != AddedMassProducts::kOmitted;
   }
+  /// Whether the plates shed their velocity products into the wake.
+  bool shedProducts() const { return added_mass_products == AddedMassProducts::kShed; }
   int subdivisions_u = 4;  // cells per face along its first edge
   int subdivisions_v = 4;  // ... and along its second edge
   bool enabled = true;

@@ -39,8 +39,8 @@ struct FlightCheckParams {
   double noise = 0.0;           // the IMU's noise: orientation (rad) and angular velocity (rad/s)
   double altitude_noise = 0.0;  // m: the altimeter's
   double velocity_noise = 0.0;  // m/s: the ground-speed sensor's
-  bool velocity_products = false;  // the air's AirParams::added_mass_velocity_products
-  bool shed_products = false;      // the air's AirParams::added_mass_shed_products
+  // the air's AirParams::added_mass_products
+  AddedMassProducts added_mass_products = AddedMassProducts::kShed;
   MotorWorkMeter motor_work = WorldParams().motor_work;  // how the W/kg figures take the work
   /// Dryden turbulence: the wind at 6 m (0: none; turbulenceLevelWind), at the episode's
   /// height (its altitude setpoint, else its start height; at least 10 ft), a realisation

@@ -25,7 +25,7 @@ enum class MotorWorkMeter {
   /// joint's spring and damping taken out), times the joint's move: second order in the step.
   /// Metered as kServoImpulse: a (sub)step in which a contact or a joint limit may have acted,
   /// and a creature whose plates carry added mass in a fluid without its velocity products
-  /// (neither AirParams::added_mass_velocity_products nor added_mass_shed_products; there the
+  /// (AirParams::added_mass_products omitted; there the
   /// momentum balance hands the bodies, as one rigid correction, the turning of the
   /// fluid's impulse that no force on the plates carries, and each joint would take a share of
   /// it: 2 % of hover_1's stroke power).
@@ -40,9 +40,8 @@ enum class MotorWorkMeter {
 /// Why a motor-work flag is refused without the added mass's velocity products (appended to
 /// the flag's name): in air with added mass the servo's impulse is taken either way.
 constexpr const char* kMotorWorkWithoutProducts =
-    " has no effect without the added mass's velocity products (--velocity-products or "
-    "--shed-products): in a "
-    "fluid whose plates carry added mass the servo's impulse is taken either way";
+    " has no effect with the added mass's products omitted (--added-mass-products omitted): in "
+    "a fluid whose plates carry added mass the servo's impulse is taken either way";
 
 /// "transmitted" or "servo" (MotorWorkMeter); false for anything else.
 bool motorWorkMeterFromName(const std::string& name, MotorWorkMeter* out);

@@ -71,10 +71,21 @@ flapsim::AirParams parseAir(const Dict& d, flapsim::AirParams air) {
   air.wind = d.vec3("wind", air.wind);
   air.buoyancy = d.boolean("buoyancy", air.buoyancy);
   air.added_mass = d.boolean("added_mass", air.added_mass);
-  air.added_mass_velocity_products =
-      d.boolean("added_mass_velocity_products", air.added_mass_velocity_products);
-  air.added_mass_shed_products =
-      d.boolean("added_mass_shed_products", air.added_mass_shed_products);
+  for (const char* old : {"added_mass_velocity_products", "added_mass_shed_products"}) {
+    if (d.has(old)) {
+      fail(d.key(old),
+           "replaced by air/added_mass_products (shed, the default; kirchhoff; or "
+           "omitted, the air before December 2026)");
+    }
+  }
+  if (d.has("added_mass_products")) {
+    try {
+      air.added_mass_products = flapsim::parseAddedMassProducts(
+          d.string("added_mass_products", flapsim::addedMassProductsName(air.added_mass_products)));
+    } catch (const flapsim::InputError& e) {
+      fail(d.key("added_mass_products"), e.what());
+    }
+  }
   air.rotational_lift = d.boolean("rotational_lift", air.rotational_lift);
   air.centre_of_pressure_shift =
       d.boolean("centre_of_pressure_shift", air.centre_of_pressure_shift);

@@ -81,7 +81,7 @@ world_frame: map
 ground: false
 threads: 2
 air: {density: 1000, wind: [1, 2.5, -3], subdivisions: [2, 3], buoyancy: false,
-      added_mass_velocity_products: true, rotational_lift: false, centre_of_pressure_shift: false,
+      added_mass_products: kirchhoff, rotational_lift: false, centre_of_pressure_shift: false,
       model: quasi_steady, quasi_steady: {lift_mean: 0.3, drag_phase: -9}}
 markers: {scale: 0.1, per_cell: true}
 something_else: 1
@@ -109,7 +109,7 @@ creatures:
   EXPECT_EQ(p.world.air.subdivisions_u, 2);
   EXPECT_EQ(p.world.air.subdivisions_v, 3);
   EXPECT_FALSE(p.world.air.buoyancy);
-  EXPECT_TRUE(p.world.air.added_mass_velocity_products);
+  EXPECT_EQ(p.world.air.added_mass_products, flapsim::AddedMassProducts::kKirchhoff);
   EXPECT_FALSE(p.world.air.rotational_lift);  // both true by default
   EXPECT_FALSE(p.world.air.centre_of_pressure_shift);
   EXPECT_EQ(p.world.threads, 2);
@@ -193,6 +193,10 @@ TEST(Params, BadParametersAreNamed) {
       {"air: {subdivisions: [4, 2.5]}", "'air/subdivisions'"},
       {"air: 3", "'air': must be a dictionary"},
       {"air: {model: cfd}", "'air/model': unknown air model 'cfd'"},
+      {"air: {added_mass_products: full}",
+       "'air/added_mass_products': unknown added-mass products 'full' (omitted, kirchhoff, shed)"},
+      {"air: {added_mass_shed_products: true}",
+       "'air/added_mass_shed_products': replaced by air/added_mass_products"},
       {"air: {quasi_steady: {lift_man: 1}}", "'air/quasi_steady/lift_man': unknown"},
       {"air: {turbulence: {level: stormy}}", "'air/turbulence/level': turbulence level 'stormy'"},
       {"air: {turbulence: {level: light, wind_at_6m: 3}}", "'air/turbulence/level': give a level"},

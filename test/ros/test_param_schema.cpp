@@ -335,10 +335,11 @@ const std::map<std::string, Field> kFields = {
     {"air/buoyancy", [](const NodeParams& p) { return YAML::Node(p.world.air.buoyancy); }},
     {"air/enabled", [](const NodeParams& p) { return YAML::Node(p.world.air.enabled); }},
     {"air/added_mass", [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass); }},
-    {"air/added_mass_velocity_products",
-     [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass_velocity_products); }},
-    {"air/added_mass_shed_products",
-     [](const NodeParams& p) { return YAML::Node(p.world.air.added_mass_shed_products); }},
+    {"air/added_mass_products",
+     [](const NodeParams& p) {
+       return YAML::Node(
+           std::string(flapsim::addedMassProductsName(p.world.air.added_mass_products)));
+     }},
     {"air/rotational_lift",
      [](const NodeParams& p) { return YAML::Node(p.world.air.rotational_lift); }},
     {"air/centre_of_pressure_shift",

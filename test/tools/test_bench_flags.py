@@ -21,7 +21,7 @@ UNIT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "urd
 FLAGS = {"--runs": ["1"], "--seconds": ["0.001"], "--only": ["plate"], "--json": [],
          "--cpu-time": [], "--step": ["0.001"], "--turn-substep": ["0.0005"], "--no-ground": [],
          "--reference-step": ["0.0005"], "--height": ["5"], "--skip": ["0"],
-         "--velocity-products": [], "--shed-products": [], "--motor-work": ["servo"]}
+         "--added-mass-products": ["kirchhoff"], "--motor-work": ["servo"]}
 # (form, its base command, the exit code of the base command with any flag it reads, the flags
 # it reads). The energy form is given a creature file that does not exist: it exits 1 (the file
 # named) without auditing, after the flags are read.
@@ -37,7 +37,7 @@ FORMS = [
      {"--height", "--skip", "--runs", "--seconds", "--cpu-time", "--step", "--turn-substep",
       "--no-ground"}),
     ("--energy", ["--energy", "--urdf", "/nonexistent/creature.urdf"], 1,
-     {"--seconds", "--velocity-products", "--shed-products", "--motor-work"}),
+     {"--seconds", "--added-mass-products", "--motor-work"}),
 ]
 
 

@@ -57,16 +57,17 @@ SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid) 
 }
 
 void MomentumBalance::begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density,
-                            const Vec3& fluid_velocity, bool velocity_products) {
+                            const Vec3& fluid_velocity, AddedMassProducts products) {
   external_force_.setZero();
   external_moment_.setZero();
+  shed_start_.setZero();
   drag_impulse_.setZero();
   origin_ = fromBt(body.frames().com(0));
   const bool carried = carried_valid_ && carried_density_ == added_mass_density;
   carried_valid_ = false;
   density_ = added_mass_density;
   fluid_velocity_ = fluid_velocity;
-  velocity_products_ = velocity_products;
+  products_ = products;
   if (model_.fixed_base) return;
   if (carried) {
     start_ = carried_;
@@ -84,6 +85,37 @@ void MomentumBalance::addExternal(const Vec3& com, const Wrench& wrench) {
   external_moment_ += (com - origin_).cross(wrench.force) + wrench.torque;
 }
 
+void MomentumBalance::addShedProducts(const Vec3& com, const Wrench& wrench) {
+  addExternal(com, wrench);
+  shed_start_.head<3>() += (com - origin_).cross(wrench.force) + wrench.torque;
+  shed_start_.tail<3>() += wrench.force;
+}
+
+Vec6 MomentumBalance::shedAtEnd(BulletBody& body, CreatureFluid& fluid, const SystemMomentum& now,
+                                double dt) {
+  const TreeDynamics& tree = body.world().tree();
+  const Vec3 centre_velocity = now.body_linear / now.mass;
+  // About O where it is at the end, moved with the fluid by U dt.
+  const Vec3 o = origin_ + dt * fluid_velocity_;
+  Vec6 sum = Vec6::Zero();
+  for (size_t i = 0; i < fluid.bodies().size(); ++i) {
+    const AeroBody& a = fluid.bodies()[i];
+    if (!a.has_added_mass) continue;
+    const LinkMotion& b = motions_[a.link];
+    Vec6 v;
+    v << b.angular_velocity, b.velocity - fluid_velocity_;
+    // As AirStage::addAddedMass takes them at the start (fluid_stage.cpp).
+    const Vec6 h = factorTimes(fluid.addedMass(i, tree.rotations()[a.link], density_), v);
+    const Vec6 products = crossForce(v, h);
+    const Wrench end{products.tail<3>(), products.head<3>()};
+    fluid.holdMeanShedProducts(i, end, b.com);
+    sum.head<3>() += (b.com - o).cross(end.force) + end.torque -
+                     (centre_velocity - fluid_velocity_).cross(h.tail<3>());
+    sum.tail<3>() += end.force;
+  }
+  return sum;
+}
+
 void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gravity, double dt) {
   carried_valid_ = false;
   if (model_.fixed_base || body.hasContacts() || start_.mass <= 0.0) {
@@ -94,13 +126,16 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
   // about the centre of mass). The angular part first about O, the point where the centre of
   // mass was at the start, moving with the fluid (at rest in the fluid's frame, where the
   // impulses' moments about it are all that change it).
-  const Vec3 linear =
-      start_.linear + dt * (start_.mass * gravity + external_force_) + drag_impulse_.tail<3>();
+  const SystemMomentum now = measure(body, fluid);
   Vec6 air;
   air << external_moment_, external_force_;
+  // The shed products' impulse by the trapezoidal rule (addShedProducts).
+  if (products_ == AddedMassProducts::kShed)
+    air += 0.5 * (shedAtEnd(body, fluid, now, dt) - shed_start_);
+  const Vec3 linear =
+      start_.linear + dt * (start_.mass * gravity + air.tail<3>()) + drag_impulse_.tail<3>();
   const Vec3 angular_about_o = start_.angular + dt * momentAbout(air, origin_, start_.com) +
                                momentAbout(drag_impulse_, origin_, start_.com);
-  const SystemMomentum now = measure(body, fluid);
   // About the centre of mass at the end, which has moved from O by d = dt (v1 - U) in the
   // fluid's frame: L_c = L_O - d x P', with P' the momentum in that frame, M (v1 - U) + P_f, so
   // L_c = L_O - d x P_f (Kirchhoff's -v x P, the Munk moment of the added mass; only with the
@@ -109,7 +144,7 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
   const Vec3 fluid_linear = now.linear - now.body_linear;
   RigidCorrection c = momentumCorrection(now, linear, angular_about_o);
   Vec3 angular = angular_about_o;
-  if (velocity_products_ && !now.fluid.isZero(0.0)) {
+  if (products_ == AddedMassProducts::kKirchhoff && !now.fluid.isZero(0.0)) {
     for (int pass = 0; pass < 2; ++pass) {
       Vec6 twist;
       twist << c.angular_velocity, c.velocity;

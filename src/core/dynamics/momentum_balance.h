@@ -29,13 +29,20 @@ class MomentumBalance {
   // velocity differs from the last one's keeps the carried momentum: the fluid's momentum is
   // then measured against the new velocity at the end, which gives the bodies the added
   // mass's share of the flow's acceleration, A dU (flapsim/fluid_stage.h adds rho V dU).
-  // `velocity_products`: carry the angular momentum with the added mass's Munk term
-  // (AirParams::added_mass_velocity_products; not where the plates shed their products,
-  // added_mass_shed_products, whose external wrenches then leave that term out).
+  // `products`: with Kirchhoff's, carry the angular momentum with the added mass's Munk term;
+  // where the plates shed them (kShed) their wrenches are external (addShedProducts) and that
+  // term is left out.
   void begin(BulletBody& body, CreatureFluid& fluid, double added_mass_density,
-             const Vec3& fluid_velocity, bool velocity_products);
+             const Vec3& fluid_velocity, AddedMassProducts products);
   // A wrench about the COM `com` of a link (frames of the step's start) acting all step.
   void addExternal(const Vec3& com, const Wrench& wrench);
+  // The velocity products a plate sheds into the wake, taken at the step's start (about its
+  // COM `com`, less the creature's share of their moment, (V - U) x p): an external wrench
+  // whose impulse end() takes by the trapezoidal rule, with the same wrench at the step's end
+  // (Heun's predictor: Bullet's end velocities before the correction). Taken at the start
+  // alone, the impulse was first order in the step and the flap unit's climb 2-9 % short at
+  // 1-2 ms with the stroke's turns in substeps.
+  void addShedProducts(const Vec3& com, const Wrench& wrench);
   // The implicit drag's impulse over the step [moment about the root COM of the step's start;
   // force] (the servo stage's solve).
   void setDragImpulse(const Vec6& impulse) { drag_impulse_ = impulse; }
@@ -49,6 +56,11 @@ class MomentumBalance {
   // The momentum of the tree and of the fluid it carries, at the multibody's state (the
   // scene's TreeDynamics frames, which the next lean step's velocity update reuses).
   SystemMomentum measure(BulletBody& body, CreatureFluid& fluid);
+  // The products the plates shed at the end of the step, as addShedProducts takes them at the
+  // start, at the state `now` (measure's, before the correction): their sum [moment about O,
+  // the start's origin_ moved with the fluid by U dt; force]; each plate's wrench of the step
+  // made the mean of its start's and this (CreatureFluid::holdMeanShedProducts).
+  Vec6 shedAtEnd(BulletBody& body, CreatureFluid& fluid, const SystemMomentum& now, double dt);
 
   // What the balance keeps of a SystemMomentum from one step to the next (not its matrices:
   // copying them each step cost more than the rest of begin()).
@@ -68,10 +80,13 @@ class MomentumBalance {
   double carried_density_ = 0.0;
   double density_ = 0.0;                // of the added mass in this step
   Vec3 fluid_velocity_ = Vec3::Zero();  // the fluid's, in this step
-  bool velocity_products_ = false;
+  AddedMassProducts products_ = AddedMassProducts::kShed;
   Vec3 origin_ = Vec3::Zero();
   Vec3 external_force_ = Vec3::Zero();
   Vec3 external_moment_ = Vec3::Zero();
+  // The shed products' wrench at the step's start, the sum of addShedProducts [moment about
+  // origin_; force].
+  Vec6 shed_start_ = Vec6::Zero();
   Vec6 drag_impulse_ = Vec6::Zero();
   // Scratch, kept between steps: no allocation once warm.
   struct LinkMotion {  // of a link's COM, world frame

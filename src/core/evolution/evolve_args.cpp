@@ -4,7 +4,6 @@
 #include <cmath>
 #include <functional>
 #include <stdexcept>
-#include <tuple>
 
 #include "evolution/evolve_flag_rules.h"
 #include "flapsim/air_model.h"
@@ -294,16 +293,7 @@ void controllerFlags(CliParser& t, EvolveOptions& o) {
       .text("--air-model", "M", &p.episode.world.air.model, "air model of the episodes",
             airModelNames())
       .tag(kSpec);
-  AirParams& air = p.episode.world.air;
-  for (auto [flag, field, help] :
-       {std::tuple{"--velocity-products", &air.added_mass_velocity_products,
-                   "the added mass's velocity products in the episodes' air "
-                   "(AirParams::added_mass_velocity_products)"},
-        std::tuple{"--shed-products", &air.added_mass_shed_products,
-                   "the added mass's velocity products shed into the wake in the episodes' air "
-                   "(AirParams::added_mass_shed_products)"}}) {
-    t.custom(flag, {"B"}, onOff(flag, field), showOnOff(field), help).tag(kSpec);
-  }
+  addedMassProductsFlag(t, &p.episode.world.air.added_mass_products).tag(kSpec);
 }
 
 void runFlags(CliParser& t, EvolveOptions& o) {

@@ -75,6 +75,23 @@ CliParser& motorWorkFlag(CliParser& t, MotorWorkMeter* meter, const char* help) 
       [meter] { return std::string(motorWorkMeterName(*meter)); }, help);
 }
 
+CliParser& addedMassProductsFlag(CliParser& t, AddedMassProducts* products) {
+  return t.custom(
+      "--added-mass-products", {"NAME"},
+      [products](const std::vector<std::string>& v) {
+        try {
+          *products = parseAddedMassProducts(v[0]);
+        } catch (const InputError& e) {
+          throw InputError("--added-mass-products: " + std::string(e.what()));
+        }
+      },
+      [products] { return std::string(addedMassProductsName(*products)); },
+      "what the plates' added mass does beyond -A dnu (AirParams::added_mass_products): shed "
+      "(the products shed into the wake, each plate -A dnu/dt; energy balances), kirchhoff "
+      "(Kirchhoff's equations; energy balances, the flap unit turns over in pitch) or omitted "
+      "(the air of the controllers evolved before December 2026; energy does not balance)");
+}
+
 bool hoverPresetName(const std::string& preset) { return preset == "hover" || preset == "morph"; }
 
 void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen,

@@ -30,6 +30,10 @@ void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag);
 /// with `help`; the added flag is the parser's last (to tag).
 CliParser& motorWorkFlag(CliParser& t, MotorWorkMeter* meter, const char* help);
 
+/// Adds `--added-mass-products NAME` (omitted, kirchhoff or shed, anything else refused by
+/// name) writing `products`; the added flag is the parser's last (to tag).
+CliParser& addedMassProductsFlag(CliParser& t, AddedMassProducts* products);
+
 /// A flap network's evolution: throws InputError naming the first flag `seen` whose effect
 /// hangs on another's that `p` leaves without effect.
 void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen);

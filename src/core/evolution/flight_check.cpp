@@ -36,8 +36,7 @@ EpisodeParams flightCheckEpisodes(const FlightCheckParams& p) {
   episode.imu_noise.orientation = episode.imu_noise.angular_velocity = p.noise;
   episode.altitude_noise = p.altitude_noise;
   episode.velocity_noise = p.velocity_noise;
-  episode.world.air.added_mass_velocity_products = p.velocity_products;
-  episode.world.air.added_mass_shed_products = p.shed_products;
+  episode.world.air.added_mass_products = p.added_mass_products;
   episode.world.motor_work = p.motor_work;
   episode.world.air.turbulence.wind_at_6m = p.turbulence;
   episode.gyro_bias = p.gyro_bias;
@@ -204,18 +203,11 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
       .real("--velocity-noise", "V", &p.velocity_noise, {0, 1e3},
             "ground-speed sensor noise, m/s per axis (read with ground-speed damping or a climb "
             "input)")
-      .tag(kNetworkOnly)
-      .flag("--velocity-products", &p.velocity_products, true,
-            "fly with the added mass's velocity products (AirParams::"
-            "added_mass_velocity_products; off by default)")
-      .flag("--shed-products", &p.shed_products, true,
-            "fly with the added mass's velocity products shed into the wake (AirParams::"
-            "added_mass_shed_products: each plate feels -A dnu/dt, no Munk moment; off by "
-            "default)");
-  motorWorkFlag(
-      t, &p.motor_work,
-      "with --velocity-products or --shed-products: how the W/kg figures take the motors' work, "
-      "transmitted (the default) or servo (WorldParams::motor_work)");
+      .tag(kNetworkOnly);
+  addedMassProductsFlag(t, &p.added_mass_products);
+  motorWorkFlag(t, &p.motor_work,
+                "unless --added-mass-products omitted: how the W/kg figures take the motors' work, "
+                "transmitted (the default) or servo (WorldParams::motor_work)");
 }
 
 }  // namespace
@@ -303,7 +295,7 @@ std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector
     if (name == "--gust-time" && p.gust_force == 0.0 && p.gust_torque == 0.0) {
       return name + " has no effect without --gust-force or --gust-torque";
     }
-    if (name == "--motor-work" && !p.velocity_products && !p.shed_products) {
+    if (name == "--motor-work" && p.added_mass_products == AddedMassProducts::kOmitted) {
       return name + kMotorWorkWithoutProducts;
     }
   }
@@ -408,8 +400,7 @@ std::string hoverCheckReport(const CreatureModelPtr& model, const FlightCheckOpt
   p.world.step_size = o.params.step_size;
   p.world.turn_substep = o.params.turn_substep;
   p.world.air.wind = Vec3(0.0, o.params.wind, 0.0);
-  p.world.air.added_mass_velocity_products = o.params.velocity_products;
-  p.world.air.added_mass_shed_products = o.params.shed_products;
+  p.world.air.added_mass_products = o.params.added_mass_products;
   p.world.motor_work = o.params.motor_work;
   p.world.air.turbulence.wind_at_6m = o.params.turbulence;
   p.world.air.turbulence.height = std::clamp(altitude, kMinTurbulenceHeight, kMaxTurbulenceHeight);

@@ -64,6 +64,28 @@ std::vector<std::string> airModelNames() {
   return names;
 }
 
+const char* addedMassProductsName(AddedMassProducts products) {
+  switch (products) {
+    case AddedMassProducts::kOmitted:
+      return "omitted";
+    case AddedMassProducts::kKirchhoff:
+      return "kirchhoff";
+    case AddedMassProducts::kShed:
+      return "shed";
+  }
+  return "?";
+}
+
+std::vector<std::string> addedMassProductsNames() { return {"omitted", "kirchhoff", "shed"}; }
+
+AddedMassProducts parseAddedMassProducts(const std::string& name) {
+  for (AddedMassProducts p :
+       {AddedMassProducts::kOmitted, AddedMassProducts::kKirchhoff, AddedMassProducts::kShed}) {
+    if (name == addedMassProductsName(p)) return p;
+  }
+  throw InputError("unknown added-mass products '" + name + "' (omitted, kirchhoff, shed)");
+}
+
 std::string unknownAirModelMessage(const std::string& name) {
   std::string list;
   for (const std::string& n : airModelNames()) list += (list.empty() ? "" : ", ") + n;

@@ -124,4 +124,11 @@ const SpatialFactor& CreatureFluid::addedMass(size_t i, const Mat3& rotation, do
   return a.added;
 }
 
+void CreatureFluid::holdMeanShedProducts(size_t i, const Wrench& end, const Vec3& end_com) {
+  AeroBody& a = bodies_[i];
+  const Vec3 torque = end.torque + (end_com - a.last.com).cross(end.force);
+  a.last.wrench.force += 0.5 * (end.force - a.shed.force);
+  a.last.wrench.torque += 0.5 * (torque - a.shed.torque);
+}
+
 }  // namespace flapsim

@@ -42,6 +42,9 @@ struct AeroBody {
   double drag_mass = 0.0, drag_mass_density = -1.0;
   bool drag_mass_normals = false;
   LinkAero last;  // the wrench of the last step
+  // The velocity products its plates shed into the wake at the start of the last step
+  // (AddedMassProducts::kShed), about last.com: a part of last.wrench.
+  Wrench shed;
 };
 
 // A drag rate (kg/s) above this many link masses per step is treated implicitly.
@@ -103,6 +106,10 @@ class CreatureFluid {
   Vec3 flowAcceleration(const Vec3& velocity, double step);
   // After a state set from outside a step: no change of the fluid's velocity is pending.
   void forgetFlow() { flow_known_ = false; }
+  // The products aero body i shed at the end of the step (`end`, about its COM there,
+  // `end_com`): its wrench of the step then holds the mean of those of the start and the end,
+  // the impulse the momentum balance gives (MomentumBalance::addShedProducts).
+  void holdMeanShedProducts(size_t i, const Wrench& end, const Vec3& end_com);
 
  private:
   friend class AirStage;

@@ -77,8 +77,7 @@ void subStep(CreatureRecord& r, CreatureSim& s, const StepContext& c, double h) 
   s.last_piece = h;
   // position: the frames of the start are those the last (sub)step ended with; the momentum
   // carries the creature's Munk term with Kirchhoff's products, not where the plates shed them
-  s.momentum.begin(s.body, s.fluid, density, p.air.wind,
-                   p.air.added_mass_velocity_products && !p.air.added_mass_shed_products);
+  s.momentum.begin(s.body, s.fluid, density, p.air.wind, p.air.added_mass_products);
   if (metered) s.transmitted.beginSubStep(s.body, s.fluid, density, p.air.wind);
   s.servos.begin(mb, h);
   s.record.beginSubStep(s.body.frames(), h);

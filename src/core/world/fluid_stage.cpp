@@ -78,7 +78,7 @@ bool setImplicitDrag(const AirModel& law, AeroBody& a, const BodyKinematics& kin
 // carry added mass): Kirchhoff's velocity products and the bias b of its acceleration,
 // -(A b + nu x* A nu) (internal to body and fluid: not in the momentum balance's external
 // impulses), and where the plates shed the products into the wake
-// (AirParams::added_mass_shed_products), the products back: the plate then feels -A dnu/dt in
+// (AddedMassProducts::kShed), the products back: the plate then feels -A dnu/dt in
 // its own frame; added to `w`, each term in turn. `centre_velocity`: the creature's centre of
 // mass's (centreVelocity).
 void AirStage::addAddedMass(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
@@ -97,7 +97,7 @@ void AirStage::addAddedMass(const CreatureModel& model, BulletBody& body, Creatu
   Vec6 bias = fluid.link_bias_[a.link];
   bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
   w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind, bias);
-  if (!air.added_mass_shed_products) return;
+  if (!air.shedProducts()) return;
   // They do no work on the plate (nu . (nu x* h) = 0). The whole creature's share of their
   // moment, (V - U) x p, is the Munk term the momentum balance leaves out in this air
   // (MomentumBalance::begin), so the rest is external.
@@ -107,7 +107,8 @@ void AirStage::addAddedMass(const CreatureModel& model, BulletBody& body, Creatu
   const Vec6 products = crossForce(nu, h);
   const Wrench shed{products.tail<3>(), products.head<3>()};
   a.last.wrench += shed;
-  momentum.addExternal(
+  a.shed = shed;
+  momentum.addShedProducts(
       kin.com, Wrench{shed.force, shed.torque - (centre_velocity - air.wind).cross(h.tail<3>())});
   w += shed;
 }
@@ -135,7 +136,7 @@ void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid
   const Vec3 fluid_gravity = params.gravity - fluid.flowAcceleration(air.wind, step);
   fluid.link_bias_.clear();  // this (sub)step's, once a plate needs it
   const Vec3 centre_velocity =
-      air.added_mass_shed_products ? centreVelocity(model, body.frames()) : Vec3::Zero();
+      air.shedProducts() ? centreVelocity(model, body.frames()) : Vec3::Zero();
   for (size_t i = 0; i < fluid.bodies_.size(); ++i) {
     AeroBody& a = fluid.bodies_[i];
     const int k = a.link;
