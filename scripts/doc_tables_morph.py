@@ -10,22 +10,23 @@ from doc_tables_flight import FLIGHT_CHECK, hover_report
 # chord; each creature flies in the air it was evolved in.
 CREATURES = [
     ("hover_1 (hand-designed body, evolved gains; its motors do not fit the budget)",
-     "urdf/hover_1.urdf", "config/hover_1_gains.yaml", "config/hover_1_body.yaml", []),
+     "urdf/hover_1.urdf", "config/hover_1_gains.yaml", "config/hover_1_body.yaml",
+     ["--added-mass-products", "omitted"]),
     ("`config/morph_116wkg` (co-evolved, the sourced 116 W/kg motors)",
      "config/morph_116wkg/creature.urdf", "config/morph_116wkg/gains.yaml",
-     "config/morph_116wkg/body.yaml", []),
+     "config/morph_116wkg/body.yaml", ["--added-mass-products", "omitted"]),
     ("`config/morph_nsga2` (co-evolved by NSGA-II, the sourced motors: front member 21)",
      "config/morph_nsga2/creature.urdf", "config/morph_nsga2/gains.yaml",
-     "config/morph_nsga2/body.yaml", []),
+     "config/morph_nsga2/body.yaml", ["--added-mass-products", "omitted"]),
     ("`config/morph_light_motors` (co-evolved, 1000 W/kg motors)",
      "config/morph_light_motors/creature.urdf", "config/morph_light_motors/gains.yaml",
-     "config/morph_light_motors/body.yaml", []),
+     "config/morph_light_motors/body.yaml", ["--added-mass-products", "omitted"]),
     ("`config/morph_kirchhoff` (co-evolved by NSGA-II in Kirchhoff's air: front member 7)",
      "config/morph_kirchhoff/creature.urdf", "config/morph_kirchhoff/gains.yaml",
-     "config/morph_kirchhoff/body.yaml", ["--velocity-products"]),
+     "config/morph_kirchhoff/body.yaml", ["--added-mass-products", "kirchhoff"]),
     ("`config/morph_shed` (co-evolved by NSGA-II in the air with the products shed: member 11)",
      "config/morph_shed/creature.urdf", "config/morph_shed/gains.yaml",
-     "config/morph_shed/body.yaml", ["--shed-products"]),
+     "config/morph_shed/body.yaml", []),
 ]
 BODY_WIDTH = 0.03  # m, every hover body's (make_creature --layout hover)
 AIR_VISCOSITY = 1.5e-5  # m^2/s, kinematic
@@ -68,8 +69,8 @@ def gallery():
                  ["creature", "mass", "span", "aspect ratio", "frequency", "Re", "disk loading",
                   "power", "figure of merit", "holds 3 m"], runs, rows,
                  f"`{FLIGHT_CHECK} --hover --urdf URDF --gains GAINS --duration 30` for each "
-                 "(figures after 10 s), with `--velocity-products` or `--shed-products` for the "
-                 "creatures evolved in those airs; the wing's length and chord from its body file "
+                 "(figures after 10 s), in the air each was evolved in (`--added-mass-products "
+                 "omitted` or `kirchhoff`; the shed air is the default); the wing's length and chord from its body file "
                  "(`config/hover_1_body.yaml` for hover_1)")
 
 
