@@ -367,7 +367,10 @@ class World {
   void setEnergyAudit(bool on);
   /// The energy audit of a creature (see CreatureEnergy).
   CreatureEnergy energy(const std::string& creature) const;
-  /// Air wrenches applied in the last step, one entry per aero link.
+  /// Air wrenches of the last step, one entry per aero link: the explicit air force on the
+  /// body and the fluid it carries (the pressure or quasi-steady law, buoyancy, and in the shed
+  /// air the velocity products the plate sheds, the mean of the step's start and end), not the
+  /// added mass's reaction inside them (-A dnu) nor the implicit drag.
   std::vector<LinkAero> aeroForces(const std::string& creature) const;
   /// The named outputs of the creature's last step, as its stages wrote them (see StepData).
   StepData stepData(const std::string& creature) const;
