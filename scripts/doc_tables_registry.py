@@ -299,6 +299,10 @@ def shed_air_bar():
          ["--weights", "config/afc_1_shed_air_weights.yaml"] + noise),
         ("afc_4, `config/afc_4_real_air_weights.yaml` (evolved with the products omitted)",
          ["--weights", "config/afc_4_real_air_weights.yaml", "--pairs", "4"] + noise),
+        ("afc_4, `config/afc_4_shed_air_weights.yaml` (evolved on from it in this air)",
+         ["--weights", "config/afc_4_shed_air_weights.yaml", "--pairs", "4"] + noise),
+        ("afc_6, `config/afc_4_shed_air_weights.yaml` (the same)",
+         ["--weights", "config/afc_4_shed_air_weights.yaml", "--pairs", "6"] + noise),
         ("hover_1, `config/hover_1_gains.yaml` (evolved with the products omitted)",
          ["--hover", "--gains", "config/hover_1_gains.yaml"]),
     ]
