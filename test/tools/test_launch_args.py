@@ -121,6 +121,20 @@ class LaunchArgs(unittest.TestCase):
                    for a in declared_args(root) if not (a.get("doc") or "").strip()]
         self.assertEqual(missing, [], "<arg> without doc=")
 
+    def test_an_eval_reads_only_args_declared_before_it(self):
+        """roslaunch evaluates a default's $(eval ...) when it reaches it: an arg it reads that is
+        declared further down is undefined there, and the file fails to launch for the values
+        that reach that read (afc.launch's added_mass_products read `altitude` for the chains)."""
+        for stem, root in self.files.items():
+            seen = set()
+            for arg in declared_args(root):
+                for attr in ("default", "value"):
+                    text = arg.get(attr) or ""
+                    for name in re.findall(r"arg\('([A-Za-z0-9_]+)'\)", text):
+                        self.assertIn(name, seen, f"{stem}.launch: {arg.get('name')} reads "
+                                      f"{name}, declared after it")
+                seen.add(arg.get("name"))
+
     def test_every_settable_arg_is_in_the_table(self):
         self.assertEqual(sorted(set(self.declared) - set(self.table)), [],
                          "declared in launch/ but not a row of the Launch arguments table")
