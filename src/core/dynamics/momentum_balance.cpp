@@ -1,6 +1,7 @@
 #include "dynamics/momentum_balance.h"
 
 #include "dynamics/bullet_body.h"
+#include "fluid/added_mass.h"
 #include "fluid/creature_fluid.h"
 
 namespace flapsim {
@@ -102,16 +103,14 @@ Vec6 MomentumBalance::shedAtEnd(BulletBody& body, CreatureFluid& fluid, const Sy
     const AeroBody& a = fluid.bodies()[i];
     if (!a.has_added_mass) continue;
     const LinkMotion& b = motions_[a.link];
-    Vec6 v;
-    v << b.angular_velocity, b.velocity - fluid_velocity_;
     // As AirStage::addAddedMass takes them at the start (fluid_stage.cpp).
-    const Vec6 h = factorTimes(fluid.addedMass(i, tree.rotations()[a.link], density_), v);
-    const Vec6 products = crossForce(v, h);
-    const Wrench end{products.tail<3>(), products.head<3>()};
-    fluid.holdMeanShedProducts(i, end, b.com);
-    sum.head<3>() += (b.com - o).cross(end.force) + end.torque -
-                     (centre_velocity - fluid_velocity_).cross(h.tail<3>());
-    sum.tail<3>() += end.force;
+    const ShedProducts end = shedProducts(fluid.addedMass(i, tree.rotations()[a.link], density_),
+                                          b.angular_velocity, b.velocity - fluid_velocity_);
+    fluid.holdMeanShedProducts(i, end.wrench, b.com);
+    // end.external(V - U)'s moment about o, summed in this order (the stored figures' bits).
+    sum.head<3>() += (b.com - o).cross(end.wrench.force) + end.wrench.torque -
+                     (centre_velocity - fluid_velocity_).cross(end.linear_momentum);
+    sum.tail<3>() += end.wrench.force;
   }
   return sum;
 }

@@ -57,9 +57,9 @@ void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag) {
           "W/kg and loss; an even --population)")
       .tag(spec_tag);
   motorWorkFlag(t, &o.params.episode.world.motor_work,
-                "--preset hover or morph with --velocity-products or --shed-products on: how the "
-                "fitness's W/kg "
-                "takes the motors' work, transmitted or servo (WorldParams::motor_work)")
+                "--preset hover or morph, not with --added-mass-products omitted: how the "
+                "fitness's W/kg takes the motors' work, transmitted or servo "
+                "(WorldParams::motor_work)")
       .tag(spec_tag);
 }
 

@@ -72,4 +72,16 @@ Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega, co
   return Wrench{f.tail<3>(), f.head<3>()};
 }
 
+ShedProducts shedProducts(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity) {
+  Vec6 nu;
+  nu << omega, velocity;
+  const Vec6 h = factorTimes(added, nu);
+  const Vec6 products = crossForce(nu, h);
+  return ShedProducts{Wrench{products.tail<3>(), products.head<3>()}, h.tail<3>()};
+}
+
+Wrench ShedProducts::external(const Vec3& centre_relative_velocity) const {
+  return Wrench{wrench.force, wrench.torque - centre_relative_velocity.cross(linear_momentum)};
+}
+
 }  // namespace flapsim

@@ -55,6 +55,23 @@ void appendPlateAddedMass(std::vector<NormalMass>& masses, const Vec3& size, con
 Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity,
                                const Vec6& bias);
 
+/// The velocity products a plate sheds into the wake (AddedMassProducts::kShed): with its added
+/// mass A (as addedMassVelocityWrench's) and motion nu = [omega; v] relative to the fluid, the
+/// wrench nu x* h about its COM (world frame) that gives the products back to the plate, and the
+/// linear part of its momentum h = A nu.
+struct ShedProducts {
+  Wrench wrench;
+  Vec3 linear_momentum = Vec3::Zero();
+
+  /// The part of `wrench` external to body and fluid, about the plate's COM: the whole
+  /// creature's share of its moment, (V - U) x h_linear (`centre_relative_velocity` = V - U,
+  /// the creature's centre of mass relative to the fluid), is the Munk term the momentum
+  /// balance leaves out in this air (MomentumBalance::begin).
+  Wrench external(const Vec3& centre_relative_velocity) const;
+};
+
+ShedProducts shedProducts(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity);
+
 /// Sum of w f f^T over `masses` (times `scale`, e.g. the density), about the body's COM in
 /// body axes: constant for a rigid body.
 Mat6 normalInertia(const std::vector<NormalMass>& masses, double scale);

@@ -98,19 +98,13 @@ void AirStage::addAddedMass(const CreatureModel& model, BulletBody& body, Creatu
   bias.tail<3>() += bias.head<3>().cross(kin.com - origin);
   w += addedMassVelocityWrench(added, kin.angular_velocity, kin.linear_velocity - air.wind, bias);
   if (!air.shedProducts()) return;
-  // They do no work on the plate (nu . (nu x* h) = 0). The whole creature's share of their
-  // moment, (V - U) x p, is the Munk term the momentum balance leaves out in this air
-  // (MomentumBalance::begin), so the rest is external.
-  Vec6 nu;
-  nu << kin.angular_velocity, kin.linear_velocity - air.wind;
-  const Vec6 h = factorTimes(added, nu);
-  const Vec6 products = crossForce(nu, h);
-  const Wrench shed{products.tail<3>(), products.head<3>()};
-  a.last.wrench += shed;
-  a.shed = shed;
-  momentum.addShedProducts(
-      kin.com, Wrench{shed.force, shed.torque - (centre_velocity - air.wind).cross(h.tail<3>())});
-  w += shed;
+  // They do no work on the plate (nu . (nu x* h) = 0).
+  const ShedProducts shed =
+      shedProducts(added, kin.angular_velocity, kin.linear_velocity - air.wind);
+  a.last.wrench += shed.wrench;
+  a.shed = shed.wrench;
+  momentum.addShedProducts(kin.com, shed.external(centre_velocity - air.wind));
+  w += shed.wrench;
 }
 
 void AirStage::apply(const CreatureModel& model, BulletBody& body, CreatureFluid& fluid,
