@@ -70,6 +70,29 @@ TEST(AddedMass, PlateGetsItAlongItsNormalOnly) {
   EXPECT_TRUE(cube.empty());
 }
 
+// An added mass m along z at the plate's COM, the plate moving at v = (vx, 0, vz) and pitching
+// at q: h = (0, 0, m vz) linear, and nu x* h gives the force omega x h = (q m vz, 0, 0) and the
+// Munk moment v x h = (0, -m vx vz, 0), which together do no work (q (-m vx vz) + vx q m vz). A
+// lone plate is the whole creature (V = v): its Munk moment is the creature's share, and only
+// the force is external.
+TEST(AddedMass, ShedProductsAreTheForceAndMunkMomentAndDoNoWork) {
+  const double m = 0.3, vx = 2.0, vz = -0.5, q = 1.5;
+  Vec6 f;
+  f << Vec3::Zero(), Vec3::UnitZ();
+  const SpatialFactor added = factorSpatial(m * f * f.transpose());
+  const Vec3 omega(0.0, q, 0.0), v(vx, 0.0, vz);
+  const ShedProducts shed = shedProducts(added, omega, v);
+  EXPECT_NEAR((shed.linear_momentum - Vec3(0.0, 0.0, m * vz)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((shed.wrench.force - Vec3(q * m * vz, 0.0, 0.0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((shed.wrench.torque - Vec3(0.0, -m * vx * vz, 0.0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(omega.dot(shed.wrench.torque) + v.dot(shed.wrench.force), 0.0, 1e-15);
+  const Wrench lone = shed.external(v);
+  EXPECT_NEAR((lone.force - shed.wrench.force).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(lone.torque.norm(), 0.0, 1e-15);
+  // A creature at rest in the fluid keeps the plate's whole moment as external.
+  EXPECT_NEAR((shed.external(Vec3::Zero()).torque - shed.wrench.torque).norm(), 0.0, 1e-15);
+}
+
 // A plate moving face-on at U: the pressure force is k S U^2 (k = rho Cd / 2), whose
 // derivative 2 k S U is the linearised drag along the normal; a retreating face adds none.
 TEST(DragDamping, FaceOnPlateIsTheForceDerivative) {
