@@ -99,6 +99,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--flip-penalty", {"5"}, ""},
       {"--crash-height", {"1.5"}, ""},
       {"--settle", {"3"}, "--settle: has no effect"},
+      {"--upright-floor", {"0.99", "5"}, "--upright-floor: has no effect with --settle at or"},
       {"--payload", {"0.005"}, "--payload: has no effect but with --preset morph"},
       {"--motor-specific-power",
        {"300"},
@@ -163,6 +164,11 @@ TEST(EvolveFlags, EveryFlagOfTheFlapPresetsChangesWhatEvolvesOrIsRefusedByName) 
   const std::vector<std::string> rolled = withFlag(kBase, "--roll", {"1.5", "1.5"});
   EXPECT_NE(evolveWith(withFlag(rolled, "--flip-penalty", {"5"})).figures,
             evolveWith(rolled).figures);
+  // The upright floor acts on the samples after --settle (the preset's 10 s: none in 1 s).
+  const std::vector<std::string> settled = withFlag(kBase, "--settle", {"0.5"});
+  const Evolved floored = evolveWith(withFlag(settled, "--upright-floor", {"0.99", "5"}));
+  EXPECT_EQ(floored.refused, "");
+  EXPECT_NE(floored.figures, evolveWith(settled).figures);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // Real air's draws for one flight (flapsim/real_air.h): those of flight_check --real-air's first
 // start, deterministic, with realAirParams' magnitudes; bad parameters refused by name; the
-// text `disturbance --print` writes.
+// text `disturbance --print` writes; the evolution's upright floor, real air's bar in the
+// fitness.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -233,6 +234,30 @@ TEST(Episodes, GustsActFromTheirDrawnTimeOn) {
     }
     EXPECT_NE(r.trace[first].upright, still.trace[first].upright) << (torque ? "torque" : "push");
   }
+}
+
+// evolve --upright-floor U W: an episode whose lowest up-component after settling falls below
+// U scores W m less per unit below it, to the bit; a floor under that lowest changes nothing.
+TEST(UprightFloor, TakesWPerUnitOfTheLowestUpComponentBelowTheFloorAfterSettling) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
+  EpisodeParams p;
+  p.duration = 1.0;
+  p.settle_time = 0.5;
+  p.altitude_hold = true;
+  EpisodeStart start;
+  start.roll = 0.3;
+  start.altitude = 1.0;
+  const EpisodeResult off = runEpisode(afc, open, 0.02, p, start);
+  ASSERT_LT(off.min_upright_settled, 0.99);  // the open-loop unit tips: the term is not zero
+  p.upright_floor = 1.0;
+  p.upright_floor_weight = 7.0;
+  const EpisodeResult on = runEpisode(afc, open, 0.02, p, start);
+  EXPECT_EQ(on.fitness, off.fitness - 7.0 * (1.0 - off.min_upright_settled));
+  p.upright_floor = off.min_upright_settled - 0.01;
+  EXPECT_EQ(runEpisode(afc, open, 0.02, p, start).fitness, off.fitness);
+  p.upright_floor = 1.5;
+  EXPECT_NE(validateEpisodeParams(p).find("upright_floor must be"), std::string::npos);
 }
 
 }  // namespace

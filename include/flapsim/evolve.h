@@ -109,6 +109,12 @@ struct EpisodeParams {
   double min_altitude = 5.0;
   double max_altitude = 5.0;
   double tilt_weight = 1.0;  // m per unit of (1 - up-component)
+  /// With altitude hold: an episode whose lowest up-component after settle_time falls below
+  /// upright_floor scores upright_floor_weight m less per unit below it (flight_check's bar:
+  /// 0.5). The mean of the samples hardly sees a dip of a second; the bar fails on it.
+  /// 0: off.
+  double upright_floor = 0.0;
+  double upright_floor_weight = 0.0;  // m per unit of up-component
   /// The altitude error's rms is taken over the samples after this (s).
   double settle_time = 10.0;
   std::vector<double> step_sizes;  // s: drawn per episode (empty: world.step_size)

@@ -42,6 +42,8 @@ std::string validateDisturbances(const EpisodeParams& p) {
         range("gust_window_start", p.gust_window_start, 0.0, 1.0),
         range("gust_window_end", p.gust_window_end, p.gust_window_start, 1.0),
         range("tilt_weight", p.tilt_weight, 0.0, 1e6),
+        range("upright_floor", p.upright_floor, 0.0, 1.0),
+        range("upright_floor_weight", p.upright_floor_weight, 0.0, 1e6, " m"),
         range("settle_time", p.settle_time, 0.0, kMaxEpisodeDuration, " s")}) {
     if (!err.empty()) return err;
   }
@@ -349,6 +351,10 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   result.mean_bank = tally.bank / static_cast<double>(std::max<std::int64_t>(tally.samples, 1));
   if (tally.settled > 0) {
     result.altitude_rms = std::sqrt(tally.altitude_sq / static_cast<double>(tally.settled));
+  }
+  if (start.altitude && p.upright_floor > 0.0) {
+    result.fitness -=
+        p.upright_floor_weight * std::max(0.0, p.upright_floor - result.min_upright_settled);
   }
   const CreaturePower power = world.power(name);
   result.positive_power = power.meanPositivePower();

@@ -16,7 +16,7 @@ const std::vector<std::string> kNotHoverFlags = {
     "--link-axis",    "--link-stiffness",   "--start-rate",     "--gust",
     "--gust-torque",  "--gust-torque-time", "--gust-force",     "--gust-force-time",
     "--gust-link",    "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
-    "--crash-height", "--climb-input",      "--velocity-noise"};
+    "--crash-height", "--climb-input",      "--velocity-noise", "--upright-floor"};
 
 // The flags of --preset morph alone.
 bool morphFlag(const std::string& name) {
@@ -145,15 +145,22 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--gust-link" && e.gust_force == 0.0) why = "without --gust-force";
     if (name == "--gust-force-time" && e.gust_force == 0.0) why = "without --gust-force";
     if (name == "--gust-torque-time" && e.gust_torque == 0.0) why = "without --gust-torque";
-    if (name == "--altitude" && !e.altitude_hold) why = "without --altitude-hold on";
+    if ((name == "--altitude" || name == "--upright-floor") && !e.altitude_hold) {
+      why = "without --altitude-hold on";
+    } else if (name == "--upright-floor" && e.upright_floor > 0.0 && e.settle_time >= e.duration) {
+      why = "with --settle at or after --duration (no sample settles)";
+    }
     if (name == "--altitude-noise" && !p.controller.altitude_input) {
       why = "without an altitude input (--altitude-input on)";
     }
     if (name == "--velocity-noise" && !p.controller.climb_input) {
       why = "without a climb input (--climb-input on)";
     }
-    if (name == "--settle")
-      why = "but with --preset hover or morph (the flap network's fitness has none)";
+    if (name == "--settle" && e.upright_floor <= 0.0) {
+      why =
+          "but with --preset hover or morph or --upright-floor (the flap network's fitness "
+          "has none without it)";
+    }
     if (name == "--motor-work") {
       why = "but with --preset hover or morph (the flap network's fitness counts no power)";
     }

@@ -181,6 +181,16 @@ std::string sealedEnds(const EpisodeParams& e) {
   return out.str();
 }
 
+// The episode's upright floor, as the fitness line says it ("" when off).
+std::string uprightFloorTerm(const EpisodeParams& e) {
+  if (!e.altitude_hold || e.upright_floor <= 0.0) return "";
+  std::ostringstream out;
+  out << ", each episode less " << e.upright_floor_weight
+      << " m per unit its lowest up-component after " << e.settle_time << " s falls below "
+      << e.upright_floor;
+  return out.str();
+}
+
 // --preset morph: the best's body file and URDF (its gains are written as hover's). The
 // lines written, or why the body was refused.
 std::string writeMorphBody(const EvolveOptions& o, const MorphIndividual& m,
@@ -282,8 +292,9 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
          << "Fitness = mean "
          << (params.episode.altitude_hold ? "of -|height - setpoint| - (1 - up-component) (m)"
                                           : "root-body height (m)")
-         << " over " << params.episode.episodes << " episodes of " << params.episode.duration
-         << " s" << sealedEnds(params.episode) << ": " << result.best_fitness
+         << uprightFloorTerm(params.episode) << " over " << params.episode.episodes
+         << " episodes of " << params.episode.duration << " s" << sealedEnds(params.episode) << ": "
+         << result.best_fitness
          << "\nWeights: per neuron its input weights then its bias; hidden (tanh) neurons first,"
          << (params.controller.network == FlapNetwork::kMirror
                  ? " then the output (the right wing; the left is the net on mirrored inputs)."
