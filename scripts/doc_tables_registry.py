@@ -297,12 +297,18 @@ def shed_air_bar():
          "episodes)", ["--weights", "config/afc_1_shed_seed_weights.yaml"] + noise),
         ("afc_1, `config/afc_1_shed_air_weights.yaml` (evolved on from that, 60 s episodes)",
          ["--weights", "config/afc_1_shed_air_weights.yaml"] + noise),
+        ("afc_1, `config/afc_1_shed_floor_weights.yaml` (evolved on from that, 24 episodes, "
+         "an upright floor)", ["--weights", "config/afc_1_shed_floor_weights.yaml"] + noise),
         ("afc_4, `config/afc_4_real_air_weights.yaml` (evolved with the products omitted)",
          ["--weights", "config/afc_4_real_air_weights.yaml", "--pairs", "4"] + noise),
         ("afc_4, `config/afc_4_shed_air_weights.yaml` (evolved on from it in this air)",
          ["--weights", "config/afc_4_shed_air_weights.yaml", "--pairs", "4"] + noise),
         ("afc_6, `config/afc_4_shed_air_weights.yaml` (the same)",
          ["--weights", "config/afc_4_shed_air_weights.yaml", "--pairs", "6"] + noise),
+        ("afc_12, `config/afc_4_shed_air_weights.yaml` (the same, carried to 12 units)",
+         ["--weights", "config/afc_4_shed_air_weights.yaml", "--pairs", "12"] + noise),
+        ("afc_12, `config/afc_12_shed_air_weights.yaml` (evolved on from it on afc_12)",
+         ["--weights", "config/afc_12_shed_air_weights.yaml", "--pairs", "12"] + noise),
         ("hover_1, `config/hover_1_gains.yaml` (evolved with the products omitted)",
          ["--hover", "--gains", "config/hover_1_gains.yaml"]),
     ]

@@ -292,8 +292,8 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
          << "Fitness = mean "
          << (params.episode.altitude_hold ? "of -|height - setpoint| - (1 - up-component) (m)"
                                           : "root-body height (m)")
-         << uprightFloorTerm(params.episode) << " over " << params.episode.episodes
-         << " episodes of " << params.episode.duration << " s" << sealedEnds(params.episode) << ": "
+         << " over " << params.episode.episodes << " episodes of " << params.episode.duration
+         << " s" << sealedEnds(params.episode) << uprightFloorTerm(params.episode) << ": "
          << result.best_fitness
          << "\nWeights: per neuron its input weights then its bias; hidden (tanh) neurons first,"
          << (params.controller.network == FlapNetwork::kMirror
