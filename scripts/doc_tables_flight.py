@@ -63,6 +63,13 @@ def starts(out):
     return rows
 
 
+def meets_real_air_bar(row):
+    """Issue 40's bar for one start: no flip, up-component above 0.5 after settling, altitude
+    rms under 0.3 m, mean bank under 5 deg."""
+    return (row["flipped"] == "no" and row["up_set"] > 0.5 and row["alt_rms"] is not None
+            and row["alt_rms"] < 0.3 and abs(row["bank"]) < 5.0)
+
+
 def power_per_mass(out):
     """The mean positive motor power per mass over the starts, W/kg."""
     match = re.search(r"mechanical power of the motors.*?\(([0-9.]+) W/kg", out)
