@@ -35,6 +35,15 @@ def step_argv(step):
     return [] if step == 1 else ["--step-size", f"{step / 1000:g}"]
 
 
+def real_air_argv(flags, extra=(), step=1):
+    """flight_check in real air holding 5 m from the wide starts: `flags` the creature's and its
+    controller's, `extra` after --real-air (the air, a seed, an impulse's size), then the step.
+    The real-air tables build their commands here, so that the same flight is the same command
+    (doc_tables.py runs a command once per invocation)."""
+    return ([FLIGHT_CHECK] + list(flags) + ["--altitude", "5"] + WIDE_STARTS + ["--real-air"]
+            + list(extra) + step_argv(step))
+
+
 def step_cell(step):
     return f"{step:g} ms"
 

@@ -4,7 +4,7 @@
 the real-air bar (the same commands as shed_air_bar's rows; measured together, they run once)."""
 from doc_tables import Run, Table
 from doc_tables_flight import (FLIGHT_CHECK, WIDE_STARTS, flips, lowest, meets_real_air_bar,
-                               starts, step_argv)
+                               real_air_argv, starts)
 
 SEEDS = (2024, 7, 99)
 STEPS = (1, 0.5)
@@ -19,8 +19,8 @@ def afc_1_seeds():
     def run_key(weights, seed, step):
         return f"{weights} | {seed} | {step}"
     runs = [Run(run_key(w, seed, step),
-                [FLIGHT_CHECK, "--weights", w, "--velocity-noise", "0.05", "--altitude", "5"]
-                + WIDE_STARTS + ["--real-air", "--seed", str(seed)] + step_argv(step))
+                real_air_argv(["--weights", w, "--velocity-noise", "0.05"], ["--seed", str(seed)],
+                              step))
             for _, w in AFC_1 for seed in SEEDS for step in STEPS]
 
     def rows(out):
@@ -99,9 +99,8 @@ README_FLYERS = [
 
 def readme_flight():
     """Each creature's default-air controller in real air, holding 5 m, against the bar."""
-    def argv(flags, step):
-        return ([FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS + ["--real-air"]
-                + ["--added-mass-products", "shed"] + step_argv(step))
+    def argv(flags, step):  # shed_air_bar's commands (bar_table in doc_tables_registry.py)
+        return real_air_argv(flags, ["--added-mass-products", "shed"], step)
     runs = [Run(f"{c} | {step}", argv(flags, step)) for c, _, flags in README_FLYERS
             for step in STEPS]
 

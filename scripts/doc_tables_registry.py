@@ -5,7 +5,8 @@ from doc_tables import Run, Table
 from doc_tables_flight import (CONDITIONS, FLIGHT_CHECK, HOLD_CONDITIONS, TABLE_HEADER,
                                WIDE_STARTS, flips, height_range, hover_report, lowest,
                                max_abs_bank, mean_abs_bank, meets_real_air_bar, passed,
-                               power_per_mass, starts, step_argv, step_cell, table_cells)
+                               power_per_mass, real_air_argv, starts, step_argv, step_cell,
+                               table_cells)
 
 FLIGHT_DOC = "doc/flight_and_evolution.md"
 TABLES = {}
@@ -217,8 +218,7 @@ def bar_table(name, flyers, air, air_text):
     """The real-air bar's table `name` in flight_and_evolution.md: each (label, flags) of `flyers` in real air at
     1 and 0.5 ms, with `air` (flight_check flags of the air itself)."""
     steps = (1, 0.5)
-    runs = [Run(key(label, step), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
-                + ["--real-air"] + air + step_argv(step))
+    runs = [Run(key(label, step), real_air_argv(flags, air, step))
             for label, flags in flyers for step in steps]
 
     def rows(out):
@@ -325,8 +325,7 @@ def real_air_apart():
     variants = [("all of it", []), ("without the push", ["--gust-force", "0"]),
                 ("without the torque", ["--gust-torque", "0"]),
                 ("without either", ["--gust-torque", "0", "--gust-force", "0"])]
-    runs = [Run(key(label, name), [FLIGHT_CHECK] + flags + ["--altitude", "5"] + WIDE_STARTS
-                + ["--real-air"] + extra)
+    runs = [Run(key(label, name), real_air_argv(flags, extra))
             for label, flags in flyers for name, extra in variants]
 
     def rows(out):
