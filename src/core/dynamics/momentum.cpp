@@ -28,13 +28,14 @@ SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies) {
   return s;
 }
 
-void addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
+Vec6 addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
                       const Vec6& velocity) {
   const Vec6 h = factorTimes(added, velocity);  // [moment about the body's COM; force]
   const Vec3 r = com - s.com;
   s.linear += h.tail<3>();
   s.angular += h.head<3>() + r.cross(h.tail<3>());
   addFactorMatrix(added, r, s.fluid);  // about the common centre
+  return h;
 }
 
 RigidCorrection momentumCorrection(const SystemMomentum& actual, const Vec3& linear,

@@ -48,8 +48,9 @@ SystemMomentum systemMomentum(const std::vector<BodyMotion>& bodies);
 
 /// Adds the fluid carried by one body: its added mass `added` (spatial, about the body's
 /// COM `com`, world axes; factored, flapsim/fluid_inertia.h) moving with the body's
-/// `velocity` [angular; linear of the COM].
-void addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
+/// `velocity` [angular; linear of the COM]; returns that fluid's momentum h = A velocity
+/// [moment about `com`; linear].
+Vec6 addFluidMomentum(SystemMomentum& s, const SpatialFactor& added, const Vec3& com,
                       const Vec6& velocity);
 
 /// The rigid motion that brings a tree from `actual` to the target momentum: add

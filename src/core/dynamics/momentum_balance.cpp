@@ -6,7 +6,8 @@
 
 namespace flapsim {
 
-SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid) {
+SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid, Vec6* shed_end,
+                                        double dt) {
   const btMultiBody& mb = body.multiBody();
   TreeDynamics& tree = body.world().tree();
   tree.updateFrames(mb);
@@ -43,6 +44,11 @@ SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid) 
   s.angular = momentum.head<3>() - c.cross(s.linear);
   s.inertia = about_base - s.mass * (c.squaredNorm() * Mat3::Identity() - c * c.transpose());
   if (density_ <= 0.0) return s;
+  // The shed products at this state, as AirStage::addAddedMass takes them at the start
+  // (fluid_stage.cpp): about O where it is at the end, moved with the fluid by U dt, less the
+  // creature's share (V - U) x h_linear.
+  const Vec3 o = origin_ + dt * fluid_velocity_;
+  const Vec3 centre_relative = s.body_linear / s.mass - fluid_velocity_;
   const std::vector<AeroBody>& aero = fluid.bodies();
   for (size_t i = 0; i < aero.size(); ++i) {
     const AeroBody& a = aero[i];
@@ -52,7 +58,15 @@ SystemMomentum MomentumBalance::measure(BulletBody& body, CreatureFluid& fluid) 
     // momentum is that of the relative velocity, the same seen from any uniformly moving frame.
     Vec6 v;
     v << b.angular_velocity, b.velocity - fluid_velocity_;
-    addFluidMomentum(s, fluid.addedMass(i, tree.rotations()[a.link], density_), b.com, v);
+    const Vec6 h =
+        addFluidMomentum(s, fluid.addedMass(i, tree.rotations()[a.link], density_), b.com, v);
+    if (shed_end == nullptr) continue;
+    const ShedProducts end = shedProducts(v, h);
+    fluid.holdMeanShedProducts(i, end.wrench, b.com);
+    // ShedProducts::external's moment about o, summed in this order (the stored figures' bits).
+    shed_end->head<3>() += (b.com - o).cross(end.wrench.force) + end.wrench.torque -
+                           centre_relative.cross(end.linear_momentum);
+    shed_end->tail<3>() += end.wrench.force;
   }
   return s;
 }
@@ -92,29 +106,6 @@ void MomentumBalance::addShedProducts(const Vec3& com, const Wrench& wrench) {
   shed_start_.tail<3>() += wrench.force;
 }
 
-Vec6 MomentumBalance::shedAtEnd(BulletBody& body, CreatureFluid& fluid, const SystemMomentum& now,
-                                double dt) {
-  const TreeDynamics& tree = body.world().tree();
-  const Vec3 centre_velocity = now.body_linear / now.mass;
-  // About O where it is at the end, moved with the fluid by U dt.
-  const Vec3 o = origin_ + dt * fluid_velocity_;
-  Vec6 sum = Vec6::Zero();
-  for (size_t i = 0; i < fluid.bodies().size(); ++i) {
-    const AeroBody& a = fluid.bodies()[i];
-    if (!a.has_added_mass) continue;
-    const LinkMotion& b = motions_[a.link];
-    // As AirStage::addAddedMass takes them at the start (fluid_stage.cpp).
-    const ShedProducts end = shedProducts(fluid.addedMass(i, tree.rotations()[a.link], density_),
-                                          b.angular_velocity, b.velocity - fluid_velocity_);
-    fluid.holdMeanShedProducts(i, end.wrench, b.com);
-    // end.external(V - U)'s moment about o, summed in this order (the stored figures' bits).
-    sum.head<3>() += (b.com - o).cross(end.wrench.force) + end.wrench.torque -
-                     (centre_velocity - fluid_velocity_).cross(end.linear_momentum);
-    sum.tail<3>() += end.wrench.force;
-  }
-  return sum;
-}
-
 void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gravity, double dt) {
   carried_valid_ = false;
   if (model_.fixed_base || body.hasContacts() || start_.mass <= 0.0) {
@@ -125,12 +116,14 @@ void MomentumBalance::end(BulletBody& body, CreatureFluid& fluid, const Vec3& gr
   // about the centre of mass). The angular part first about O, the point where the centre of
   // mass was at the start, moving with the fluid (at rest in the fluid's frame, where the
   // impulses' moments about it are all that change it).
-  const SystemMomentum now = measure(body, fluid);
+  // The shed products' impulse by the trapezoidal rule (addShedProducts): at the end, the
+  // state before the correction (Heun's predictor), summed by measure().
+  const bool shed = products_ == AddedMassProducts::kShed;
+  Vec6 shed_end = Vec6::Zero();
+  const SystemMomentum now = measure(body, fluid, shed ? &shed_end : nullptr, dt);
   Vec6 air;
   air << external_moment_, external_force_;
-  // The shed products' impulse by the trapezoidal rule (addShedProducts).
-  if (products_ == AddedMassProducts::kShed)
-    air += 0.5 * (shedAtEnd(body, fluid, now, dt) - shed_start_);
+  if (shed) air += 0.5 * (shed_end - shed_start_);
   const Vec3 linear =
       start_.linear + dt * (start_.mass * gravity + air.tail<3>()) + drag_impulse_.tail<3>();
   const Vec3 angular_about_o = start_.angular + dt * momentAbout(air, origin_, start_.com) +

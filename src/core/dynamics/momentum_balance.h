@@ -54,13 +54,13 @@ class MomentumBalance {
 
  private:
   // The momentum of the tree and of the fluid it carries, at the multibody's state (the
-  // scene's TreeDynamics frames, which the next lean step's velocity update reuses).
-  SystemMomentum measure(BulletBody& body, CreatureFluid& fluid);
-  // The products the plates shed at the end of the step, as addShedProducts takes them at the
-  // start, at the state `now` (measure's, before the correction): their sum [moment about O,
-  // the start's origin_ moved with the fluid by U dt; force]; each plate's wrench of the step
-  // made the mean of its start's and this (CreatureFluid::holdMeanShedProducts).
-  Vec6 shedAtEnd(BulletBody& body, CreatureFluid& fluid, const SystemMomentum& now, double dt);
+  // scene's TreeDynamics frames, which the next lean step's velocity update reuses). With
+  // `shed_end` (at the end of a step of `dt`): also adds to it the products the plates shed at
+  // this state, as addShedProducts takes them at the start, [moment about O, the start's
+  // origin_ moved with the fluid by U dt; force], and makes each plate's wrench of the step
+  // the mean of its start's and this (CreatureFluid::holdMeanShedProducts).
+  SystemMomentum measure(BulletBody& body, CreatureFluid& fluid, Vec6* shed_end = nullptr,
+                         double dt = 0.0);
 
   // What the balance keeps of a SystemMomentum from one step to the next (not its matrices:
   // copying them each step cost more than the rest of begin()).

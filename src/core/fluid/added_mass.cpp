@@ -75,7 +75,10 @@ Wrench addedMassVelocityWrench(const SpatialFactor& added, const Vec3& omega, co
 ShedProducts shedProducts(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity) {
   Vec6 nu;
   nu << omega, velocity;
-  const Vec6 h = factorTimes(added, nu);
+  return shedProducts(nu, factorTimes(added, nu));
+}
+
+ShedProducts shedProducts(const Vec6& nu, const Vec6& h) {
   const Vec6 products = crossForce(nu, h);
   return ShedProducts{Wrench{products.tail<3>(), products.head<3>()}, h.tail<3>()};
 }

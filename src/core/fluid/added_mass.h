@@ -71,6 +71,8 @@ struct ShedProducts {
 };
 
 ShedProducts shedProducts(const SpatialFactor& added, const Vec3& omega, const Vec3& velocity);
+/// The same from nu and its momentum h = A nu, where the caller has h already.
+ShedProducts shedProducts(const Vec6& nu, const Vec6& h);
 
 /// Sum of w f f^T over `masses` (times `scale`, e.g. the density), about the body's COM in
 /// body axes: constant for a rigid body.
