@@ -2,16 +2,17 @@
 // sink, and what the flap unit has. Prints figures; never passes or fails.
 //
 //   vertical_authority [--level light] [--height 5] [--wind 1] [--flights 40] [--duration 60]
-//                      [--settle 10]
+//                      [--settle 10] [--pairs 1]
 //
 // 1. The bound: an ideal controller that knows the vertical air speed w it is in and moves
 //    against it at up to A m/s relative to the air (dz/dt = w - clamp(w + z / 0.5 s, -A, A)),
 //    in the living Dryden field at rest in a steady wind (--flights realisations, seeds 0..N-1,
 //    --duration s each, the altitude error's rms after --settle s), for A = 0.5 to 3 m/s: its
 //    mean and largest rms over the flights. No creature with that authority can do better.
-// 2. The flap unit's authority (make_creature --pairs 1, 8 N m wing motors): open loop from
-//    level at rest, both wings at one downstroke and upstroke rate, amplitude 1.2 rad, its
-//    vertical speed from 2 to 4 s (before it tips over), for the robust preset's rate range.
+// 2. The flap unit's authority (make_creature --pairs 1, 8 N m wing motors; --pairs N: the
+//    chain of N units): open loop from level at rest, every wing at one downstroke and upstroke
+//    rate, amplitude 1.2 rad, its root's vertical speed from 2 to 4 s (before it tips over),
+//    for the robust preset's rate range.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -60,14 +61,16 @@ Bound idealBound(double authority, const std::string& level, double height, doub
   return b;
 }
 
-// The flap unit's mean vertical speed from 2 to 4 s, open loop from level at rest, in the air
-// whose added mass does `products` (AirParams::added_mass_products).
-double openLoopClimb(double downstroke, double upstroke, flapsim::AddedMassProducts products) {
+// The root's mean vertical speed from 2 to 4 s of a chain of `pairs` flap units, open loop from
+// level at rest, in the air whose added mass does `products` (AirParams::added_mass_products).
+double openLoopClimb(int pairs, double downstroke, double upstroke,
+                     flapsim::AddedMassProducts products) {
   flapsim::WorldParams p;
   p.ground = false;
   p.air.added_mass_products = products;
   flapsim::World world(p);
-  const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(1, "afc"), "afc1");
+  const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(pairs, "afc"),
+                                                 "afc" + std::to_string(pairs));
   flapsim::Pose pose;
   pose.position = flapsim::Vec3(0.0, 0.0, 50.0);
   world.spawn("afc", model, pose);
@@ -93,7 +96,7 @@ double openLoopClimb(double downstroke, double upstroke, flapsim::AddedMassProdu
 int main(int argc, char** argv) {
   std::string level = "light";
   double height = 5.0, wind = 1.0, duration = 60.0, settle = 10.0;
-  int flights = 40;
+  int flights = 40, pairs = 1;
   std::string products = flapsim::addedMassProductsName(flapsim::AirParams().added_mass_products);
   flapsim::CliParser cli("usage: vertical_authority [options]");
   cli.text("--level", "LEVEL", &level, "turbulence: light, moderate or severe")
@@ -104,7 +107,8 @@ int main(int argc, char** argv) {
       .real("--settle", "S", &settle, {0, 3600}, "the rms counts after S s")
       .text("--added-mass-products", "NAME", &products,
             "the flap unit's air: what its plates' added mass does beyond -A dnu",
-            flapsim::addedMassProductsNames());
+            flapsim::addedMassProductsNames())
+      .integer("--pairs", "N", &pairs, {1, 24}, "the open-loop flier: a chain of N flap units");
   try {
     cli.parse(std::vector<std::string>(argv + 1, argv + argc));
     if (cli.help()) {
@@ -125,15 +129,15 @@ int main(int argc, char** argv) {
       std::printf("%7.2f  %12.3f  %15.3f\n", a, b.mean, b.worst);
     }
     std::printf(
-        "the flap unit open loop (both wings alike, amplitude 1.2 rad; the added mass's products "
-        "%s), vertical speed from 2 "
-        "to 4 s:\n",
-        products.c_str());
+        "%d flap unit(s) open loop (every wing alike, amplitude 1.2 rad; the added mass's "
+        "products %s), the root's vertical speed from 2 to 4 s:\n",
+        pairs, products.c_str());
     std::printf("downstroke  upstroke (rad/s)  climb (m/s)\n");
     for (const auto& r : std::vector<std::pair<double, double>>{
              {10, 10}, {20, 10}, {30, 10}, {40, 10}, {60, 10}, {80, 10}, {100, 10}}) {
-      std::printf("%10.0f  %16.0f  %11.2f\n", r.first, r.second,
-                  openLoopClimb(r.first, r.second, flapsim::parseAddedMassProducts(products)));
+      std::printf(
+          "%10.0f  %16.0f  %11.2f\n", r.first, r.second,
+          openLoopClimb(pairs, r.first, r.second, flapsim::parseAddedMassProducts(products)));
     }
     return 0;
   } catch (const std::exception& e) {

@@ -1,7 +1,10 @@
 """Real air taken apart: afc_1's default-air controllers from three held-out seeds
 (doc/flight_and_evolution.md), hover_1 under one of real air's impulses at a time
-(doc/hovering.md), and the README's flight table: each creature's default-air controller against
-the real-air bar (the same commands as shed_air_bar's rows; measured together, they run once)."""
+(doc/hovering.md), the README's flight table: each creature's default-air controller against
+the real-air bar (the same commands as shed_air_bar's rows; measured together, they run once),
+and how fast the flap unit and the chains climb and sink open loop."""
+import re
+
 from doc_tables import Run, Table
 from doc_tables_flight import (FLIGHT_CHECK, WIDE_STARTS, flips, lowest, meets_real_air_bar,
                                real_air_argv, starts)
@@ -125,4 +128,32 @@ def readme_flight():
                  "has the rest)")
 
 
-TABLES = [afc_1_seeds, hover_impulses, readme_flight]
+CHAIN_PAIRS = (1, 4, 12)
+
+
+def chain_authority():
+    """bench/vertical_authority.cpp --pairs N: the open-loop climb of the flap unit and of the
+    chains of 4 and 12 units at each downstroke rate, in the default air."""
+    runs = [Run(f"pairs {n}", ["bin/vertical_authority", "--pairs", str(n)]) for n in CHAIN_PAIRS]
+
+    def rows(out):
+        climbs = []
+        for n in CHAIN_PAIRS:
+            found = re.findall(r"^ *([0-9]+) +([0-9]+) +(-?[0-9.]+)$", out[f"pairs {n}"], re.M)
+            if not found:
+                raise ValueError(f"vertical_authority --pairs {n}: no climb rows")
+            climbs.append(found)
+        if len({tuple(r[:2] for r in c) for c in climbs}) != 1:
+            raise ValueError("vertical_authority: the chains' rates differ from the unit's")
+        return [[f"{down} / {up}"] + [f"{float(c[i][2]):.2f} m/s" for c in climbs]
+                for i, (down, up, _) in enumerate(climbs[0])]
+    return Table("chain_authority", "doc/flight_and_evolution.md",
+                 ["downstroke / upstroke (rad/s)"] + [f"afc_{n} climbs at" for n in CHAIN_PAIRS],
+                 runs, rows,
+                 "`bin/vertical_authority --pairs N` (bench/vertical_authority.cpp): the creature "
+                 "open loop from level at rest, every wing at the row's rates, amplitude 1.2 "
+                 "rad, its root's vertical speed from 2 to 4 s, in the default air (the added "
+                 "mass's products shed; negative: it sinks)")
+
+
+TABLES = [afc_1_seeds, hover_impulses, readme_flight, chain_authority]
