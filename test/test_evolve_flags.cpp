@@ -100,6 +100,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--crash-height", {"1.5"}, ""},
       {"--settle", {"3"}, "--settle: has no effect"},
       {"--upright-floor", {"0.99", "5"}, "--upright-floor: has no effect with --settle at or"},
+      {"--rms-ceiling", {"0.01", "5"}, "--rms-ceiling: has no effect with --settle at or"},
       {"--payload", {"0.005"}, "--payload: has no effect but with --preset morph"},
       {"--motor-specific-power",
        {"300"},
@@ -169,6 +170,9 @@ TEST(EvolveFlags, EveryFlagOfTheFlapPresetsChangesWhatEvolvesOrIsRefusedByName) 
   const Evolved floored = evolveWith(withFlag(settled, "--upright-floor", {"0.99", "5"}));
   EXPECT_EQ(floored.refused, "");
   EXPECT_NE(floored.figures, evolveWith(settled).figures);
+  const Evolved capped = evolveWith(withFlag(settled, "--rms-ceiling", {"0.01", "5"}));
+  EXPECT_EQ(capped.refused, "");
+  EXPECT_NE(capped.figures, evolveWith(settled).figures);
 }
 
 }  // namespace

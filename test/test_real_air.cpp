@@ -260,5 +260,29 @@ TEST(UprightFloor, TakesWPerUnitOfTheLowestUpComponentBelowTheFloorAfterSettling
   EXPECT_NE(validateEpisodeParams(p).find("upright_floor must be"), std::string::npos);
 }
 
+// evolve --rms-ceiling R W: an episode whose altitude rms after settling exceeds R m scores W m
+// less per m over it, to the bit; a ceiling above that rms changes nothing.
+TEST(RmsCeiling, TakesWPerMetreOfTheAltitudeRmsAboveTheCeilingAfterSettling) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
+  EpisodeParams p;
+  p.duration = 1.0;
+  p.settle_time = 0.5;
+  p.altitude_hold = true;
+  EpisodeStart start;
+  start.altitude = 3.0;  // 2 m above the start: the open-loop unit misses it by metres
+  const EpisodeResult off = runEpisode(afc, open, 0.02, p, start);
+  ASSERT_GT(off.altitude_rms, 1.0);
+  p.altitude_rms_ceiling = 0.3;
+  p.altitude_rms_weight = 2.0;
+  const EpisodeResult on = runEpisode(afc, open, 0.02, p, start);
+  EXPECT_EQ(on.altitude_rms, off.altitude_rms);
+  EXPECT_EQ(on.fitness, off.fitness - 2.0 * (off.altitude_rms - 0.3));
+  p.altitude_rms_ceiling = off.altitude_rms + 0.01;
+  EXPECT_EQ(runEpisode(afc, open, 0.02, p, start).fitness, off.fitness);
+  p.altitude_rms_ceiling = -0.1;
+  EXPECT_NE(validateEpisodeParams(p).find("altitude_rms_ceiling must be"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace flapsim

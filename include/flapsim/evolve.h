@@ -115,6 +115,12 @@ struct EpisodeParams {
   /// 0: off.
   double upright_floor = 0.0;
   double upright_floor_weight = 0.0;  // m per unit of up-component
+  /// With altitude hold: an episode whose altitude rms after settle_time exceeds
+  /// altitude_rms_ceiling (m) scores altitude_rms_weight m less per m over it (flight_check's
+  /// bar: 0.3 m). The mean error weighs every sample alike; the bar fails on the episode's
+  /// rms. 0: off.
+  double altitude_rms_ceiling = 0.0;
+  double altitude_rms_weight = 0.0;  // m per m of rms over the ceiling
   /// The altitude error's rms is taken over the samples after this (s).
   double settle_time = 10.0;
   std::vector<double> step_sizes;  // s: drawn per episode (empty: world.step_size)

@@ -44,6 +44,8 @@ std::string validateDisturbances(const EpisodeParams& p) {
         range("tilt_weight", p.tilt_weight, 0.0, 1e6),
         range("upright_floor", p.upright_floor, 0.0, 1.0),
         range("upright_floor_weight", p.upright_floor_weight, 0.0, 1e6, " m"),
+        range("altitude_rms_ceiling", p.altitude_rms_ceiling, 0.0, 1e3, " m"),
+        range("altitude_rms_weight", p.altitude_rms_weight, 0.0, 1e6, " m"),
         range("settle_time", p.settle_time, 0.0, kMaxEpisodeDuration, " s")}) {
     if (!err.empty()) return err;
   }
@@ -282,6 +284,19 @@ double addSample(EpisodeResult& r, Tally& tally, const EpisodeParams& p, const E
   return -std::abs(error) - p.tilt_weight * (1.0 - up);
 }
 
+// What an altitude-holding episode loses for its settled samples: the upright floor's and the
+// altitude rms ceiling's terms (the rms only if some sample settled).
+double settledTerms(const EpisodeParams& p, const EpisodeResult& r, bool settled) {
+  double loss = 0.0;
+  if (p.upright_floor > 0.0) {
+    loss += p.upright_floor_weight * std::max(0.0, p.upright_floor - r.min_upright_settled);
+  }
+  if (p.altitude_rms_ceiling > 0.0 && settled) {
+    loss += p.altitude_rms_weight * std::max(0.0, r.altitude_rms - p.altitude_rms_ceiling);
+  }
+  return loss;
+}
+
 }  // namespace
 
 EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& controller,
@@ -352,10 +367,7 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
   if (tally.settled > 0) {
     result.altitude_rms = std::sqrt(tally.altitude_sq / static_cast<double>(tally.settled));
   }
-  if (start.altitude && p.upright_floor > 0.0) {
-    result.fitness -=
-        p.upright_floor_weight * std::max(0.0, p.upright_floor - result.min_upright_settled);
-  }
+  if (start.altitude) result.fitness -= settledTerms(p, result, tally.settled > 0);
   const CreaturePower power = world.power(name);
   result.positive_power = power.meanPositivePower();
   result.net_power = power.time > 0.0 ? power.totalWork() / power.time : 0.0;

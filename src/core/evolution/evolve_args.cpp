@@ -161,25 +161,6 @@ void disturbanceFlags(CliParser& t, EvolveOptions& o) {
       .tag(kSpec);
 }
 
-// The settling time and the upright floor that counts after it.
-void settleFlags(CliParser& t, EpisodeParams& e) {
-  t.real("--settle", "S", &e.settle_time, {0, kMaxEpisodeDuration},
-         "the altitude rms (--preset hover: every figure) counts after S s")
-      .tag(kSpec)
-      .custom(
-          "--upright-floor", {"U", "W"},
-          [&e](const std::vector<std::string>& v) {
-            e.upright_floor = parseCliReal("--upright-floor", v[0], {0, 1});
-            e.upright_floor_weight = parseCliReal("--upright-floor", v[1], {0, 1e6});
-          },
-          [&e] {
-            return formatCliNumber(e.upright_floor) + " " + formatCliNumber(e.upright_floor_weight);
-          },
-          "with --altitude-hold on: an episode whose lowest up-component after --settle falls "
-          "below U scores W m less per unit below it (flight_check's bar: 0.5; 0 0: off)")
-      .tag(kSpec);
-}
-
 void robustFlags(CliParser& t, EvolveOptions& o) {
   EvolveParams& p = o.params;
   EpisodeParams& e = p.episode;
@@ -254,7 +235,7 @@ void robustFlags(CliParser& t, EvolveOptions& o) {
           },
           "the root below H m (the scenarios' ground: 0) ends the episode as a flip does; off")
       .tag(kSpec);
-  settleFlags(t, e);
+  settleFlags(t, e, kSpec);
 }
 
 void controllerFlags(CliParser& t, EvolveOptions& o) {

@@ -16,7 +16,8 @@ const std::vector<std::string> kNotHoverFlags = {
     "--link-axis",    "--link-stiffness",   "--start-rate",     "--gust",
     "--gust-torque",  "--gust-torque-time", "--gust-force",     "--gust-force-time",
     "--gust-link",    "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
-    "--crash-height", "--climb-input",      "--velocity-noise", "--upright-floor"};
+    "--crash-height", "--climb-input",      "--velocity-noise", "--upright-floor",
+    "--rms-ceiling"};
 
 // The flags of --preset morph alone.
 bool morphFlag(const std::string& name) {
@@ -145,9 +146,12 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--gust-link" && e.gust_force == 0.0) why = "without --gust-force";
     if (name == "--gust-force-time" && e.gust_force == 0.0) why = "without --gust-force";
     if (name == "--gust-torque-time" && e.gust_torque == 0.0) why = "without --gust-torque";
-    if ((name == "--altitude" || name == "--upright-floor") && !e.altitude_hold) {
+    const bool settled_term = name == "--upright-floor" || name == "--rms-ceiling";
+    const bool term_on =
+        name == "--upright-floor" ? e.upright_floor > 0.0 : e.altitude_rms_ceiling > 0.0;
+    if ((name == "--altitude" || settled_term) && !e.altitude_hold) {
       why = "without --altitude-hold on";
-    } else if (name == "--upright-floor" && e.upright_floor > 0.0 && e.settle_time >= e.duration) {
+    } else if (settled_term && term_on && e.settle_time >= e.duration) {
       why = "with --settle at or after --duration (no sample settles)";
     }
     if (name == "--altitude-noise" && !p.controller.altitude_input) {
@@ -156,10 +160,10 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--velocity-noise" && !p.controller.climb_input) {
       why = "without a climb input (--climb-input on)";
     }
-    if (name == "--settle" && e.upright_floor <= 0.0) {
+    if (name == "--settle" && e.upright_floor <= 0.0 && e.altitude_rms_ceiling <= 0.0) {
       why =
-          "but with --preset hover or morph or --upright-floor (the flap network's fitness "
-          "has none without it)";
+          "but with --preset hover or morph, --upright-floor or --rms-ceiling (the flap "
+          "network's fitness has none without them)";
     }
     if (name == "--motor-work") {
       why = "but with --preset hover or morph (the flap network's fitness counts no power)";
@@ -188,6 +192,37 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     }
     if (!why.empty()) throw InputError(name + ": has no effect " + why);
   }
+}
+
+void settleFlags(CliParser& t, EpisodeParams& e, const char* spec_tag) {
+  t.real("--settle", "S", &e.settle_time, {0, kMaxEpisodeDuration},
+         "the altitude rms (--preset hover: every figure) counts after S s")
+      .tag(spec_tag)
+      .custom(
+          "--upright-floor", {"U", "W"},
+          [&e](const std::vector<std::string>& v) {
+            e.upright_floor = parseCliReal("--upright-floor", v[0], {0, 1});
+            e.upright_floor_weight = parseCliReal("--upright-floor", v[1], {0, 1e6});
+          },
+          [&e] {
+            return formatCliNumber(e.upright_floor) + " " + formatCliNumber(e.upright_floor_weight);
+          },
+          "with --altitude-hold on: an episode whose lowest up-component after --settle falls "
+          "below U scores W m less per unit below it (flight_check's bar: 0.5; 0 0: off)")
+      .tag(spec_tag)
+      .custom(
+          "--rms-ceiling", {"R", "W"},
+          [&e](const std::vector<std::string>& v) {
+            e.altitude_rms_ceiling = parseCliReal("--rms-ceiling", v[0], {0, 1e3});
+            e.altitude_rms_weight = parseCliReal("--rms-ceiling", v[1], {0, 1e6});
+          },
+          [&e] {
+            return formatCliNumber(e.altitude_rms_ceiling) + " " +
+                   formatCliNumber(e.altitude_rms_weight);
+          },
+          "with --altitude-hold on: an episode whose altitude rms after --settle exceeds R m "
+          "scores W m less per m over it (flight_check's bar: 0.3; 0 0: off)")
+      .tag(spec_tag);
 }
 
 }  // namespace flapsim

@@ -1,7 +1,7 @@
 // The rules by which evolve refuses a flag that would change nothing: the flap network's flags
 // under the hover presets, and the flags whose effect hangs on another's; and the flags of the
-// morph preset alone. Private to
-// flapsim_core (evolve_args.cpp).
+// morph preset alone, and the settling time with the fitness terms that count after it. Private
+// to flapsim_core (evolve_args.cpp).
 #pragma once
 
 #include <string>
@@ -33,6 +33,10 @@ CliParser& motorWorkFlag(CliParser& t, MotorWorkMeter* meter, const char* help);
 /// Adds `--added-mass-products NAME` (omitted, kirchhoff or shed, anything else refused by
 /// name) writing `products`; the added flag is the parser's last (to tag).
 CliParser& addedMassProductsFlag(CliParser& t, AddedMassProducts* products);
+
+/// `--settle S` and the fitness terms that count after it, `--upright-floor U W` and
+/// `--rms-ceiling R W` (a flap network holding an altitude), tagged `spec_tag`.
+void settleFlags(CliParser& t, EpisodeParams& e, const char* spec_tag);
 
 /// A flap network's evolution: throws InputError naming the first flag `seen` whose effect
 /// hangs on another's that `p` leaves without effect.

@@ -191,6 +191,15 @@ std::string uprightFloorTerm(const EpisodeParams& e) {
   return out.str();
 }
 
+// The episode's altitude rms ceiling, as the fitness line says it ("" when off).
+std::string rmsCeilingTerm(const EpisodeParams& e) {
+  if (!e.altitude_hold || e.altitude_rms_ceiling <= 0.0) return "";
+  std::ostringstream out;
+  out << ", each episode less " << e.altitude_rms_weight << " m per m its altitude rms after "
+      << e.settle_time << " s exceeds " << e.altitude_rms_ceiling << " m";
+  return out.str();
+}
+
 // --preset morph: the best's body file and URDF (its gains are written as hover's). The
 // lines written, or why the body was refused.
 std::string writeMorphBody(const EvolveOptions& o, const MorphIndividual& m,
@@ -293,8 +302,8 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
          << (params.episode.altitude_hold ? "of -|height - setpoint| - (1 - up-component) (m)"
                                           : "root-body height (m)")
          << " over " << params.episode.episodes << " episodes of " << params.episode.duration
-         << " s" << sealedEnds(params.episode) << uprightFloorTerm(params.episode) << ": "
-         << result.best_fitness
+         << " s" << sealedEnds(params.episode) << uprightFloorTerm(params.episode)
+         << rmsCeilingTerm(params.episode) << ": " << result.best_fitness
          << "\nWeights: per neuron its input weights then its bias; hidden (tanh) neurons first,"
          << (params.controller.network == FlapNetwork::kMirror
                  ? " then the output (the right wing; the left is the net on mirrored inputs)."
