@@ -467,19 +467,16 @@ TEST(ToolTables, EvolveFlagsKeepTheirMeaningAndRefuseByFlag) {
   EXPECT_EQ(refused({"--settle", "3"}),
             "--settle: has no effect but with --preset hover or morph, --upright-floor or "
             "--rms-ceiling (the flap network's fitness has none without them)");
-  EXPECT_EQ(refused({"--upright-floor", "0.6", "5", "--settle", "3"}), "");
-  EXPECT_EQ(refused({"--upright-floor", "0.6", "5", "--settle", "20"}),
-            "--upright-floor: has no effect with --settle at or after --duration (no sample "
-            "settles)");
-  EXPECT_EQ(refused({"--upright-floor", "0.6", "5", "--altitude-hold", "off"}),
-            "--upright-floor: has no effect without --altitude-hold on");
+  // The fitness terms that count after --settle.
+  for (const std::string term : {"--upright-floor", "--rms-ceiling"}) {
+    SCOPED_TRACE(term);
+    EXPECT_EQ(refused({term, "0.3", "5", "--settle", "3"}), "");
+    EXPECT_EQ(refused({term, "0.3", "5", "--settle", "20"}),
+              term + ": has no effect with --settle at or after --duration (no sample settles)");
+    EXPECT_EQ(refused({term, "0.3", "5", "--altitude-hold", "off"}),
+              term + ": has no effect without --altitude-hold on");
+  }
   EXPECT_EQ(refused({"--upright-floor", "1.5", "5"}), "--upright-floor: 1.5 is not in [0, 1]");
-  EXPECT_EQ(refused({"--rms-ceiling", "0.3", "2", "--settle", "3"}), "");
-  EXPECT_EQ(refused({"--rms-ceiling", "0.3", "2", "--settle", "20"}),
-            "--rms-ceiling: has no effect with --settle at or after --duration (no sample "
-            "settles)");
-  EXPECT_EQ(refused({"--rms-ceiling", "0.3", "2", "--altitude-hold", "off"}),
-            "--rms-ceiling: has no effect without --altitude-hold on");
   EXPECT_EQ(refused({"--rms-ceiling", "-1", "2"}), "--rms-ceiling: -1 is not in [0, 1000]");
   EXPECT_EQ(refused({"--preset", "hover", "--rms-ceiling", "0.3", "2"}),
             "--rms-ceiling: not a flag of --preset hover (the hover controller's gains)");

@@ -238,13 +238,20 @@ TEST(Episodes, GustsActFromTheirDrawnTimeOn) {
 
 // evolve --upright-floor U W: an episode whose lowest up-component after settling falls below
 // U scores W m less per unit below it, to the bit; a floor under that lowest changes nothing.
-TEST(UprightFloor, TakesWPerUnitOfTheLowestUpComponentBelowTheFloorAfterSettling) {
-  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
-  const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
+// A second of the open-loop flap unit holding an altitude, settled after half of it: the
+// episode of the settled terms' tests.
+EpisodeParams settledSecond() {
   EpisodeParams p;
   p.duration = 1.0;
   p.settle_time = 0.5;
   p.altitude_hold = true;
+  return p;
+}
+
+TEST(UprightFloor, TakesWPerUnitOfTheLowestUpComponentBelowTheFloorAfterSettling) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
+  EpisodeParams p = settledSecond();
   EpisodeStart start;
   start.roll = 0.3;
   start.altitude = 1.0;
@@ -265,10 +272,7 @@ TEST(UprightFloor, TakesWPerUnitOfTheLowestUpComponentBelowTheFloorAfterSettling
 TEST(RmsCeiling, TakesWPerMetreOfTheAltitudeRmsAboveTheCeilingAfterSettling) {
   const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
   const OpenLoopWingController open(StrokeCommand{40, 10, 1.2});
-  EpisodeParams p;
-  p.duration = 1.0;
-  p.settle_time = 0.5;
-  p.altitude_hold = true;
+  EpisodeParams p = settledSecond();
   EpisodeStart start;
   start.altitude = 3.0;  // 2 m above the start: the open-loop unit misses it by metres
   const EpisodeResult off = runEpisode(afc, open, 0.02, p, start);
