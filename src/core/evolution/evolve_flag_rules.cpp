@@ -194,34 +194,37 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
   }
 }
 
+namespace {
+
+// A fitness term that counts after --settle: `name` LEVEL W, LEVEL in `level_range` into
+// `level`, W (m per unit past the level) into `weight`; "0 0" is off.
+CliParser& settledTermFlag(CliParser& t, const std::string& name, const std::string& metavar,
+                           double* level, CliRange level_range, double* weight,
+                           const std::string& help) {
+  return t.custom(
+      name, {metavar, "W"},
+      [=](const std::vector<std::string>& v) {
+        *level = parseCliReal(name, v[0], level_range);
+        *weight = parseCliReal(name, v[1], {0, 1e6});
+      },
+      [=] { return formatCliNumber(*level) + " " + formatCliNumber(*weight); }, help);
+}
+
+}  // namespace
+
 void settleFlags(CliParser& t, EpisodeParams& e, const char* spec_tag) {
   t.real("--settle", "S", &e.settle_time, {0, kMaxEpisodeDuration},
          "the altitude rms (--preset hover: every figure) counts after S s")
-      .tag(spec_tag)
-      .custom(
-          "--upright-floor", {"U", "W"},
-          [&e](const std::vector<std::string>& v) {
-            e.upright_floor = parseCliReal("--upright-floor", v[0], {0, 1});
-            e.upright_floor_weight = parseCliReal("--upright-floor", v[1], {0, 1e6});
-          },
-          [&e] {
-            return formatCliNumber(e.upright_floor) + " " + formatCliNumber(e.upright_floor_weight);
-          },
-          "with --altitude-hold on: an episode whose lowest up-component after --settle falls "
-          "below U scores W m less per unit below it (flight_check's bar: 0.5; 0 0: off)")
-      .tag(spec_tag)
-      .custom(
-          "--rms-ceiling", {"R", "W"},
-          [&e](const std::vector<std::string>& v) {
-            e.altitude_rms_ceiling = parseCliReal("--rms-ceiling", v[0], {0, 1e3});
-            e.altitude_rms_weight = parseCliReal("--rms-ceiling", v[1], {0, 1e6});
-          },
-          [&e] {
-            return formatCliNumber(e.altitude_rms_ceiling) + " " +
-                   formatCliNumber(e.altitude_rms_weight);
-          },
-          "with --altitude-hold on: an episode whose altitude rms after --settle exceeds R m "
-          "scores W m less per m over it (flight_check's bar: 0.3; 0 0: off)")
+      .tag(spec_tag);
+  settledTermFlag(t, "--upright-floor", "U", &e.upright_floor, {0, 1}, &e.upright_floor_weight,
+                  "with --altitude-hold on: an episode whose lowest up-component after --settle "
+                  "falls below U scores W m less per unit below it (flight_check's bar: 0.5; 0 0: "
+                  "off)")
+      .tag(spec_tag);
+  settledTermFlag(t, "--rms-ceiling", "R", &e.altitude_rms_ceiling, {0, 1e3},
+                  &e.altitude_rms_weight,
+                  "with --altitude-hold on: an episode whose altitude rms after --settle exceeds R "
+                  "m scores W m less per m over it (flight_check's bar: 0.3; 0 0: off)")
       .tag(spec_tag);
 }
 
