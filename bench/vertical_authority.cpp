@@ -2,7 +2,7 @@
 // sink, and what the flap unit has. Prints figures; never passes or fails.
 //
 //   vertical_authority [--level light] [--height 5] [--wind 1] [--flights 40] [--duration 60]
-//                      [--settle 10] [--pairs 1]
+//                      [--settle 10] [--pairs 1] [--wing-effort NM]
 //
 // 1. The bound: an ideal controller that knows the vertical air speed w it is in and moves
 //    against it at up to A m/s relative to the air (dz/dt = w - clamp(w + z / 0.5 s, -A, A)),
@@ -10,12 +10,16 @@
 //    --duration s each, the altitude error's rms after --settle s), for A = 0.5 to 3 m/s: its
 //    mean and largest rms over the flights. No creature with that authority can do better.
 // 2. The flap unit's authority (make_creature --pairs 1, 8 N m wing motors; --pairs N: the
-//    chain of N units): open loop from level at rest, every wing at one downstroke and upstroke
-//    rate, amplitude 1.2 rad, its root's vertical speed from 2 to 4 s (before it tips over),
-//    for the robust preset's rate range.
+//    chain of N units, 2 N m motors; --wing-effort: another limit): open loop from level at
+//    rest, every wing at one downstroke and upstroke rate, amplitude 1.2 rad, its root's mean
+//    vertical speed over the whole strokes between 1 and 2.5 s (from the first wing's upward
+//    zero crossing to its last), and the strokes' mean period. By 1 s each stroke climbs as
+//    the one before it to 1 %; from 2.5-4 s on, open loop, the creature tips and the climb
+//    falls away. A fixed window cuts a stroke, whose bob moves a 2 s mean by up to 0.2 m/s.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -63,13 +67,18 @@ Bound idealBound(double authority, const std::string& level, double height, doub
 
 // The root's mean vertical speed from 2 to 4 s of a chain of `pairs` flap units, open loop from
 // level at rest, in the air whose added mass does `products` (AirParams::added_mass_products).
-double openLoopClimb(int pairs, double downstroke, double upstroke,
-                     flapsim::AddedMassProducts products) {
+struct Climb {
+  double speed = 0.0;   // m/s
+  double period = 0.0;  // s
+};
+
+Climb openLoopClimb(int pairs, double downstroke, double upstroke,
+                    flapsim::AddedMassProducts products, const flapsim::FlapUnitParams& unit) {
   flapsim::WorldParams p;
   p.ground = false;
   p.air.added_mass_products = products;
   flapsim::World world(p);
-  const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(pairs, "afc"),
+  const auto model = flapsim::parseCreatureModel(flapsim::makeCreatureUrdf(pairs, "afc", unit),
                                                  "afc" + std::to_string(pairs));
   flapsim::Pose pose;
   pose.position = flapsim::Vec3(0.0, 0.0, 50.0);
@@ -85,10 +94,24 @@ double openLoopClimb(int pairs, double downstroke, double upstroke,
     commands.push_back(c);
   }
   world.setWingCommands("afc", joints, commands);
-  world.step(2000);
-  const double z2 = world.rootPose("afc").position.z();
-  world.step(2000);
-  return (world.rootPose("afc").position.z() - z2) / 2.0;
+  const int wing = model->wing_joints.front();
+  const double dt = world.params().step_size;
+  const auto steps = static_cast<int>(std::lround(2.5 / dt));
+  double last = world.state("afc").joint_positions[wing];
+  int strokes = -1;
+  double t0 = 0.0, z0 = 0.0, t1 = 0.0, z1 = 0.0;
+  for (int i = 1; i <= steps; ++i) {
+    world.step(1);
+    const double q = world.state("afc").joint_positions[wing];
+    if (last < 0.0 && q >= 0.0 && i * dt >= 1.0) {
+      t1 = i * dt;
+      z1 = world.rootPose("afc").position.z();
+      if (++strokes == 0) t0 = t1, z0 = z1;
+    }
+    last = q;
+  }
+  if (strokes < 1) throw std::runtime_error("no whole stroke between 1 and 2.5 s");
+  return Climb{(z1 - z0) / (t1 - t0), (t1 - t0) / strokes};
 }
 
 }  // namespace
@@ -97,6 +120,7 @@ int main(int argc, char** argv) {
   std::string level = "light";
   double height = 5.0, wind = 1.0, duration = 60.0, settle = 10.0;
   int flights = 40, pairs = 1;
+  double wing_effort = 0.0;
   std::string products = flapsim::addedMassProductsName(flapsim::AirParams().added_mass_products);
   flapsim::CliParser cli("usage: vertical_authority [options]");
   cli.text("--level", "LEVEL", &level, "turbulence: light, moderate or severe")
@@ -108,7 +132,10 @@ int main(int argc, char** argv) {
       .text("--added-mass-products", "NAME", &products,
             "the flap unit's air: what its plates' added mass does beyond -A dnu",
             flapsim::addedMassProductsNames())
-      .integer("--pairs", "N", &pairs, {1, 24}, "the open-loop flier: a chain of N flap units");
+      .integer("--pairs", "N", &pairs, {1, 24}, "the open-loop flier: a chain of N flap units")
+      .real(
+          "--wing-effort", "NM", &wing_effort, {0, 1e6},
+          "its wing motors' torque limit (0: make_creature's, 8 N m for one unit, 2 for a chain)");
   try {
     cli.parse(std::vector<std::string>(argv + 1, argv + argc));
     if (cli.help()) {
@@ -128,16 +155,19 @@ int main(int argc, char** argv) {
       const Bound b = idealBound(a, level, height, wind, flights, duration, settle);
       std::printf("%7.2f  %12.3f  %15.3f\n", a, b.mean, b.worst);
     }
+    flapsim::FlapUnitParams unit;
+    if (wing_effort > 0.0) unit.wing_effort = wing_effort;
     std::printf(
-        "%d flap unit(s) open loop (every wing alike, amplitude 1.2 rad; the added mass's "
-        "products %s), the root's vertical speed from 2 to 4 s:\n",
-        pairs, products.c_str());
-    std::printf("downstroke  upstroke (rad/s)  climb (m/s)\n");
+        "%d flap unit(s) open loop (every wing alike, amplitude 1.2 rad, %g N m wing motors; the "
+        "added mass's products %s), the root's mean vertical speed over the whole strokes "
+        "between 1 and 2.5 s:\n",
+        pairs, flapsim::wingEffort(unit, pairs), products.c_str());
+    std::printf("downstroke  upstroke (rad/s)  climb (m/s)  stroke period (s)\n");
     for (const auto& r : std::vector<std::pair<double, double>>{
              {10, 10}, {20, 10}, {30, 10}, {40, 10}, {60, 10}, {80, 10}, {100, 10}}) {
-      std::printf(
-          "%10.0f  %16.0f  %11.2f\n", r.first, r.second,
-          openLoopClimb(pairs, r.first, r.second, flapsim::parseAddedMassProducts(products)));
+      const Climb c =
+          openLoopClimb(pairs, r.first, r.second, flapsim::parseAddedMassProducts(products), unit);
+      std::printf("%10.0f  %16.0f  %11.2f  %17.4f\n", r.first, r.second, c.speed, c.period);
     }
     return 0;
   } catch (const std::exception& e) {

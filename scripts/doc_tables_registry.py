@@ -354,7 +354,7 @@ def vertical_authority():
         text = out[run.key]
         bound = re.findall(r"^ *([0-9]+\.[0-9]+) +([0-9.]+) +([0-9.]+)$", text, re.M)
         climb = {int(d): float(v) for d, _, v in
-                 re.findall(r"^ *([0-9]+) +([0-9]+) +(-?[0-9.]+)$", text, re.M)}
+                 re.findall(r"^ *([0-9]+) +([0-9]+) +(-?[0-9.]+) +[0-9.]+$", text, re.M)}
         if len(bound) < 4 or not climb:
             raise ValueError("vertical_authority output: no bound or no climb rows")
 
@@ -374,8 +374,8 @@ def vertical_authority():
                    "that knows the vertical air speed w and moves against it at up to A m/s "
                    "(dz/dt = w - clamp(w + z / 0.5 s, -A, A)), light turbulence at 5 m in a 1 m/s "
                    "wind, 40 realisations of 60 s, the rms after 10 s; the flap unit open loop "
-                   "from level, both wings alike, its vertical speed from 2 to 4 s, at 10, 20, "
-                   "30, 40, 60, 80 and 100 rad/s"))
+                   "from level, both wings alike, its mean vertical speed over its whole strokes "
+                   "from 1 to 2.5 s (before it tips), at 10, 20, 30, 40, 60, 80 and 100 rad/s"))
 
 
 held_out_starts()
