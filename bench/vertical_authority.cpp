@@ -65,8 +65,9 @@ Bound idealBound(double authority, const std::string& level, double height, doub
   return b;
 }
 
-// The root's mean vertical speed from 2 to 4 s of a chain of `pairs` flap units, open loop from
-// level at rest, in the air whose added mass does `products` (AirParams::added_mass_products).
+// The root's mean vertical speed over the whole strokes from 1 to 2.5 s of a chain of `pairs`
+// flap units of `unit`, open loop from level at rest, in the air whose added mass does
+// `products` (AirParams::added_mass_products), and the strokes' mean period.
 struct Climb {
   double speed = 0.0;   // m/s
   double period = 0.0;  // s

@@ -135,29 +135,32 @@ def chain_authority():
     """bench/vertical_authority.cpp --pairs N: the open-loop climb of the flap unit and of the
     chains of 4 and 12 units at each downstroke rate, in the default air, each with its own
     wing motors, and the chain of 4 with the unit's."""
-    columns = [(f"pairs {n}", ["--pairs", str(n)], f"afc_{n}") for n in CHAIN_PAIRS]
-    columns.append(("pairs 4 at 8 N m", ["--pairs", "4", "--wing-effort", "8"],
-                    "afc_4 with 8 N m motors"))
+    # (run key, flags, the wing motors make_creature gives it (N m), column header)
+    columns = [(f"pairs {n}", ["--pairs", str(n)], 8 if n == 1 else 2, f"afc_{n}")
+               for n in CHAIN_PAIRS]
+    columns.append(("pairs 4 at 8 N m", ["--pairs", "4", "--wing-effort", "8"], 8, "afc_4 `--wing-effort 8`"))
     runs = [Run(key, ["bin/vertical_authority", "--flights", "1"] + flags)
-            for key, flags, _ in columns]
+            for key, flags, _, _ in columns]
 
     def rows(out):
         climbs = []
-        for key, _, _ in columns:
+        for key, _, motors, _ in columns:
             text = out[key]
             found = re.findall(r"^ *([0-9]+) +([0-9]+) +(-?[0-9.]+) +[0-9.]+$", text, re.M)
             effort = re.search(r"([0-9.]+) N m wing motors", text)
             if not found or not effort:
                 raise ValueError(f"vertical_authority ({key}): no climb rows or no motors")
-            climbs.append((found, effort.group(1)))
-        if len({tuple(r[:2] for r in c) for c, _ in climbs}) != 1:
+            if float(effort.group(1)) != motors:
+                raise ValueError(f"vertical_authority ({key}): {effort.group(1)} N m wing "
+                                 f"motors, not the {motors} N m its column names")
+            climbs.append(found)
+        if len({tuple(r[:2] for r in c) for c in climbs}) != 1:
             raise ValueError("vertical_authority: the chains' rates differ from the unit's")
-        return [[f"{down} / {up}"] + [f"{float(c[i][2]):.2f} m/s" for c, _ in climbs]
-                for i, (down, up, _) in enumerate(climbs[0][0])]
+        return [[f"{down} / {up}"] + [f"{float(c[i][2]):.2f} m/s" for c in climbs]
+                for i, (down, up, _) in enumerate(climbs[0])]
     return Table("chain_authority", "doc/flight_and_evolution.md",
-                 ["downstroke / upstroke (rad/s)", "afc_1 (8 N m motors) climbs at",
-                  "afc_4 (2 N m) climbs at", "afc_12 (2 N m) climbs at",
-                  "afc_4 with 8 N m motors climbs at"],
+                 ["downstroke / upstroke (rad/s)"] +
+                 [f"{name} ({motors} N m motors) climbs at" for _, _, motors, name in columns],
                  runs, rows,
                  "`bin/vertical_authority --flights 1 --pairs N [--wing-effort 8]` "
                  "(bench/vertical_authority.cpp): the creature open loop from level at rest, "
