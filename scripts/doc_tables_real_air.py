@@ -89,10 +89,10 @@ NOISE = ["--velocity-noise", "0.05"]
 README_FLYERS = [
     ("afc_1", "`config/afc_1_shed_floor_weights.yaml`",
      ["--weights", "config/afc_1_shed_floor_weights.yaml"] + NOISE),
-    ("afc_4", "`config/afc_4_shed_air_weights.yaml`",
-     ["--weights", "config/afc_4_shed_air_weights.yaml", "--pairs", "4"] + NOISE),
-    ("afc_6", "`config/afc_4_shed_air_weights.yaml`",
-     ["--weights", "config/afc_4_shed_air_weights.yaml", "--pairs", "6"] + NOISE),
+    ("afc_4", "`config/afc_4_ceiling_weights.yaml`",
+     ["--weights", "config/afc_4_ceiling_weights.yaml", "--pairs", "4"] + NOISE),
+    ("afc_6", "`config/afc_4_ceiling_weights.yaml`",
+     ["--weights", "config/afc_4_ceiling_weights.yaml", "--pairs", "6"] + NOISE),
     ("afc_12", "`config/afc_12_shed_air_weights.yaml`",
      ["--weights", "config/afc_12_shed_air_weights.yaml", "--pairs", "12"] + NOISE),
     ("hover_1", "`config/hover_1_gains.yaml` (hover.launch's)",
@@ -170,7 +170,7 @@ def chain_authority():
                  "one unit 8 N m wing motors and a chain 2 N m")
 
 
-CEILING = [("the default (`config/afc_4_shed_air_weights.yaml`)", "config/afc_4_shed_air_weights.yaml"),
+CEILING = [("the previous default (`config/afc_4_shed_air_weights.yaml`)", "config/afc_4_shed_air_weights.yaml"),
            ("50 generations on 16 episodes (`config/afc_4_ceiling_16_weights.yaml`)",
             "config/afc_4_ceiling_16_weights.yaml"),
            ("then 18 on 24 episodes (`config/afc_4_ceiling_24_weights.yaml`)",
