@@ -14,6 +14,7 @@
 #include "flapsim/flight_check.h"
 #include "flapsim/make_creature.h"
 #include "flapsim/real_air.h"
+#include "flapsim/turbulence.h"
 #include "flapsim/world.h"
 #include "test_util.h"
 
@@ -121,6 +122,44 @@ TEST(RealAirDraws, GivenSizesReplaceRealAirsAndKeepTheDrawnSignsAndTimes) {
   EXPECT_EQ(given.force_time, real.force_time);
   EXPECT_EQ(given.wind, real.wind);
   EXPECT_EQ(given.gyro_bias, real.gyro_bias);
+}
+
+// flight_check --real-air --wind 2 --turbulence moderate (the report beside the bar):
+// the wind and turbulence given replace real air's 1 m/s and light, the wind's drawn heading,
+// the impulses and the sensors' noises stay real air's, and the report names the air flown.
+TEST(RealAirDraws, FlightChecksWindAndTurbulenceReplaceRealAirsAndKeepTheRest) {
+  const CreatureModelPtr afc = test::loadUrdf("afc_1.urdf");
+  FlightCheckOptions given, plain;
+  CliParser given_cli = flightCheckCli(given), plain_cli = flightCheckCli(plain);
+  const std::vector<CliSeen> seen =
+      given_cli.parse({"--real-air", "--wind", "2", "--turbulence", "moderate"});
+  EXPECT_EQ(flightCheckUnusedFlag(given, seen), "");
+  takeRealAirSizes(given, seen);
+  takeRealAirSizes(plain, plain_cli.parse({"--real-air"}));
+  const FlightCheckParams real = realAirParams(plain.params, *afc);
+  const FlightCheckParams moderate = realAirParams(given.params, *afc);
+  EXPECT_EQ(real.wind, 1.0);
+  EXPECT_EQ(real.turbulence, turbulenceLevelWind("light"));
+  EXPECT_EQ(moderate.wind, 2.0);
+  EXPECT_EQ(moderate.turbulence, turbulenceLevelWind("moderate"));
+  EXPECT_EQ(moderate.gust_torque, real.gust_torque);
+  EXPECT_EQ(moderate.gust_force, real.gust_force);
+  EXPECT_EQ(moderate.noise, real.noise);
+  EXPECT_EQ(moderate.gyro_bias, real.gyro_bias);
+  EXPECT_EQ(moderate.altitude_noise, real.altitude_noise);
+  const EpisodeStart a = episodeStarts(flightCheckEpisodes(real), afc.get()).front();
+  const EpisodeStart b = episodeStarts(flightCheckEpisodes(moderate), afc.get()).front();
+  EXPECT_NEAR((b.wind - 2.0 * a.wind).norm(), 0.0, 1e-12);
+  EXPECT_EQ(b.torque_time, a.torque_time);
+  EXPECT_EQ(realAirName(real), "real air");
+  EXPECT_EQ(realAirName(moderate), "real air, wind 2 m/s, turbulence W20 15.43 m/s");
+  FlightCheckOptions still;
+  CliParser still_cli = flightCheckCli(still);
+  takeRealAirSizes(still, still_cli.parse({"--real-air", "--wind", "0", "--turbulence", "none"}));
+  const FlightCheckParams calm = realAirParams(still.params, *afc);
+  EXPECT_EQ(calm.wind, 0.0);
+  EXPECT_EQ(calm.turbulence, 0.0);
+  EXPECT_EQ(realAirName(still.params), "real air, wind 0 m/s, no turbulence");
 }
 
 TEST(RealAirDraws, BadParametersAreRefusedByName) {

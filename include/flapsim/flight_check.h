@@ -54,6 +54,10 @@ struct FlightCheckParams {
   /// With real_air: this roll torque (N m) and push (N) instead of real air's (0: none; their
   /// signs are drawn), from flight_check --real-air --gust-torque T / --gust-force F.
   std::optional<double> real_air_torque, real_air_force;
+  /// With real_air: this steady wind (m/s, its heading drawn) and turbulence (the wind at 6 m,
+  /// m/s; 0: none) instead of real air's 1 m/s and light, from flight_check --real-air --wind
+  /// SPEED / --turbulence LEVEL (the "moderate turbulence and 2 m/s wind").
+  std::optional<double> real_air_wind, real_air_turbulence;
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
 };
 
@@ -63,6 +67,10 @@ struct FlightCheckParams {
 /// (afc_1: 0.043 N m and 0.90 N), IMU noise 0.05 rad and 0.05 rad/s, a gyro bias up to
 /// 0.02 rad/s, altimeter noise 0.05 m.
 FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model);
+
+/// "real air", and the wind and turbulence given instead of its own (p.real_air_wind,
+/// _turbulence): the reports' name for the air flown.
+std::string realAirName(const FlightCheckParams& p);
 
 /// Real air's two impulses for `model` (realAirParams'): the roll torque and the push on a wing.
 struct RealAirImpulses {
@@ -123,8 +131,9 @@ struct FlightCheckOptions {
 /// flight_check's flags (flapsim/cli_args.h), over `options`.
 CliParser flightCheckCli(FlightCheckOptions& options);
 
-/// flight_check's --gust-torque and --gust-force given with --real-air (`seen`, the parse of
-/// `o`'s table) become real air's sizes in `o` (FlightCheckParams::real_air_torque, _force).
+/// flight_check's --gust-torque, --gust-force, --wind and --turbulence given with --real-air
+/// (`seen`, the parse of `o`'s table) become real air's sizes in `o`
+/// (FlightCheckParams::real_air_torque, _force, _wind, _turbulence).
 void takeRealAirSizes(FlightCheckOptions& o, const std::vector<CliSeen>& seen);
 
 /// Empty if every flag `seen` (flightCheckCli's parse) changes what the mode of `options` flies;

@@ -98,8 +98,8 @@ RealAirImpulses realAirImpulses(const CreatureModel& model) {
 
 FlightCheckParams realAirParams(FlightCheckParams p, const CreatureModel& model) {
   const RealAirImpulses i = realAirImpulses(model);
-  p.wind = kRealAirWind;
-  p.turbulence = turbulenceLevelWind(kRealAirTurbulence);
+  p.wind = p.real_air_wind.value_or(kRealAirWind);
+  p.turbulence = p.real_air_turbulence.value_or(turbulenceLevelWind(kRealAirTurbulence));
   p.gust_torque = p.real_air_torque.value_or(i.torque);
   p.gust_force = p.real_air_force.value_or(i.force);
   p.noise = kRealAirImuNoise;
@@ -180,7 +180,8 @@ void airAndSensorFlags(CliParser& t, FlightCheckParams& p) {
             "real air, all at once: wind 1 m/s, light turbulence, a roll torque (0.5 x weight x "
             "half-span) for 0.5 s and a push on a drawn wing (4 x its unit's weight) for 0.2 s "
             "at drawn times, IMU noise 0.05, a gyro bias up to 0.02 rad/s, altimeter noise "
-            "0.05 m (--hover too: from held-out starts)")
+            "0.05 m (--hover too: from held-out starts); --wind and --turbulence with it give "
+            "its wind and turbulence instead")
       .real("--gust-torque", "NM", &p.gust_torque, {-1e6, 1e6},
             "a roll torque at a time drawn per start (10-60 % of the flight), sign drawn; with "
             "--real-air its size instead of real air's (0: none)")
@@ -264,6 +265,8 @@ void takeRealAirSizes(FlightCheckOptions& o, const std::vector<CliSeen>& seen) {
     const std::string& name = given.flag->names[0];
     if (name == "--gust-torque") p.real_air_torque = p.gust_torque;
     if (name == "--gust-force") p.real_air_force = p.gust_force;
+    if (name == "--wind") p.real_air_wind = p.wind;
+    if (name == "--turbulence") p.real_air_turbulence = p.turbulence;
   }
 }
 
@@ -285,8 +288,9 @@ std::string flightCheckUnusedFlag(const FlightCheckOptions& o, const std::vector
     if (!o.hover && given.flag->tag == kHoverOnly) {
       return name + " is for --hover only (the network's flights have no hover gains)";
     }
-    for (const char* set : {"--wind", "--turbulence", "--gust-link", "--gust-time", "--noise",
-                            "--altitude-noise", "--gyro-bias"}) {
+    // --wind and --turbulence with --real-air give its air (takeRealAirSizes); these it sets.
+    for (const char* set :
+         {"--gust-link", "--gust-time", "--noise", "--altitude-noise", "--gyro-bias"}) {
       if (p.real_air && name == set) return name + " is set by --real-air (give one or the other)";
     }
     if (name == "--gust-link" && p.gust_force == 0.0) {
@@ -314,6 +318,20 @@ std::string flightCheckUnusedSensorFlag(const FlapControllerParams& controller,
     }
   }
   return "";
+}
+
+std::string realAirName(const FlightCheckParams& p) {
+  std::string name = "real air";
+  if (p.real_air_wind) {
+    char wind[64];
+    std::snprintf(wind, sizeof wind, ", wind %g m/s", *p.real_air_wind);
+    name += wind;
+  }
+  if (p.real_air_turbulence) {
+    name += *p.real_air_turbulence > 0.0 ? turbulenceNote(*p.real_air_turbulence)
+                                         : std::string(", no turbulence");
+  }
+  return name;
 }
 
 std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<FlightCheckRun>& runs,
@@ -351,9 +369,9 @@ std::string flightCheckReport(const FlightCheckOptions& o, const std::vector<Fli
   std::snprintf(line, sizeof line, "%d of %zu starts passed (",
                 static_cast<int>(runs.size()) - failed, runs.size());
   out += line + o.weights;
+  const std::string air = p.real_air ? ", " + realAirName(p) : turbulenceNote(p.turbulence);
   std::snprintf(line, sizeof line, ", %g s at %g ms, %d wing pair(s)%s)\n", p.duration,
-                1000.0 * p.step_size, wing_pairs,
-                p.real_air ? ", real air" : turbulenceNote(p.turbulence).c_str());
+                1000.0 * p.step_size, wing_pairs, air.c_str());
   return out + line;
 }
 

@@ -67,15 +67,15 @@ std::string hoverRealAirReport(const FlightCheckOptions& o, const std::vector<Ho
     if (!r.passed()) ++failed;
     power += f.specificPower() / static_cast<double>(runs.size());
   }
-  char summary[256];
+  char summary[384];
   std::snprintf(summary, sizeof summary,
-                "%zu of %zu starts passed (hover, %s, holding %g m, %g s at %g ms, real air; pass: "
+                "%zu of %zu starts passed (hover, %s, holding %g m, %g s at %g ms, %s; pass: "
                 "no flip, up > 0.5, altitude rms < 0.3 m after 10 s, |mean bank| < 5 deg); "
                 "mean %.1f W/kg\n",
                 runs.size() - static_cast<size_t>(failed), runs.size(),
                 o.gains.empty() ? "gains by hand" : o.gains.c_str(),
                 hoverCheckController(o).altitude, o.params.duration, 1000.0 * o.params.step_size,
-                power);
+                realAirName(o.params).c_str(), power);
   return out + summary;
 }
 
