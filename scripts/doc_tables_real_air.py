@@ -178,6 +178,21 @@ CEILING = [("the previous default (`config/afc_4_shed_air_weights.yaml`)", "conf
            ("then 10 on 32 episodes (`config/afc_4_ceiling_weights.yaml`)",
             "config/afc_4_ceiling_weights.yaml")]
 CEILING_CHAINS = (4, 6)
+CEILING_12 = [("the default (`config/afc_12_shed_air_weights.yaml`)",
+               "config/afc_12_shed_air_weights.yaml"),
+              ("afc_4's carried (`config/afc_4_ceiling_weights.yaml`)",
+               "config/afc_4_ceiling_weights.yaml"),
+              ("that evolved on, on afc_12, 10 generations on 24 episodes "
+               "(`config/afc_12_ceiling_24_weights.yaml`)",
+               "config/afc_12_ceiling_24_weights.yaml")]
+
+
+def ceiling_cell(r):
+    """A ceiling table's cell for one flight of held-out starts: those that meet the bar; that
+    flip; whose lowest up-component after 10 s is above 0.5; the mean altitude rms after 10 s."""
+    rms = [x["alt_rms"] for x in r if x["alt_rms"] is not None]
+    return (f"**{sum(meets_real_air_bar(x) for x in r)}**; {flips(r)}; "
+            f"{sum(1 for x in r if x['up_set'] > 0.5)}; {sum(rms) / len(rms):.2f} m")
 
 
 def chain_ceiling():
@@ -195,11 +210,7 @@ def chain_ceiling():
             cells = []
             for n in CEILING_CHAINS:
                 for step in STEPS:
-                    r = starts(out[run_key(w, n, step)])
-                    rms = [x["alt_rms"] for x in r if x["alt_rms"] is not None]
-                    cells.append(f"**{sum(meets_real_air_bar(x) for x in r)}**; {flips(r)}; "
-                                 f"{sum(1 for x in r if x['up_set'] > 0.5)}; "
-                                 f"{sum(rms) / len(rms):.2f} m")
+                    cells.append(ceiling_cell(starts(out[run_key(w, n, step)])))
             result.append([label] + cells)
         return result
     return Table("chain_ceiling", "doc/flight_and_evolution.md",
@@ -239,5 +250,22 @@ def moderate_air():
                  "the bar as the README's")
 
 
+def chain_12_ceiling():
+    """afc_12's controllers, the ceiling's carried from afc_4 and evolved on, in real air against
+    the bar at 1 and 0.5 ms."""
+    runs = [Run(f"{w} | {step}", real_air_argv(["--weights", w, "--pairs", "12"] + NOISE, [], step))
+            for _, w in CEILING_12 for step in STEPS]
+
+    def rows(out):
+        return [[label] + [ceiling_cell(starts(out[f"{w} | {step}"])) for step in STEPS]
+                for label, w in CEILING_12]
+    return Table("chain_12_ceiling", "doc/flight_and_evolution.md",
+                 ["weights", "afc_12, 1 ms", "afc_12, 0.5 ms"], runs, rows,
+                 f"each cell `{FLIGHT_CHECK} --weights FILE --pairs 12 --velocity-noise 0.05 "
+                 f"--altitude 5 {' '.join(WIDE_STARTS)} --real-air` with the step's "
+                 "`--step-size`, 20 starts: those that meet the bar; that flip; whose lowest "
+                 "up-component after 10 s is above 0.5; the mean altitude rms after 10 s")
+
+
 TABLES = [afc_1_seeds, hover_impulses, readme_flight, chain_authority, chain_ceiling,
-          moderate_air]
+          moderate_air, chain_12_ceiling]
