@@ -89,6 +89,82 @@ TEST(Evolution, AnEvaluatorAnsweringInAnotherOrderGivesTheSameBits) {
   EXPECT_EQ(reverse.tasks_, evaluated * 2);  // every task went through it
 }
 
+// The episodes each batch of an evolution asks for, by batch.
+class RecordingEvaluator : public EpisodeEvaluator {
+ public:
+  explicit RecordingEvaluator(const EvaluationSpec& spec) : runner_(spec) {}
+  std::vector<double> evaluate(const std::vector<EpisodeTask>& tasks) override {
+    std::vector<double> out;
+    std::vector<int> episodes;
+    for (const EpisodeTask& t : tasks) {
+      out.push_back(runner_.evaluate(t));
+      episodes.push_back(t.episode);
+    }
+    batches_.push_back(episodes);
+    return out;
+  }
+  int workersUp() const override { return 1; }
+  std::vector<std::vector<int>> batches_;
+
+ private:
+  EpisodeRunner runner_;
+};
+
+// evolve --episode-sets 3 with 2 episodes: the runner draws 6; generation g asks for episodes
+// 2 (g mod 3) and 2 (g mod 3) + 1 of every individual, the elite and copies too; set 0 is the
+// episodes of the run without sets, so generation 0 is that run's to the bit; and an evaluator
+// answering in another order gives the same bits.
+TEST(EpisodeSets, GenerationGFliesSetGModKWithEveryIndividualAnew) {
+  EvolveParams one = tinyRun();
+  EvolveParams sets = one;
+  sets.episode_sets = 3;
+  const EvaluationSpec spec = evaluationSpec(sets);
+  EXPECT_EQ(spec.episode.episodes, 6);
+  RecordingEvaluator recorder(spec);
+  EvolveHooks hooks;
+  hooks.evaluator = &recorder;
+  const EvolveResult r = evolveFlapController(sets, hooks);
+  ASSERT_EQ(recorder.batches_.size(), 5u);  // generations 0-4, one batch each
+  for (size_t g = 0; g < recorder.batches_.size(); ++g) {
+    const int first = 2 * static_cast<int>(g % 3);
+    std::vector<int> expected;
+    for (int i = 0; i < sets.ga.population; ++i)
+      expected.insert(expected.end(), {first, first + 1});
+    EXPECT_EQ(recorder.batches_[g], expected) << "generation " << g;
+    EXPECT_EQ(r.history[g].evaluations, sets.ga.population) << "generation " << g;
+  }
+  const EvolveResult plain = evolveFlapController(one);
+  EXPECT_EQ(r.history[0].best, plain.history[0].best);
+  EXPECT_EQ(r.history[0].mean, plain.history[0].mean);
+  EXPECT_NE(r.history[1].mean, plain.history[1].mean);
+  ReverseEvaluator reverse(spec);
+  EvolveHooks other;
+  other.evaluator = &reverse;
+  const EvolveResult reversed = evolveFlapController(sets, other);
+  expectSameHistory(r.history, reversed.history);
+  EXPECT_EQ(r.best_weights, reversed.best_weights);
+}
+
+TEST(EpisodeSets, TheSpecCarriesThemAndBadCountsAreRefusedByName) {
+  const EvaluationSpec s =
+      evaluationSpecFromArgs({"--preset", "robust", "--episodes", "4", "--episode-sets", "3"});
+  EXPECT_EQ(s.episode.episodes, 12);
+  EXPECT_THROW(evaluationSpecFromArgs({"--preset", "robust", "--episode-sets", "0"}), InputError);
+  auto refusal = [](const std::vector<std::string>& args) {
+    try {
+      evaluationSpecFromArgs(args);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("taken");
+  };
+  EXPECT_EQ(refusal({"--preset", "robust", "--episodes", "300", "--episode-sets", "4"}),
+            "--episodes 300 x --episode-sets 4 is over 1000 episodes");
+  EXPECT_EQ(refusal({"--preset", "morph", "--selection", "nsga2", "--population", "4",
+                     "--episode-sets", "2"}),
+            "--episode-sets 2 is for the elitist GA, not --selection nsga2");
+}
+
 // Run 4 generations writing checkpoints; resume from the text of generation 1's and of
 // generation 3's: both end as the uninterrupted run, bit for bit.
 TEST(Resume, FromACheckpointEndsBitIdenticalToTheUninterruptedRun) {

@@ -65,6 +65,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--seed", {"2"}, ""},
       {"--duration", {"0.8"}, ""},
       {"--episodes", {"3"}, ""},
+      {"--episode-sets", {"2"}, ""},
       {"--min-rate", {"25"}, ""},
       {"--max-rate", {"55"}, ""},
       {"--upstroke-rate", {"12"}, ""},

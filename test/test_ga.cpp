@@ -203,6 +203,36 @@ TEST(GeneticAlgorithm, ThreadCountDoesNotChangeResults) {
   }
 }
 
+// With reevaluate_every_generation, a fitness that changes with the generation (here: less the
+// generation being evaluated, as generation() gives it during the call) is that generation's
+// for every individual, the elite's too; without, the elite keeps an older one.
+TEST(GeneticAlgorithm, AskedToEveryIndividualIsEvaluatedAnewInEachGeneration) {
+  for (bool anew : {true, false}) {
+    GaParams p;
+    p.generations = 10;
+    p.reevaluate_every_generation = anew;
+    const GeneticAlgorithm* ga_running = nullptr;
+    GeneticAlgorithm ga(p, 3, [&](const std::vector<double>& g, std::uint64_t) {
+      return sphere(g, kTarget) - ga_running->generation();
+    });
+    ga_running = &ga;
+    int stale = 0;
+    ga.run([&](const GenerationStats& s) {
+      if (anew) {
+        EXPECT_EQ(s.evaluations, p.population) << "generation " << s.generation;
+      }
+      for (const Individual& ind : ga.population()) {
+        stale += ind.fitness != sphere(ind.genes, kTarget) - s.generation;
+      }
+    });
+    if (anew) {
+      EXPECT_EQ(stale, 0);
+    } else {
+      EXPECT_GE(stale, 10);  // the elite, at least, in each generation after the first
+    }
+  }
+}
+
 TEST(GeneticAlgorithm, OnlyChangedChildrenAreEvaluated) {
   int calls = 0;  // single thread: no race
   GaParams p;

@@ -136,13 +136,14 @@ class EpisodeEvaluator {
   virtual int workersUp() const = 0;
 };
 
-/// Each genome's mean over `episodes` episodes of each of its `values` task values (one task
-/// per (genome, episode), the genome's first, evaluated by `evaluator` in one batch, summed in
-/// episode order and divided by `episodes`). Throws std::runtime_error if the evaluator returns
-/// another count than `values` per task.
+/// Each genome's mean over the `episodes` episodes from index `first` of each of its `values`
+/// task values (one task per (genome, episode), the genome's first, evaluated by `evaluator`
+/// in one batch, summed in episode order and divided by `episodes`). Throws
+/// std::runtime_error if the evaluator returns another count than `values` per task.
 std::vector<std::vector<double>> meanEpisodeValues(EpisodeEvaluator& evaluator, int episodes,
                                                    size_t values,
-                                                   const std::vector<std::vector<double>>& genomes);
+                                                   const std::vector<std::vector<double>>& genomes,
+                                                   int first = 0);
 
 /// In this process, on `threads` threads.
 class InProcessEvaluator : public EpisodeEvaluator {

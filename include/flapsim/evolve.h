@@ -272,6 +272,11 @@ struct EvolveParams {
   bool auto_step_sizes = false;
   bool turn_substep_given = false;  // episode.world.turn_substep was set (evolve --turn-substep)
   MorphParams morph;  // kMorph: the bodies' mass budget and the fitness's power weight
+  /// Sets of episode.episodes episodes drawn (evolve --episode-sets): generation g is evaluated
+  /// on set g mod episode_sets, every individual anew (GaParams::reevaluate_every_generation),
+  /// so that no fixed set of episodes is learnt by heart. Set 0 is the episodes of a run with
+  /// 1 (the draws run on), so 1 is the one fixed set of before.
+  int episode_sets = 1;
 };
 
 /// The paper's settings (sec. IV.A): 10 individuals, elitism, rank selection,

@@ -51,6 +51,10 @@ struct GaParams {
   // mutation) inherits the parent's fitness instead of being re-evaluated.
   // Right only for a fitness that depends on the genes alone.
   bool reuse_fitness_of_copies = true;
+  // Every individual, the elites and copies too, is evaluated anew in each generation: for a
+  // fitness that changes from one generation to the next (evolve --episode-sets), so that a
+  // generation's individuals are ranked on the same episodes. Overrides the above.
+  bool reevaluate_every_generation = false;
   /// Seeds generation 0 (empty: all random in [gene_min, gene_max]): individual 0 is these
   /// genes, each other one these genes with every gene moved by a Gaussian of
   /// mutation_sigma x the gene range (clamped). Each gene within [gene_min, gene_max].
@@ -92,13 +96,12 @@ using BatchFitnessFunction = std::function<std::vector<double>(
     const std::vector<std::vector<double>>& genomes, const std::vector<std::uint64_t>& eval_seeds)>;
 
 /// Generation g + 1 from generation g: the `elite_count` best are kept with
-/// their fitness (not re-evaluated); the others are children of two parents
-/// drawn by linear rank selection (weight population - rank), crossed with
-/// BLX-alpha with probability crossover_rate, then mutated gene by gene
-/// (Gaussian, clamped to [gene_min, gene_max]). Each generation's random
-/// stream is seeded by mixSeed(seed, generation); fitness evaluations run in
-/// parallel and write to their own slot, so results are bit-identical for
-/// any thread count.
+/// their fitness (not re-evaluated, unless reevaluate_every_generation); the others are children of
+/// two parents drawn by linear rank selection (weight population - rank), crossed with BLX-alpha
+/// with probability crossover_rate, then mutated gene by gene (Gaussian, clamped to [gene_min,
+/// gene_max]). Each generation's random stream is seeded by mixSeed(seed, generation); fitness
+/// evaluations run in parallel and write to their own slot, so results are bit-identical for any
+/// thread count.
 class GeneticAlgorithm {
  public:
   /// Throws std::invalid_argument for bad params or gene_count < 1.
@@ -120,6 +123,7 @@ class GeneticAlgorithm {
   void restore(int generation, std::vector<Individual> population,
                std::vector<GenerationStats> history);
 
+  /// The last generation made; during a fitness call, the generation being evaluated.
   int generation() const { return generation_; }
   /// Current population, best first.
   const std::vector<Individual>& population() const { return population_; }

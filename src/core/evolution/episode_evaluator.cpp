@@ -144,13 +144,14 @@ std::size_t RunnerCache::size() const {
   return entries_.size();
 }
 
-std::vector<std::vector<double>> meanEpisodeValues(
-    EpisodeEvaluator& evaluator, int episodes, size_t values,
-    const std::vector<std::vector<double>>& genomes) {
+std::vector<std::vector<double>> meanEpisodeValues(EpisodeEvaluator& evaluator, int episodes,
+                                                   size_t values,
+                                                   const std::vector<std::vector<double>>& genomes,
+                                                   int first) {
   std::vector<EpisodeTask> tasks;
   tasks.reserve(genomes.size() * episodes);
   for (const auto& g : genomes) {
-    for (int k = 0; k < episodes; ++k) tasks.push_back(EpisodeTask{g, k});
+    for (int k = 0; k < episodes; ++k) tasks.push_back(EpisodeTask{g, first + k});
   }
   const std::vector<double> v = evaluator.evaluate(tasks);
   if (v.size() != values * tasks.size()) {

@@ -106,6 +106,17 @@ EvaluationSpec evaluationSpec(const EvolveParams& params) {
   spec.episode.step_sizes = steps.step_sizes;
   spec.episode.world.turn_substep = steps.turn_substep;
   spec.episode.seed = evolutionEpisodeSeed(params.ga.seed);
+  if (params.episode_sets < 1) throw std::invalid_argument("--episode-sets must be >= 1");
+  if (params.episode_sets > 1 && params.kind == EvolveKind::kMorph && params.morph.nsga2) {
+    throw std::invalid_argument("--episode-sets " + std::to_string(params.episode_sets) +
+                                " is for the elitist GA, not --selection nsga2");
+  }
+  if (params.episode.episodes > kMaxEpisodes / params.episode_sets) {
+    throw std::invalid_argument("--episodes " + std::to_string(params.episode.episodes) +
+                                " x --episode-sets " + std::to_string(params.episode_sets) +
+                                " is over " + std::to_string(kMaxEpisodes) + " episodes");
+  }
+  spec.episode.episodes = params.episode.episodes * params.episode_sets;  // every set's
   const std::string err = validateEvaluationSpec(spec);
   if (!err.empty()) throw std::invalid_argument("evolve: " + err);
   return spec;
@@ -131,15 +142,21 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
   }
   // One task per (individual, episode), so that the workers stay busy even
   // when few children are new; the sums run in a fixed order afterwards.
+  const int episodes = params.episode.episodes;
+  GaParams ga_params = params.ga;
+  ga_params.reevaluate_every_generation = params.episode_sets > 1;
+  const GeneticAlgorithm* running = nullptr;  // the generation evaluated picks the set
   auto batch = [&](const std::vector<std::vector<double>>& genomes,
                    const std::vector<std::uint64_t>&) {
+    const int set = running->generation() % params.episode_sets;
     std::vector<double> out;
-    for (const auto& means : meanEpisodeValues(*evaluator, spec.episode.episodes, 1, genomes)) {
+    for (const auto& means : meanEpisodeValues(*evaluator, episodes, 1, genomes, set * episodes)) {
       out.push_back(means[0]);
     }
     return out;
   };
-  GeneticAlgorithm ga(params.ga, geneCount(params), BatchFitnessFunction(batch));
+  GeneticAlgorithm ga(ga_params, geneCount(params), BatchFitnessFunction(batch));
+  running = &ga;
   if (hooks.resume != nullptr) {
     if (hooks.resume->seed != params.ga.seed) {
       throw std::invalid_argument("evolve: the checkpoint is of seed " +

@@ -48,6 +48,10 @@ void specFlags(CliParser& t, EvolveOptions& o) {
       .integer("--episodes", "E", &e.episodes, {1, kMaxEpisodes},
                "episodes per evaluation, start roll alternating +/-")
       .tag(kSpec)
+      .integer("--episode-sets", "K", &p.episode_sets, {1, kMaxEpisodes},
+               "sets of E episodes drawn; generation g is evaluated on set g mod K, every "
+               "individual anew (1: the one fixed set; not with --selection nsga2)")
+      .tag(kSpec)
       .real("--min-rate", "R", &c.min_downstroke_rate, {0, kMaxStrokeRate},
             "lowest downstroke rate, rad/s")
       .tag(kSpec)

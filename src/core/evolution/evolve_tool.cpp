@@ -171,6 +171,19 @@ std::string writtenLine(const EvolveOptions& o, const EvolveResult& result, doub
   return line.str();
 }
 
+// The episodes the best's fitness is over, as the file's header says it: "32 episodes", or
+// with --episode-sets the last generation's set ("32 episodes (set 2 of 4, the last
+// generation's)").
+std::string episodesTerm(const EvolveParams& p) {
+  std::ostringstream out;
+  out << p.episode.episodes << " episodes";
+  if (p.episode_sets > 1) {
+    out << " (set " << p.ga.generations % p.episode_sets << " of " << p.episode_sets
+        << ", the last generation's)";
+  }
+  return out.str();
+}
+
 // What ends a flap network's episode early, as the weights file's header says it.
 std::string sealedEnds(const EpisodeParams& e) {
   if (e.flip_penalty <= 0.0) return "";
@@ -264,8 +277,8 @@ std::string writeHoverOutputs(const EvolveOptions& o, const EvolveResult& result
          << kHoverTiltWeight << " x (" << kHoverMinUpright << " - lowest up)+ + "
          << kHoverStartTiltWeight << " x (cos(start tilt + 10 deg) - lowest up from t = 0)+ + "
          << kHoverSagWeight << " x (sag below start and setpoint - " << kHoverMaxSag
-         << " m)+, less " << e.flip_penalty << " after a flip) over " << e.episodes
-         << " episodes of " << e.duration << " s"
+         << " m)+, less " << e.flip_penalty << " after a flip) over " << episodesTerm(o.params)
+         << " of " << e.duration << " s"
          << (e.first_start_level ? ", the first level in still air" : "") << ": "
          << result.best_fitness
          << "\nLoad it as hover_controller's private parameters (hover.launch gains:=FILE); "
@@ -301,8 +314,8 @@ std::string writeEvolveOutputs(const EvolveOptions& o, const EvolveResult& resul
          << "Fitness = mean "
          << (params.episode.altitude_hold ? "of -|height - setpoint| - (1 - up-component) (m)"
                                           : "root-body height (m)")
-         << " over " << params.episode.episodes << " episodes of " << params.episode.duration
-         << " s" << sealedEnds(params.episode) << uprightFloorTerm(params.episode)
+         << " over " << episodesTerm(params) << " of " << params.episode.duration << " s"
+         << sealedEnds(params.episode) << uprightFloorTerm(params.episode)
          << rmsCeilingTerm(params.episode) << ": " << result.best_fitness
          << "\nWeights: per neuron its input weights then its bias; hidden (tanh) neurons first,"
          << (params.controller.network == FlapNetwork::kMirror

@@ -258,6 +258,10 @@ void GeneticAlgorithm::step() {
       next.push_back(std::move(*children[c]));
     }
   }
+  if (params_.reevaluate_every_generation) {
+    fresh.resize(next.size());
+    std::iota(fresh.begin(), fresh.end(), 0);
+  }
   evaluate(next, fresh);
   population_ = std::move(next);
   sortAndRecord(static_cast<int>(fresh.size()));
