@@ -175,8 +175,10 @@ CEILING = [("the previous default (`config/afc_4_shed_air_weights.yaml`)", "conf
             "config/afc_4_ceiling_16_weights.yaml"),
            ("then 18 on 24 episodes (`config/afc_4_ceiling_24_weights.yaml`)",
             "config/afc_4_ceiling_24_weights.yaml"),
-           ("then 10 on 32 episodes (`config/afc_4_ceiling_weights.yaml`)",
-            "config/afc_4_ceiling_weights.yaml")]
+           ("then 10 on 32 episodes (`config/afc_4_ceiling_weights.yaml`, the default)",
+            "config/afc_4_ceiling_weights.yaml"),
+           ("then 10 more on 32 (`config/afc_4_ceiling_more_weights.yaml`)",
+            "config/afc_4_ceiling_more_weights.yaml")]
 CEILING_CHAINS = (4, 6)
 CEILING_12 = [("the default (`config/afc_12_shed_air_weights.yaml`)",
                "config/afc_12_shed_air_weights.yaml"),
