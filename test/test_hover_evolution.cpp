@@ -158,10 +158,6 @@ TEST(HoverEvolution, BadGenomesKindsAndFlagsAreRefusedByName) {
             }),
             "--pairs: not a flag of --preset hover (the hover controller's gains)");
   EXPECT_EQ(message([] {
-              parseEvolveArgs({"--preset", "morph", "--real-air", "--turbulence", "light"});
-            }),
-            "--turbulence is set by --real-air (give one or the other)");
-  EXPECT_EQ(message([] {
               parseEvolveArgs({"--noise", "0.1", "--preset", "hover", "--real-air"});
             }),
             "--noise is set by --real-air (give one or the other)");
@@ -254,6 +250,26 @@ TEST(HoverEvolution, RealAirEpisodesFlyFlightChecksRealAirSizedToTheBodyFlown) {
             flyHover(small, c, none).lowest_upright);
   EXPECT_NE(runHoverEpisode(small, hand, no_impulses, start).lowest_upright,
             episode.lowest_upright);
+
+  // --wind and --turbulence with --real-air are its air (flight_check --real-air's rule): the
+  // issue's moderate turbulence and 2 m/s wind, the impulses, noises and gyro bias real air's.
+  const EpisodeParams moderate =
+      evaluationSpecFromArgs({"--preset", "morph", "--real-air", "--wind", "2", "2", "--turbulence",
+                              "moderate", "--episodes", "3", "--duration", "6", "--settle", "3",
+                              "--seed", "4"})
+          .episode;
+  EXPECT_TRUE(moderate.real_air_torque);
+  EXPECT_TRUE(moderate.real_air_push);
+  EXPECT_EQ(moderate.min_wind, 2.0);
+  EXPECT_EQ(moderate.max_wind, 2.0);
+  EXPECT_EQ(moderate.world.air.turbulence.wind_at_6m, turbulenceLevelWind("moderate"));
+  EXPECT_EQ(moderate.imu_noise.orientation, 0.05);
+  EXPECT_EQ(moderate.gyro_bias, 0.02);
+  EXPECT_EQ(moderate.altitude_noise, 0.05);
+  EXPECT_EQ(realAirGusts(moderate, *small).gust_force, gusts.gust_force);
+  const EpisodeStart& windy = episodeStarts(moderate, small.get())[1];
+  EXPECT_NEAR(windy.wind.norm(), 2.0, 1e-12);
+  EXPECT_EQ(windy.wind.normalized(), start.wind.normalized());  // the same heading drawn
 }
 
 // --init: the hand-designed gains file (config/hover_1_hand_gains.yaml, written by

@@ -130,7 +130,8 @@ void disturbanceFlags(CliParser& t, EvolveOptions& o) {
             "from a drawn heading, light turbulence, a roll torque (0.5 x weight x half-span) "
             "for 0.5 s and a push on a drawn wing (4 x the weight) for 0.2 s at drawn times, "
             "sized to each episode's body, IMU noise 0.05, a gyro bias up to 0.02 rad/s, "
-            "altimeter noise 0.05 m")
+            "altimeter noise 0.05 m; --wind and --turbulence with it give its wind and "
+            "turbulence instead")
       .tag(kSpec)
       .real("--gust-torque", "T", &e.gust_torque, {-kMaxTorque, kMaxTorque},
             "a roll torque of T N m at a random time, random sign (0: none; with --real-air in "
@@ -389,11 +390,20 @@ EvolveOptions parseEvolveArgs(const std::vector<std::string>& args, int threads,
     c.pitch_max_downstroke_rate = std::max(c.pitch_max_downstroke_rate, c.max_downstroke_rate);
   }
   if (o.params.episode.real_air) {
+    // Real air's settings, but a --wind and a --turbulence given: they are its air then (as
+    // flight_check --real-air takes them), the impulses, noises and gyro bias staying real air's.
     EpisodeParams& e = o.params.episode;
+    const EpisodeParams given = e;
     setRealAirEpisodes(e);
-    for (const CliSeen& s : seen) {  // checkHoverFlags: 0, the impulse taken away
-      if (s.flag->names.front() == "--gust-torque") e.real_air_torque = false;
-      if (s.flag->names.front() == "--gust-force") e.real_air_push = false;
+    for (const CliSeen& s : seen) {
+      const std::string& name = s.flag->names.front();
+      if (name == "--gust-torque") e.real_air_torque = false;  // checkHoverFlags: 0, taken away
+      if (name == "--gust-force") e.real_air_push = false;
+      if (name == "--wind") {
+        e.min_wind = given.min_wind;
+        e.max_wind = given.max_wind;
+      }
+      if (name == "--turbulence") e.world.air.turbulence = given.world.air.turbulence;
     }
   }
   std::vector<const CliSeen*> spec;  // each flag once, with its last values

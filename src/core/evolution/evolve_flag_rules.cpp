@@ -102,7 +102,7 @@ void checkHoverFlags(const std::string& preset, const std::vector<CliSeen>& seen
   });
   for (const CliSeen& s : seen) {
     const std::string& name = s.flag->names.front();
-    if (real_air && (name == "--wind" || name == "--turbulence" || name == "--noise")) {
+    if (real_air && name == "--noise") {
       throw InputError(name + " is set by --real-air (give one or the other)");
     }
     if (real_air && (name == "--gust-torque" || name == "--gust-force")) {
