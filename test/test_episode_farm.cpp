@@ -165,10 +165,8 @@ TEST(EpisodeSets, TheSpecCarriesThemAndBadCountsAreRefusedByName) {
             "--episode-sets 2 is for the elitist GA, not --selection nsga2");
 }
 
-// Run 4 generations writing checkpoints; resume from the text of generation 1's and of
-// generation 3's: both end as the uninterrupted run, bit for bit.
-TEST(Resume, FromACheckpointEndsBitIdenticalToTheUninterruptedRun) {
-  const EvolveParams p = tinyRun();
+// Checkpoints of a run of `p`, resumed from generations 1 and 3, end as the whole run.
+void resumeEndsAsTheWholeRun(const EvolveParams& p) {
   std::vector<std::string> texts;
   EvolveHooks hooks;
   hooks.on_checkpoint = [&](const EvolveCheckpoint& c) {
@@ -188,6 +186,18 @@ TEST(Resume, FromACheckpointEndsBitIdenticalToTheUninterruptedRun) {
     EXPECT_EQ(generations_run, 4 - k);
     expectSameHistory(whole.history, rest.history);
     EXPECT_EQ(whole.best_weights, rest.best_weights);
+  }
+}
+
+// Run 4 generations writing checkpoints; resume from the text of generation 1's and of
+// generation 3's: both end as the uninterrupted run, bit for bit; with one set of episodes and
+// with three (--episode-sets, each generation on the next set).
+TEST(Resume, FromACheckpointEndsBitIdenticalToTheUninterruptedRun) {
+  for (int sets : {1, 3}) {
+    SCOPED_TRACE(sets);
+    EvolveParams p = tinyRun();
+    p.episode_sets = sets;
+    resumeEndsAsTheWholeRun(p);
   }
 }
 

@@ -80,6 +80,20 @@ FarmAndProcess evolveBothWays(ros::NodeHandle& nh, const std::vector<std::string
   return r;
 }
 
+// evolve --episode-sets 3 (the sets travel in the spec's flags): the workers draw the three
+// sets of two episodes and fly generation g's (episodes 2 (g mod 3) and 2 (g mod 3) + 1; a
+// worker that drew only two would refuse episode 2 by name) as the process does, bit for bit.
+TEST(Farm, EpisodeSetsOnThreeWorkersGiveTheInProcessBits) {
+  ros::NodeHandle nh;
+  ASSERT_TRUE(waitFor([] { return flapsim_ros::findWorkers(kNs).size() >= 3; }, 30.0));
+  std::vector<std::string> spec = kSpec;
+  spec.insert(spec.end(), {"--episode-sets", "3"});
+  ASSERT_EQ(flapsim::parseEvolveArgs(spec).params.episode_sets, 3);
+  const FarmAndProcess r = evolveBothWays(nh, spec);
+  expectSameBits(r.in_process, r.on_farm);
+  EXPECT_EQ(r.resent, 0);
+}
+
 // The hover controller's evolution (--preset hover: the kind travels in the spec's flags):
 // the workers fly its gains as the process does, bit for bit.
 TEST(Farm, AHoverEvolutionOnThreeWorkersGivesTheInProcessBits) {
