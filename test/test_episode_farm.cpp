@@ -124,8 +124,8 @@ TEST(EpisodeSets, GenerationGFliesSetGModKWithEveryIndividualAnew) {
   EvolveHooks hooks;
   hooks.evaluator = &recorder;
   const EvolveResult r = evolveFlapController(sets, hooks);
-  ASSERT_EQ(recorder.batches_.size(), 5u);  // generations 0-4, one batch each
-  for (size_t g = 0; g < recorder.batches_.size(); ++g) {
+  ASSERT_EQ(recorder.batches_.size(), 6u);  // generations 0-4, one batch each, then all sets
+  for (size_t g = 0; g < 5; ++g) {
     const int first = 2 * static_cast<int>(g % 3);
     std::vector<int> expected;
     for (int i = 0; i < sets.ga.population; ++i)
@@ -137,6 +137,24 @@ TEST(EpisodeSets, GenerationGFliesSetGModKWithEveryIndividualAnew) {
   EXPECT_EQ(r.history[0].best, plain.history[0].best);
   EXPECT_EQ(r.history[0].mean, plain.history[0].mean);
   EXPECT_NE(r.history[1].mean, plain.history[1].mean);
+  // Then the last generation flies all six episodes; the best over them is the result's.
+  std::vector<int> every;
+  for (int i = 0; i < sets.ga.population; ++i) every.insert(every.end(), {0, 1, 2, 3, 4, 5});
+  EXPECT_EQ(recorder.batches_[5], every);
+  const EpisodeRunner runner(spec);
+  double best = -1e300;
+  std::vector<double> best_genes;
+  for (const Individual& ind : r.population) {
+    double sum = 0.0;
+    for (int k = 0; k < 6; ++k) sum += runner.evaluate(EpisodeTask{ind.genes, k});
+    if (sum / 6 > best) {
+      best = sum / 6;
+      best_genes = ind.genes;
+    }
+  }
+  EXPECT_EQ(r.best_fitness, best);
+  EXPECT_EQ(r.best_weights, best_genes);
+  EXPECT_NE(r.best_fitness, r.history.back().best);  // not the last set's figure
   ReverseEvaluator reverse(spec);
   EvolveHooks other;
   other.evaluator = &reverse;

@@ -274,8 +274,9 @@ struct EvolveParams {
   MorphParams morph;  // kMorph: the bodies' mass budget and the fitness's power weight
   /// Sets of episode.episodes episodes drawn (evolve --episode-sets): generation g is evaluated
   /// on set g mod episode_sets, every individual anew (GaParams::reevaluate_every_generation),
-  /// so that no fixed set of episodes is learnt by heart. Set 0 is the episodes of a run with
-  /// 1 (the draws run on), so 1 is the one fixed set of before.
+  /// so that no fixed set of episodes is learnt by heart; at the end the last generation flies
+  /// every set, and its best over all of them is the result's best. Set 0 is the episodes of a
+  /// run with 1 (the draws run on), so 1 is the one fixed set of before.
   int episode_sets = 1;
 };
 

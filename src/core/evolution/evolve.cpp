@@ -181,6 +181,18 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
   result.best_weights = ga.best().genes;
   result.best_fitness = ga.best().fitness;
   result.population = ga.population();
+  if (params.episode_sets > 1) {
+    // The last generation ranked on one set; the best over every set is the one written.
+    std::vector<std::vector<double>> genomes;
+    for (const Individual& ind : result.population) genomes.push_back(ind.genes);
+    const auto means = meanEpisodeValues(*evaluator, spec.episode.episodes, 1, genomes);
+    size_t best = 0;
+    for (size_t i = 1; i < means.size(); ++i) {
+      if (means[i][0] > means[best][0]) best = i;
+    }
+    result.best_weights = genomes[best];
+    result.best_fitness = means[best][0];
+  }
   return result;
 }
 

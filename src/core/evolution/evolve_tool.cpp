@@ -172,14 +172,14 @@ std::string writtenLine(const EvolveOptions& o, const EvolveResult& result, doub
 }
 
 // The episodes the best's fitness is over, as the file's header says it: "32 episodes", or
-// with --episode-sets the last generation's set ("32 episodes (set 2 of 4, the last
-// generation's)").
+// with --episode-sets all of them ("128 episodes (4 sets of 32, the last generation flown on
+// every set)").
 std::string episodesTerm(const EvolveParams& p) {
   std::ostringstream out;
-  out << p.episode.episodes << " episodes";
+  out << p.episode.episodes * p.episode_sets << " episodes";
   if (p.episode_sets > 1) {
-    out << " (set " << p.ga.generations % p.episode_sets << " of " << p.episode_sets
-        << ", the last generation's)";
+    out << " (" << p.episode_sets << " sets of " << p.episode.episodes
+        << ", the last generation flown on every set)";
   }
   return out.str();
 }
