@@ -25,10 +25,13 @@ class ReverseEvaluator : public EpisodeEvaluator {
     std::vector<double> out(tasks.size());
     for (size_t i = tasks.size(); i-- > 0;) out[i] = runner_.evaluate(tasks[i]);
     tasks_ += static_cast<int>(tasks.size());
+    batches_.emplace_back();
+    for (const EpisodeTask& t : tasks) batches_.back().push_back(t.episode);
     return out;
   }
   int workersUp() const override { return 1; }
   int tasks_ = 0;
+  std::vector<std::vector<int>> batches_;  // the episodes each batch asked for, in task order
 
  private:
   EpisodeRunner runner_;
