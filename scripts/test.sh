@@ -7,14 +7,13 @@ bash scripts/install_deps.sh || exit 1
 bash scripts/build.sh || exit 1
 rm -rf build/test_results
 cmake --build build --target tests -j2 -- --no-print-directory >/dev/null || exit 1
-# Two at a time: the gtests with the tool checks, then the rostests with rviz. A rostest's
-# nodes step in lockstep or against sim time and use under one core between them (node,
-# controller and test wait on each other), and each starts its own master on a free port.
+# Two at a time: the gtests with the tool checks, then the rostests with rviz, each phase one
+# make goal (CMakeLists.txt: flapsim_tests_core, flapsim_tests_nodes). A rostest's nodes step
+# in lockstep or against sim time and use under one core between them (node, controller and
+# test wait on each other), and each starts its own master on a free port.
 {
-  cmake --build build --target run_tests_flapsim_gtest run_tests_flapsim_tools \
-    run_tests_flapsim_roslaunch-check -j2 -- --no-print-directory 2>&1
-  cmake --build build --target run_tests_flapsim_rostest run_tests_flapsim_rviz -j2 -- \
-    --no-print-directory 2>&1
+  cmake --build build --target flapsim_tests_core -j2 -- --no-print-directory 2>&1
+  cmake --build build --target flapsim_tests_nodes -j2 -- --no-print-directory 2>&1
 } | grep -E "^\[ *(RUN|OK|FAILED|PASSED) |^\[ *FAILED|FAILURE|ERROR|rostest|Ran [0-9]+ test" || true
 catkin_test_results build/test_results
 verdict=$?
