@@ -145,15 +145,18 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
   const int episodes = params.episode.episodes;
   GaParams ga_params = params.ga;
   ga_params.reevaluate_every_generation = params.episode_sets > 1;
-  const GeneticAlgorithm* running = nullptr;  // the generation evaluated picks the set
-  auto batch = [&](const std::vector<std::vector<double>>& genomes,
-                   const std::vector<std::uint64_t>&) {
-    const int set = running->generation() % params.episode_sets;
+  // Each genome's mean fitness over `count` episodes from episode `first`.
+  auto meanFitness = [&](const std::vector<std::vector<double>>& genomes, int count, int first) {
     std::vector<double> out;
-    for (const auto& means : meanEpisodeValues(*evaluator, episodes, 1, genomes, set * episodes)) {
+    for (const auto& means : meanEpisodeValues(*evaluator, count, 1, genomes, first)) {
       out.push_back(means[0]);
     }
     return out;
+  };
+  const GeneticAlgorithm* running = nullptr;  // the generation evaluated picks the set
+  auto batch = [&](const std::vector<std::vector<double>>& genomes,
+                   const std::vector<std::uint64_t>&) {
+    return meanFitness(genomes, episodes, (running->generation() % params.episode_sets) * episodes);
   };
   GeneticAlgorithm ga(ga_params, geneCount(params), BatchFitnessFunction(batch));
   running = &ga;
@@ -185,13 +188,10 @@ EvolveResult evolveFlapController(const EvolveParams& params, const EvolveHooks&
     // The last generation ranked on one set; the best over every set is the one written.
     std::vector<std::vector<double>> genomes;
     for (const Individual& ind : result.population) genomes.push_back(ind.genes);
-    const auto means = meanEpisodeValues(*evaluator, spec.episode.episodes, 1, genomes);
-    size_t best = 0;
-    for (size_t i = 1; i < means.size(); ++i) {
-      if (means[i][0] > means[best][0]) best = i;
-    }
+    const std::vector<double> means = meanFitness(genomes, spec.episode.episodes, 0);
+    const auto best = std::max_element(means.begin(), means.end()) - means.begin();
     result.best_weights = genomes[best];
-    result.best_fitness = means[best][0];
+    result.best_fitness = means[best];
   }
   return result;
 }
