@@ -719,7 +719,8 @@ TEST(EvolvedController, TheGroundSpeedDampingThroughANoisySensorHoldsTheLevelSta
 
 // evolve --init FILE: the file's weights seed generation 0 if it was flown with the
 // evolution's stroke settings; a file flown otherwise (config/afc_1_altitude_weights.yaml: a
-// raised stroke, a 65 rad/s cap) is refused by its key, naming the flag that would match it.
+// raised stroke, a 65 rad/s cap, a 0.5 m altitude scale) is refused by its key, naming the flag
+// that would match it.
 TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
   const std::string flown = std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_altitude_weights.yaml";
   ControllerSpec spec = loadControllerYaml(flown);
@@ -727,8 +728,9 @@ TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
   // The roll reflex is set by hand: no evolution flies it, so a file with it seeds none.
   ASSERT_GT(spec.params.roll_reflex_bank, 0.0);
   try {
-    resolveEvolveOptions({"--init", flown, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
-                         resume);
+    resolveEvolveOptions(
+        {"--init", flown, "--max-rate", "65", "--stroke-offset", "0.1", "--altitude-scale", "0.5"},
+        1, resume);
     FAIL() << "expected an error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "--init: " + flown +
@@ -739,11 +741,12 @@ TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
   spec.params.roll_reflex_bank = 0.0;
   const std::string file = ::testing::TempDir() + "afc_1_altitude_no_reflex.yaml";
   writeTextFile(file, controllerToYaml(spec));
-  const std::vector<std::string> matching = {"--init",          file, "--max-rate", "65",
-                                             "--stroke-offset", "0.1"};
+  const std::vector<std::string> matching = {"--init",          file,  "--max-rate",       "65",
+                                             "--stroke-offset", "0.1", "--altitude-scale", "0.5"};
   EXPECT_EQ(resolveEvolveOptions(matching, 1, resume).params.ga.initial_genes, spec.weights);
   try {
-    resolveEvolveOptions({"--init", file, "--max-rate", "65"}, 1, resume);
+    resolveEvolveOptions({"--init", file, "--max-rate", "65", "--altitude-scale", "0.5"}, 1,
+                         resume);
     FAIL() << "expected an error";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()), "--init: " + file +
@@ -766,8 +769,9 @@ TEST(EvolveInit, SeedsTheWeightsOnlyOfAFileFlownWithTheEvolutionsSettings) {
     const std::string path = ::testing::TempDir() + "afc_1_altitude_" + key + ".yaml";
     writeTextFile(path, controllerToYaml(with));
     try {
-      resolveEvolveOptions({"--init", path, "--max-rate", "65", "--stroke-offset", "0.1"}, 1,
-                           resume);
+      resolveEvolveOptions(
+          {"--init", path, "--max-rate", "65", "--stroke-offset", "0.1", "--altitude-scale", "0.5"},
+          1, resume);
       ADD_FAILURE() << key << ": expected an error";
     } catch (const InputError& e) {
       EXPECT_EQ(std::string(e.what()), "--init: " + path + ": its " + key +

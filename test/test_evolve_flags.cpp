@@ -1,19 +1,24 @@
 // Every flag of evolve's flap presets, run: given on its own to a tiny evolution, each either
 // changes what evolves (the generations' fitness or the best weights differ from the same run
-// without it) or is refused by name. The tool's own flags (threads, files, the farm) do not
+// without it) or is refused by name; and the settings an --init file must share with the
+// evolution it seeds. The tool's own flags (threads, files, the farm) do not
 // change what evolves and are left out; test_cli_args checks their meaning. The rules that
 // refuse a flag another leaves without effect are in evolve_args.cpp (checkDependentFlags).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <tuple>
 #include <utility>
 #include <vector>
 
+#include "flapsim/controller_file.h"
 #include "flapsim/evolve.h"
 #include "flapsim/evolve_args.h"
+#include "flapsim/evolve_tool.h"
+#include "flapsim/text_file.h"
 #include "test_util.h"
 
 namespace flapsim {
@@ -112,8 +117,11 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--network", {"paper"}, ""},
       {"--hidden", {"3"}, ""},
       {"--rate-inputs", {"off"}, ""},
+      {"--rate-scale", {"5"}, ""},
       {"--altitude-input", {"off"}, ""},
+      {"--altitude-scale", {"2"}, "near"},
       {"--climb-input", {"on"}, ""},
+      {"--climb-scale", {"2"}, "--climb-scale: has no effect without a climb input"},
       {"--chain-input", {"on"}, "--chain-input: has no effect on a single unit"},
       {"--com-drop", {"0.03"}, ""},
       {"--phase-lock", {"off"}, ""},
@@ -174,6 +182,95 @@ TEST(EvolveFlags, EveryFlagOfTheFlapPresetsChangesWhatEvolvesOrIsRefusedByName) 
   const Evolved capped = evolveWith(withFlag(settled, "--rms-ceiling", {"0.01", "5"}));
   EXPECT_EQ(capped.refused, "");
   EXPECT_NE(capped.figures, evolveWith(settled).figures);
+}
+
+// The inputs' scales, the phase lock and the chain pitch term change what a network's weights
+// command as the stroke settings do: a file flown with others is refused by key, naming the flag
+// that would match it (until 7 December 2026 evolve seeded from it and wrote its own, silently).
+TEST(EvolveInit, RefusesAFileWhoseInputScalesPhaseLockOrPitchTermAreNotTheEvolutions) {
+  const std::string source =
+      std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_shed_floor_weights.yaml";
+  const ControllerSpec spec = loadControllerYaml(source);
+  std::optional<EvolveCheckpoint> resume;
+  const std::vector<std::string> evolution = {"--max-upstroke-rate", "65", "--phase-lock", "off",
+                                              "--climb-input",       "on"};
+  // refused(args, file): the message resolving `args` with --init `file` throws ("" if none).
+  auto refused = [&](std::vector<std::string> args, const std::string& file) {
+    args.insert(args.begin(), {"--init", file});
+    try {
+      resolveEvolveOptions(args, 1, resume);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  ASSERT_EQ(refused(evolution, source), "");
+  auto withScale = [&](const std::string& key, double FlapControllerParams::*scale,
+                       const std::string& flag) {
+    ControllerSpec scaled = spec;
+    scaled.params.*scale = 2.5;
+    const std::string path = ::testing::TempDir() + "afc_1_" + key + ".yaml";
+    writeTextFile(path, controllerToYaml(scaled));
+    EXPECT_EQ(refused(evolution, path),
+              "--init: " + path + ": its " + key + " is 2.5, the evolution's " +
+                  (key == "rate_scale" ? "10" : "1") + " (give " + flag + " 2.5)");
+    std::vector<std::string> matching = evolution;
+    matching.insert(matching.end(), {flag, "2.5"});
+    matching.insert(matching.begin(), {"--init", path});
+    EXPECT_EQ(resolveEvolveOptions(matching, 1, resume).params.controller.*scale, 2.5);
+  };
+  withScale("rate_scale", &FlapControllerParams::rate_scale, "--rate-scale");
+  withScale("altitude_scale", &FlapControllerParams::altitude_scale, "--altitude-scale");
+  withScale("climb_scale", &FlapControllerParams::climb_scale, "--climb-scale");
+  // An input the net does not have: its scale does not count.
+  ControllerSpec no_climb =
+      loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_real_air_weights.yaml");
+  ASSERT_FALSE(no_climb.params.climb_input);
+  no_climb.params.climb_scale = 2.5;
+  const std::string unused = ::testing::TempDir() + "afc_1_unused_climb_scale.yaml";
+  writeTextFile(unused, controllerToYaml(no_climb));
+  EXPECT_EQ(refused({"--max-upstroke-rate", "65", "--phase-lock", "off"}, unused), "");
+  // config/afc_4_weights.yaml: the paper's network with the phase lock and the chain pitch term
+  // (pitch_gain 1, its rates up to 85 rad/s), here on a chain of two units.
+  const std::string chain = std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_4_weights.yaml";
+  const std::vector<std::string> paper = {"--network",        "paper", "--rate-inputs", "off",
+                                          "--altitude-input", "off",   "--hidden",      "2",
+                                          "--max-rate",       "80"};
+  auto plus = [](std::vector<std::string> a, const std::vector<std::string>& b) {
+    a.insert(a.end(), b.begin(), b.end());
+    return a;
+  };
+  EXPECT_EQ(
+      refused(plus(paper, {"--pairs", "2", "--phase-lock", "off"}), chain),
+      "--init: " + chain + ": its phase_lock is on, the evolution's off (give --phase-lock on)");
+  EXPECT_EQ(refused(plus(paper, {"--pairs", "2"}), chain),
+            "--init: " + chain + ": its pitch_gain is 1, the evolution's 0 (give --pitch-gain 1)");
+  EXPECT_EQ(refused(plus(paper, {"--pairs", "2", "--pitch-gain", "1"}), chain),
+            "--init: " + chain +
+                ": its pitch_max_downstroke_rate is 85, the evolution's 80 (set by hand, not "
+                "evolved: seed from a file without it)");
+  // On one unit the pitch term does nothing: the file passes every setting checked before its
+  // attitude filter (set by hand), which refuses it.
+  EXPECT_EQ(refused(paper, chain),
+            "--init: " + chain +
+                ": its attitude_filter_time is 0.05, the evolution's 0 (set by hand, not evolved: "
+                "seed from a file without it)");
+}
+
+// An input's scale means nothing without its input: each is refused by name without it.
+TEST(EvolveFlags, EachInputScaleIsRefusedWithoutItsInput) {
+  EXPECT_EQ(evolveWith(withFlag(withFlag(kBase, "--rate-inputs", {"off"}), "--rate-scale", {"5"}))
+                .refused,
+            "--rate-scale: has no effect without the rate inputs (--rate-inputs on)");
+  EXPECT_EQ(
+      evolveWith(withFlag(withFlag(kBase, "--altitude-input", {"off"}), "--altitude-scale", {"2"}))
+          .refused,
+      "--altitude-scale: has no effect without an altitude input (--altitude-input on)");
+  // With its input on, the climb input's scale changes what evolves.
+  const std::vector<std::string> climbing = withFlag(kBase, "--climb-input", {"on"});
+  const Evolved scaled = evolveWith(withFlag(climbing, "--climb-scale", {"0.2"}));
+  EXPECT_EQ(scaled.refused, "");
+  EXPECT_NE(scaled.figures, evolveWith(climbing).figures);
 }
 
 }  // namespace

@@ -205,6 +205,7 @@ constexpr int kMaxHidden = 256;             // hidden neurons
 constexpr double kMinControlPeriod = 1e-3;  // s: at most 1 kHz of network updates
 constexpr double kMaxControlPeriod = 10.0;  // s
 constexpr double kMaxPitchGain = 1e3;
+constexpr double kMaxInputScale = 1e6;  // rate_scale, altitude_scale, climb_scale
 
 /// Empty if valid, else a message naming the bad field.
 std::string validateFlapControllerParams(const FlapControllerParams& params);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace flapsim {
 
@@ -136,11 +137,13 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
         p.pitch_max_downstroke_rate <= kMaxStrokeRate && p.amplitude <= kMaxStrokeAmplitude)) {
     return "rates must be at most 1e5 rad/s, the amplitude at most 1000 rad";
   }
-  if (!(p.rate_scale > 0.0 && p.rate_scale <= 1e6)) return "rate_scale must be in (0, 1e6]";
-  if (!(p.altitude_scale > 0.0 && p.altitude_scale <= 1e6)) {
-    return "altitude_scale must be in (0, 1e6]";
+  for (const auto& [name, scale] : {std::pair<const char*, double>{"rate_scale", p.rate_scale},
+                                    {"altitude_scale", p.altitude_scale},
+                                    {"climb_scale", p.climb_scale}}) {
+    if (!(scale > 0.0 && scale <= kMaxInputScale)) {
+      return std::string(name) + " must be in (0, 1e6]";
+    }
   }
-  if (!(p.climb_scale > 0.0 && p.climb_scale <= 1e6)) return "climb_scale must be in (0, 1e6]";
   if (!std::isfinite(p.min_downstroke_rate) || p.min_downstroke_rate < 0.0) {
     return "min_downstroke_rate must be finite and >= 0";
   }

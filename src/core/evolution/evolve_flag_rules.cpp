@@ -17,7 +17,7 @@ const std::vector<std::string> kNotHoverFlags = {
     "--gust-torque",  "--gust-torque-time", "--gust-force",     "--gust-force-time",
     "--gust-link",    "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
     "--crash-height", "--climb-input",      "--velocity-noise", "--upright-floor",
-    "--rms-ceiling"};
+    "--rms-ceiling",  "--rate-scale",       "--altitude-scale", "--climb-scale"};
 
 // The flags of --preset morph alone.
 bool morphFlag(const std::string& name) {
@@ -157,8 +157,14 @@ void checkDependentFlags(const EvolveParams& p, const std::vector<CliSeen>& seen
     if (name == "--altitude-noise" && !p.controller.altitude_input) {
       why = "without an altitude input (--altitude-input on)";
     }
-    if (name == "--velocity-noise" && !p.controller.climb_input) {
+    if ((name == "--velocity-noise" || name == "--climb-scale") && !p.controller.climb_input) {
       why = "without a climb input (--climb-input on)";
+    }
+    if (name == "--altitude-scale" && !p.controller.altitude_input) {
+      why = "without an altitude input (--altitude-input on)";
+    }
+    if (name == "--rate-scale" && !p.controller.rate_inputs) {
+      why = "without the rate inputs (--rate-inputs on)";
     }
     if (name == "--settle" && e.upright_floor <= 0.0 && e.altitude_rms_ceiling <= 0.0) {
       why =
