@@ -2,7 +2,7 @@
 // sink, and what the flap unit has. Prints figures; never passes or fails.
 //
 //   vertical_authority [--level light] [--height 5] [--wind 1] [--flights 40] [--duration 60]
-//                      [--settle 10] [--pairs 1] [--wing-effort NM]
+//                      [--settle 10] [--pairs 1] [--wing-effort NM] [--max-upstroke-rate R]
 //
 // 1. The bound: an ideal controller that knows the vertical air speed w it is in and moves
 //    against it at up to A m/s relative to the air (dz/dt = w - clamp(w + z / 0.5 s, -A, A)),
@@ -16,6 +16,11 @@
 //    zero crossing to its last), and the strokes' mean period. By 1 s each stroke climbs as
 //    the one before it to 1 %; from 2.5-4 s on, open loop, the creature tips and the climb
 //    falls away. A fixed window cuts a stroke, whose bob moves a 2 s mean by up to 0.2 m/s.
+// 3. With --max-upstroke-rate R (a network whose upstroke is a second output, as every
+//    shipped afc_1 controller's is since 5 December 2026): the same climb at the network's
+//    extreme downstroke rates (20 and 60 rad/s) and upstrokes from 10 to R rad/s, the fastest
+//    climb and sink among them, and the bound of 1. for that authority (climbing at up to the
+//    one, sinking at up to the other).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -35,7 +40,9 @@ struct Bound {
   double mean = 0.0, worst = 0.0;
 };
 
-Bound idealBound(double authority, const std::string& level, double height, double wind,
+// The bound of an ideal controller that climbs through the air at up to `climb` m/s and sinks
+// at up to `sink`.
+Bound idealBound(double climb, double sink, const std::string& level, double height, double wind,
                  int flights, double duration, double settle) {
   const double dt = 0.001, gain = 1.0 / 0.5;
   Bound b;
@@ -52,7 +59,7 @@ Bound idealBound(double authority, const std::string& level, double height, doub
       const double t = i * dt;
       const double w =
           field.velocity(flapsim::Vec3(0.0, 0.0, height), t, flapsim::Vec3(wind, 0.0, 0.0)).z();
-      z += (w - std::clamp(w + gain * z, -authority, authority)) * dt;
+      z += (w - std::clamp(w + gain * z, -climb, sink)) * dt;
       if (t >= settle) {
         square += z * z;
         ++samples;
@@ -115,13 +122,49 @@ Climb openLoopClimb(int pairs, double downstroke, double upstroke,
   return Climb{(z1 - z0) / (t1 - t0), (t1 - t0) / strokes};
 }
 
+// The turbulence, the flights and the rms window of the bound (1. above).
+struct BoundAir {
+  std::string level;
+  double height, wind;
+  int flights;
+  double duration, settle;
+};
+
+// 3.: the climb at downstrokes of 20 and 60 rad/s and upstrokes of 10 to `max_upstroke`, the
+// fastest climb and sink among them and the bound for that authority.
+void printUpstrokeAuthority(double max_upstroke, int pairs, flapsim::AddedMassProducts products,
+                            const flapsim::FlapUnitParams& unit, const BoundAir& air) {
+  std::printf("with the upstroke a second output up to %g rad/s:\n", max_upstroke);
+  std::vector<double> upstrokes;
+  for (double u = 10.0; u < max_upstroke; u += u < 30.0 ? 2.0 : 5.0) upstrokes.push_back(u);
+  upstrokes.push_back(max_upstroke);
+  double best_climb = -1e9, best_sink = 1e9;
+  std::pair<double, double> climb_at, sink_at;
+  for (double down : {20.0, 60.0}) {
+    for (double up : upstrokes) {
+      const Climb c = openLoopClimb(pairs, down, up, products, unit);
+      std::printf("  %g / %g rad/s: %.2f m/s (period %.4f s)\n", down, up, c.speed, c.period);
+      if (c.speed > best_climb) best_climb = c.speed, climb_at = {down, up};
+      if (c.speed < best_sink) best_sink = c.speed, sink_at = {down, up};
+    }
+  }
+  const Bound b = idealBound(std::max(best_climb, 0.0), std::max(-best_sink, 0.0), air.level,
+                             air.height, air.wind, air.flights, air.duration, air.settle);
+  std::printf(
+      "fastest climb %.2f m/s at %g / %g rad/s, fastest sink %.2f m/s at %g / %g rad/s; an "
+      "ideal controller with that authority: altitude rms after %g s mean %.3f m, largest "
+      "%.3f m of %d flights\n",
+      best_climb, climb_at.first, climb_at.second, -best_sink, sink_at.first, sink_at.second,
+      air.settle, b.mean, b.worst, air.flights);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string level = "light";
   double height = 5.0, wind = 1.0, duration = 60.0, settle = 10.0;
   int flights = 40, pairs = 1;
-  double wing_effort = 0.0;
+  double wing_effort = 0.0, max_upstroke = 0.0;
   std::string products = flapsim::addedMassProductsName(flapsim::AirParams().added_mass_products);
   flapsim::CliParser cli("usage: vertical_authority [options]");
   cli.text("--level", "LEVEL", &level, "turbulence: light, moderate or severe")
@@ -134,9 +177,11 @@ int main(int argc, char** argv) {
             "the flap unit's air: what its plates' added mass does beyond -A dnu",
             flapsim::addedMassProductsNames())
       .integer("--pairs", "N", &pairs, {1, 24}, "the open-loop flier: a chain of N flap units")
-      .real(
-          "--wing-effort", "NM", &wing_effort, {0, 1e6},
-          "its wing motors' torque limit (0: make_creature's, 8 N m for one unit, 2 for a chain)");
+      .real("--wing-effort", "NM", &wing_effort, {0, 1e6},
+            "its wing motors' torque limit (0: make_creature's, 8 N m for one unit, 2 for a chain)")
+      .real("--max-upstroke-rate", "R", &max_upstroke, {0, 200},
+            "also the climb at downstrokes of 20 and 60 rad/s and upstrokes of 10 to R rad/s, "
+            "and the bound for the fastest climb and sink among them (0: not)");
   try {
     cli.parse(std::vector<std::string>(argv + 1, argv + argc));
     if (cli.help()) {
@@ -153,7 +198,7 @@ int main(int argc, char** argv) {
         settle, duration, flights);
     std::printf("A (m/s)  mean rms (m)  largest rms (m)\n");
     for (double a : {0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0}) {
-      const Bound b = idealBound(a, level, height, wind, flights, duration, settle);
+      const Bound b = idealBound(a, a, level, height, wind, flights, duration, settle);
       std::printf("%7.2f  %12.3f  %15.3f\n", a, b.mean, b.worst);
     }
     flapsim::FlapUnitParams unit;
@@ -169,6 +214,10 @@ int main(int argc, char** argv) {
       const Climb c =
           openLoopClimb(pairs, r.first, r.second, flapsim::parseAddedMassProducts(products), unit);
       std::printf("%10.0f  %16.0f  %11.2f  %17.4f\n", r.first, r.second, c.speed, c.period);
+    }
+    if (max_upstroke > 0.0) {
+      printUpstrokeAuthority(max_upstroke, pairs, flapsim::parseAddedMassProducts(products), unit,
+                             {level, height, wind, flights, duration, settle});
     }
     return 0;
   } catch (const std::exception& e) {

@@ -250,10 +250,11 @@ TEST(ToolTables, FlightCheckRefusesEveryFlagItsModeWouldIgnore) {
     }
     return names;
   };
-  EXPECT_EQ(refused(true), std::vector<std::string>(
-                               {"--weights", "--pairs", "--starts", "--seed", "--threads",
-                                "--gyro-bias", "--gust-torque", "--gust-force", "--gust-link",
-                                "--gust-time", "--noise", "--altitude-noise", "--velocity-noise"}));
+  EXPECT_EQ(refused(true),
+            std::vector<std::string>({"--weights", "--pairs", "--starts", "--seed", "--threads",
+                                      "--trace", "--gyro-bias", "--gust-torque", "--gust-force",
+                                      "--gust-link", "--gust-time", "--noise", "--altitude-noise",
+                                      "--velocity-noise"}));
   // Without a gust (the walk gives one flag at a time), its link and duration do nothing.
   EXPECT_EQ(refused(false),
             std::vector<std::string>({"--gains", "--write-gains", "--gust-link", "--gust-time"}));

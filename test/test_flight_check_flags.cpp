@@ -6,7 +6,10 @@
 // proves that the others act.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "flapsim/controller_file.h"
@@ -94,13 +97,15 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
       {"--motor-work", {"servo"}},
       {"--altitude", {"1.2"}},
   };
-  // Every flag of the table is tried, but --threads (below), --hover and its gains.
+  // Every flag of the table is tried, but --threads (below), --trace (its own test), --hover and
+  // its gains.
   FlightCheckOptions table_options;
   const CliParser table = flightCheckCli(table_options);
   std::vector<std::string> walked;
   for (const CliFlag& flag : table.flags()) {
     const std::string& name = flag.names[0];
-    if (name == "--threads" || name == "--hover" || name == "--gains" || name == "--write-gains") {
+    if (name == "--threads" || name == "--hover" || name == "--gains" || name == "--write-gains" ||
+        name == "--trace") {
       continue;
     }
     walked.push_back(name);
@@ -138,6 +143,62 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
   }
   // The threads share the starts out; what each start flies is the same to the bit.
   EXPECT_EQ(fly(withFlag(base(), "--threads", {"2"})).figures, plain.figures);
+}
+
+// --trace N FILE records start N's flight without changing it: the same figures to the bit, a
+// row per control update whose last height is the run's final height, the air's vertical speed
+// at the root (0 in still air, not in turbulence), each wing's commanded downstroke within the
+// network's range and the upstroke its phase lock gives it. A start beyond the last is refused by name.
+TEST(FlightCheckFlags, TheTraceRecordsOneStartsFlightWithoutChangingIt) {
+  auto traced = [](const std::vector<std::string>& args, int start) {
+    FlightCheckOptions o;
+    CliParser cli = flightCheckCli(o);
+    cli.parse(withFlag(args, "--trace", {std::to_string(start), "unused.csv"}));
+    EXPECT_EQ(o.trace_path, "unused.csv");
+    const ControllerSpec spec = loadControllerYaml(o.weights);
+    return std::make_pair(
+        flightCheck(parseCreatureModel(makeCreatureUrdf(1, "afc")), spec, o.params), spec);
+  };
+  const auto [runs, spec] = traced(base(), 1);
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_TRUE(runs[0].trace.empty());
+  const FlightCheckRun& run = runs[1];
+  ASSERT_EQ(run.trace.size(), 20u);  // 0.4 s of 0.02 s updates
+  EXPECT_EQ(run.trace.back().height, run.final_height);
+  Flown with;
+  for (const FlightCheckRun& r : runs) {
+    with.figures.insert(with.figures.end(),
+                        {r.start.roll, r.start.pitch, r.final_height, r.min_height, r.min_upright,
+                         r.mean_bank, r.lateral_drift, r.positive_power, r.mass});
+  }
+  EXPECT_EQ(with.figures, fly(base()).figures);
+  const std::vector<std::string> wings = {"unit0_wing_left_joint", "unit0_wing_right_joint"};
+  const std::string csv = flightTraceCsv(run, wings);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "time,height,upright,air_vz,unit0_wing_left_joint_down,unit0_wing_left_joint_up,"
+            "unit0_wing_right_joint_down,unit0_wing_right_joint_up");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
+  const FlapControllerParams& c = spec.params;
+  for (const EpisodeSample& s : run.trace) {
+    EXPECT_EQ(s.air.z(), 0.0);  // still air
+    for (size_t w = 0; w < 2; ++w) {
+      EXPECT_GE(s.downstroke[w], c.min_downstroke_rate);
+      EXPECT_LE(s.downstroke[w], c.pitch_max_downstroke_rate);
+      EXPECT_EQ(s.upstroke[w], upstrokeRate(c, s.downstroke[w]));  // its phase lock's
+    }
+  }
+  const auto turbulent = traced(withFlag(base(), "--turbulence", {"light"}), 0).first;
+  double largest = 0.0;
+  for (const EpisodeSample& s : turbulent[0].trace)
+    largest = std::max(largest, std::abs(s.air.z()));
+  EXPECT_GT(largest, 0.05);  // light turbulence: sigma_w 0.77 m/s
+  EXPECT_THROW(flightTraceCsv(runs[0], wings), InputError);
+  try {
+    traced(base(), 2);
+    FAIL() << "expected an error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "--trace: start 2 of 2 (the starts are numbered from 0)");
+  }
 }
 
 // With --real-air, --gust-torque and --gust-force size its two impulses: both 0 fly real air's

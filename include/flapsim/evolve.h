@@ -198,6 +198,8 @@ struct EpisodeSample {
   double upright = 0.0;            // root body z axis . world z (1 = level)
   Pose root;                       // the root link's pose
   std::vector<double> downstroke;  // commanded rates, FlapUnitLayout wing order
+  std::vector<double> upstroke;    // commanded rates, the same order
+  Vec3 air = Vec3::Zero();         // the air's velocity at the root's COM (World::airVelocity)
 };
 
 struct EpisodeResult {

@@ -59,6 +59,7 @@ struct FlightCheckParams {
   /// SPEED / --turbulence LEVEL (the "moderate turbulence and 2 m/s wind").
   std::optional<double> real_air_wind, real_air_turbulence;
   std::optional<double> altitude;  // m: hold it (the root link frame's height); none: climb
+  int trace_start = -1;            // record this start's samples (FlightCheckRun::trace); -1: none
 };
 
 /// `p` with real air's settings for `model` (p.real_air): wind 1 m/s from a drawn heading,
@@ -116,6 +117,12 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
                                         const FlightCheckParams& params);
 
+/// A start's samples (its FlightCheckRun::trace) as CSV, one row per control update: the time
+/// (s), the root's height (m) and up-component, the air's vertical speed at the root (m/s, > 0:
+/// rising), then each wing's commanded downstroke and upstroke rates (rad/s), the columns named
+/// by `wing_joints` (FlapUnitLayout order). Throws InputError if the run has no trace.
+std::string flightTraceCsv(const FlightCheckRun& run, const std::vector<std::string>& wing_joints);
+
 /// The flight_check tool's settings.
 struct FlightCheckOptions {
   FlightCheckParams params;
@@ -126,6 +133,7 @@ struct FlightCheckOptions {
                             // params.altitude (3 m if unset) in a wind of params.wind along +y
   std::string gains;        // --hover: its gains file (flapsim/hover_gains.h); empty: by hand
   std::string write_gains;  // --hover: write the gains flown to this file
+  std::string trace_path;   // --trace: params.trace_start's samples as CSV (flightTraceCsv)
 };
 
 /// flight_check's flags (flapsim/cli_args.h), over `options`.

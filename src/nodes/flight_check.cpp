@@ -1,6 +1,7 @@
 // flight_check: flies a creature with its controller from held-out starts and prints, per
 // start, whether it flipped, its lowest up-component, its final and lowest height, the
-// fraction of time upright and its motors' power. Exit status 0 if every start passes (no
+// fraction of time upright and its motors' power; --trace N FILE writes start N's flight as
+// CSV (flapsim::flightTraceCsv). Exit status 0 if every start passes (no
 // flip, up-component never below 0.5, final height above the start), 1 if one does not, 2 on
 // bad arguments. --hover flies the hover creature instead (flapsim::hoverCheckReport;
 // with --real-air from held-out starts, flapsim::hoverRealAirCheck).
@@ -12,6 +13,7 @@
 
 #include "flapsim/make_creature.h"
 #include "flapsim/real_air.h"
+#include "flapsim/text_file.h"
 
 int main(int argc, char** argv) {
   flapsim::FlightCheckOptions o;
@@ -75,6 +77,12 @@ int main(int argc, char** argv) {
               << flapsim::flightPowerSummary(
                      runs, flapsim::strokeDiskArea(*model, spec.params.amplitude));
     if (o.params.real_air) std::cout << flapsim::realAirSpinUpLine(flapsim::realAirSpinUp(*model));
+    if (!o.trace_path.empty()) {
+      flapsim::writeTextFile(o.trace_path,
+                             flapsim::flightTraceCsv(runs.at(o.params.trace_start),
+                                                     flapsim::flapUnitLayout(*model).wing_joints));
+      std::cout << "wrote " << o.trace_path << " (start " << o.params.trace_start << ")\n";
+    }
     return failed == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::cerr << "flight_check: " << e.what() << "\n";

@@ -127,6 +127,16 @@ std::string upstrokeOutputError(const FlapControllerParams& p) {
   return "";
 }
 
+// Empty if the inputs' scales are in (0, kMaxInputScale], else the first that is not.
+std::string inputScaleError(const FlapControllerParams& p) {
+  for (const auto& [name, v] : {std::pair<const char*, double>{"rate_scale", p.rate_scale},
+                                {"altitude_scale", p.altitude_scale},
+                                {"climb_scale", p.climb_scale}}) {
+    if (!(v > 0.0 && v <= kMaxInputScale)) return std::string(name) + " must be in (0, 1e6]";
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string validateFlapControllerParams(const FlapControllerParams& p) {
@@ -137,13 +147,8 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
         p.pitch_max_downstroke_rate <= kMaxStrokeRate && p.amplitude <= kMaxStrokeAmplitude)) {
     return "rates must be at most 1e5 rad/s, the amplitude at most 1000 rad";
   }
-  for (const auto& [name, scale] : {std::pair<const char*, double>{"rate_scale", p.rate_scale},
-                                    {"altitude_scale", p.altitude_scale},
-                                    {"climb_scale", p.climb_scale}}) {
-    if (!(scale > 0.0 && scale <= kMaxInputScale)) {
-      return std::string(name) + " must be in (0, 1e6]";
-    }
-  }
+  const std::string scale = inputScaleError(p);
+  if (!scale.empty()) return scale;
   if (!std::isfinite(p.min_downstroke_rate) || p.min_downstroke_rate < 0.0) {
     return "min_downstroke_rate must be finite and >= 0";
   }

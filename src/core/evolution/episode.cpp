@@ -356,7 +356,11 @@ EpisodeResult runEpisode(const CreatureModelPtr& model, const WingController& co
       sample.height = root.position.z();
       sample.upright = result.final_upright;
       sample.root = root;
-      for (const auto& c : commands) sample.downstroke.push_back(c.downstroke_rate);
+      sample.air = world.airVelocity(name);
+      for (const auto& c : commands) {
+        sample.downstroke.push_back(c.downstroke_rate);
+        sample.upstroke.push_back(c.upstroke_rate);
+      }
       result.trace.push_back(std::move(sample));
     }
   }

@@ -263,22 +263,18 @@ void controllerFlags(CliParser& t, EvolveOptions& o) {
       .custom("--rate-inputs", {"B"}, onOff("--rate-inputs", &c.rate_inputs),
               showOnOff(&c.rate_inputs), "on/off: the gyro's roll, pitch, yaw rates as inputs")
       .tag(kSpec)
-      .real("--rate-scale", "W", &c.rate_scale, {0, kMaxInputScale, true},
-            "the rate inputs' scale: rad/s per unit input")
+      .real("--rate-scale", "W", &c.rate_scale, {0, kMaxInputScale, true}, "rad/s per rate input")
       .tag(kSpec)
       .custom("--altitude-input", {"B"}, onOff("--altitude-input", &c.altitude_input),
               showOnOff(&c.altitude_input), "on/off: the altitude error as an input")
       .tag(kSpec)
-      .real("--altitude-scale", "M", &c.altitude_scale, {0, kMaxInputScale, true},
-            "the altitude input's scale: the error, m, per unit input (clamped to +-1)")
+      .real("--altitude-scale", "M", &c.altitude_scale, {0, kMaxInputScale, true}, "m per input")
       .tag(kSpec)
       .custom("--climb-input", {"B"}, onOff("--climb-input", &c.climb_input),
               showOnOff(&c.climb_input),
-              "on/off: the root's vertical speed (the ground-speed sensor's, / --climb-scale) as "
-              "an input")
+              "on/off: the root's vertical speed (the ground-speed sensor's) as an input")
       .tag(kSpec)
-      .real("--climb-scale", "V", &c.climb_scale, {0, kMaxInputScale, true},
-            "the climb input's scale: m/s per unit input (clamped to +-1)")
+      .real("--climb-scale", "V", &c.climb_scale, {0, kMaxInputScale, true}, "m/s per input")
       .tag(kSpec)
       .custom("--chain-input", {"B"}, onOff("--chain-input", &c.chain_input),
               showOnOff(&c.chain_input),

@@ -7,6 +7,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "flapsim/ann.h"
 #include "flapsim/controller_file.h"
@@ -52,6 +53,58 @@ void seedMorph(EvolveOptions& o) {
   o.params.ga.initial_genes = genes;
 }
 
+// A setting an --init file's weights were flown with: its key, the evolve flag that sets it
+// (null: set by hand, never evolved), its value in the file and in the evolution.
+struct InitSetting {
+  const char* key;
+  const char* flag;
+  double file, evolution;
+};
+
+// The settings a file's weights were flown with (the strokes', the inputs' scales, the phase
+// lock, the chain pitch term, the terms set by hand), the file's `got` and the evolution's
+// `want` on `pairs` units: a file flown otherwise would seed an evolution of a different
+// controller, silently. An input's scale counts if the net has the input, the pitch term on a
+// chain, its limits if it is on; a setting that does not count is 0 on both sides.
+std::vector<InitSetting> initSettings(const FlapControllerParams& got,
+                                      const FlapControllerParams& want, int pairs) {
+  using Setting = InitSetting;
+  const bool chain = pairs > 1;
+  const bool pitch_term = chain && (got.pitch_gain > 0.0 || want.pitch_gain > 0.0);
+  auto counted = [](bool counts, double value) { return counts ? value : 0.0; };
+  return {
+      Setting{"min_downstroke_rate", "--min-rate", got.min_downstroke_rate,
+              want.min_downstroke_rate},
+      Setting{"max_downstroke_rate", "--max-rate", got.max_downstroke_rate,
+              want.max_downstroke_rate},
+      Setting{"upstroke_rate", "--upstroke-rate", got.upstroke_rate, want.upstroke_rate},
+      Setting{"max_upstroke_rate", "--max-upstroke-rate", got.max_upstroke_rate,
+              want.max_upstroke_rate},
+      Setting{"amplitude", "--amplitude", got.amplitude, want.amplitude},
+      Setting{"stroke_offset", "--stroke-offset", got.stroke_offset, want.stroke_offset},
+      Setting{"control_period", "--control-period", got.control_period, want.control_period},
+      Setting{"rate_scale", "--rate-scale", counted(want.rate_inputs, got.rate_scale),
+              counted(want.rate_inputs, want.rate_scale)},
+      Setting{"altitude_scale", "--altitude-scale",
+              counted(want.altitude_input, got.altitude_scale),
+              counted(want.altitude_input, want.altitude_scale)},
+      Setting{"climb_scale", "--climb-scale", counted(want.climb_input, got.climb_scale),
+              counted(want.climb_input, want.climb_scale)},
+      Setting{"phase_lock", "--phase-lock", got.phase_lock ? 1.0 : 0.0,
+              want.phase_lock ? 1.0 : 0.0},
+      Setting{"pitch_gain", "--pitch-gain", counted(chain, got.pitch_gain),
+              counted(chain, want.pitch_gain)},
+      Setting{"pitch_limit", nullptr, counted(pitch_term, got.pitch_limit),
+              counted(pitch_term, want.pitch_limit)},
+      Setting{"pitch_max_downstroke_rate", nullptr,
+              counted(pitch_term, got.pitch_max_downstroke_rate),
+              counted(pitch_term, want.pitch_max_downstroke_rate)},
+      Setting{"roll_reflex_bank", nullptr, got.roll_reflex_bank, want.roll_reflex_bank},
+      Setting{"pitch_reflex_angle", nullptr, got.pitch_reflex_angle, want.pitch_reflex_angle},
+      Setting{"attitude_filter_time", nullptr, got.attitude_filter_time, want.attitude_filter_time},
+      Setting{"velocity_gain", nullptr, got.velocity_gain, want.velocity_gain}};
+}
+
 // --init FILE: the file's network must be the one evolved (same form, inputs, hidden layer
 // and weight count); its weights seed generation 0.
 void seedFromWeightsFile(EvolveOptions& o) {
@@ -68,51 +121,7 @@ void seedFromWeightsFile(EvolveOptions& o) {
                      " weights, not the evolution's " + toString(want.network) + " network of " +
                      std::to_string(FlapUnitController::weightCount(want)));
   }
-  // The settings the weights were flown with (the strokes', the inputs' scales, the phase
-  // lock, the chain pitch term), each an evolve flag or set by hand: a file flown otherwise
-  // would seed an evolution of a different controller, silently. An input's scale counts if
-  // the net has the input, the pitch term on a chain, its limits if it is on.
-  struct Setting {
-    const char* key;
-    const char* flag;
-    double file, evolution;
-  };
-  const bool chain = o.params.pairs > 1;
-  const bool pitch_term = chain && (got.pitch_gain > 0.0 || want.pitch_gain > 0.0);
-  // A setting that does not count is 0 on both sides.
-  auto counted = [](bool counts, double value) { return counts ? value : 0.0; };
-  for (const Setting& s :
-       {Setting{"min_downstroke_rate", "--min-rate", got.min_downstroke_rate,
-                want.min_downstroke_rate},
-        Setting{"max_downstroke_rate", "--max-rate", got.max_downstroke_rate,
-                want.max_downstroke_rate},
-        Setting{"upstroke_rate", "--upstroke-rate", got.upstroke_rate, want.upstroke_rate},
-        Setting{"max_upstroke_rate", "--max-upstroke-rate", got.max_upstroke_rate,
-                want.max_upstroke_rate},
-        Setting{"amplitude", "--amplitude", got.amplitude, want.amplitude},
-        Setting{"stroke_offset", "--stroke-offset", got.stroke_offset, want.stroke_offset},
-        Setting{"control_period", "--control-period", got.control_period, want.control_period},
-        Setting{"rate_scale", "--rate-scale", counted(want.rate_inputs, got.rate_scale),
-                counted(want.rate_inputs, want.rate_scale)},
-        Setting{"altitude_scale", "--altitude-scale",
-                counted(want.altitude_input, got.altitude_scale),
-                counted(want.altitude_input, want.altitude_scale)},
-        Setting{"climb_scale", "--climb-scale", counted(want.climb_input, got.climb_scale),
-                counted(want.climb_input, want.climb_scale)},
-        Setting{"phase_lock", "--phase-lock", got.phase_lock ? 1.0 : 0.0,
-                want.phase_lock ? 1.0 : 0.0},
-        Setting{"pitch_gain", "--pitch-gain", counted(chain, got.pitch_gain),
-                counted(chain, want.pitch_gain)},
-        Setting{"pitch_limit", nullptr, counted(pitch_term, got.pitch_limit),
-                counted(pitch_term, want.pitch_limit)},
-        Setting{"pitch_max_downstroke_rate", nullptr,
-                counted(pitch_term, got.pitch_max_downstroke_rate),
-                counted(pitch_term, want.pitch_max_downstroke_rate)},
-        Setting{"roll_reflex_bank", nullptr, got.roll_reflex_bank, want.roll_reflex_bank},
-        Setting{"pitch_reflex_angle", nullptr, got.pitch_reflex_angle, want.pitch_reflex_angle},
-        Setting{"attitude_filter_time", nullptr, got.attitude_filter_time,
-                want.attitude_filter_time},
-        Setting{"velocity_gain", nullptr, got.velocity_gain, want.velocity_gain}}) {
+  for (const InitSetting& s : initSettings(got, want, o.params.pairs)) {
     if (s.file != s.evolution) {
       const bool on_off = std::string(s.key) == "phase_lock";
       auto value = [on_off](double v) {

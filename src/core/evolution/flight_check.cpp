@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
+#include <sstream>
 
 #include "evolution/evolve_flag_rules.h"
 #include "flapsim/ann.h"
@@ -130,6 +132,10 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
                                         const ControllerSpec& controller,
                                         const FlightCheckParams& given) {
   if (given.threads < 1) throw InputError("flight check: threads must be >= 1");
+  if (given.trace_start >= given.starts) {
+    throw InputError("--trace: start " + std::to_string(given.trace_start) + " of " +
+                     std::to_string(given.starts) + " (the starts are numbered from 0)");
+  }
   const FlightCheckParams p = given.real_air ? realAirParams(given, *model) : given;
   const EpisodeParams episode = flightCheckEpisodes(p);
   // Roll uniform in +-max_roll (episodeStarts alternates the sign of |roll| in [0, max]).
@@ -137,11 +143,32 @@ std::vector<FlightCheckRun> flightCheck(const CreatureModelPtr& model,
   const AnnWingController ann(FlapUnitController(controller.params, controller.weights));
   std::vector<FlightCheckRun> runs(starts.size());
   parallelMap(static_cast<int>(starts.size()), p.threads, [&](int i) {
-    runs[i] = FlightCheckRun{
-        runEpisode(model, ann, controller.params.control_period, episode, starts[i]), starts[i]};
+    runs[i] = FlightCheckRun{runEpisode(model, ann, controller.params.control_period, episode,
+                                        starts[i], i == p.trace_start),
+                             starts[i]};
     return 0.0;
   });
   return runs;
+}
+
+std::string flightTraceCsv(const FlightCheckRun& run, const std::vector<std::string>& wing_joints) {
+  if (run.trace.empty()) throw InputError("flight trace: the start was flown without a trace");
+  std::ostringstream out;
+  out << std::setprecision(10) << "time,height,upright,air_vz";
+  for (const std::string& joint : wing_joints) out << "," << joint << "_down," << joint << "_up";
+  out << "\n";
+  for (const EpisodeSample& s : run.trace) {
+    if (s.downstroke.size() != wing_joints.size() || s.upstroke.size() != wing_joints.size()) {
+      throw InputError("flight trace: " + std::to_string(s.downstroke.size()) +
+                       " wings commanded, " + std::to_string(wing_joints.size()) + " named");
+    }
+    out << s.time << "," << s.height << "," << s.upright << "," << s.air.z();
+    for (size_t i = 0; i < wing_joints.size(); ++i) {
+      out << "," << s.downstroke[i] << "," << s.upstroke[i];
+    }
+    out << "\n";
+  }
+  return out.str();
 }
 
 namespace {
@@ -246,7 +273,21 @@ CliParser flightCheckCli(FlightCheckOptions& o) {
             "--hover: the controller's gains file (evolve --preset hover's; default: by hand)")
       .tag(kHoverOnly)
       .text("--write-gains", "FILE", &o.write_gains, "--hover: write the gains flown to FILE")
-      .tag(kHoverOnly);
+      .tag(kHoverOnly)
+      .custom(
+          "--trace", {"N", "FILE"},
+          [&o](const std::vector<std::string>& v) {
+            o.params.trace_start = parseCliInteger("--trace", v[0], {0, kMaxEpisodes});
+            o.trace_path = v[1];
+          },
+          [&o] {
+            return o.trace_path.empty() ? std::string("none")
+                                        : std::to_string(o.params.trace_start) + " " + o.trace_path;
+          },
+          "write start N's flight to FILE as CSV: each control update's time, the root's height "
+          "and up-component, the air's vertical speed there, each wing's commanded downstroke and "
+          "upstroke rates")
+      .tag(kNetworkOnly);
   airAndSensorFlags(t, p);
   t.custom(
       "--altitude", {"M"},
