@@ -170,6 +170,43 @@ def chain_authority():
                  "one unit 8 N m wing motors and a chain 2 N m")
 
 
+def unit_upstroke_authority():
+    """bench/vertical_authority.cpp --max-upstroke-rate 65: the flap unit's open-loop climb over
+    the range afc_1's network commands (downstrokes 20-60 rad/s, upstrokes 10-65), its fastest
+    climb and sink, and the ideal controller's altitude rms with that authority."""
+    run = Run("upstroke authority", ["bin/vertical_authority", "--max-upstroke-rate", "65"])
+    row = re.compile(r"^  ([0-9]+) / ([0-9]+) rad/s: (-?[0-9.]+) m/s", re.M)
+    bound = re.compile(r"^fastest climb ([0-9.]+) m/s at ([0-9]+) / ([0-9]+) rad/s, fastest sink "
+                       r"([0-9.]+) m/s at ([0-9]+) / ([0-9]+) rad/s; .*mean ([0-9.]+) m, largest "
+                       r"([0-9.]+) m of ([0-9]+) flights$", re.M)
+
+    def rows(out):
+        climb = {(int(d), int(u)): float(v) for d, u, v in row.findall(out[run.key])}
+        ups = sorted({u for _, u in climb})
+        if not ups or any((d, u) not in climb for d in (20, 60) for u in ups):
+            raise ValueError("vertical_authority --max-upstroke-rate: not every row")
+        return [[str(u), f"{climb[(20, u)]:.2f} m/s", f"{climb[(60, u)]:.2f} m/s"] for u in ups]
+
+    def said(out):
+        b = bound.search(out[run.key])
+        if not b:
+            raise ValueError("vertical_authority --max-upstroke-rate: no bound line")
+        return ("`bin/vertical_authority --max-upstroke-rate 65` (bench/vertical_authority.cpp): "
+                "the flap unit open loop from level at rest, both wings at the row's upstroke and "
+                "the column's downstroke rate, its root's mean vertical speed over its whole "
+                "strokes from 1 to 2.5 s, in the default air (negative: it sinks); its fastest "
+                f"climb {b.group(1)} m/s (at {b.group(2)} / {b.group(3)} rad/s) and sink "
+                f"{b.group(4)} m/s (at {b.group(5)} / {b.group(6)} rad/s); an ideal controller "
+                "that knows the air's vertical speed w and climbs or sinks against it at up to "
+                "those speeds (the `vertical_authority` table's, dz/dt = w - clamp(w + z / 0.5 s, "
+                f"-climb, sink)): altitude rms after 10 s {b.group(7)} m on average and "
+                f"{b.group(8)} m at worst over {b.group(9)} realisations of 60 s of light "
+                "turbulence at 5 m in a 1 m/s wind")
+    return Table("unit_upstroke_authority", "doc/flight_and_evolution.md",
+                 ["upstroke (rad/s)", "downstroke 20 rad/s: climbs at",
+                  "downstroke 60 rad/s: climbs at"], [run], rows, said)
+
+
 CEILING = [("the previous default (`config/afc_4_shed_air_weights.yaml`)", "config/afc_4_shed_air_weights.yaml"),
            ("50 generations on 16 episodes (`config/afc_4_ceiling_16_weights.yaml`)",
             "config/afc_4_ceiling_16_weights.yaml"),
@@ -270,4 +307,4 @@ def chain_12_ceiling():
 
 
 TABLES = [afc_1_seeds, hover_impulses, readme_flight, chain_authority, chain_ceiling,
-          moderate_air, chain_12_ceiling]
+          moderate_air, chain_12_ceiling, unit_upstroke_authority]
