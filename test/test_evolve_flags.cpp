@@ -257,8 +257,9 @@ TEST(EvolveInit, RefusesAFileWhoseInputScalesPhaseLockOrPitchTermAreNotTheEvolut
                 "seed from a file without it)");
 }
 
-// An input's scale means nothing without its input: each is refused by name without it.
-TEST(EvolveFlags, EachInputScaleIsRefusedWithoutItsInput) {
+// An input's scale means nothing without its input: each is refused by name without it (and
+// the climb scale, which the walk above tries without its input, acts with it).
+TEST(EvolveFlags, EachInputScaleIsRefusedWithoutItsInputAndTheClimbScaleActsWithIt) {
   EXPECT_EQ(evolveWith(withFlag(withFlag(kBase, "--rate-inputs", {"off"}), "--rate-scale", {"5"}))
                 .refused,
             "--rate-scale: has no effect without the rate inputs (--rate-inputs on)");
