@@ -148,7 +148,8 @@ TEST(FlightCheckFlags, EveryFlagOfTheNetworkModeChangesTheFlightOrIsRefusedByNam
 // --trace N FILE records start N's flight without changing it: the same figures to the bit, a
 // row per control update whose last height is the run's final height, the air's vertical speed
 // at the root (0 in still air, not in turbulence), each wing's commanded downstroke within the
-// network's range and the upstroke its phase lock gives it. A start beyond the last is refused by name.
+// network's range and the upstroke its phase lock gives it. A start beyond the last is refused by
+// name.
 TEST(FlightCheckFlags, TheTraceRecordsOneStartsFlightWithoutChangingIt) {
   auto traced = [](const std::vector<std::string>& args, int start) {
     FlightCheckOptions o;
