@@ -40,10 +40,18 @@ struct Bound {
   double mean = 0.0, worst = 0.0;
 };
 
+// The turbulence, the flights and the rms window of the bound (1. above).
+struct BoundAir {
+  std::string level;
+  double height, wind;
+  int flights;
+  double duration, settle;
+};
+
 // The bound of an ideal controller that climbs through the air at up to `climb` m/s and sinks
-// at up to `sink`.
-Bound idealBound(double climb, double sink, const std::string& level, double height, double wind,
-                 int flights, double duration, double settle) {
+// at up to `sink`, in `air`.
+Bound idealBound(double climb, double sink, const BoundAir& air) {
+  const auto& [level, height, wind, flights, duration, settle] = air;
   const double dt = 0.001, gain = 1.0 / 0.5;
   Bound b;
   for (int seed = 0; seed < flights; ++seed) {
@@ -122,14 +130,6 @@ Climb openLoopClimb(int pairs, double downstroke, double upstroke,
   return Climb{(z1 - z0) / (t1 - t0), (t1 - t0) / strokes};
 }
 
-// The turbulence, the flights and the rms window of the bound (1. above).
-struct BoundAir {
-  std::string level;
-  double height, wind;
-  int flights;
-  double duration, settle;
-};
-
 // 3.: the climb at downstrokes of 20 and 60 rad/s and upstrokes of 10 to `max_upstroke`, the
 // fastest climb and sink among them and the bound for that authority.
 void printUpstrokeAuthority(double max_upstroke, int pairs, flapsim::AddedMassProducts products,
@@ -148,8 +148,7 @@ void printUpstrokeAuthority(double max_upstroke, int pairs, flapsim::AddedMassPr
       if (c.speed < best_sink) best_sink = c.speed, sink_at = {down, up};
     }
   }
-  const Bound b = idealBound(std::max(best_climb, 0.0), std::max(-best_sink, 0.0), air.level,
-                             air.height, air.wind, air.flights, air.duration, air.settle);
+  const Bound b = idealBound(std::max(best_climb, 0.0), std::max(-best_sink, 0.0), air);
   std::printf(
       "fastest climb %.2f m/s at %g / %g rad/s, fastest sink %.2f m/s at %g / %g rad/s; an "
       "ideal controller with that authority: altitude rms after %g s mean %.3f m, largest "
@@ -188,6 +187,7 @@ int main(int argc, char** argv) {
       std::printf("%s", cli.usage().c_str());
       return 0;
     }
+    const BoundAir air{level, height, wind, flights, duration, settle};
     const flapsim::DrydenScales s =
         flapsim::drydenScales(flapsim::turbulenceLevelWind(level), height);
     std::printf(
@@ -198,7 +198,7 @@ int main(int argc, char** argv) {
         settle, duration, flights);
     std::printf("A (m/s)  mean rms (m)  largest rms (m)\n");
     for (double a : {0.5, 0.75, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0}) {
-      const Bound b = idealBound(a, a, level, height, wind, flights, duration, settle);
+      const Bound b = idealBound(a, a, air);
       std::printf("%7.2f  %12.3f  %15.3f\n", a, b.mean, b.worst);
     }
     flapsim::FlapUnitParams unit;
@@ -217,7 +217,7 @@ int main(int argc, char** argv) {
     }
     if (max_upstroke > 0.0) {
       printUpstrokeAuthority(max_upstroke, pairs, flapsim::parseAddedMassProducts(products), unit,
-                             {level, height, wind, flights, duration, settle});
+                             air);
     }
     return 0;
   } catch (const std::exception& e) {

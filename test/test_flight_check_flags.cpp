@@ -30,6 +30,16 @@ struct Flown {
   std::vector<double> figures;
 };
 
+// Each start's figures, one after another.
+std::vector<double> figures(const std::vector<FlightCheckRun>& runs) {
+  std::vector<double> out;
+  for (const FlightCheckRun& r : runs) {
+    out.insert(out.end(), {r.start.roll, r.start.pitch, r.final_height, r.min_height, r.min_upright,
+                           r.mean_bank, r.lateral_drift, r.positive_power, r.mass});
+  }
+  return out;
+}
+
 Flown fly(const std::vector<std::string>& args) {
   FlightCheckOptions o;
   CliParser cli = flightCheckCli(o);
@@ -44,11 +54,7 @@ Flown fly(const std::vector<std::string>& args) {
   const CreatureModelPtr model = o.urdf.empty()
                                      ? parseCreatureModel(makeCreatureUrdf(o.pairs, "afc"))
                                      : loadCreatureModel(o.urdf);
-  for (const FlightCheckRun& r : flightCheck(model, spec, o.params)) {
-    f.figures.insert(f.figures.end(),
-                     {r.start.roll, r.start.pitch, r.final_height, r.min_height, r.min_upright,
-                      r.mean_bank, r.lateral_drift, r.positive_power, r.mass});
-  }
+  f.figures = figures(flightCheck(model, spec, o.params));
   return f;
 }
 
@@ -166,13 +172,7 @@ TEST(FlightCheckFlags, TheTraceRecordsOneStartsFlightWithoutChangingIt) {
   const FlightCheckRun& run = runs[1];
   ASSERT_EQ(run.trace.size(), 20u);  // 0.4 s of 0.02 s updates
   EXPECT_EQ(run.trace.back().height, run.final_height);
-  Flown with;
-  for (const FlightCheckRun& r : runs) {
-    with.figures.insert(with.figures.end(),
-                        {r.start.roll, r.start.pitch, r.final_height, r.min_height, r.min_upright,
-                         r.mean_bank, r.lateral_drift, r.positive_power, r.mass});
-  }
-  EXPECT_EQ(with.figures, fly(base()).figures);
+  EXPECT_EQ(figures(runs), fly(base()).figures);
   const std::vector<std::string> wings = {"unit0_wing_left_joint", "unit0_wing_right_joint"};
   const std::string csv = flightTraceCsv(run, wings);
   EXPECT_EQ(csv.substr(0, csv.find('\n')),

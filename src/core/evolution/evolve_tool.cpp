@@ -54,11 +54,13 @@ void seedMorph(EvolveOptions& o) {
 }
 
 // A setting an --init file's weights were flown with: its key, the evolve flag that sets it
-// (null: set by hand, never evolved), its value in the file and in the evolution.
+// (null: set by hand, never evolved), its value in the file and in the evolution, and whether
+// it is a switch (1 on, 0 off: said so).
 struct InitSetting {
   const char* key;
   const char* flag;
   double file, evolution;
+  bool on_off = false;
 };
 
 // The settings a file's weights were flown with (the strokes', the inputs' scales, the phase
@@ -90,8 +92,8 @@ std::vector<InitSetting> initSettings(const FlapControllerParams& got,
               counted(want.altitude_input, want.altitude_scale)},
       Setting{"climb_scale", "--climb-scale", counted(want.climb_input, got.climb_scale),
               counted(want.climb_input, want.climb_scale)},
-      Setting{"phase_lock", "--phase-lock", got.phase_lock ? 1.0 : 0.0,
-              want.phase_lock ? 1.0 : 0.0},
+      Setting{"phase_lock", "--phase-lock", got.phase_lock ? 1.0 : 0.0, want.phase_lock ? 1.0 : 0.0,
+              true},
       Setting{"pitch_gain", "--pitch-gain", counted(chain, got.pitch_gain),
               counted(chain, want.pitch_gain)},
       Setting{"pitch_limit", nullptr, counted(pitch_term, got.pitch_limit),
@@ -123,10 +125,9 @@ void seedFromWeightsFile(EvolveOptions& o) {
   }
   for (const InitSetting& s : initSettings(got, want, o.params.pairs)) {
     if (s.file != s.evolution) {
-      const bool on_off = std::string(s.key) == "phase_lock";
-      auto value = [on_off](double v) {
+      auto value = [&s](double v) {
         std::ostringstream text;
-        if (on_off) {
+        if (s.on_off) {
           text << (v != 0.0 ? "on" : "off");
         } else {
           text << v;
