@@ -12,6 +12,7 @@
 
 #include "flapsim/GetState.h"
 #include "flapsim/Step.h"
+#include "service_call.h"
 
 namespace flapsim_test {
 
@@ -22,7 +23,7 @@ typename Srv::Response callService(const std::string& service,
                                    const typename Srv::Request& request = {}) {
   Srv s;
   s.request = request;
-  EXPECT_TRUE(ros::service::call(service, s)) << service;
+  EXPECT_TRUE(flapsim_test::call(service, s)) << service;
   return s.response;
 }
 

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "flapsim/ApplyWrench.h"
+#include "service_call.h"
 #include "wait_for.h"
 
 namespace {
@@ -81,7 +82,7 @@ TEST(AfcAltitude, FliesByTheImuAndHoldsTheAltitudeUprightAfterSettling) {
           a.request.wrench.torque.x = torque;
           a.request.duration = ros::Duration(torque_duration);
           a.request.start_time = ros::Time(torque_time);
-          pushed = ros::service::call("/flapsim/apply_wrench", a) && a.response.success;
+          pushed = flapsim_test::call("/flapsim/apply_wrench", a) && a.response.success;
           EXPECT_TRUE(pushed) << a.response.status_message;
           EXPECT_NEAR(a.response.start_time.toSec(), torque_time, 1e-6);
           std::printf("roll torque %.3f N m from t = %.3f s for %.2f s\n", torque,

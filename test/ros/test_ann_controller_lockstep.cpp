@@ -14,6 +14,7 @@
 #include <map>
 
 #include "flapsim/evolve.h"
+#include "service_call.h"
 #include "wait_for.h"
 
 namespace {
@@ -45,7 +46,7 @@ TEST(AnnControllerLockstep, MatchesTheInProcessEvaluation) {
   ASSERT_TRUE(waitFor([&] { return sub.getNumPublishers() > 0; }, 60.0)) << "no /afc/odom";
   ASSERT_TRUE(ros::service::waitForService("/afc/ann_controller/start", ros::Duration(60.0)));
   std_srvs::Empty start;
-  ASSERT_TRUE(ros::service::call("/afc/ann_controller/start", start));
+  ASSERT_TRUE(flapsim_test::call("/afc/ann_controller/start", start));
   ASSERT_TRUE(waitFor([&] { return height.count(samples) > 0; }, 200.0))
       << "the lockstep flight did not reach t = " << duration << " s; got " << height.size()
       << " samples";

@@ -21,6 +21,7 @@
 #include "flapsim/SetState.h"
 #include "flapsim/Step.h"
 #include "recorder.h"
+#include "service_call.h"
 #include "wait_for.h"
 
 namespace {
@@ -42,7 +43,7 @@ dynamic_reconfigure::Config reconfigure(const std::vector<std::pair<std::string,
     d.value = value;
     r.request.config.doubles.push_back(d);
   }
-  EXPECT_TRUE(ros::service::call("/flapsim/set_parameters", r));
+  EXPECT_TRUE(flapsim_test::call("/flapsim/set_parameters", r));
   return r.response.config;
 }
 
@@ -56,7 +57,7 @@ double configValue(const dynamic_reconfigure::Config& c, const std::string& name
 ros::Time step(std::uint32_t steps) {
   flapsim::Step s;
   s.request.steps = steps;
-  EXPECT_TRUE(ros::service::call("/flapsim/step", s));
+  EXPECT_TRUE(flapsim_test::call("/flapsim/step", s));
   EXPECT_TRUE(s.response.success) << s.response.status_message;
   return s.response.sim_time;
 }
@@ -65,7 +66,7 @@ flapsim::GetState::Response getState(const std::string& name, const std::string&
   flapsim::GetState g;
   g.request.name = name;
   g.request.link = link;
-  EXPECT_TRUE(ros::service::call("/flapsim/get_state", g));
+  EXPECT_TRUE(flapsim_test::call("/flapsim/get_state", g));
   return g.response;
 }
 
@@ -85,14 +86,14 @@ geometry_msgs::Pose pose(double x, double y, double z, double qw = 1, double qx 
 flapsim::SetState::Response setState(flapsim::SetState::Request req) {
   flapsim::SetState s;
   s.request = req;
-  EXPECT_TRUE(ros::service::call("/flapsim/set_state", s));
+  EXPECT_TRUE(flapsim_test::call("/flapsim/set_state", s));
   return s.response;
 }
 
 flapsim::ApplyWrench::Response applyWrench(flapsim::ApplyWrench::Request req) {
   flapsim::ApplyWrench a;
   a.request = req;
-  EXPECT_TRUE(ros::service::call("/flapsim/apply_wrench", a));
+  EXPECT_TRUE(flapsim_test::call("/flapsim/apply_wrench", a));
   return a.response;
 }
 
@@ -101,7 +102,7 @@ flapsim::ClearWrenches::Response clearWrenches(const std::string& name,
   flapsim::ClearWrenches c;
   c.request.name = name;
   c.request.link = link;
-  EXPECT_TRUE(ros::service::call("/flapsim/clear_wrenches", c));
+  EXPECT_TRUE(flapsim_test::call("/flapsim/clear_wrenches", c));
   return c.response;
 }
 

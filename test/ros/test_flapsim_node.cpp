@@ -104,17 +104,17 @@ class Node : public ::testing::Test {
 
   static void pause() {
     std_srvs::Empty e;
-    ASSERT_TRUE(ros::service::call("/flapsim/pause", e));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/pause", e));
   }
   static void unpause() {
     std_srvs::Empty e;
-    ASSERT_TRUE(ros::service::call("/flapsim/unpause", e));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/unpause", e));
   }
   /// Resets the world and forgets the messages seen so far: sim times repeat
   /// after a reset, so an old message could otherwise match a new stamp.
   static void reset() {
     std_srvs::Empty e;
-    ASSERT_TRUE(ros::service::call("/flapsim/reset", e));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/reset", e));
     clock_.clear();
     tf_.clear();
     markers_.clear();
@@ -125,7 +125,7 @@ class Node : public ::testing::Test {
   static flapsim::Step step(std::uint32_t n) {
     flapsim::Step s;
     s.request.steps = n;
-    EXPECT_TRUE(ros::service::call("/flapsim/step", s));
+    EXPECT_TRUE(flapsim_test::call("/flapsim/step", s));
     return s;
   }
   /// Steps n (must succeed) and returns the new sim time.
@@ -400,7 +400,7 @@ TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
     s.request.steps = steps;
     s.request.creatures = {"flap_unit"};
     s.request.wing_commands = {command({}, {30, 30}, {10, 10}, {0.8, 0.8})};
-    EXPECT_TRUE(ros::service::call("/flapsim/step", s));
+    EXPECT_TRUE(flapsim_test::call("/flapsim/step", s));
     EXPECT_TRUE(s.response.success) << s.response.status_message;
     return std::make_pair(at(odom_, s.response.sim_time), at(js_, s.response.sim_time));
   };
@@ -418,7 +418,7 @@ TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
   s.request.steps = 5;
   s.request.creatures = {"flap_unit"};
   s.request.wing_commands = {command({}, {30, 30}, {10, 10}, {0.8, 0.8})};
-  ASSERT_TRUE(ros::service::call("/flapsim/step", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", s));
   auto js = at(js_, s.response.sim_time);
   ASSERT_TRUE(js);
   EXPECT_NEAR(js->velocity[0], -30.0, 0.5);
@@ -446,7 +446,7 @@ TEST_F(Node, StepAppliesItsWingCommandsBeforeTheFirstStep) {
     bad.request.steps = 10;
     bad.request.creatures = c.creatures;
     bad.request.wing_commands = c.commands;
-    ASSERT_TRUE(ros::service::call("/flapsim/step", bad));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/step", bad));
     EXPECT_FALSE(bad.response.success) << c.expect;
     EXPECT_NE(bad.response.status_message.find(c.expect), std::string::npos)
         << "'" << bad.response.status_message << "' lacks '" << c.expect << "'";
@@ -505,7 +505,7 @@ TEST_F(Node, CreatureMarkersAreLatchedAndFollowSpawnAndDelete) {
   s.request.name = "shown";
   s.request.urdf_file = sourcePath("urdf/plate.urdf");
   s.request.initial_pose.position.z = 5.0;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   ASSERT_TRUE(s.response.success) << s.response.status_message;
   ASSERT_TRUE(latest(&per_creature));
   EXPECT_EQ(per_creature,
@@ -513,7 +513,7 @@ TEST_F(Node, CreatureMarkersAreLatchedAndFollowSpawnAndDelete) {
 
   flapsim::DeleteCreature d;
   d.request.name = "shown";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
   ASSERT_TRUE(d.response.success) << d.response.status_message;
   ASSERT_TRUE(latest(&per_creature));
   EXPECT_EQ(per_creature, (std::map<std::string, int>{{"flap_unit", 3}, {"plate", 1}}));
@@ -526,7 +526,7 @@ TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {
   s.request.name = "extra";
   s.request.urdf_file = sourcePath("urdf/plate.urdf");
   s.request.initial_pose.position.z = 5.0;  // orientation all zero: identity
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   ASSERT_TRUE(s.response.success) << s.response.status_message;
   EXPECT_TRUE(advertised("/extra/odom"));
   EXPECT_TRUE(advertised("/extra/joint_states"));
@@ -541,7 +541,7 @@ TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {
 
   flapsim::DeleteCreature d;
   d.request.name = "extra";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
   ASSERT_TRUE(d.response.success) << d.response.status_message;
   EXPECT_FALSE(advertised("/extra/odom"));
   EXPECT_FALSE(advertised("/extra/joint_states"));
@@ -553,7 +553,7 @@ TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {
   s.request.urdf_file.clear();
   s.request.urdf_xml = readFile(sourcePath("urdf/plate.urdf"));
   s.request.initial_pose.position.z = 6.0;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   ASSERT_TRUE(s.response.success) << s.response.status_message;
   EXPECT_TRUE(advertised("/extra/odom"));
   ASSERT_TRUE(waitUntil([&] { return extra.connected(); }));
@@ -563,7 +563,7 @@ TEST_F(Node, SpawnDeleteAndSpawnAgainUnderTheSameName) {
   EXPECT_LT(o3->pose.pose.position.z, 6.0);
   EXPECT_GT(o3->pose.pose.position.z, 5.99);
 
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
   EXPECT_TRUE(d.response.success);
 }
 
@@ -579,7 +579,7 @@ TEST_F(Node, SpawnNamesTheJointValuesThatActImplicitly) {
     <joint name="hinge" type="continuous"><parent link="world"/><child link="flap"/>
       <axis xyz="1 0 0"/><dynamics damping="1000"/></joint></robot>)";
   s.request.initial_pose.position.z = 5.0;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   ASSERT_TRUE(s.response.success) << s.response.status_message;
   const std::string line =
       "creature 'damped', joint 'hinge': damping 1000 is more than an explicit step of 0.001 s "
@@ -588,7 +588,7 @@ TEST_F(Node, SpawnNamesTheJointValuesThatActImplicitly) {
   EXPECT_TRUE(warned(line));
   flapsim::DeleteCreature d;
   d.request.name = "damped";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
   EXPECT_TRUE(d.response.success) << d.response.status_message;
 }
 
@@ -607,7 +607,7 @@ TEST_F(Node, SpawnRefusesAnUnreadableMeshByName) {
       <collision><geometry><mesh filename="package://x/shell.stl"/></geometry></collision></link>
     <joint name="j2" type="fixed"><parent link="body"/><child link="shell"/></joint></robot>)";
   s.request.initial_pose.position.z = 40.0;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   EXPECT_FALSE(s.response.success);
   for (const std::string part :
        {"link 'shell'", "mesh 'package://x/shell.stl'", "unknown package"}) {
@@ -616,7 +616,7 @@ TEST_F(Node, SpawnRefusesAnUnreadableMeshByName) {
   }
   flapsim::DeleteCreature d;
   d.request.name = "shapes";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
   EXPECT_FALSE(d.response.success);  // it was never spawned
 }
 
@@ -675,7 +675,7 @@ TEST_F(Node, BadServiceCallsFailAndLeaveTheWorldAlone) {
     s.request.urdf_xml = c.xml;
     s.request.urdf_file = c.file;
     s.request.initial_pose.position.z = c.z;
-    ASSERT_TRUE(ros::service::call("/flapsim/spawn", s)) << c.name;
+    ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s)) << c.name;
     EXPECT_FALSE(s.response.success) << c.name;
     EXPECT_NE(s.response.status_message.find(c.expect), std::string::npos)
         << c.name << ": '" << s.response.status_message << "' lacks '" << c.expect << "'";
@@ -683,7 +683,7 @@ TEST_F(Node, BadServiceCallsFailAndLeaveTheWorldAlone) {
   EXPECT_TRUE(warned("spawn refused: creature name 'plate' is taken"));
   flapsim::DeleteCreature d;
   d.request.name = "ghost";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
   EXPECT_FALSE(d.response.success);
   EXPECT_NE(d.response.status_message.find("'ghost'"), std::string::npos)
       << d.response.status_message;

@@ -19,6 +19,7 @@
 #include "flapsim/Step.h"
 #include "flapsim/WingCommand.h"
 #include "flapsim/evolve.h"
+#include "service_call.h"
 #include "wait_for.h"
 
 namespace {
@@ -72,11 +73,11 @@ void stepUntilEveryControllerCommanded(int count, Heard& h) {
   ASSERT_TRUE(ros::service::waitForService("/flapsim/step", ros::Duration(60.0)));
   flapsim::Step step;
   step.request.steps = 0;
-  ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", step));
   ASSERT_TRUE(waitFor([&] { return static_cast<int>(h.odom.size()) == count; }, 30.0));
   for (int k = 0; k < 200 && static_cast<int>(h.command.size()) < count; ++k) {
     step.request.steps = 20;
-    ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/step", step));
     waitFor([&] { return static_cast<int>(h.command.size()) == count; }, 0.2);
   }
   ASSERT_EQ(static_cast<int>(h.command.size()), count) << "not every controller commanded";

@@ -356,7 +356,7 @@ TEST_F(Interfaces, SetPhysicsChangesOnlyTheNamedFieldsAndResetRestoresTheStart) 
   EXPECT_EQ(getPhysics().gravity.z, -3.0);
   EXPECT_EQ(getPhysics().wind.x, 1.0);  // kept
   std_srvs::Empty reset;
-  ASSERT_TRUE(ros::service::call("/flapsim/reset", reset));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/reset", reset));
   const auto after = getPhysics();
   EXPECT_EQ(after.gravity.z, start.gravity.z);
   EXPECT_EQ(after.air_density, start.air_density);
@@ -441,7 +441,7 @@ TEST_F(Interfaces, WingsAreHeldOnceTheCommandTimesOut) {
       waitFor([&] { return wings.level() == diagnostic_msgs::DiagnosticStatus::WARN; }, kWait));
 
   flapsim::Step again = commandStep(10);
-  ASSERT_TRUE(ros::service::call("/flapsim/step", again) && again.response.success);
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", again) && again.response.success);
   const auto moving = wings.at(step(39));  // 49 steps after the command
   ASSERT_TRUE(moving);
   EXPECT_GT(std::abs(moving->velocity[0]), 5.0);

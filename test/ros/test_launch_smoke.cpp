@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "flapsim/Step.h"
+#include "service_call.h"
 #include "wait_for.h"
 
 namespace {
@@ -88,7 +89,7 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
   // t = 0: the spawn poses
   flapsim::Step step;
   step.request.steps = 0;
-  ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", step));
   ASSERT_TRUE(step.response.success) << step.response.status_message << " (launch it paused)";
   EXPECT_EQ(step.response.sim_time, ros::Time(0));
   ASSERT_TRUE(waitFor([&] { return first.size() == topics.size(); }, 10.0));
@@ -98,7 +99,7 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
   double step_size = 0.001;
   nh.getParam("/flapsim/step_size", step_size);
   step.request.steps = static_cast<std::uint32_t>(std::llround(duration / step_size));
-  ASSERT_TRUE(ros::service::call("/flapsim/step", step));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", step));
   ASSERT_TRUE(step.response.success) << step.response.status_message;
   const ros::Time end = step.response.sim_time;
   EXPECT_NEAR(end.toSec(), duration, 1e-9);
@@ -115,10 +116,10 @@ TEST(LaunchSmoke, CreaturesMoveAsTheScenarioSays) {
 
   // and it runs by itself when unpaused
   std_srvs::Empty e;
-  ASSERT_TRUE(ros::service::call("/flapsim/unpause", e));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/unpause", e));
   EXPECT_TRUE(waitFor([&] { return last[topics[0]].header.stamp > end; }, 30.0))
       << "no progress after flapsim/unpause";
-  ros::service::call("/flapsim/pause", e);
+  flapsim_test::call("/flapsim/pause", e);
 
   ASSERT_NO_FATAL_FAILURE(expectDisplacements(pnh, first, at_end));
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "flapsim/Step.h"
+#include "service_call.h"
 #include "wait_for.h"
 
 namespace {
@@ -47,7 +48,7 @@ TEST(LockstepStepMismatch, StopsAfterOnePeriodNamingBothStepSizes) {
       },
       60.0));
   std_srvs::Empty start;
-  ASSERT_TRUE(ros::service::call("/afc/ann_controller/start", start));
+  ASSERT_TRUE(flapsim_test::call("/afc/ann_controller/start", start));
   ASSERT_TRUE(waitFor([&] { return !error.empty(); }, 60.0)) << "no error from ann_controller";
   EXPECT_NE(error.find("20 steps advanced the simulator by 0.01 s"), std::string::npos) << error;
   EXPECT_NE(error.find("control period 0.02 s"), std::string::npos) << error;
@@ -55,7 +56,7 @@ TEST(LockstepStepMismatch, StopsAfterOnePeriodNamingBothStepSizes) {
   // The simulator is where that one period left it: 20 steps of 0.5 ms.
   flapsim::Step now;
   now.request.steps = 0;
-  ASSERT_TRUE(ros::service::call("/flapsim/step", now));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", now));
   EXPECT_EQ(now.response.sim_time, ros::Time(0, 10000000));
 }
 

@@ -30,6 +30,7 @@
 #include "flapsim/WingCommand.h"
 #include "flapsim_ros/urdf_source.h"
 #include "recorder.h"
+#include "service_call.h"
 #include "wait_for.h"
 
 namespace {
@@ -75,7 +76,7 @@ class NodeGuards : public ::testing::Test {
   static flapsim::Step step(std::uint32_t n) {
     flapsim::Step s;
     s.request.steps = n;
-    EXPECT_TRUE(ros::service::call("/flapsim/step", s));
+    EXPECT_TRUE(flapsim_test::call("/flapsim/step", s));
     return s;
   }
   // Messages /flapsim logged at `level` that contain `text`.
@@ -161,7 +162,7 @@ TEST_F(NodeGuards, ACreatureNamedTwiceInOneStepIsRefused) {
   s.request.steps = 1;
   s.request.creatures = {"low", "low"};
   s.request.wing_commands.resize(2);
-  ASSERT_TRUE(ros::service::call("/flapsim/step", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", s));
   EXPECT_FALSE(s.response.success);
   EXPECT_EQ(s.response.status_message,
             "wing commands refused, no step taken: creature 'low' is named twice");
@@ -184,7 +185,7 @@ TEST_F(NodeGuards, RefusedSpawnFilesShareOneText) {
     flapsim::SpawnCreature s;
     s.request.name = "probe";
     s.request.urdf_file = path;
-    ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
     EXPECT_FALSE(s.response.success) << path;
     EXPECT_EQ(s.response.status_message, flapsim_ros::refusedUrdfFileMessage(path, roots, ""));
   }
@@ -193,7 +194,7 @@ TEST_F(NodeGuards, RefusedSpawnFilesShareOneText) {
   ok.request.name = "probe";
   ok.request.urdf_file = urdf + "/plate.urdf";
   ok.request.initial_pose.position.x = 20;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", ok));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", ok));
   EXPECT_TRUE(ok.response.success) << ok.response.status_message;
 }
 
@@ -226,10 +227,10 @@ TEST_F(NodeGuards, UnknownNamesAreOneWarningPerService) {
     a.request.name = name;
     flapsim::ClearWrenches c;
     c.request.name = name;
-    ASSERT_TRUE(ros::service::call("/flapsim/get_state", g) &&
-                ros::service::call("/flapsim/set_state", st) &&
-                ros::service::call("/flapsim/apply_wrench", a) &&
-                ros::service::call("/flapsim/clear_wrenches", c));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/get_state", g) &&
+                flapsim_test::call("/flapsim/set_state", st) &&
+                flapsim_test::call("/flapsim/apply_wrench", a) &&
+                flapsim_test::call("/flapsim/clear_wrenches", c));
     ASSERT_FALSE(g.response.success || st.response.success || a.response.success ||
                  c.response.success);
   }
@@ -246,13 +247,13 @@ TEST_F(NodeGuards, AUrdfXmlOverTheFileLimitIsRefusedByName) {
   flapsim::SpawnCreature s;
   s.request.name = "huge";
   s.request.urdf_xml = "<robot name='huge'>" + std::string((16u << 20) - 18, ' ') + "</robot>";
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   EXPECT_FALSE(s.response.success);
   EXPECT_EQ(s.response.status_message,
             "spawn request 'huge': 16777225 bytes, over the limit of 16 MiB");
   flapsim::GetState g;
   g.request.name = "huge";
-  ASSERT_TRUE(ros::service::call("/flapsim/get_state", g));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/get_state", g));
   EXPECT_FALSE(g.response.success);  // nothing was spawned
 }
 
@@ -273,7 +274,7 @@ TEST_F(NodeGuards, ShapeLimitsAndDroppedElementsAreRefusedByName) {
   flapsim::SpawnCreature s;
   s.request.name = "pile";
   s.request.urdf_xml = pile;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   EXPECT_FALSE(s.response.success);
   EXPECT_EQ(s.response.status_message,
             "spawn request 'pile': link 'heap' has 1000 shapes (<collision> or <visual>), over the "
@@ -282,7 +283,7 @@ TEST_F(NodeGuards, ShapeLimitsAndDroppedElementsAreRefusedByName) {
   s.request.urdf_xml = "<robot name='d'><link name='wing'>" + inertial +
                        "<collision><geometry><box size='0.1 0.1 0.1'/></geometry></collision>"
                        "<collision><geometry><sphere/></geometry></collision></link></robot>";
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   EXPECT_FALSE(s.response.success);
   EXPECT_NE(s.response.status_message.find(
                 "the URDF parser dropped an element it could not read: Sphere shape must have a "
@@ -292,7 +293,7 @@ TEST_F(NodeGuards, ShapeLimitsAndDroppedElementsAreRefusedByName) {
   for (const char* name : {"pile", "dropped"}) {
     flapsim::GetState g;
     g.request.name = name;
-    ASSERT_TRUE(ros::service::call("/flapsim/get_state", g));
+    ASSERT_TRUE(flapsim_test::call("/flapsim/get_state", g));
     EXPECT_FALSE(g.response.success) << name;  // nothing was spawned
   }
   s.request.name = "seen";
@@ -302,18 +303,18 @@ TEST_F(NodeGuards, ShapeLimitsAndDroppedElementsAreRefusedByName) {
   s.request.initial_pose.position.x = 40;
   s.request.initial_pose.position.z = 5;
   s.request.initial_pose.orientation.w = 1;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s));
   EXPECT_TRUE(s.response.success);
   EXPECT_EQ(s.response.status_message,
             "spawned 'seen': 1 links, 0 wing joints; creature 'seen', link 'shell' has no "
             "<collision>: its <visual> shapes are simulated (contact and air)");
   flapsim::DeleteCreature d;
   d.request.name = "seen";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
   EXPECT_TRUE(d.response.success);
   flapsim::GetState g;
   g.request.name = "low";
-  ASSERT_TRUE(ros::service::call("/flapsim/get_state", g));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/get_state", g));
   EXPECT_TRUE(g.response.success);
 }
 
@@ -326,7 +327,7 @@ TEST_F(NodeGuards, ALaggingControllerIsNamedOnDiagnostics) {
   s.request.initial_pose.position.x = 60;
   s.request.initial_pose.position.z = 0.0011;  // resting on the ground (max_speed is 2 m/s)
   s.request.initial_pose.orientation.w = 1;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", s) && s.response.success);
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", s) && s.response.success);
   ros::Publisher commands = nh_->advertise<flapsim::WingCommand>("/lagger/wing_command", 10);
   ASSERT_TRUE(waitUntil([&] { return commands.getNumSubscribers() > 0; }));
   const flapsim::Step stepped = step(1000);
@@ -357,7 +358,7 @@ TEST_F(NodeGuards, ALaggingControllerIsNamedOnDiagnostics) {
   EXPECT_TRUE(status("running"));
   flapsim::DeleteCreature d;
   d.request.name = "lagger";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", d));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", d));
 }
 
 // Smaller items of issue 27: set_state to z = -0.5 threw a creature to 4.2 m without a word;
@@ -368,41 +369,41 @@ TEST_F(NodeGuards, ASetStateBelowTheGroundAndAClampedReconfigureAreSaid) {
   spawn.request.urdf_file = std::string(FLAPSIM_SOURCE_DIR) + "/urdf/plate.urdf";
   spawn.request.initial_pose.position.x = -20;
   spawn.request.initial_pose.position.z = 1;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", spawn) && spawn.response.success);
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", spawn) && spawn.response.success);
   flapsim::SetState st;
   st.request.name = "sunk";
   st.request.pose.position.x = -20;
   st.request.pose.position.z = -0.5;
   st.request.pose.orientation.w = 1;
-  ASSERT_TRUE(ros::service::call("/flapsim/set_state", st));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/set_state", st));
   EXPECT_TRUE(st.response.success);
   EXPECT_NE(st.response.status_message.find(
                 "; its collision shapes reach 0.501 m below the ground (z = 0)"),
             std::string::npos)
       << st.response.status_message;
   st.request.pose.position.z = 0.5;  // above it: nothing to say
-  ASSERT_TRUE(ros::service::call("/flapsim/set_state", st));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/set_state", st));
   EXPECT_EQ(st.response.status_message.find("below the ground"), std::string::npos);
   EXPECT_EQ(spawn.response.status_message.find("below the ground"), std::string::npos);
   flapsim::DeleteCreature del;
   del.request.name = "sunk";
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", del));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", del));
   // A spawn below the ground is done as asked and said, as set_state is (it was silent).
   spawn.request.initial_pose.position.z = -0.3;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", spawn));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", spawn));
   EXPECT_TRUE(spawn.response.success);
   EXPECT_NE(spawn.response.status_message.find(
                 "; its collision shapes reach 0.301 m below the ground (z = 0)"),
             std::string::npos)
       << spawn.response.status_message;
-  ASSERT_TRUE(ros::service::call("/flapsim/delete", del));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/delete", del));
 
   dynamic_reconfigure::Reconfigure r;
   dynamic_reconfigure::DoubleParameter d;
   d.name = "density";
   d.value = 1e9;
   r.request.config.doubles.push_back(d);
-  ASSERT_TRUE(ros::service::call("/flapsim/set_parameters", r));
+  ASSERT_TRUE(flapsim_test::call("/flapsim/set_parameters", r));
   EXPECT_TRUE(waitUntil([&] {
     return logged(rosgraph_msgs::Log::WARN,
                   "reconfigure: density = 100000, the top of its range [0, 100000]") == 1;

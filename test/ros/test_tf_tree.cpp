@@ -184,7 +184,7 @@ TEST_F(Tree, AnyTwoLinksLookUpAsGetStateGivesThem) {
     s.request.wing_commands[0].upstroke_rate.push_back(10);
     s.request.wing_commands[0].amplitude.push_back(0.6);
   }
-  ASSERT_TRUE(ros::service::call("/flapsim/step", s) && s.response.success)
+  ASSERT_TRUE(flapsim_test::call("/flapsim/step", s) && s.response.success)
       << s.response.status_message;
   const ros::Time t = s.response.sim_time;
   const std::vector<std::pair<std::string, std::string>> links = {
@@ -250,12 +250,12 @@ TEST_F(Tree, NoListenerGetsAFrameTwiceAtOneStamp) {
   set.request.name = "copter";
   set.request.pose.position.z = 4.0;
   set.request.pose.orientation.w = 1.0;
-  ASSERT_TRUE(ros::service::call("/flapsim/set_state", set) && set.response.success);
+  ASSERT_TRUE(flapsim_test::call("/flapsim/set_state", set) && set.response.success);
   flapsim::SpawnCreature spawn;
   spawn.request.name = "plate_tf";
   spawn.request.urdf_file = sourcePath("urdf/plate.urdf");
   spawn.request.initial_pose.position.z = 2.0;
-  ASSERT_TRUE(ros::service::call("/flapsim/spawn", spawn) && spawn.response.success);
+  ASSERT_TRUE(flapsim_test::call("/flapsim/spawn", spawn) && spawn.response.success);
   listener.join();
   step(0);
   step(7);
