@@ -480,6 +480,12 @@ TEST(ToolTables, EvolveFlagsKeepTheirMeaningAndRefuseByFlag) {
   EXPECT_EQ(refused({"--rms-ceiling", "-1", "2"}), "--rms-ceiling: -1 is not in [0, 1000]");
   EXPECT_EQ(refused({"--preset", "hover", "--rms-ceiling", "0.3", "2"}),
             "--rms-ceiling: not a flag of --preset hover (the hover controller's gains)");
+  // The flap network's outputs: until 8 December 2026 --max-upstroke-rate with hover was
+  // refused naming the network's key, not the flag.
+  EXPECT_EQ(refused({"--preset", "hover", "--max-upstroke-rate", "40"}),
+            "--max-upstroke-rate: not a flag of --preset hover (the hover controller's gains)");
+  EXPECT_EQ(refused({"--preset", "hover", "--mixer-headroom", "0.1"}),
+            "--mixer-headroom: not a flag of --preset hover (the hover controller's gains)");
   EXPECT_EQ(refused({"--preset", "paper", "--gust-link", "wing"}),
             "--gust-link: has no effect without --gust-force");
   EXPECT_EQ(refused({"--preset", "paper", "--gust-torque-time", "0.3"}),

@@ -77,6 +77,7 @@ std::vector<std::tuple<std::string, std::vector<std::string>, std::string>> trie
       {"--max-upstroke-rate",
        {"40"},
        "--max-upstroke-rate: has no effect without --network mirror"},
+      {"--mixer-headroom", {"0.2"}, ""},
       {"--amplitude", {"1.0"}, ""},
       {"--stroke-offset", {"0.1"}, ""},
       {"--control-period", {"0.01"}, ""},
@@ -184,10 +185,11 @@ TEST(EvolveFlags, EveryFlagOfTheFlapPresetsChangesWhatEvolvesOrIsRefusedByName) 
   EXPECT_NE(capped.figures, evolveWith(settled).figures);
 }
 
-// The inputs' scales, the phase lock and the chain pitch term change what a network's weights
-// command as the stroke settings do: a file flown with others is refused by key, naming the flag
-// that would match it (until 7 December 2026 evolve seeded from it and wrote its own, silently).
-TEST(EvolveInit, RefusesAFileWhoseInputScalesPhaseLockOrPitchTermAreNotTheEvolutions) {
+// The inputs' scales, the mixer's headroom, the phase lock and the chain pitch term change what
+// a network's weights command as the stroke settings do: a file flown with others is refused by
+// key, naming the flag that would match it (until 7 December 2026 evolve seeded from it and
+// wrote its own, silently).
+TEST(EvolveInit, RefusesAFileWhoseInputScalesMixerPhaseLockOrPitchTermAreNotTheEvolutions) {
   const std::string source =
       std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_shed_floor_weights.yaml";
   const ControllerSpec spec = loadControllerYaml(source);
@@ -222,6 +224,17 @@ TEST(EvolveInit, RefusesAFileWhoseInputScalesPhaseLockOrPitchTermAreNotTheEvolut
   withScale("rate_scale", &FlapControllerParams::rate_scale, "--rate-scale");
   withScale("altitude_scale", &FlapControllerParams::altitude_scale, "--altitude-scale");
   withScale("climb_scale", &FlapControllerParams::climb_scale, "--climb-scale");
+  const std::string mixer =
+      std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_mixer_seed_weights.yaml";
+  EXPECT_EQ(refused(evolution, mixer), "--init: " + mixer +
+                                           ": its mixer_headroom is 0.1, the evolution's 0 (give "
+                                           "--mixer-headroom 0.1)");
+  std::vector<std::string> mixed = evolution;
+  mixed.insert(mixed.end(), {"--mixer-headroom", "0.1"});
+  EXPECT_EQ(refused(mixed, mixer), "");
+  EXPECT_EQ(refused(mixed, source), "--init: " + source +
+                                        ": its mixer_headroom is 0, the evolution's 0.1 (give "
+                                        "--mixer-headroom 0)");
   // An input the net does not have: its scale does not count.
   ControllerSpec no_climb =
       loadControllerYaml(std::string(FLAPSIM_SOURCE_DIR) + "/config/afc_1_real_air_weights.yaml");

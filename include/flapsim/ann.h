@@ -67,7 +67,7 @@ FlapNetwork flapNetworkFromString(const std::string& name);
 std::string toString(FlapNetwork network);
 
 /// Settings of the per-wing-pair network (the paper: 2 inputs, 2 hidden, 2
-/// outputs). The outputs (sigmoid, 0..1) are mapped linearly onto
+/// outputs). The outputs (sigmoid, 0..1) are mapped linearly (mixer_headroom 0) onto
 /// [min_downstroke_rate, max_downstroke_rate]; upstroke rate and amplitude
 /// are fixed here. The inputs (flapNetworkInputs) are the paper's two, then optionally the
 /// unit's gyro rates and the altitude error; the output neurons' biases are the trim of the
@@ -109,7 +109,15 @@ struct FlapControllerParams {
   /// does (a fast upstroke of the high wing and a slow one of the low wing push a roll back)
   /// wherever it helps. Needs network mirror and phase_lock off.
   double max_upstroke_rate = 0.0;  // rad/s
-  double amplitude = 1.2;          // rad (at 0.8 the unit rolls over within ~2 s)
+  /// Attitude-first mixer (an extension; 0: off, each output maps onto its rate's range as
+  /// the paper's). With headroom h > 0 each output maps onto its range widened by h of its
+  /// span at both ends, and the two wings' downstrokes, and their upstrokes, are mixed back
+  /// into the range keeping their difference (the roll moment) first and moving their mean
+  /// (climb or sink) by what that needs (outputRates, flapsim/output_mixer.h). Without it a
+  /// pair near the end of its range has little difference left: the unit sinking hardest,
+  /// both upstrokes at max_upstroke_rate, cannot roll back (doc/flight_and_evolution.md).
+  double mixer_headroom = 0.0;
+  double amplitude = 1.2;  // rad (at 0.8 the unit rolls over within ~2 s)
   /// Stroke offset (an extension; 0 is the paper's): both wings' stroke turns at
   /// stroke_offset -+ amplitude (rad; > 0 raises it). Raised strokes are a dihedral: air from
   /// the side pushes the windward wing up and the leeward one down, which rolls the unit away

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "flapsim/output_mixer.h"
+
 namespace flapsim {
 
 namespace {
@@ -172,8 +174,9 @@ std::string validateFlapControllerParams(const FlapControllerParams& p) {
     return "phase_lock needs min_downstroke_rate > 0, upstroke_rate > 0 and a downstroke at "
            "min_downstroke_rate shorter than the locked period";
   }
-  const std::string upstroke = upstrokeOutputError(p);
-  if (!upstroke.empty()) return upstroke;
+  for (const std::string& e : {upstrokeOutputError(p), mixerHeadroomError(p.mixer_headroom)}) {
+    if (!e.empty()) return e;
+  }
   if (!(p.pitch_gain >= 0.0 && p.pitch_gain <= kMaxPitchGain)) {
     return "pitch_gain must be in [0, 1000]";
   }
@@ -378,16 +381,14 @@ WingPairCommand FlapUnitController::strokes(const std::vector<double>& inputs) c
   } else {
     down[1] = y[1];
   }
-  StrokeCommand wing[2];
-  for (int i = 0; i < 2; ++i) {
-    const double d =
-        p.min_downstroke_rate + (p.max_downstroke_rate - p.min_downstroke_rate) * down[i];
-    const double u = up[i] < 0.0
-                         ? upstrokeRate(p, d)
-                         : p.upstroke_rate + (p.max_upstroke_rate - p.upstroke_rate) * up[i];
-    wing[i] = StrokeCommand{d, u, p.amplitude};
-    wing[i].offset = p.stroke_offset;
-  }
+  const double h = p.mixer_headroom;
+  const WingRates d =
+      outputRates({down[0], down[1]}, p.min_downstroke_rate, p.max_downstroke_rate, h);
+  const WingRates u = up[0] < 0.0
+                          ? WingRates{upstrokeRate(p, d.right), upstrokeRate(p, d.left)}
+                          : outputRates({up[0], up[1]}, p.upstroke_rate, p.max_upstroke_rate, h);
+  StrokeCommand wing[2] = {{d.right, u.right, p.amplitude}, {d.left, u.left, p.amplitude}};
+  for (StrokeCommand& w : wing) w.offset = p.stroke_offset;
   WingPairCommand c;
   c.right = wing[0];
   c.left = wing[1];

@@ -43,6 +43,9 @@ std::string controllerToYaml(const ControllerSpec& spec, const std::string& head
   if (p.max_upstroke_rate != 0.0) {
     e << YAML::Key << "max_upstroke_rate" << YAML::Value << p.max_upstroke_rate;
   }
+  if (p.mixer_headroom != 0.0) {
+    e << YAML::Key << "mixer_headroom" << YAML::Value << p.mixer_headroom;
+  }
   e << YAML::Key << "amplitude" << YAML::Value << p.amplitude;
   if (p.stroke_offset != 0.0) e << YAML::Key << "stroke_offset" << YAML::Value << p.stroke_offset;
   e << YAML::Key << "control_period" << YAML::Value << p.control_period;
@@ -102,6 +105,7 @@ const std::vector<std::string> kKeys = {"network",
                                         "max_downstroke_rate",
                                         "upstroke_rate",
                                         "max_upstroke_rate",
+                                        "mixer_headroom",
                                         "amplitude",
                                         "stroke_offset",
                                         "control_period",
@@ -174,6 +178,7 @@ ControllerSpec readController(const YAML::Node& c,
   get("min_downstroke_rate", p.min_downstroke_rate);
   get("max_downstroke_rate", p.max_downstroke_rate);
   get("upstroke_rate", p.upstroke_rate);
+  get("mixer_headroom", p.mixer_headroom);
   get("amplitude", p.amplitude);
   get("stroke_offset", p.stroke_offset);
   get("control_period", p.control_period);

@@ -59,13 +59,9 @@ void specFlags(CliParser& t, EvolveOptions& o) {
             "highest downstroke rate, rad/s")
       .tag(kSpec)
       .real("--upstroke-rate", "R", &c.upstroke_rate, {0, kMaxStrokeRate}, "upstroke rate, rad/s")
-      .tag(kSpec)
-      .real("--max-upstroke-rate", "R", &c.max_upstroke_rate, {0, kMaxStrokeRate},
-            "the network sets each upstroke, in [--upstroke-rate, R] rad/s (0: off; needs "
-            "--network mirror and --phase-lock off)")
-      .tag(kSpec)
-      .real("--amplitude", "A", &c.amplitude, {0, kMaxStrokeAmplitude, true},
-            "stroke amplitude, rad")
+      .tag(kSpec);
+  outputFlags(t, c, kSpec);
+  t.real("--amplitude", "A", &c.amplitude, {0, kMaxStrokeAmplitude, true}, "stroke amplitude, rad")
       .tag(kSpec)
       .real("--stroke-offset", "A", &c.stroke_offset, {-kMaxStrokeAmplitude, kMaxStrokeAmplitude},
             "the strokes' mean angle, rad (> 0: raised, a dihedral)")

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "flapsim/output_mixer.h"
+
 namespace flapsim {
 
 namespace {
@@ -9,15 +11,16 @@ namespace {
 // The flags that mean nothing to the hover controller's evolution (the flap network's, the
 // flap units' and their disturbances'): --preset hover and morph refuse them by name.
 const std::vector<std::string> kNotHoverFlags = {
-    "--pairs",        "--min-rate",         "--max-rate",       "--upstroke-rate",
-    "--amplitude",    "--stroke-offset",    "--control-period", "--network",
-    "--hidden",       "--rate-inputs",      "--altitude-input", "--chain-input",
-    "--com-drop",     "--phase-lock",       "--pitch-gain",     "--gene-range",
-    "--link-axis",    "--link-stiffness",   "--start-rate",     "--gust",
-    "--gust-torque",  "--gust-torque-time", "--gust-force",     "--gust-force-time",
-    "--gust-link",    "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
-    "--crash-height", "--climb-input",      "--velocity-noise", "--upright-floor",
-    "--rms-ceiling",  "--rate-scale",       "--altitude-scale", "--climb-scale"};
+    "--pairs",          "--min-rate",         "--max-rate",       "--upstroke-rate",
+    "--amplitude",      "--stroke-offset",    "--control-period", "--network",
+    "--hidden",         "--rate-inputs",      "--altitude-input", "--chain-input",
+    "--com-drop",       "--phase-lock",       "--pitch-gain",     "--gene-range",
+    "--link-axis",      "--link-stiffness",   "--start-rate",     "--gust",
+    "--gust-torque",    "--gust-torque-time", "--gust-force",     "--gust-force-time",
+    "--gust-link",      "--altitude-noise",   "--altitude-hold",  "--gyro-bias",
+    "--crash-height",   "--climb-input",      "--velocity-noise", "--upright-floor",
+    "--rms-ceiling",    "--rate-scale",       "--altitude-scale", "--climb-scale",
+    "--mixer-headroom", "--max-upstroke-rate"};
 
 // The flags of --preset morph alone.
 bool morphFlag(const std::string& name) {
@@ -31,6 +34,17 @@ std::string morphWhy(const std::string& name) {
 }
 
 }  // namespace
+
+void outputFlags(CliParser& t, FlapControllerParams& c, const char* spec_tag) {
+  t.real("--max-upstroke-rate", "R", &c.max_upstroke_rate, {0, kMaxStrokeRate},
+         "the network sets each upstroke, in [--upstroke-rate, R] rad/s (0: off; needs "
+         "--network mirror and --phase-lock off)")
+      .tag(spec_tag)
+      .real("--mixer-headroom", "H", &c.mixer_headroom, {0, kMaxMixerHeadroom},
+            "each output maps onto its rate range widened by H of its span at both ends, and "
+            "the wings' rates are mixed back into it keeping their difference first (0: off)")
+      .tag(spec_tag);
+}
 
 // The mass budget of --preset morph's bodies (flapsim/body_genome.h).
 void morphFlags(CliParser& t, EvolveOptions& o, const char* spec_tag) {

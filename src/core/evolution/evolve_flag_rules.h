@@ -34,6 +34,10 @@ CliParser& motorWorkFlag(CliParser& t, MotorWorkMeter* meter, const char* help);
 /// name) writing `products`; the added flag is the parser's last (to tag).
 CliParser& addedMassProductsFlag(CliParser& t, AddedMassProducts* products);
 
+/// The flap network's output flags, tagged `spec_tag`: `--max-upstroke-rate R` (an upstroke
+/// output) and `--mixer-headroom H` (the attitude-first mixer, flapsim/output_mixer.h).
+void outputFlags(CliParser& t, FlapControllerParams& c, const char* spec_tag);
+
 /// `--settle S` and the fitness terms that count after it, `--upright-floor U W` and
 /// `--rms-ceiling R W` (a flap network holding an altitude), tagged `spec_tag`.
 void settleFlags(CliParser& t, EpisodeParams& e, const char* spec_tag);
