@@ -13,7 +13,11 @@ SEEDS = (2024, 7, 99)
 STEPS = (1, 0.5)
 AFC_1 = [("`config/afc_1_shed_air_weights.yaml`", "config/afc_1_shed_air_weights.yaml"),
          ("`config/afc_1_shed_floor_weights.yaml` (24 episodes, an upright floor)",
-          "config/afc_1_shed_floor_weights.yaml")]
+          "config/afc_1_shed_floor_weights.yaml"),
+         ("`config/afc_1_mixer_seed_weights.yaml` (the floor's, given the mixer at 0.1)",
+          "config/afc_1_mixer_seed_weights.yaml"),
+         ("`config/afc_1_mixer_weights.yaml` (that seed evolved)",
+          "config/afc_1_mixer_weights.yaml")]
 
 
 def afc_1_seeds():
