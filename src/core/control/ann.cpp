@@ -372,26 +372,23 @@ int FlapUnitController::weightCount(const FlapControllerParams& params) {
 WingPairCommand FlapUnitController::strokes(const std::vector<double>& inputs) const {
   const FlapControllerParams& p = params_;
   const std::vector<double> y = net_.evaluate(inputs);
-  // {right, left} x {downstroke, upstroke} outputs in 0..1 (upstroke: -1 if the net has none)
-  double down[2] = {y[0], 0.0}, up[2] = {-1.0, -1.0};
+  // The downstroke and upstroke outputs in 0..1 (upstroke: -1 if the net has none)
+  WingRates down{y[0], 0.0}, up{-1.0, -1.0};
   if (p.network == FlapNetwork::kMirror) {
     const std::vector<double> left = net_.evaluate(mirroredInputs(p, inputs));
-    down[1] = left[0];
-    if (p.max_upstroke_rate > 0.0) up[0] = y[1], up[1] = left[1];
+    down.left = left[0];
+    if (p.max_upstroke_rate > 0.0) up = {y[1], left[1]};
   } else {
-    down[1] = y[1];
+    down.left = y[1];
   }
   const double h = p.mixer_headroom;
-  const WingRates d =
-      outputRates({down[0], down[1]}, p.min_downstroke_rate, p.max_downstroke_rate, h);
-  const WingRates u = up[0] < 0.0
-                          ? WingRates{upstrokeRate(p, d.right), upstrokeRate(p, d.left)}
-                          : outputRates({up[0], up[1]}, p.upstroke_rate, p.max_upstroke_rate, h);
-  StrokeCommand wing[2] = {{d.right, u.right, p.amplitude}, {d.left, u.left, p.amplitude}};
-  for (StrokeCommand& w : wing) w.offset = p.stroke_offset;
+  const WingRates d = outputRates(down, p.min_downstroke_rate, p.max_downstroke_rate, h);
+  const WingRates u = up.right < 0.0 ? WingRates{upstrokeRate(p, d.right), upstrokeRate(p, d.left)}
+                                     : outputRates(up, p.upstroke_rate, p.max_upstroke_rate, h);
   WingPairCommand c;
-  c.right = wing[0];
-  c.left = wing[1];
+  c.right = StrokeCommand{d.right, u.right, p.amplitude};
+  c.left = StrokeCommand{d.left, u.left, p.amplitude};
+  c.right.offset = c.left.offset = p.stroke_offset;
   return c;
 }
 

@@ -19,11 +19,12 @@ WingRates mixAttitudeFirst(const WingRates& wanted, double lo, double hi) {
 }
 
 WingRates outputRates(const WingRates& y, double lo, double hi, double headroom) {
+  // At headroom 0 the widened map is the paper's to the bit (lo - 0, 1 x span), and it is not
+  // mixed: (c + d) need not give back the bit it came from.
   const double span = hi - lo;
-  if (headroom == 0.0) return WingRates{lo + span * y.right, lo + span * y.left};
   const double wide_lo = lo - headroom * span, wide_span = (1.0 + 2.0 * headroom) * span;
-  return mixAttitudeFirst(WingRates{wide_lo + wide_span * y.right, wide_lo + wide_span * y.left},
-                          lo, hi);
+  const WingRates wanted{wide_lo + wide_span * y.right, wide_lo + wide_span * y.left};
+  return headroom == 0.0 ? wanted : mixAttitudeFirst(wanted, lo, hi);
 }
 
 }  // namespace flapsim
