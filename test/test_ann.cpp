@@ -738,40 +738,62 @@ TEST(ControllerYaml, EveryKeyIsReadAndTheControlPeriodIsBounded) {
   }
 }
 
-// The seeds scripts/widen_weights.py writes: config/afc_1_climb_seed_weights.yaml is
-// config/afc_1_real_air_weights.yaml with a climb input whose weights are 0, and
-// config/afc_1_climb_chain_seed_weights.yaml is config/afc_1_climb_weights.yaml with a chain
-// input whose weights are 0. Over attitudes, rates, altitude errors, climbs and chain pitches each
-// commands both wings as its source does, to the bit, whatever the new input.
-TEST(ControllerYaml, AWidenedSeedCommandsWhatItsSourceCommands) {
+// What scripts/widen_weights.py added to a seed: an input or hidden neurons.
+enum class Widened { kInput, kHidden };
+
+// Over attitudes, rates, altitude errors, climbs and chain pitches the seed `to` commands both
+// wings as its source `from` does, to the bit, whatever its new input reads.
+void expectCommandsOfItsSource(const std::string& from, const std::string& to, Widened what) {
+  SCOPED_TRACE(to);
   const std::string config = std::string(FLAPSIM_SOURCE_DIR) + "/config/";
-  for (const auto& [from, to] :
-       {std::pair{"afc_1_real_air_weights.yaml", "afc_1_climb_seed_weights.yaml"},
-        std::pair{"afc_1_climb_weights.yaml", "afc_1_climb_chain_seed_weights.yaml"}}) {
-    SCOPED_TRACE(to);
-    const ControllerSpec source = loadControllerYaml(config + from);
-    const ControllerSpec seed = loadControllerYaml(config + to);
-    const bool climb = !source.params.climb_input;
+  const ControllerSpec source = loadControllerYaml(config + from);
+  const ControllerSpec seed = loadControllerYaml(config + to);
+  const bool climb = what == Widened::kInput && !source.params.climb_input;
+  const bool chain = what == Widened::kInput && !climb;
+  if (what == Widened::kInput) {
     ASSERT_TRUE(climb ? seed.params.climb_input : seed.params.chain_input);
     ASSERT_EQ(seed.weights.size(),
               source.weights.size() + static_cast<size_t>(source.params.hidden));
-    const FlapUnitController a(source.params, source.weights), b(seed.params, seed.weights);
-    Rng rng(7);
-    for (int i = 0; i < 200; ++i) {
-      const Quat body(Eigen::AngleAxisd(rng.uniform(-1.0, 1.0), Vec3::UnitX()) *
-                      Eigen::AngleAxisd(rng.uniform(-1.0, 1.0), Vec3::UnitY()));
-      const Vec3 rate(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20));
-      const double altitude = rng.uniform(-1.0, 1.0), climb_rate = rng.uniform(-1.0, 1.0);
-      const double chain = rng.uniform(-1.0, 1.0);
-      const WingPairCommand x = climb ? a.command(body, rate, altitude)
-                                      : a.command(body, rate, altitude, 0.0, climb_rate);
-      const WingPairCommand y = b.command(body, rate, altitude, climb ? 0.0 : chain, climb_rate);
-      for (const auto& [p, q] : {std::pair{x.left, y.left}, std::pair{x.right, y.right}}) {
-        EXPECT_EQ(p.downstroke_rate, q.downstroke_rate);
-        EXPECT_EQ(p.upstroke_rate, q.upstroke_rate);
-      }
+  } else {
+    ASSERT_GT(seed.params.hidden, source.params.hidden);
+    ASSERT_EQ(seed.params.climb_input, source.params.climb_input);
+    ASSERT_EQ(seed.params.chain_input, source.params.chain_input);
+  }
+  const FlapUnitController a(source.params, source.weights), b(seed.params, seed.weights);
+  Rng rng(7);
+  for (int i = 0; i < 200; ++i) {
+    const Quat body(Eigen::AngleAxisd(rng.uniform(-1.0, 1.0), Vec3::UnitX()) *
+                    Eigen::AngleAxisd(rng.uniform(-1.0, 1.0), Vec3::UnitY()));
+    const Vec3 rate(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20));
+    const double altitude = rng.uniform(-1.0, 1.0), climb_rate = rng.uniform(-1.0, 1.0);
+    const double pitch = rng.uniform(-1.0, 1.0);
+    const WingPairCommand x =
+        climb ? a.command(body, rate, altitude) : a.command(body, rate, altitude, 0.0, climb_rate);
+    const WingPairCommand y = b.command(body, rate, altitude, chain ? pitch : 0.0, climb_rate);
+    for (const auto& [p, q] : {std::pair{x.left, y.left}, std::pair{x.right, y.right}}) {
+      EXPECT_EQ(p.downstroke_rate, q.downstroke_rate);
+      EXPECT_EQ(p.upstroke_rate, q.upstroke_rate);
     }
   }
+}
+
+// The seeds scripts/widen_weights.py writes with a new input: config/afc_1_climb_seed_weights.yaml
+// is config/afc_1_real_air_weights.yaml with a climb input whose weights are 0, and
+// config/afc_1_climb_chain_seed_weights.yaml is config/afc_1_climb_weights.yaml with a chain
+// input whose weights are 0.
+TEST(ControllerYaml, AWidenedSeedCommandsWhatItsSourceCommands) {
+  expectCommandsOfItsSource("afc_1_real_air_weights.yaml", "afc_1_climb_seed_weights.yaml",
+                            Widened::kInput);
+  expectCommandsOfItsSource("afc_1_climb_weights.yaml", "afc_1_climb_chain_seed_weights.yaml",
+                            Widened::kInput);
+}
+
+// The seed scripts/widen_weights.py --hidden 8 writes: config/afc_1_hidden8_seed_weights.yaml is
+// config/afc_1_shed_floor_weights.yaml with four more hidden neurons, copies of its four whose
+// output weights are 0.
+TEST(ControllerYaml, ASeedWidenedByHiddenNeuronsCommandsWhatItsSourceCommands) {
+  expectCommandsOfItsSource("afc_1_shed_floor_weights.yaml", "afc_1_hidden8_seed_weights.yaml",
+                            Widened::kHidden);
 }
 
 }  // namespace
