@@ -1,6 +1,6 @@
 """Real air taken apart: afc_1's default-air controllers from three held-out seeds
-(doc/flight_and_evolution.md), hover_1 under one of real air's impulses at a time
-(doc/hovering.md), the README's flight table: each creature's default-air controller against
+(doc/flight_and_evolution.md), hover_1 under one of real air's impulses at a time, and the
+lift fliers with an oracle that knows it (doc/hovering.md), the README's flight table: each creature's default-air controller against
 the real-air bar (the same commands as shed_air_bar's rows; measured together, they run once),
 and how fast the flap unit and the chains climb and sink open loop."""
 import re
@@ -87,6 +87,50 @@ def hover_impulses():
                  f"each cell `{FLIGHT_CHECK} --hover --gains FILE {' '.join(HOVER_STARTS)} "
                  "--gust-torque T --gust-force F`, the other impulse 0 (the rest of real air as "
                  "it is: wind, light turbulence, sensor noise and bias)")
+
+
+ORACLE = "bin/hover_oracle"
+ORACLE_CREATURES = [
+    ("hover_1 (`config/hover_1_gains.yaml`)", ["--gains", "config/hover_1_gains.yaml"]),
+    ("`config/morph_shed` (co-evolved; its gains)",
+     ["--urdf", "config/morph_shed/creature.urdf", "--gains", "config/morph_shed/gains.yaml"])]
+ORACLE_FRACTIONS = ("0.25", "0.5", "1")
+
+
+def hover_oracle():
+    """The lift fliers under one of real air's impulses, alone and with an oracle that knows when
+    it comes (bench/hover_oracle.cpp), at three fractions of its size."""
+    def run_key(label, impulse, fraction):
+        return f"{label} | {impulse} | {fraction}"
+    runs = [Run(run_key(label, impulse, f),
+                [ORACLE] + args + ["--impulse", impulse, "--fraction", f])
+            for label, args in ORACLE_CREATURES for impulse in ("torque", "push")
+            for f in ORACLE_FRACTIONS]
+    summary = re.compile(r"\(([\d.]+) of real air's\): the controller alone turns over in "
+                         r"(\d+) of (\d+) starts .* some oracle pattern keeps (\d+) upright")
+
+    def rows(out):
+        result = []
+        for label, _ in ORACLE_CREATURES:
+            for impulse in ("torque", "push"):
+                cells = []
+                for f in ORACLE_FRACTIONS:
+                    m = summary.search(out[run_key(label, impulse, f)])
+                    cells.append(f"{m.group(2)} / **{m.group(4)}** of {m.group(3)}")
+                result.append([label, impulse] + cells)
+        return result
+    return Table("hover_oracle", "doc/hovering.md",
+                 ["creature", "impulse", "a quarter of real air's", "half", "real air's"], runs,
+                 rows,
+                 f"each cell `{ORACLE} [--urdf URDF] --gains FILE --impulse I --fraction F` "
+                 "(bench/hover_oracle.cpp): 10 held-out starts within 0.1 rad holding 5 m, the "
+                 "rest of real air as it is (wind, light turbulence, sensor noise and bias), each "
+                 "flown until 3 s after the impulse; the starts in which the controller alone "
+                 "turns over / **those that some one of 80 oracle patterns keeps upright**: the "
+                 "controller with a feed-forward that knows when the impulse comes, one wing's "
+                 "amplitude times 1 + r and the other's times 1 - r (r 0.1-0.6, within the "
+                 "stroke's limit), the frequency as commanded or 1.3 times it, from 0 or 0.05 s "
+                 "before the impulse to 0 or 0.1 s after its end, either wing the stronger")
 
 
 NOISE = ["--velocity-noise", "0.05"]
@@ -310,5 +354,5 @@ def chain_12_ceiling():
                  "up-component after 10 s is above 0.5; the mean altitude rms after 10 s")
 
 
-TABLES = [afc_1_seeds, hover_impulses, readme_flight, chain_authority, chain_ceiling,
+TABLES = [afc_1_seeds, hover_impulses, hover_oracle, readme_flight, chain_authority, chain_ceiling,
           moderate_air, chain_12_ceiling, unit_upstroke_authority]

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -198,8 +199,11 @@ struct HoverCheckRun {
 /// wind 1 m/s from a drawn heading, light turbulence, the roll torque and the push on a drawn
 /// wing at drawn times, IMU noise, a drawn gyro bias, altimeter noise), holding the altitude
 /// (3 m unless given) from it, on `options.params.threads` threads (results do not depend on it).
-std::vector<HoverCheckRun> hoverRealAirCheck(const CreatureModelPtr& model,
-                                             const FlightCheckOptions& options);
+/// `adjust`, if given, may change each start's flight before it flies (a bench's hook:
+/// bench/hover_oracle shortens it and overrides its strokes).
+std::vector<HoverCheckRun> hoverRealAirCheck(
+    const CreatureModelPtr& model, const FlightCheckOptions& options,
+    const std::function<void(const EpisodeStart&, HoverFlightParams&)>& adjust = {});
 
 /// Their table: a line per start and a summary; `failed` gets the starts that did not pass.
 std::string hoverRealAirReport(const FlightCheckOptions& options,

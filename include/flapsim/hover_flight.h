@@ -4,7 +4,9 @@
 // ROS-free; no clock.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "flapsim/creature_model.h"
@@ -34,6 +36,9 @@ struct HoverFlightParams {
   /// altimeter's noise of `gusts` (altitude_noise, m) on the height the controller reads.
   std::optional<EpisodeParams> gusts;
   EpisodeStart gust_start;
+  /// A bench's hook (bench/hover_oracle): called with each update's time (s) and the strokes
+  /// the controller gave for it, it may replace them; none: the controller's strokes fly.
+  std::function<void(double time, std::array<StrokeCommand, 2>& strokes)> override_strokes;
   WorldParams world;  // its air's wind included (ground off by default)
   HoverFlightParams() { world.ground = false; }
 };

@@ -108,8 +108,9 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
     if (p.gusts) {
       applyEpisodeGusts(world, name, *model, *p.gusts, p.gust_start, u, p.control_period);
     }
-    const auto strokes =
+    auto strokes =
         control.update(hoverSensors(world.state(name), p, rng, altimeter), p.control_period);
+    if (p.override_strokes) p.override_strokes(world.time(), strokes);
     world.setWingCommands(name, wings, {strokes[0], strokes[1]});
     const double frequency = strokes[0].downstroke_rate / (4.0 * strokes[0].amplitude);
     for (int k = 0; k < steps; ++k) {

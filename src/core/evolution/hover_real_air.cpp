@@ -17,8 +17,9 @@ bool HoverCheckRun::passed() const {
          std::abs(flight.mean_bank) < 5.0 * M_PI / 180.0;
 }
 
-std::vector<HoverCheckRun> hoverRealAirCheck(const CreatureModelPtr& model,
-                                             const FlightCheckOptions& o) {
+std::vector<HoverCheckRun> hoverRealAirCheck(
+    const CreatureModelPtr& model, const FlightCheckOptions& o,
+    const std::function<void(const EpisodeStart&, HoverFlightParams&)>& adjust) {
   FlightCheckParams p = realAirParams(o.params, *model);
   const HoverControllerParams controller = hoverCheckController(o);
   p.altitude = controller.altitude;
@@ -34,6 +35,7 @@ std::vector<HoverCheckRun> hoverRealAirCheck(const CreatureModelPtr& model,
     f.end_on_flip = false;
     f.gusts = episode;
     f.gust_start = start;
+    if (adjust) adjust(start, f);
     runs[static_cast<size_t>(i)] = HoverCheckRun{flyHover(model, controller, f), start};
     return 0.0;
   });
