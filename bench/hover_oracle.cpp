@@ -2,7 +2,7 @@
 // air's impulses. Prints figures; never passes or fails.
 //
 //   hover_oracle [--gains FILE] [--urdf FILE] [--impulse torque|push] [--fraction 1]
-//                [--starts 10] [--seed 2024] [--step-size 0.001] [--after 3]
+//                [--starts 10] [--seed 2024] [--step-size 0.001] [--after 3] [--threads 2]
 //
 // flight_check --hover --real-air's held-out starts (within 0.1 rad, holding 5 m, the rest of
 // real air as it is: wind, light turbulence, sensor noise and gyro bias) with one impulse, real
@@ -128,7 +128,6 @@ void setFlights(flapsim::FlightCheckParams& p, const Impulse& impulse, double fr
   p.altitude = 5.0;
   p.max_roll = p.max_pitch = 0.1;
   p.duration = 30.0;
-  p.threads = 2;
   p.real_air_torque = impulse.torque ? fraction * real.torque : 0.0;
   p.real_air_force = impulse.torque ? 0.0 : fraction * real.force;
 }
@@ -139,6 +138,7 @@ int main(int argc, char** argv) {
   flapsim::FlightCheckOptions o;
   o.hover = true;
   o.params.starts = 10;
+  o.params.threads = 2;
   std::string name = "torque";
   Impulse impulse;
   double fraction = 1.0;
@@ -150,6 +150,8 @@ int main(int argc, char** argv) {
       .integer("--starts", "N", &o.params.starts, {1, flapsim::kMaxEpisodes}, "held-out starts")
       .seed("--seed", "S", &o.params.seed, "their seed (flight_check's)")
       .real("--step-size", "DT", &o.params.step_size, {1e-6, 0.1}, "s")
+      .integer("--threads", "N", &o.params.threads, {1, 256},
+               "threads (results do not depend on it)")
       .real("--after", "S", &impulse.after, {0, 1e3}, "s flown after the impulse's end");
   try {
     cli.parse(std::vector<std::string>(argv + 1, argv + argc));
