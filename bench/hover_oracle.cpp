@@ -25,7 +25,6 @@
 
 #include "flapsim/cli_args.h"
 #include "flapsim/flight_check.h"
-#include "flapsim/hover_gains.h"
 #include "flapsim/make_creature.h"
 
 namespace {
@@ -163,12 +162,14 @@ int main(int argc, char** argv) {
       throw flapsim::InputError("--impulse must be torque or push, got '" + name + "'");
     }
     impulse.torque = name == "torque";
-    impulse.lasts = impulse.torque ? 0.5 : 0.2;  // real air's durations
     const flapsim::CreatureModelPtr model =
         o.urdf.empty() ? flapsim::parseCreatureModel(flapsim::makeHoverUrdf("hover"),
                                                      "make_creature --layout hover")
                        : flapsim::loadCreatureModel(o.urdf);
     setFlights(o.params, impulse, fraction, *model);
+    const flapsim::EpisodeParams flown =
+        flapsim::flightCheckEpisodes(flapsim::realAirParams(o.params, *model));
+    impulse.lasts = impulse.torque ? flown.gust_torque_duration : flown.gust_force_duration;
     const std::vector<flapsim::HoverCheckRun> alone = flapsim::hoverRealAirCheck(
         model, o, [&](const flapsim::EpisodeStart& s, flapsim::HoverFlightParams& f) {
           impulse.shorten(s, f);
