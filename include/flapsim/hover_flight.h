@@ -23,6 +23,7 @@ struct HoverFlightParams {
   double control_period = 0.01;        // s between controller updates (the node's IMU rate: 100 Hz)
   double start_roll = 0.0;             // rad, about x
   double start_pitch = 0.0;            // rad, about y
+  Vec3 start_rate = Vec3::Zero();      // rad/s: the root's angular velocity at the start (world)
   std::optional<double> start_height;  // m, of the root link's origin; none: the setpoint
   /// The IMU's orientation and angular velocity noise (imuReading, normals from a generator
   /// seeded with noise_seed); 0: the exact state, as the simulator's IMU by default.
@@ -67,6 +68,7 @@ struct HoverFlightResult {
   // From t = 0:
   double start_tilt = 0.0;      // rad: the root's tilt at the start (start roll and pitch)
   double lowest_upright = 1.0;  // lowest up-component of the root body over the whole flight
+  double largest_bank = 0.0;    // rad: the largest |bank| of the root over it (as mean_bank's)
   double lowest_height = 0.0;   // m, of the root link's origin, over the whole flight
   /// m: how far the root link's origin sank below both its start height and the setpoint.
   double start_sag = 0.0;

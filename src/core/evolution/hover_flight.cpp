@@ -11,8 +11,8 @@ namespace flapsim {
 std::string validateHoverFlightParams(const HoverFlightParams& p) {
   if (!(p.duration > 0.0) || !std::isfinite(p.duration)) return "duration must be > 0";
   if (!(p.settle >= 0.0) || p.settle >= p.duration) return "settle must be in [0, duration)";
-  if (!std::isfinite(p.start_roll) || !std::isfinite(p.start_pitch)) {
-    return "start roll and pitch must be finite";
+  if (!std::isfinite(p.start_roll) || !std::isfinite(p.start_pitch) || !p.start_rate.allFinite()) {
+    return "start roll, pitch and rate must be finite";
   }
   if (p.start_height && !std::isfinite(*p.start_height)) return "start height must be finite";
   const std::string noise = validateImuNoise(p.imu_noise);
@@ -87,7 +87,9 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
   const std::string name = "hover";
   const Pose start = poseFromXyzRpy(Vec3(0.0, 0.0, p.start_height.value_or(controller.altitude)),
                                     Vec3(p.start_roll, p.start_pitch, 0.0));
-  world.spawn(name, model, start);
+  Twist spin;
+  spin.angular = p.start_rate;
+  world.spawn(name, model, start, spin);
   HoverController control(controller);
   Rng rng(p.noise_seed);
   Rng altimeter(mixSeed(p.noise_seed, 0xA171ULL));
@@ -118,6 +120,9 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
       const Pose pose = world.rootPose(name);
       const double up = (pose.orientation * Vec3::UnitZ()).z();
       r.lowest_upright = std::min(r.lowest_upright, up);
+      r.largest_bank = std::max(
+          r.largest_bank,
+          std::abs(std::asin(std::clamp((pose.orientation * Vec3::UnitY()).z(), -1.0, 1.0))));
       r.lowest_height = std::min(r.lowest_height, pose.position.z());
       if (up < 0.0) r.flipped = true;
       if (world.time() <= p.settle + 0.5 * p.world.step_size) continue;
