@@ -175,6 +175,7 @@ int main(int argc, char** argv) {
           impulse.shorten(s, f);
         });
     const std::vector<Outcome> oracle = tryPatterns(model, o, impulse);
+    const size_t tried = patterns().size();
     int flips = 0, saved = 0;
     for (size_t i = 0; i < alone.size(); ++i) {
       const flapsim::EpisodeStart& s = alone[i].start;
@@ -185,7 +186,7 @@ int main(int argc, char** argv) {
           "best lowest up %6.3f (%s)\n",
           i, impulse.torque ? "torque" : s.force_link.c_str(), impulse.time(s),
           alone[i].flight.flipped ? "turns over" : "upright", alone[i].flight.lowest_upright,
-          oracle[i].kept, patterns().size(), oracle[i].best, oracle[i].best_name.c_str());
+          oracle[i].kept, tried, oracle[i].best, oracle[i].best_name.c_str());
     }
     const flapsim::RealAirImpulses real = flapsim::realAirImpulses(*model);
     std::printf(

@@ -53,8 +53,7 @@ double flapUnitBank(double rate, double duration, double step) {
   double bank = 0.0;
   for (const flapsim::EpisodeSample& x :
        flapsim::runEpisode(model, open, 0.02, e, start, true).trace) {
-    const double left_up = (x.root.orientation * flapsim::Vec3::UnitY()).z();
-    bank = std::max(bank, std::abs(std::asin(std::clamp(left_up, -1.0, 1.0))));
+    bank = std::max(bank, std::abs(flapsim::bankAngle(x.root.orientation)));
   }
   return bank;
 }

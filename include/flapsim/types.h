@@ -29,6 +29,10 @@ struct Pose {
 /// Builds a pose from URDF-style xyz and roll-pitch-yaw (fixed axes X, Y, Z).
 Pose poseFromXyzRpy(const Vec3& xyz, const Vec3& rpy);
 
+/// The bank of a body at `orientation`: asin(world_up . body_left), rad (> 0: its right side
+/// low).
+double bankAngle(const Quat& orientation);
+
 /// Linear and angular velocity, both expressed in the world frame.
 struct Twist {
   Vec3 linear = Vec3::Zero();

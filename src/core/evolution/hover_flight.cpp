@@ -57,12 +57,13 @@ struct HoverFigures {
   double stroke_time = 0.0, squares = 0.0, bank = 0.0;
   long samples = 0;
 
-  void add(const Pose& pose, double step, double frequency) {
+  // `bank_now`: bankAngle of the pose's orientation.
+  void add(const Pose& pose, double bank_now, double step, double frequency) {
     const double z = pose.position.z();
     r.min_height = std::min(r.min_height, z);
     r.max_height = std::max(r.max_height, z);
     r.min_upright = std::min(r.min_upright, (pose.orientation * Vec3::UnitZ()).z());
-    bank += std::asin(std::clamp((pose.orientation * Vec3::UnitY()).z(), -1.0, 1.0));
+    bank += bank_now;
     squares += (z - altitude) * (z - altitude);
     ++samples;
     stroke_low = std::min(stroke_low, z);
@@ -120,13 +121,12 @@ HoverFlightResult flyHover(const CreatureModelPtr& model, const HoverControllerP
       const Pose pose = world.rootPose(name);
       const double up = (pose.orientation * Vec3::UnitZ()).z();
       r.lowest_upright = std::min(r.lowest_upright, up);
-      r.largest_bank = std::max(
-          r.largest_bank,
-          std::abs(std::asin(std::clamp((pose.orientation * Vec3::UnitY()).z(), -1.0, 1.0))));
+      const double bank = bankAngle(pose.orientation);
+      r.largest_bank = std::max(r.largest_bank, std::abs(bank));
       r.lowest_height = std::min(r.lowest_height, pose.position.z());
       if (up < 0.0) r.flipped = true;
       if (world.time() <= p.settle + 0.5 * p.world.step_size) continue;
-      figures.add(pose, p.world.step_size, frequency);
+      figures.add(pose, bank, p.world.step_size, frequency);
     }
     if (world.time() <= p.settle + 0.5 * p.world.step_size) {
       settled = world.power(name);
